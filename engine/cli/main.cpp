@@ -1,0 +1,142 @@
+// keel — the command-line front of the reproduction machinery (a thin consumer of keel.core):
+//   keel list                                  experiment ids
+//   keel diff   --profile P [ids...]           latest.json vs committed baseline.<P>.json under experiment.toml tolerances
+//   keel bless  --profile P ids...             latest.json -> baseline.<P>.json (numbers only), on purpose
+//   keel report --profile P [ids...]           paper/REPRODUCTION.md
+//   keel eta    --profile P ids...             baseline wall time per id (seconds), for progress estimates
+//   keel same   A.json B.json                  exit 0 when two result files agree except for provenance
+// Options: --experiments DIR (experiments), --results DIR (results), --paper DIR (paper).
+import keel.core;
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Args {
+  std::string command, profile = "full";
+  std::filesystem::path experiments = "experiments", results = "results", paper = "paper";
+  std::vector<std::string> ids;
+};
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: keel <list|diff|bless|report|eta|same> [--profile quick|full] [--experiments DIR] "
+               "[--results DIR] [--paper DIR] [ids...]\n");
+  return 2;
+}
+
+std::vector<std::string> resolve_ids(const Args& a) {
+  auto all = keel::core::list_experiments(a.experiments);
+  if (a.ids.empty()) return all;
+  for (const auto& id : a.ids) {
+    bool found = false;
+    for (const auto& x : all) found = found || x == id;
+    if (!found) {
+      std::string known;
+      for (const auto& x : all) known += " " + x;
+      throw std::runtime_error("unknown experiment '" + id + "' (known:" + known + ")");
+    }
+  }
+  return a.ids;
+}
+
+keel::core::ExperimentConfig load(const Args& a, const std::string& id) {
+  return keel::core::ExperimentConfig::load(a.experiments / id / "experiment.toml", a.profile);
+}
+
+// Reads provenance.wall_time_s from the baseline without a JSON library: the field is written by keel itself.
+double baseline_wall(const Args& a, const std::string& id) {
+  std::ifstream in(keel::core::baseline_path(a.results, id, a.profile));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto pos = text.find("\"wall_time_s\":");
+  if (pos == std::string::npos) return -1;
+  return std::strtod(text.c_str() + pos + 14, nullptr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  if (argc < 2) return usage();
+  a.command = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(s + " needs a value");
+      return argv[++i];
+    };
+    try {
+      if (s == "--profile") a.profile = next();
+      else if (s == "--experiments") a.experiments = next();
+      else if (s == "--results") a.results = next();
+      else if (s == "--paper") a.paper = next();
+      else if (s.rfind("--", 0) == 0) {
+        std::fprintf(stderr, "keel: unknown option '%s'\n", s.c_str());
+        return usage();
+      } else a.ids.push_back(s);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "keel: %s\n", e.what());
+      return 2;
+    }
+  }
+  try {
+    if (a.command == "list") {
+      for (const auto& id : keel::core::list_experiments(a.experiments)) std::printf("%s\n", id.c_str());
+      return 0;
+    }
+    if (a.command == "diff") {
+      int failed = 0;
+      for (const auto& id : resolve_ids(a)) {
+        const auto d = keel::core::diff_against_baseline(load(a, id), a.results);
+        std::printf("%s\n", keel::core::format_diff(d).c_str());
+        failed += d.ok() ? 0 : 1;
+      }
+      if (failed) std::printf("%d experiment(s) left their baseline tolerance\n", failed);
+      return failed ? 1 : 0;
+    }
+    if (a.command == "bless") {
+      if (a.ids.empty()) throw std::runtime_error("bless needs explicit experiment ids (baselines change only on purpose)");
+      for (const auto& id : resolve_ids(a)) {
+        keel::core::bless(load(a, id), a.results);
+        std::printf("blessed %s\n", keel::core::baseline_path(a.results, id, a.profile).c_str());
+      }
+      return 0;
+    }
+    if (a.command == "report") {
+      keel::core::ReportOptions o;
+      o.experiments_dir = a.experiments;
+      o.results_dir = a.results;
+      o.paper_dir = a.paper;
+      o.profile = a.profile;
+      o.ids = a.ids;
+      std::printf("wrote %s\n", keel::core::write_report(o).c_str());
+      return 0;
+    }
+    if (a.command == "eta") {
+      for (const auto& id : resolve_ids(a)) std::printf("%s %.3f\n", id.c_str(), baseline_wall(a, id));
+      return 0;
+    }
+    if (a.command == "same") {
+      if (a.ids.size() != 2) return usage();
+      std::string why;
+      if (keel::core::same_results(a.ids[0], a.ids[1], &why)) {
+        std::printf("identical (provenance aside)\n");
+        return 0;
+      }
+      std::printf("results differ: %s\n", why.c_str());
+      return 1;
+    }
+  } catch (const keel::core::ConfigError& e) {
+    std::fprintf(stderr, "keel %s: config error: %s\n", a.command.c_str(), e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "keel %s: %s\n", a.command.c_str(), e.what());
+    return 1;
+  }
+  return usage();
+}

@@ -1,0 +1,202 @@
+#include "core/baseline.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/results.hpp"
+
+namespace keel::core {
+
+using json = nlohmann::json;
+
+namespace {
+
+json read_json(const std::filesystem::path& p, const std::string& hint) {
+  std::ifstream in(p);
+  if (!in) throw std::runtime_error(p.string() + ": not found" + (hint.empty() ? "" : " (" + hint + ")"));
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(p.string() + ": invalid JSON: " + e.what());
+  }
+}
+
+double as_number(const json& v) {
+  if (v.is_number()) return v.get<double>();
+  if (v.is_string()) {
+    const auto s = v.get<std::string>();
+    if (s == "nan") return std::nan("");
+    if (s == "inf") return INFINITY;
+    if (s == "-inf") return -INFINITY;
+  }
+  throw std::runtime_error("not a number: " + v.dump());
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace
+
+bool DiffResult::ok() const { return failures() == 0; }
+int DiffResult::failures() const {
+  return static_cast<int>(std::count_if(rows.begin(), rows.end(), [](const DiffRow& r) { return !r.ok; }));
+}
+
+std::filesystem::path latest_path(const std::filesystem::path& results_dir, const std::string& id) {
+  return results_dir / id / "latest.json";
+}
+std::filesystem::path baseline_path(const std::filesystem::path& results_dir, const std::string& id,
+                                    const std::string& profile) {
+  return results_dir / id / ("baseline." + profile + ".json");
+}
+
+DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir) {
+  const auto lp = latest_path(results_dir, config.id);
+  const auto bp = baseline_path(results_dir, config.id, config.profile);
+  const json latest = read_json(lp, "run the experiment first: scripts/reproduce --profile " + config.profile +
+                                        " " + config.id);
+  const json base = read_json(bp, "no committed baseline; create one on purpose with scripts/reproduce --profile " +
+                                      config.profile + " --bless " + config.id);
+  DiffResult d;
+  d.id = config.id;
+  d.profile = config.profile;
+  if (latest.value("profile", "") != config.profile) {
+    d.rows.push_back({"profile", config.profile, latest.value("profile", "?"), "", false,
+                      "latest.json was produced with another profile"});
+  }
+  const auto lh = latest["provenance"].value("config_hash", "");
+  const auto bh = base["provenance"].value("config_hash", "");
+  if (lh != bh) d.warnings.push_back("experiment.toml changed since the baseline was blessed (hash " + bh + " -> " + lh + ")");
+
+  auto tol_of = [&](const std::string& name) { return config.tolerance_for(name).value_or(Tolerance{}); };
+
+  const json& bm = base.at("metrics");
+  const json& lm = latest.at("metrics");
+  for (auto it = bm.begin(); it != bm.end(); ++it) {
+    DiffRow r{it.key(), fmt(as_number(it.value())), "-", tol_of(it.key()).describe(), true, ""};
+    if (!lm.contains(it.key())) {
+      r.ok = false;
+      r.note = "missing from latest";
+    } else {
+      const double b = as_number(it.value()), l = as_number(lm.at(it.key()));
+      r.latest = fmt(l);
+      if (!tol_of(it.key()).accepts(l, b)) {
+        r.ok = false;
+        r.note = "|delta| = " + fmt(std::fabs(l - b));
+      }
+    }
+    d.rows.push_back(r);
+  }
+  for (auto it = lm.begin(); it != lm.end(); ++it) {
+    if (!bm.contains(it.key())) {
+      d.rows.push_back({it.key(), "-", fmt(as_number(it.value())), "", false, "new metric: bless to accept"});
+    }
+  }
+  const json& bs = base.at("series");
+  const json& ls = latest.at("series");
+  for (auto it = bs.begin(); it != bs.end(); ++it) {
+    const std::string name = it.key();
+    DiffRow r{name + "[]", "", "", tol_of(name).describe(), true, ""};
+    if (!ls.contains(name)) {
+      r.ok = false;
+      r.note = "series missing from latest";
+    } else if (ls.at(name).size() != it.value().size()) {
+      r.ok = false;
+      r.note = "length " + std::to_string(it.value().size()) + " -> " + std::to_string(ls.at(name).size());
+    } else {
+      // Report the worst element (largest |delta| relative to what the tolerance allows).
+      double worst = -1;
+      for (std::size_t i = 0; i < it.value().size(); ++i) {
+        const double b = as_number(it.value()[i]), l = as_number(ls.at(name)[i]);
+        const double delta = std::isnan(b) && std::isnan(l) ? 0.0 : std::fabs(l - b);
+        const bool ok = tol_of(name).accepts(l, b);
+        const double score = ok ? delta : 1e300;
+        if (score > worst || (!ok && r.ok)) {
+          worst = score;
+          r.name = name + "[" + std::to_string(i) + "]";
+          r.baseline = fmt(b);
+          r.latest = fmt(l);
+        }
+        if (!ok && r.ok) {
+          r.ok = false;
+          r.note = "|delta| = " + fmt(delta);
+        }
+      }
+    }
+    d.rows.push_back(r);
+  }
+  for (auto it = ls.begin(); it != ls.end(); ++it) {
+    if (!bs.contains(it.key())) d.rows.push_back({it.key() + "[]", "-", "new", "", false, "new series: bless to accept"});
+  }
+  // Claim checks: a claim that held in the baseline and fails now (or the reverse) is a change worth a look.
+  if (base.contains("checks") && latest.contains("checks")) {
+    for (const auto& bc : base.at("checks")) {
+      const std::string name = bc.value("name", "");
+      const auto lc = std::find_if(latest.at("checks").begin(), latest.at("checks").end(),
+                                   [&](const json& c) { return c.value("name", "") == name; });
+      const std::string bstate = bc.value("passed", false) ? "holds" : "fails";
+      if (lc == latest.at("checks").end()) {
+        d.rows.push_back({"check: " + name, bstate, "-", "", false, "claim check missing from latest"});
+        continue;
+      }
+      const std::string lstate = lc->value("passed", false) ? "holds" : "fails";
+      d.rows.push_back({"check: " + name, bstate, lstate, "same", bstate == lstate,
+                        bstate == lstate ? "" : "claim verdict changed"});
+    }
+  }
+  return d;
+}
+
+void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir) {
+  const auto lp = latest_path(results_dir, config.id);
+  json latest = read_json(lp, "run the experiment before blessing it");
+  if (latest.value("profile", "") != config.profile) {
+    throw std::runtime_error(lp.string() + ": was produced with profile '" + latest.value("profile", "?") +
+                             "', not '" + config.profile + "'");
+  }
+  latest.erase("figures");
+  write_file_atomic(baseline_path(results_dir, config.id, config.profile), latest.dump(1) + "\n");
+}
+
+bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why) {
+  json ja = read_json(a, ""), jb = read_json(b, "");
+  ja.erase("provenance");
+  jb.erase("provenance");
+  if (ja == jb) return true;
+  if (why) {
+    const json patch = json::diff(ja, jb);
+    *why = patch.empty() ? "differ" : patch.front().dump();
+  }
+  return false;
+}
+
+std::string format_diff(const DiffResult& d) {
+  std::size_t w = 6;
+  for (const auto& r : d.rows) w = std::max(w, r.name.size());
+  w = std::min<std::size_t>(w, 60);
+  std::ostringstream os;
+  os << d.id << " [" << d.profile << "]: " << (d.ok() ? "within tolerance" : std::to_string(d.failures()) + " out of tolerance") << "\n";
+  for (const auto& warn : d.warnings) os << "  warning: " << warn << "\n";
+  char line[512];
+  std::snprintf(line, sizeof line, "  %-*s %14s %14s  %-16s %s\n", static_cast<int>(w), "metric", "baseline",
+                "latest", "tolerance", "");
+  os << line;
+  for (const auto& r : d.rows) {
+    std::snprintf(line, sizeof line, "  %-*s %14s %14s  %-16s %s%s\n", static_cast<int>(w), r.name.substr(0, 60).c_str(),
+                  r.baseline.c_str(), r.latest.c_str(), r.tolerance.c_str(), r.ok ? "ok" : "FAIL",
+                  r.note.empty() ? "" : ("  " + r.note).c_str());
+    os << line;
+  }
+  return os.str();
+}
+
+}  // namespace keel::core

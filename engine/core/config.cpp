@@ -1,0 +1,349 @@
+#include "core/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace keel::core {
+
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+std::string config_type_name(const ConfigValue& v) {
+  switch (v.data.index()) {
+    case 0: return "nothing";
+    case 1: return "integer";
+    case 2: return "float";
+    case 3: return "boolean";
+    case 4: return "string";
+    case 5: return "array";
+    default: return "table";
+  }
+}
+
+namespace {
+
+std::string join_name(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+ConfigValue convert(const toml::node& node, const std::string& table_name, const std::string& file);
+
+std::shared_ptr<ConfigTableData> convert_table(const toml::table& t, const std::string& name,
+                                               const std::string& file) {
+  auto out = std::make_shared<ConfigTableData>();
+  for (const auto& [k, v] : t) {
+    const std::string key(k.str());
+    ConfigValue cv = convert(v, v.is_table() ? join_name(name, key) : name, file);
+    cv.table = name;
+    cv.line = static_cast<int>(v.source().begin.line);
+    out->emplace(key, std::move(cv));
+  }
+  return out;
+}
+
+ConfigValue convert(const toml::node& node, const std::string& table_name, const std::string& file) {
+  ConfigValue cv;
+  cv.table = table_name;
+  cv.line = static_cast<int>(node.source().begin.line);
+  if (auto i = node.as_integer()) {
+    cv.data = i->get();
+  } else if (auto f = node.as_floating_point()) {
+    cv.data = f->get();
+  } else if (auto b = node.as_boolean()) {
+    cv.data = b->get();
+  } else if (auto s = node.as_string()) {
+    cv.data = s->get();
+  } else if (auto a = node.as_array()) {
+    std::vector<ConfigValue> items;
+    for (const auto& e : *a) items.push_back(convert(e, table_name, file));
+    cv.data = std::move(items);
+  } else if (auto t = node.as_table()) {
+    cv.data = convert_table(*t, table_name, file);
+  } else {
+    throw ConfigError(file + ":" + std::to_string(cv.line) + ": unsupported TOML value type (dates are not used)");
+  }
+  return cv;
+}
+
+}  // namespace
+
+ConfigTable::ConfigTable(std::string file, std::string name, std::shared_ptr<const ConfigTableData> data)
+    : file_(std::move(file)), name_(std::move(name)), data_(std::move(data)) {}
+
+std::string ConfigTable::where(std::string_view key) const {
+  std::string s = file_ + ": [" + (name_.empty() ? std::string("top level") : name_) + "] key '" +
+                  std::string(key) + "'";
+  if (data_) {
+    if (auto it = data_->find(key); it != data_->end()) {
+      if (it->second.table != name_) {
+        s = file_ + ": [" + it->second.table + "] key '" + std::string(key) + "'";
+      }
+      if (it->second.line > 0) s += " (line " + std::to_string(it->second.line) + ")";
+    }
+  }
+  return s;
+}
+
+bool ConfigTable::has(std::string_view key) const { return data_ && data_->find(key) != data_->end(); }
+
+std::vector<std::string> ConfigTable::keys() const {
+  std::vector<std::string> out;
+  if (data_)
+    for (const auto& [k, v] : *data_) out.push_back(k);
+  return out;
+}
+
+const ConfigValue& ConfigTable::get(std::string_view key, std::string_view expected) const {
+  if (!data_ || data_->find(key) == data_->end()) {
+    throw ConfigError(where(key) + ": missing (expected " + std::string(expected) + ")");
+  }
+  used_->insert(std::string(key));
+  return data_->find(key)->second;
+}
+
+const ConfigValue& ConfigTable::value(std::string_view key) const { return get(key, "a value"); }
+
+void ConfigTable::type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const {
+  throw ConfigError(where(key) + ": expected " + std::string(expected) + ", got " + config_type_name(v));
+}
+
+double ConfigTable::number(std::string_view key) const {
+  const auto& v = get(key, "a number");
+  if (auto i = std::get_if<std::int64_t>(&v.data)) return static_cast<double>(*i);
+  if (auto d = std::get_if<double>(&v.data)) return *d;
+  type_error(key, "a number", v);
+}
+
+std::int64_t ConfigTable::integer(std::string_view key) const {
+  const auto& v = get(key, "an integer");
+  if (auto i = std::get_if<std::int64_t>(&v.data)) return *i;
+  type_error(key, "an integer", v);
+}
+
+bool ConfigTable::boolean(std::string_view key) const {
+  const auto& v = get(key, "a boolean");
+  if (auto b = std::get_if<bool>(&v.data)) return *b;
+  type_error(key, "a boolean", v);
+}
+
+std::string ConfigTable::string(std::string_view key) const {
+  const auto& v = get(key, "a string");
+  if (auto s = std::get_if<std::string>(&v.data)) return *s;
+  type_error(key, "a string", v);
+}
+
+std::vector<double> ConfigTable::numbers(std::string_view key) const {
+  const auto& v = get(key, "an array of numbers");
+  auto a = std::get_if<std::vector<ConfigValue>>(&v.data);
+  if (!a) type_error(key, "an array of numbers", v);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const auto& e = (*a)[i];
+    if (auto x = std::get_if<std::int64_t>(&e.data)) {
+      out.push_back(static_cast<double>(*x));
+    } else if (auto d = std::get_if<double>(&e.data)) {
+      out.push_back(*d);
+    } else {
+      throw ConfigError(where(key) + ": element " + std::to_string(i) + " must be a number, got " +
+                        config_type_name(e));
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> ConfigTable::strings(std::string_view key) const {
+  const auto& v = get(key, "an array of strings");
+  auto a = std::get_if<std::vector<ConfigValue>>(&v.data);
+  if (!a) type_error(key, "an array of strings", v);
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    auto s = std::get_if<std::string>(&(*a)[i].data);
+    if (!s) {
+      throw ConfigError(where(key) + ": element " + std::to_string(i) + " must be a string, got " +
+                        config_type_name((*a)[i]));
+    }
+    out.push_back(*s);
+  }
+  return out;
+}
+
+ConfigTable ConfigTable::table(std::string_view key) const {
+  const auto& v = get(key, "a table");
+  auto t = std::get_if<std::shared_ptr<ConfigTableData>>(&v.data);
+  if (!t) type_error(key, "a table", v);
+  ConfigTable child(file_, join_name(name_, std::string(key)), *t);
+  children_->push_back(child);
+  return child;
+}
+
+double ConfigTable::number_or(std::string_view key, double fallback) const {
+  return has(key) ? number(key) : fallback;
+}
+std::int64_t ConfigTable::integer_or(std::string_view key, std::int64_t fallback) const {
+  return has(key) ? integer(key) : fallback;
+}
+std::string ConfigTable::string_or(std::string_view key, std::string fallback) const {
+  return has(key) ? string(key) : fallback;
+}
+
+void ConfigTable::finish() const {
+  if (data_) {
+    std::vector<std::string> unknown;
+    for (const auto& [k, v] : *data_)
+      if (!used_->count(k)) unknown.push_back(k);
+    if (!unknown.empty()) {
+      std::string msg = where(unknown.front()) + ": unknown key";
+      if (unknown.size() > 1) {
+        msg += " (also unknown:";
+        for (std::size_t i = 1; i < unknown.size(); ++i) msg += " '" + unknown[i] + "'";
+        msg += ")";
+      }
+      std::string names;
+      for (const auto& [k, v] : *data_)
+        if (used_->count(k)) names += (names.empty() ? "" : ", ") + k;
+      if (!names.empty()) msg += "; known keys here: " + names;
+      throw ConfigError(msg);
+    }
+  }
+  for (const auto& c : *children_) c.finish();
+}
+
+ConfigTable load_toml(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw ConfigError(file.string() + ": cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  toml::table root;
+  try {
+    root = toml::parse(text, file.string());
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(file.string() + ":" + std::to_string(e.source().begin.line) + ":" +
+                      std::to_string(e.source().begin.column) + ": TOML syntax error: " +
+                      std::string(e.description()));
+  }
+  return ConfigTable(file.string(), "", convert_table(root, "", file.string()));
+}
+
+bool Tolerance::accepts(double ours, double base) const {
+  if (std::isnan(ours) || std::isnan(base)) return std::isnan(ours) && std::isnan(base);
+  const double d = std::fabs(ours - base);
+  if (abs >= 0 && d <= abs) return true;
+  if (rel >= 0 && d <= rel * std::fabs(base)) return true;
+  return abs < 0 && rel < 0 && d == 0.0;
+}
+
+std::string Tolerance::describe() const {
+  std::ostringstream os;
+  if (abs >= 0) os << "abs " << abs;
+  if (abs >= 0 && rel >= 0) os << " or ";
+  if (rel >= 0) os << "rel " << rel;
+  if (abs < 0 && rel < 0) os << "exact";
+  return os.str();
+}
+
+std::optional<Tolerance> ExperimentConfig::tolerance_for(std::string_view metric) const {
+  if (auto it = tolerances.find(metric); it != tolerances.end()) return it->second;
+  if (auto it = tolerances.find(std::string_view("default")); it != tolerances.end()) return it->second;
+  return std::nullopt;
+}
+
+namespace {
+
+std::shared_ptr<ConfigTableData> overlay(const ConfigTableData& base, const ConfigTableData& top) {
+  auto out = std::make_shared<ConfigTableData>(base);
+  for (const auto& [k, v] : top) (*out)[k] = v;
+  return out;
+}
+
+Tolerance parse_tolerance(const ConfigTable& t) {
+  Tolerance tol;
+  if (t.has("abs")) tol.abs = t.number("abs");
+  if (t.has("rel")) tol.rel = t.number("rel");
+  t.finish();
+  if (tol.abs < 0 && tol.rel < 0 && (t.has("abs") || t.has("rel"))) {
+    throw ConfigError(t.file() + ": [" + t.name() + "] tolerances must be >= 0");
+  }
+  if (!t.has("abs") && !t.has("rel")) {
+    throw ConfigError(t.file() + ": [" + t.name() + "] needs 'abs' and/or 'rel'");
+  }
+  return tol;
+}
+
+}  // namespace
+
+ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const std::string& profile) {
+  ConfigTable root = load_toml(file);
+  ExperimentConfig c;
+  c.file = file;
+  c.profile = profile;
+  c.id = root.string("id");
+  const std::string folder = std::filesystem::absolute(file).parent_path().filename().string();
+  if (c.id != folder) {
+    throw ConfigError(root.where("id") + ": '" + c.id + "' must equal the experiment folder name '" + folder + "'");
+  }
+  c.title = root.string("title");
+  c.reproduces = root.string("reproduces");
+  c.description = root.string_or("description", "");
+  c.discussion = root.string_or("discussion", "");
+  const std::int64_t seed = root.integer("seed");
+  if (seed < 0) throw ConfigError(root.where("seed") + ": must be >= 0");
+  c.seed = static_cast<std::uint64_t>(seed);
+
+  ConfigTable params = root.table("params");
+  ConfigTable profiles = root.table("profiles");
+  c.profiles = profiles.keys();
+  if (!profiles.has(profile)) {
+    std::string have;
+    for (const auto& p : c.profiles) have += (have.empty() ? "" : ", ") + p;
+    throw ConfigError(file.string() + ": [profiles] has no profile '" + profile + "' (defined: " + have + ")");
+  }
+  // Mark every profile as read: only the selected one is laid over [params], the others are valid but unused.
+  std::shared_ptr<const ConfigTableData> selected;
+  for (const auto& p : c.profiles) {
+    ConfigTable pt = profiles.table(p);
+    for (const auto& k : pt.keys()) (void)pt.value(k);
+    if (p == profile) {
+      const auto& v = profiles.value(p);
+      selected = std::get<std::shared_ptr<ConfigTableData>>(v.data);
+    }
+  }
+  const auto& pv = root.value("params");
+  const auto& base = *std::get<std::shared_ptr<ConfigTableData>>(pv.data);
+  c.params = ConfigTable(file.string(), "params", overlay(base, *selected));
+  // The overlay copy is what the driver reads; the original [params] view is marked read as a whole.
+  for (const auto& k : params.keys()) (void)params.value(k);
+
+  if (root.has("thesis")) c.thesis = root.table("thesis");
+  if (root.has("tolerance")) {
+    ConfigTable tol = root.table("tolerance");
+    for (const auto& k : tol.keys()) c.tolerances[k] = parse_tolerance(tol.table(k));
+  }
+  // Report-only tables are read by the report; mark them here so finish() only catches typos at the top level.
+  if (root.has("thesis")) {
+    for (const auto& k : c.thesis.keys()) (void)c.thesis.value(k);
+  }
+  // finish() on the root checks top-level keys only for unknowns: sub-tables were fully consumed above.
+  root.finish();
+
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  c.hash = fnv1a64(profile, fnv1a64(ss.str()));
+  // A fresh, untracked view of [thesis] for the report (so its reads are checked there, not here).
+  if (root.has("thesis")) {
+    const auto& tv = root.value("thesis");
+    c.thesis = ConfigTable(file.string(), "thesis", std::get<std::shared_ptr<ConfigTableData>>(tv.data));
+  }
+  return c;
+}
+
+}  // namespace keel::core

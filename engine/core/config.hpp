@@ -1,0 +1,116 @@
+// Strict TOML configuration. A config is read into a small tree that remembers, for every key, the file, table and
+// line it came from; every read marks the key, and finish() rejects keys nobody read ("unknown key"). Wrong types and
+// missing keys are errors that name file, table and key. toml++ stays inside config.cpp.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace keel::core {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ConfigValue;
+using ConfigTableData = std::map<std::string, ConfigValue, std::less<>>;
+
+struct ConfigValue {
+  std::variant<std::monostate, std::int64_t, double, bool, std::string, std::vector<ConfigValue>,
+               std::shared_ptr<ConfigTableData>>
+      data;
+  std::string table;  // the TOML table this key was written in, e.g. "profiles.quick"
+  int line = 0;       // 1-based line in the file (0 if unknown)
+};
+
+// Human-readable type name of a value ("integer", "float", "string", ...).
+std::string config_type_name(const ConfigValue& v);
+
+// A strict, read-tracking view over one table.
+class ConfigTable {
+ public:
+  ConfigTable() = default;
+  ConfigTable(std::string file, std::string name, std::shared_ptr<const ConfigTableData> data);
+
+  bool has(std::string_view key) const;
+  std::vector<std::string> keys() const;
+
+  double number(std::string_view key) const;  // integer or float
+  std::int64_t integer(std::string_view key) const;
+  bool boolean(std::string_view key) const;
+  std::string string(std::string_view key) const;
+  std::vector<double> numbers(std::string_view key) const;
+  std::vector<std::string> strings(std::string_view key) const;
+  ConfigTable table(std::string_view key) const;
+
+  double number_or(std::string_view key, double fallback) const;
+  std::int64_t integer_or(std::string_view key, std::int64_t fallback) const;
+  std::string string_or(std::string_view key, std::string fallback) const;
+
+  // Raw access for generic consumers (the report reads thesis values that may be numbers or strings).
+  const ConfigValue& value(std::string_view key) const;
+
+  // Throws ConfigError naming every key of this table (and of sub-tables obtained through table()) never read.
+  void finish() const;
+
+  const std::string& file() const { return file_; }
+  const std::string& name() const { return name_; }
+  // "experiments/x/experiment.toml: [params] key 'steps' (line 7)"
+  std::string where(std::string_view key) const;
+
+ private:
+  const ConfigValue& get(std::string_view key, std::string_view expected) const;
+  [[noreturn]] void type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const;
+  std::string file_;
+  std::string name_;
+  std::shared_ptr<const ConfigTableData> data_;
+  std::shared_ptr<std::set<std::string, std::less<>>> used_ = std::make_shared<std::set<std::string, std::less<>>>();
+  std::shared_ptr<std::vector<ConfigTable>> children_ = std::make_shared<std::vector<ConfigTable>>();
+};
+
+// Parses a TOML file into a read-tracking root table. Syntax errors name file, line and column.
+ConfigTable load_toml(const std::filesystem::path& file);
+
+// Per-metric tolerance against a committed baseline: passes if |ours - base| <= abs or <= rel * |base|.
+struct Tolerance {
+  double abs = -1.0;  // < 0: not set
+  double rel = -1.0;  // < 0: not set
+  bool accepts(double ours, double base) const;
+  std::string describe() const;
+};
+
+// One experiment's experiment.toml, resolved for one profile.
+struct ExperimentConfig {
+  std::filesystem::path file;
+  std::string id;           // = folder name = results/<id> = report section
+  std::string title;        // one line
+  std::string reproduces;   // "Fig. 5.4 (§5.5.2)"
+  std::string description;  // what the experiment does and how
+  std::string discussion;   // our reading of the results against the thesis (report text)
+  std::string profile;
+  std::vector<std::string> profiles;  // every profile the file defines
+  std::uint64_t seed = 0;
+  std::uint64_t hash = 0;   // FNV-1a of the file bytes and the profile name
+  ConfigTable params;       // [params] with [profiles.<profile>] laid over it
+  ConfigTable thesis;       // [thesis]: source, claim, values, agreement
+  std::map<std::string, Tolerance, std::less<>> tolerances;  // [tolerance]; key "default" applies to the rest
+  std::optional<Tolerance> tolerance_for(std::string_view metric) const;
+
+  // Loads and validates: unknown top-level keys, a missing profile, an id that differs from the folder name, and
+  // malformed tolerances are errors naming the file and key.
+  static ExperimentConfig load(const std::filesystem::path& file, const std::string& profile);
+};
+
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull);
+
+}  // namespace keel::core

@@ -1,0 +1,153 @@
+#include "core/experiment.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+
+#include "core/parallel.hpp"
+#include "core/progress.hpp"
+
+namespace keel::core {
+
+Experiment::Experiment(ExperimentConfig config, unsigned threads)
+    : config_(std::move(config)), threads_(threads) {}
+
+namespace {
+
+std::string run_capture(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = ::popen(cmd.c_str(), "r")) {
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    ::pclose(p);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+void usage(const char* prog) {
+  std::fprintf(stderr,
+               "usage: %s --config experiments/<id>/experiment.toml [--profile quick|full] "
+               "[--out results/<id>/latest.json] [--threads N]\n",
+               prog);
+}
+
+}  // namespace
+
+std::string git_describe(const std::string& path) {
+  const std::string dir = shell_quote(path.empty() ? "." : path);
+  std::string sha = run_capture("git -C " + dir + " rev-parse --short=12 HEAD 2>/dev/null");
+  if (sha.empty()) return "unknown";
+  const std::string dirty =
+      run_capture("git -C " + dir + " status --porcelain --untracked-files=no -- engine experiments 2>/dev/null");
+  return dirty.empty() ? sha : sha + "-dirty";
+}
+
+int experiment_main(int argc, char** argv, const ExperimentBody& body) {
+  std::string config_path, profile = "quick", out_path;
+  unsigned threads = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto need = [&](const char* what) -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "error: %s needs %s\n", a.c_str(), what);
+        usage(argv[0]);
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--config") {
+      config_path = need("a path");
+    } else if (a == "--profile") {
+      profile = need("a profile name");
+    } else if (a == "--out") {
+      out_path = need("a path");
+    } else if (a == "--threads") {
+      const std::string v = need("a number");
+      char* end = nullptr;
+      const long t = std::strtol(v.c_str(), &end, 10);
+      if (*end != '\0' || t < 1 || t > 1024) {
+        std::fprintf(stderr, "error: --threads expects an integer in [1, 1024], got '%s'\n", v.c_str());
+        return 2;
+      }
+      threads = static_cast<unsigned>(t);
+    } else if (a == "--help" || a == "-h") {
+      usage(argv[0]);
+      return 0;
+    } else {
+      std::fprintf(stderr, "error: unknown argument '%s'\n", a.c_str());
+      usage(argv[0]);
+      return 2;
+    }
+  }
+  if (config_path.empty()) {
+    std::fprintf(stderr, "error: --config is required\n");
+    usage(argv[0]);
+    return 2;
+  }
+  if (threads == 0) threads = default_threads();
+
+  std::optional<Experiment> ex;
+  try {
+    ex.emplace(ExperimentConfig::load(config_path, profile), threads);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "config error: %s\n", e.what());
+    return 2;
+  }
+  if (out_path.empty()) out_path = "results/" + ex->id() + "/latest.json";
+
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    body(*ex);
+    ex->params_done();
+  } catch (const ConfigError& e) {
+    std::fprintf(stderr, "config error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: run failed: %s\n", ex->id().c_str(), e.what());
+    return 1;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  Results::Provenance prov;
+  prov.id = ex->id();
+  prov.profile = profile;
+  prov.git_sha = git_describe(std::filesystem::absolute(config_path).parent_path().string());
+#if defined(__clang__)
+  prov.compiler = std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  prov.compiler = std::string("gcc ") + __VERSION__;
+#else
+  prov.compiler = "unknown";
+#endif
+  prov.config_file = config_path;
+  prov.config_hash = ex->config().hash;
+  prov.seed = ex->seed();
+  prov.wall_time_s = wall;
+  prov.threads = threads;
+  try {
+    ex->results().write(out_path, prov);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: cannot write results: %s\n", ex->id().c_str(), e.what());
+    return 1;
+  }
+  int failed = 0;
+  for (const auto& c : ex->results().checks()) failed += c.passed ? 0 : 1;
+  std::fprintf(stderr, "%s [%s]: %zu metrics, %zu series, %zu checks (%d not met) in %s -> %s\n", ex->id().c_str(),
+               profile.c_str(), ex->results().metrics().size(), ex->results().all_series().size(),
+               ex->results().checks().size(), failed, format_duration(wall).c_str(), out_path.c_str());
+  return 0;
+}
+
+}  // namespace keel::core

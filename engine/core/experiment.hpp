@@ -1,0 +1,52 @@
+// The shared main() of every experiment driver. A driver is thin (DESIGN convention 6):
+//
+//   import keel.core;
+//   int main(int argc, char** argv) {
+//     return keel::core::experiment_main(argc, argv, [](keel::core::Experiment& ex) {
+//       const auto n = ex.params().integer("steps");   // strict: missing/wrong type -> error naming file and key
+//       ex.params_done();                               // unknown keys -> error before any long work
+//       ex.results().metric("x", compute(n, ex.seed(), ex.threads()));
+//     });
+//   }
+//
+// Command line: --config experiments/<id>/experiment.toml [--profile quick|full] [--out results/<id>/latest.json]
+//               [--threads N]. Exit codes: 0 ok, 1 the run failed, 2 bad command line or configuration.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "core/config.hpp"
+#include "core/results.hpp"
+
+namespace keel::core {
+
+class Experiment {
+ public:
+  Experiment(ExperimentConfig config, unsigned threads);
+  const ExperimentConfig& config() const { return config_; }
+  const ConfigTable& params() const { return config_.params; }
+  // Rejects [params]/[profiles.*] keys the driver did not read. Called again after the body returns.
+  void params_done() const { config_.params.finish(); }
+  Results& results() { return results_; }
+  const Results& results() const { return results_; }
+  unsigned threads() const { return threads_; }
+  std::uint64_t seed() const { return config_.seed; }
+  const std::string& profile() const { return config_.profile; }
+  const std::string& id() const { return config_.id; }
+
+ private:
+  ExperimentConfig config_;
+  unsigned threads_;
+  Results results_;
+};
+
+using ExperimentBody = std::function<void(Experiment&)>;
+
+int experiment_main(int argc, char** argv, const ExperimentBody& body);
+
+// "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
+std::string git_describe(const std::string& path);
+
+}  // namespace keel::core

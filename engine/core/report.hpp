@@ -1,0 +1,25 @@
+// paper/REPRODUCTION.md: one section per thesis table/figure with the thesis's published values or claim (from each
+// experiment.toml's [thesis]), our values (results/<id>/latest.json), a verdict and the figures.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace keel::core {
+
+struct ReportOptions {
+  std::filesystem::path experiments_dir = "experiments";
+  std::filesystem::path results_dir = "results";
+  std::filesystem::path paper_dir = "paper";
+  std::string profile = "full";
+  std::vector<std::string> ids;  // empty: every experiment folder
+};
+
+// Writes <paper_dir>/REPRODUCTION.md atomically and returns its path. Throws on malformed [thesis] tables.
+std::filesystem::path write_report(const ReportOptions& options);
+
+// Every experiment id (folder with an experiment.toml), sorted.
+std::vector<std::string> list_experiments(const std::filesystem::path& experiments_dir);
+
+}  // namespace keel::core

@@ -1,0 +1,167 @@
+#include "core/results.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace keel::core {
+
+using json = nlohmann::json;
+
+double round_significant(double v, int digits) {
+  if (!std::isfinite(v) || v == 0.0) return v;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return std::strtod(buf, nullptr);
+}
+
+namespace {
+
+json number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return round_significant(v);
+}
+
+json numbers(const std::vector<double>& v) {
+  json a = json::array();
+  for (double x : v) a.push_back(number(x));
+  return a;
+}
+
+json layer_json(const Layer& l) {
+  json j;
+  j["type"] = l.type;
+  auto arr = [&](const char* k, const std::vector<double>& v) {
+    if (!v.empty()) j[k] = numbers(v);
+  };
+  auto str = [&](const char* k, const std::string& s) {
+    if (!s.empty()) j[k] = s;
+  };
+  auto opt = [&](const char* k, const std::optional<double>& v) {
+    if (v) j[k] = number(*v);
+  };
+  if (l.type == "line" || l.type == "scatter") {
+    j["x"] = numbers(l.x);
+    j["y"] = numbers(l.y);
+  }
+  arr("x0", l.x0);
+  arr("y0", l.y0);
+  arr("x1", l.x1);
+  arr("y1", l.y1);
+  arr("c", l.c);
+  if (l.value) j[l.type == "vline" ? "x" : "y"] = number(*l.value);
+  str("label", l.label);
+  str("color", l.color);
+  str("marker", l.marker);
+  str("linestyle", l.linestyle);
+  str("cmap", l.cmap);
+  opt("size", l.size);
+  opt("alpha", l.alpha);
+  opt("linewidth", l.linewidth);
+  opt("vmin", l.vmin);
+  opt("vmax", l.vmax);
+  return j;
+}
+
+json figure_json(const Figure& f) {
+  json j;
+  j["file"] = f.file;
+  if (!f.title.empty()) j["title"] = f.title;
+  if (f.rows > 0 && f.cols > 0) j["layout"] = {f.rows, f.cols};
+  json panels = json::array();
+  for (const auto& p : f.panels) {
+    json pj;
+    auto str = [&](const char* k, const std::string& s) {
+      if (!s.empty()) pj[k] = s;
+    };
+    str("title", p.title);
+    str("xlabel", p.xlabel);
+    str("ylabel", p.ylabel);
+    str("xscale", p.xscale);
+    str("yscale", p.yscale);
+    str("aspect", p.aspect);
+    str("legend", p.legend);
+    str("colorbar", p.colorbar);
+    if (p.xlim) pj["xlim"] = {p.xlim->first, p.xlim->second};
+    if (p.ylim) pj["ylim"] = {p.ylim->first, p.ylim->second};
+    json layers = json::array();
+    for (const auto& l : p.layers) layers.push_back(layer_json(l));
+    pj["layers"] = layers;
+    panels.push_back(pj);
+  }
+  j["panels"] = panels;
+  return j;
+}
+
+}  // namespace
+
+void Results::metric(const std::string& name, double value) {
+  if (name.empty()) throw std::invalid_argument("Results::metric: empty name");
+  metrics_[name] = value;
+}
+void Results::series(const std::string& name, std::vector<double> values) {
+  if (name.empty()) throw std::invalid_argument("Results::series: empty name");
+  series_[name] = std::move(values);
+}
+void Results::check(const std::string& name, bool passed, const std::string& detail) {
+  checks_.push_back({name, passed, detail});
+}
+void Results::figure(Figure f) {
+  if (f.file.empty() || f.file.find('/') != std::string::npos || f.file.find("..") != std::string::npos) {
+    throw std::invalid_argument("Results::figure: file must be a plain file name, got '" + f.file + "'");
+  }
+  figures_.push_back(std::move(f));
+}
+void Results::note(const std::string& key, const std::string& text) { notes_[key] = text; }
+
+void write_file_atomic(const std::filesystem::path& path, const std::string& text) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  const std::filesystem::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
+    out << text;
+    out.flush();
+    if (!out) throw std::runtime_error(tmp.string() + ": write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw std::runtime_error(path.string() + ": rename failed: " + ec.message());
+  }
+}
+
+void Results::write(const std::filesystem::path& path, const Provenance& prov) const {
+  json doc;
+  doc["id"] = prov.id;
+  doc["profile"] = prov.profile;
+  json m = json::object();
+  for (const auto& [k, v] : metrics_) m[k] = number(v);
+  doc["metrics"] = m;
+  json s = json::object();
+  for (const auto& [k, v] : series_) s[k] = numbers(v);
+  doc["series"] = s;
+  json c = json::array();
+  for (const auto& ch : checks_) c.push_back({{"name", ch.name}, {"passed", ch.passed}, {"detail", ch.detail}});
+  doc["checks"] = c;
+  json f = json::array();
+  for (const auto& fig : figures_) f.push_back(figure_json(fig));
+  doc["figures"] = f;
+  if (!notes_.empty()) doc["notes"] = notes_;
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(prov.config_hash));
+  doc["provenance"] = {{"git_sha", prov.git_sha},     {"config_hash", hash},
+                       {"config_file", prov.config_file}, {"compiler", prov.compiler},
+                       {"seed", prov.seed},           {"profile", prov.profile},
+                       {"wall_time_s", round_significant(prov.wall_time_s, 4)},
+                       {"threads", prov.threads}};
+  write_file_atomic(path, doc.dump(1) + "\n");
+}
+
+}  // namespace keel::core

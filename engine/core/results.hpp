@@ -1,0 +1,82 @@
+// What an experiment run produces: scalar metrics, named series, claim checks, declarative figures (rendered by
+// scripts/plot.py, whose header documents the figure contract) and provenance. Written as JSON with sorted keys to a
+// temporary name and renamed (DESIGN convention 8). nlohmann::json stays inside results.cpp.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace keel::core {
+
+// One drawable layer of a panel; which fields matter depends on `type` ("line", "scatter", "segments", "hline",
+// "vline"). Unset optional fields are omitted from the JSON.
+struct Layer {
+  std::string type = "line";
+  std::vector<double> x, y;              // line, scatter
+  std::vector<double> x0, y0, x1, y1;    // segments
+  std::vector<double> c;                 // scatter/segments colour values
+  std::optional<double> value;           // hline: y; vline: x
+  std::string label, color, marker, linestyle, cmap;
+  std::optional<double> size, alpha, linewidth, vmin, vmax;
+};
+
+struct Panel {
+  std::string title, xlabel, ylabel;
+  std::string xscale, yscale, aspect, legend, colorbar;
+  std::optional<std::pair<double, double>> xlim, ylim;
+  std::vector<Layer> layers;
+};
+
+struct Figure {
+  std::string file;  // file name under paper/figures/
+  std::string title;
+  int rows = 0, cols = 0;  // 0: one row of panels
+  std::vector<Panel> panels;
+};
+
+struct Check {
+  std::string name;    // the claim, in words
+  bool passed = false;
+  std::string detail;  // the measured numbers behind the verdict
+};
+
+class Results {
+ public:
+  void metric(const std::string& name, double value);
+  void series(const std::string& name, std::vector<double> values);
+  void check(const std::string& name, bool passed, const std::string& detail);
+  void figure(Figure f);
+  void note(const std::string& key, const std::string& text);
+
+  const std::map<std::string, double>& metrics() const { return metrics_; }
+  const std::map<std::string, std::vector<double>>& all_series() const { return series_; }
+  const std::vector<Check>& checks() const { return checks_; }
+
+  struct Provenance {
+    std::string id, profile, git_sha, compiler, config_file;
+    std::uint64_t config_hash = 0, seed = 0;
+    double wall_time_s = 0;
+    unsigned threads = 0;
+  };
+  // Writes the JSON document atomically (temporary file + rename), creating parent folders.
+  void write(const std::filesystem::path& path, const Provenance& prov) const;
+
+ private:
+  std::map<std::string, double> metrics_;
+  std::map<std::string, std::vector<double>> series_;
+  std::vector<Check> checks_;
+  std::vector<Figure> figures_;
+  std::map<std::string, std::string> notes_;
+};
+
+// Writes `text` to `path` through a temporary file in the same folder and an atomic rename.
+void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+
+// Rounds to 12 significant digits so committed baselines do not churn in the last bits (and prints compactly).
+double round_significant(double v, int digits = 12);
+
+}  // namespace keel::core

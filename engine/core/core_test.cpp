@@ -1,0 +1,217 @@
+// Unit tests of engine/core internals (they include the headers; no module import).
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/baseline.hpp"
+#include "core/config.hpp"
+#include "core/parallel.hpp"
+#include "core/random.hpp"
+#include "core/results.hpp"
+
+using namespace keel::core;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A scratch experiment folder experiments/<id>/experiment.toml under a fresh temporary root.
+struct Scratch {
+  fs::path root;
+  explicit Scratch(const std::string& tag) {
+    root = fs::temp_directory_path() / ("keel_core_test_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    fs::create_directories(root);
+  }
+  ~Scratch() { fs::remove_all(root); }
+  fs::path write(const std::string& rel, const std::string& text) const {
+    const fs::path p = root / rel;
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+    return p;
+  }
+};
+
+const char* kGood = R"(id = "demo"
+title = "Demo"
+reproduces = "Fig. 0"
+seed = 7
+[params]
+steps = 10
+sigma = 0.5
+name = "x"
+[profiles.quick]
+trials = 100
+[profiles.full]
+trials = 10000
+[tolerance]
+"a.b" = { abs = 0.01 }
+default = { rel = 1e-6 }
+)";
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("config: profile overlay, typed reads, unknown keys") {
+  Scratch s("cfg");
+  const auto file = s.write("demo/experiment.toml", kGood);
+  auto c = ExperimentConfig::load(file, "quick");
+  CHECK(c.id == "demo");
+  CHECK(c.seed == 7);
+  CHECK(c.params.integer("steps") == 10);
+  CHECK(c.params.number("steps") == 10.0);  // integers widen to numbers
+  CHECK(c.params.number("sigma") == 0.5);
+  CHECK(c.params.integer("trials") == 100);
+  // 'name' was never read: finish() must name it, with file and table.
+  const std::string e = error_of([&] { c.params.finish(); });
+  CHECK(e.find("experiment.toml") != std::string::npos);
+  CHECK(e.find("[params]") != std::string::npos);
+  CHECK(e.find("'name'") != std::string::npos);
+  CHECK(e.find("unknown key") != std::string::npos);
+  CHECK(ExperimentConfig::load(file, "full").params.integer("trials") == 10000);
+  CHECK(c.tolerance_for("a.b")->abs == 0.01);
+  CHECK(c.tolerance_for("other")->rel == 1e-6);
+}
+
+TEST_CASE("config: wrong type names file, table, key and line") {
+  Scratch s("type");
+  const auto file = s.write("demo/experiment.toml", kGood);
+  auto c = ExperimentConfig::load(file, "quick");
+  const std::string e = error_of([&] { (void)c.params.integer("sigma"); });
+  CHECK(e.find("[params] key 'sigma'") != std::string::npos);
+  CHECK(e.find("expected an integer, got float") != std::string::npos);
+  CHECK(e.find("line 7") != std::string::npos);
+  const std::string e2 = error_of([&] { (void)c.params.integer("trials_missing"); });
+  CHECK(e2.find("'trials_missing': missing") != std::string::npos);
+  // A key set by the profile is reported in the profile's table.
+  const std::string e3 = error_of([&] { (void)c.params.string("trials"); });
+  CHECK(e3.find("[profiles.quick] key 'trials'") != std::string::npos);
+}
+
+TEST_CASE("config: bad files give clear errors") {
+  Scratch s("bad");
+  std::string text = kGood;
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", text), "nope"); })
+            .find("no profile 'nope'") != std::string::npos);
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("other/experiment.toml", text), "quick"); })
+            .find("must equal the experiment folder name 'other'") != std::string::npos);
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", "colour = 3\n" + text), "quick"); })
+            .find("[top level] key 'colour'") != std::string::npos);
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", "id = \n"), "quick"); })
+            .find("TOML syntax error") != std::string::npos);
+  CHECK(error_of([&] { ExperimentConfig::load(s.root / "missing/experiment.toml", "quick"); })
+            .find("cannot open") != std::string::npos);
+  std::string bad_tol = kGood;
+  bad_tol += "\"x\" = { absolute = 1 }\n";
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", bad_tol), "quick"); })
+            .find("'absolute'") != std::string::npos);
+}
+
+TEST_CASE("random streams: deterministic, independent, standard normal") {
+  Rng a = Rng::stream(42, 3), b = Rng::stream(42, 3), c = Rng::stream(42, 4);
+  for (int i = 0; i < 100; ++i) CHECK(a.next() == b.next());
+  CHECK(Rng::stream(42, 3).next() != c.next());
+  Rng r = Rng::stream(1, 0);
+  const int n = 400000;
+  double m = 0, v = 0, k = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = r.normal();
+    m += x;
+    v += x * x;
+    k += x * x * x * x;
+  }
+  m /= n;
+  v /= n;
+  k /= n;
+  CHECK(std::fabs(m) < 0.01);
+  CHECK(std::fabs(v - 1.0) < 0.01);
+  CHECK(std::fabs(k - 3.0) < 0.05);  // fourth moment of N(0,1)
+  double u = 0;
+  for (int i = 0; i < n; ++i) u += r.uniform();
+  CHECK(std::fabs(u / n - 0.5) < 0.005);
+}
+
+TEST_CASE("parallel_for: each index once, results independent of threads, exceptions propagate") {
+  const std::size_t n = 10007;
+  auto run = [&](unsigned threads) {
+    std::vector<double> out(n);
+    parallel_for(n, [&](std::size_t i) { out[i] = Rng::stream(9, i).normal(); }, threads);
+    return out;
+  };
+  const auto one = run(1), two = run(2), many = run(7);
+  CHECK(one == two);
+  CHECK(one == many);
+  std::atomic<int> count{0};
+  parallel_for(n, [&](std::size_t) { count++; }, 3);
+  CHECK(count == static_cast<int>(n));
+  CHECK_THROWS_WITH(parallel_for(100, [](std::size_t i) { if (i == 57) throw std::runtime_error("trial 57"); }, 2),
+                    "trial 57");
+}
+
+TEST_CASE("tolerance semantics") {
+  Tolerance t;
+  CHECK(t.accepts(1.0, 1.0));
+  CHECK_FALSE(t.accepts(1.0, 1.0 + 1e-15));
+  t.abs = 0.1;
+  CHECK(t.accepts(1.05, 1.0));
+  CHECK_FALSE(t.accepts(1.2, 1.0));
+  Tolerance r;
+  r.rel = 0.1;
+  CHECK(r.accepts(105, 100));
+  CHECK_FALSE(r.accepts(120, 100));
+  CHECK(r.accepts(std::nan(""), std::nan("")));
+  CHECK_FALSE(r.accepts(1.0, std::nan("")));
+}
+
+TEST_CASE("results round trip through baseline diff and bless") {
+  Scratch s("diff");
+  const auto file = s.write("experiments/demo/experiment.toml", kGood);
+  auto c = ExperimentConfig::load(file, "quick");
+  const fs::path results = s.root / "results";
+  Results r;
+  r.metric("a.b", 0.5);
+  r.metric("c", 2.0);
+  r.series("s", {1.0, 2.0, 3.0});
+  r.check("claim", true, "detail");
+  Figure f;
+  f.file = "demo.png";
+  r.figure(f);
+  Results::Provenance p;
+  p.id = "demo";
+  p.profile = "quick";
+  r.write(latest_path(results, "demo"), p);
+  // No baseline yet: a clear error that says how to create one.
+  CHECK(error_of([&] { diff_against_baseline(c, results); }).find("--bless demo") != std::string::npos);
+  bless(c, results);
+  auto d = diff_against_baseline(c, results);
+  CHECK(d.ok());
+  // Move a metric beyond its tolerance, and one within.
+  Results r2 = r;
+  r2.metric("a.b", 0.505);  // within abs 0.01
+  r2.metric("c", 2.1);      // default rel 1e-6: out
+  r2.series("s", {1.0, 2.0, 3.5});
+  r2.write(latest_path(results, "demo"), p);
+  d = diff_against_baseline(c, results);
+  CHECK(d.failures() == 2);
+  const std::string table = format_diff(d);
+  CHECK(table.find("s[2]") != std::string::npos);
+  // Baselines carry no figure data.
+  std::ifstream in(baseline_path(results, "demo", "quick"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.find("figures") == std::string::npos);
+  std::string why;
+  CHECK_FALSE(same_results(latest_path(results, "demo"), baseline_path(results, "demo", "quick"), &why));
+}

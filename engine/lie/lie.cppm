@@ -26,6 +26,7 @@ using keel::lie::Mat2;
 using keel::lie::Mat3;
 using keel::lie::Mat4;
 using keel::lie::Mat6;
+using keel::lie::Mat12;
 using keel::lie::MatX;
 using keel::lie::Vec2;
 using keel::lie::Vec3;

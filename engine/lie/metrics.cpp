@@ -140,15 +140,16 @@ double chi2_quantile(double p, double dof) {
     if (hi > 1e300) return std::numeric_limits<double>::infinity();
   }
   double x = 0.5 * (lo + hi);
-  for (int it = 0; it < 200; ++it) {
+  // Relative tolerances only: for small dof and p the root can be many orders of magnitude below 1.
+  for (int it = 0; it < 2000; ++it) {
     const double r = residual(x);
     if (r == 0.0) return x;
     if (r < 0.0) lo = x; else hi = x;
     const double dens = pdf(x);
     double next = (dens > 0.0 && std::isfinite(dens)) ? x - r / dens : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // safeguard: bisect
-    if (std::abs(next - x) <= 1e-14 * std::max(1.0, x)) return next;
-    if (hi - lo <= 1e-15 * std::max(1.0, hi)) return 0.5 * (lo + hi);
+    if (std::abs(next - x) <= 1e-14 * next) return next;
+    if (hi - lo <= 1e-15 * hi) return 0.5 * (lo + hi);
     x = next;
   }
   return x;

@@ -77,6 +77,7 @@ G group_from_ssc(const typename G::Tangent& x) {
 }  // namespace
 
 template <class G>
+  requires std::same_as<G, SE3> || std::same_as<G, SE2>
 JointPoses<G> joint_poses_from_ssc(const VecX& x_hat, const MatX& Sigma_hat, const UtParams& params) {
   constexpr int D = G::DoF;
   if (x_hat.size() == 0 || x_hat.size() % D != 0) {

@@ -2,6 +2,7 @@
 // (Euler-angle) Gaussian into jointly distributed Lie-algebra poses (eqs. 5.60-5.62).
 #pragma once
 
+#include <concepts>
 #include <functional>
 
 #include "types.hpp"
@@ -56,6 +57,7 @@ UtResult unscented_transform(const VecX& mean, const MatX& cov, const std::funct
 /// about zero (the perturbation of the mean pose), not about the sigma-point mean of l.
 /// Explicitly instantiated for G = SE3 (default) and G = SE2.
 template <class G = SE3>
+  requires std::same_as<G, SE3> || std::same_as<G, SE2>
 JointPoses<G> joint_poses_from_ssc(const VecX& x_hat, const MatX& Sigma_hat, const UtParams& params = {});
 
 }  // namespace keel::lie

@@ -92,9 +92,16 @@ int main(int argc, char** argv) {
     if (a.command == "diff") {
       int failed = 0;
       for (const auto& id : resolve_ids(a)) {
-        const auto d = keel::core::diff_against_baseline(load(a, id), a.results);
-        std::printf("%s\n", keel::core::format_diff(d).c_str());
-        failed += d.ok() ? 0 : 1;
+        try {
+          const auto d = keel::core::diff_against_baseline(load(a, id), a.results);
+          std::printf("%s\n", keel::core::format_diff(d).c_str());
+          failed += d.ok() ? 0 : 1;
+        } catch (const keel::core::ConfigError&) {
+          throw;
+        } catch (const std::exception& e) {
+          std::printf("%s [%s]: cannot compare: %s\n\n", id.c_str(), a.profile.c_str(), e.what());
+          failed += 1;
+        }
       }
       if (failed) std::printf("%d experiment(s) left their baseline tolerance\n", failed);
       return failed ? 1 : 0;

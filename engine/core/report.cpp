@@ -62,7 +62,7 @@ struct Section {
 Section render(const ExperimentConfig& cfg, const std::filesystem::path& results_dir) {
   Section s{cfg.id, cfg.reproduces, cfg.title, "", "", 0};
   std::ostringstream os;
-  os << "## " << cfg.reproduces << ": " << cfg.title << "\n\n";
+  os << "<a id=\"" << cfg.id << "\"></a>\n\n## " << cfg.reproduces << ": " << cfg.title << "\n\n";
   os << "Experiment `" << cfg.id << "` ([config](../experiments/" << cfg.id << "/experiment.toml), [notes](../experiments/"
      << cfg.id << "/README.md)).";
   if (!cfg.description.empty()) os << " " << cfg.description;
@@ -199,7 +199,7 @@ std::filesystem::path write_report(const ReportOptions& o) {
         "beside it and every claim we check on our own numbers holds; anything else is reported as it is.\n\n"
      << "| thesis item | experiment | verdict | wall time |\n|---|---|---|---|\n";
   for (const auto& s : sections) {
-    md << "| " << s.reproduces << " | [`" << s.id << "`](#" << "" << ") | " << s.verdict << " | " << fmt(s.wall)
+    md << "| " << s.reproduces << " | [`" << s.id << "`](#" << s.id << ") | " << s.verdict << " | " << fmt(s.wall)
        << " s |\n";
   }
   md << "\n";

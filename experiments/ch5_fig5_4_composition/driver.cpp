@@ -46,6 +46,12 @@ int main(int argc, char** argv) {
                   e_ind, e_ssc);
     r.check("the joint Lie-algebra prediction is the closest of SSC / independent / joint to the nominal level",
             e_joint < e_ind && e_joint < e_ssc, detail);
+    // "Consistent" within 3 Monte-Carlo standard errors of a fraction at the nominal level.
+    const double se3 = 3.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(s.trajectories));
+    std::snprintf(detail, sizeof detail, "inside: joint %.4f, nominal %.2f ± %.4f (3 standard errors)",
+                  out.lie_joint.inside[0], level, se3);
+    r.check("the joint Lie-algebra 95 % region is consistent (covers the nominal fraction of samples)", e_joint <= se3,
+            detail);
     std::snprintf(detail, sizeof detail, "inside: independent %.4f vs nominal %.2f", out.lie_independent.inside[0],
                   level);
     r.check("ignoring correlation under-approximates the spread (fewer samples inside than nominal)",

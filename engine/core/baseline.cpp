@@ -137,6 +137,14 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   for (auto it = ls.begin(); it != ls.end(); ++it) {
     if (!bs.contains(it.key())) d.rows.push_back({it.key() + "[]", "-", "new", "", false, "new series: bless to accept"});
   }
+  // A tolerance key that names nothing is a typo that would silently fall back to the default.
+  for (const auto& [key, tol] : config.tolerances) {
+    if (key == "default") continue;
+    if (!bm.contains(key) && !lm.contains(key) && !bs.contains(key) && !ls.contains(key)) {
+      d.rows.push_back({"tolerance '" + key + "'", "-", "-", tol.describe(), false,
+                        "[tolerance] key names no metric or series of this experiment"});
+    }
+  }
   // Claim checks: a claim that held in the baseline and fails now (or the reverse) is a change worth a look.
   if (base.contains("checks") && latest.contains("checks")) {
     for (const auto& bc : base.at("checks")) {
@@ -151,6 +159,13 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
       const std::string lstate = lc->value("passed", false) ? "holds" : "fails";
       d.rows.push_back({"check: " + name, bstate, lstate, "same", bstate == lstate,
                         bstate == lstate ? "" : "claim verdict changed"});
+    }
+    for (const auto& lc : latest.at("checks")) {
+      const std::string name = lc.value("name", "");
+      const bool known = std::any_of(base.at("checks").begin(), base.at("checks").end(),
+                                     [&](const json& c) { return c.value("name", "") == name; });
+      if (!known) d.rows.push_back({"check: " + name, "-", lc.value("passed", false) ? "holds" : "fails", "", false,
+                                    "new claim check: bless to accept"});
     }
   }
   return d;

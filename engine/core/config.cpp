@@ -184,6 +184,12 @@ ConfigTable ConfigTable::table(std::string_view key) const {
   return child;
 }
 
+std::size_t ConfigTable::count(std::string_view key) const {
+  const std::int64_t v = integer(key);
+  if (v < 1) throw ConfigError(where(key) + ": must be a positive integer, got " + std::to_string(v));
+  return static_cast<std::size_t>(v);
+}
+
 double ConfigTable::number_or(std::string_view key, double fallback) const {
   return has(key) ? number(key) : fallback;
 }
@@ -235,6 +241,7 @@ ConfigTable load_toml(const std::filesystem::path& file) {
 
 bool Tolerance::accepts(double ours, double base) const {
   if (std::isnan(ours) || std::isnan(base)) return std::isnan(ours) && std::isnan(base);
+  if (std::isinf(ours) || std::isinf(base)) return ours == base;
   const double d = std::fabs(ours - base);
   if (abs >= 0 && d <= abs) return true;
   if (rel >= 0 && d <= rel * std::fabs(base)) return true;
@@ -269,7 +276,7 @@ Tolerance parse_tolerance(const ConfigTable& t) {
   if (t.has("abs")) tol.abs = t.number("abs");
   if (t.has("rel")) tol.rel = t.number("rel");
   t.finish();
-  if (tol.abs < 0 && tol.rel < 0 && (t.has("abs") || t.has("rel"))) {
+  if ((t.has("abs") && !(tol.abs >= 0)) || (t.has("rel") && !(tol.rel >= 0))) {
     throw ConfigError(t.file() + ": [" + t.name() + "] tolerances must be >= 0");
   }
   if (!t.has("abs") && !t.has("rel")) {
@@ -306,18 +313,29 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
     for (const auto& p : c.profiles) have += (have.empty() ? "" : ", ") + p;
     throw ConfigError(file.string() + ": [profiles] has no profile '" + profile + "' (defined: " + have + ")");
   }
-  // Mark every profile as read: only the selected one is laid over [params], the others are valid but unused.
-  std::shared_ptr<const ConfigTableData> selected;
-  for (const auto& p : c.profiles) {
-    ConfigTable pt = profiles.table(p);
-    for (const auto& k : pt.keys()) (void)pt.value(k);
-    if (p == profile) {
-      const auto& v = profiles.value(p);
-      selected = std::get<std::shared_ptr<ConfigTableData>>(v.data);
-    }
-  }
+  // Only the selected profile is laid over [params]; the driver's reads check its keys. The other profiles must
+  // not hide typos until their own run: every profile key must either override a [params] key or be set by every
+  // profile (then the driver reads it whichever profile runs).
   const auto& pv = root.value("params");
   const auto& base = *std::get<std::shared_ptr<ConfigTableData>>(pv.data);
+  std::shared_ptr<const ConfigTableData> selected;
+  std::vector<ConfigTable> profile_tables;
+  for (const auto& p : c.profiles) {
+    profile_tables.push_back(profiles.table(p));
+    if (p == profile) selected = std::get<std::shared_ptr<ConfigTableData>>(profiles.value(p).data);
+  }
+  for (const auto& pt : profile_tables) {
+    for (const auto& k : pt.keys()) {
+      (void)pt.value(k);
+      if (base.count(k)) continue;
+      for (const auto& other : profile_tables) {
+        if (!other.has(k)) {
+          throw ConfigError(pt.where(k) + ": set in [" + pt.name() + "] but neither in [params] nor in [" +
+                            other.name() + "] (a typo? every profile must set the same keys)");
+        }
+      }
+    }
+  }
   c.params = ConfigTable(file.string(), "params", overlay(base, *selected));
   // The overlay copy is what the driver reads; the original [params] view is marked read as a whole.
   for (const auto& k : params.keys()) (void)params.value(k);

@@ -47,6 +47,7 @@ class ConfigTable {
 
   double number(std::string_view key) const;  // integer or float
   std::int64_t integer(std::string_view key) const;
+  std::size_t count(std::string_view key) const;  // an integer >= 1 (sizes, sample counts)
   bool boolean(std::string_view key) const;
   std::string string(std::string_view key) const;
   std::vector<double> numbers(std::string_view key) const;

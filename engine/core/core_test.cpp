@@ -120,6 +120,23 @@ TEST_CASE("config: bad files give clear errors") {
             .find("'absolute'") != std::string::npos);
 }
 
+TEST_CASE("config: a key set by one profile only is a typo") {
+  Scratch s("prof");
+  std::string text = kGood;
+  const auto pos = text.find("trials = 10000");
+  text.replace(pos, 14, "trails = 10000");
+  const std::string e = error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", text), "quick"); });
+  CHECK(e.find("[profiles.full] key 'trails'") != std::string::npos);
+  CHECK(e.find("every profile must set the same keys") != std::string::npos);
+}
+
+TEST_CASE("level tags") {
+  CHECK(level_tag(0.95) == "95");
+  CHECK(level_tag(0.999) == "999");
+  CHECK(level_tag(0.5) == "5");
+  CHECK_THROWS(level_tag(1.0));
+}
+
 TEST_CASE("random streams: deterministic, independent, standard normal") {
   Rng a = Rng::stream(42, 3), b = Rng::stream(42, 3), c = Rng::stream(42, 4);
   for (int i = 0; i < 100; ++i) CHECK(a.next() == b.next());
@@ -212,6 +229,13 @@ TEST_CASE("results round trip through baseline diff and bless") {
   std::ifstream in(baseline_path(results, "demo", "quick"));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   CHECK(text.find("figures") == std::string::npos);
+  // A tolerance key that names no metric or series is reported (a typo would silently fall back to the default).
+  auto c2 = ExperimentConfig::load(
+      s.write("experiments/demo/experiment.toml", std::string(kGood) + "\"a.bb\" = { abs = 1 }\n"), "quick");
+  r.write(latest_path(results, "demo"), p);
+  d = diff_against_baseline(c2, results);
+  CHECK(d.failures() == 1);
+  CHECK(format_diff(d).find("tolerance 'a.bb'") != std::string::npos);
   std::string why;
   CHECK_FALSE(same_results(latest_path(results, "demo"), baseline_path(results, "demo", "quick"), &why));
 }

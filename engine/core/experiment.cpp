@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cctype>
 #include <cstring>
 #include <optional>
 #include <exception>
@@ -49,9 +50,23 @@ std::string git_describe(const std::string& path) {
   const std::string dir = shell_quote(path.empty() ? "." : path);
   std::string sha = run_capture("git -C " + dir + " rev-parse --short=12 HEAD 2>/dev/null");
   if (sha.empty()) return "unknown";
-  const std::string dirty =
-      run_capture("git -C " + dir + " status --porcelain --untracked-files=no -- engine experiments 2>/dev/null");
+  // Pathspecs from the repository root (":/"), untracked sources included: any change to the engine or the
+  // experiments since HEAD makes the result "-dirty".
+  const std::string dirty = run_capture("git -C " + dir +
+                                        " status --porcelain --untracked-files=normal -- ':/engine' ':/experiments' "
+                                        "':/CMakeLists.txt' ':/cmake' 2>/dev/null");
   return dirty.empty() ? sha : sha + "-dirty";
+}
+
+bool code_changed_since(const std::string& sha, const std::string& id) {
+  if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return true;
+  for (char c : sha)
+    if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
+  const std::string out = run_capture("git diff --name-only " + sha + " -- ':/engine' ':/CMakeLists.txt' ':/cmake' " +
+                                      shell_quote(":/experiments/" + id) + " 2>&1; echo \"rc=$?\"");
+  const std::string untracked = run_capture("git status --porcelain --untracked-files=normal -- ':/engine' " +
+                                            shell_quote(":/experiments/" + id) + " 2>/dev/null");
+  return out != "rc=0" || !untracked.empty();
 }
 
 int experiment_main(int argc, char** argv, const ExperimentBody& body) {

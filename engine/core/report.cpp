@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/config.hpp"
+#include "core/experiment.hpp"
 #include "core/results.hpp"
 
 namespace keel::core {
@@ -79,6 +80,16 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   const json r = json::parse(in);
   const std::string run_profile = r.value("profile", "?");
   s.wall = r["provenance"].value("wall_time_s", 0.0);
+  // A result from other code or another config cannot carry a verdict about the current code.
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(cfg.hash));
+  const std::string run_sha = r["provenance"].value("git_sha", "unknown");
+  std::string stale;
+  if (r["provenance"].value("config_hash", "") != hash) {
+    stale = "experiment.toml changed since this result was produced";
+  } else if (code_changed_since(run_sha, cfg.id)) {
+    stale = "the result was produced from code (" + run_sha + ") that differs from the working tree";
+  }
 
   const ConfigTable& th = cfg.thesis;
   std::string source = th.has("source") ? th.string("source") : cfg.reproduces;
@@ -145,7 +156,9 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     }
     os << "\n";
   }
-  if (agree + disagree == 0) {
+  if (!stale.empty()) {
+    s.verdict = "stale: rerun";
+  } else if (agree + disagree == 0) {
     s.verdict = "no comparison";
   } else if (disagree == 0) {
     s.verdict = "reproduces";
@@ -156,6 +169,7 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   }
   os << "**Verdict: " << s.verdict << ".**";
   if (run_profile != cfg.profile) os << " (numbers from the `" << run_profile << "` profile)";
+  if (!stale.empty()) os << " " << stale << "; run `scripts/reproduce " << cfg.id << "`.";
   os << "\n\n";
   if (!cfg.discussion.empty()) os << cfg.discussion << "\n\n";
 

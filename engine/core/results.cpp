@@ -19,6 +19,15 @@ double round_significant(double v, int digits) {
   return std::strtod(buf, nullptr);
 }
 
+std::string level_tag(double p) {
+  if (!(p > 0 && p < 1)) throw std::invalid_argument("level_tag: level must lie in (0, 1)");
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", p);
+  std::string s(buf + 2);  // digits after "0."
+  while (!s.empty() && s.back() == '0') s.pop_back();
+  return s;
+}
+
 namespace {
 
 json number(double v) {
@@ -73,6 +82,7 @@ json figure_json(const Figure& f) {
   j["file"] = f.file;
   if (!f.title.empty()) j["title"] = f.title;
   if (f.rows > 0 && f.cols > 0) j["layout"] = {f.rows, f.cols};
+  if (f.width > 0 && f.height > 0) j["size"] = {f.width, f.height};
   json panels = json::array();
   for (const auto& p : f.panels) {
     json pj;
@@ -127,7 +137,11 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& tex
     if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
     out << text;
     out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": write failed");
+    if (!out) {
+      out.close();
+      std::filesystem::remove(tmp);
+      throw std::runtime_error(tmp.string() + ": write failed");
+    }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);

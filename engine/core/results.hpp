@@ -35,6 +35,7 @@ struct Figure {
   std::string file;  // file name under paper/figures/
   std::string title;
   int rows = 0, cols = 0;  // 0: one row of panels
+  double width = 0, height = 0;  // inches; 0: the renderer's default (5.5 x 4.5 per panel)
   std::vector<Panel> panels;
 };
 
@@ -75,6 +76,9 @@ class Results {
 
 // Writes `text` to `path` through a temporary file in the same folder and an atomic rename.
 void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+
+// Metric-name tag of a probability level: 0.95 -> "95", 0.999 -> "999", 0.5 -> "5".
+std::string level_tag(double p);
 
 // Rounds to 12 significant digits so committed baselines do not churn in the last bits (and prints compactly).
 double round_significant(double v, int digits = 12);

@@ -109,6 +109,11 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   const auto ssc_pred = ssc::head_to_tail_chain_3d(x_all, x_cov);
   out.ssc.mean = se3_from_ssc(ssc_pred.mean);
   out.ssc.cov = ssc_pred.cov;
+  MatX x_cov_blocks = MatX::Zero(6 * n, 6 * n);
+  for (int j = 0; j < n; ++j) x_cov_blocks.block<6, 6>(6 * j, 6 * j) = x_cov.block<6, 6>(6 * j, 6 * j);
+  const auto ssc_ind = ssc::head_to_tail_chain_3d(x_all, x_cov_blocks);
+  out.ssc_independent.mean = se3_from_ssc(ssc_ind.mean);
+  out.ssc_independent.cov = ssc_ind.cov;
 
   // Monte Carlo: trajectory i draws from its own stream, so the result does not depend on the thread count.
   const std::size_t m = s.trajectories;
@@ -128,9 +133,9 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
       s.threads, progress);
 
   const Whitener w_joint(lie_joint.cov, "lie_joint"), w_ind(lie_ind.cov, "lie_independent"),
-      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc");
+      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"), w_ssc_ind(ssc_ind.cov, "ssc_independent");
   const SE3 inv_joint = lie_joint.mean.inverse(), inv_ind = lie_ind.mean.inverse(), inv_4th = lie_4th.mean.inverse();
-  std::vector<std::array<double, 4>> d2(m);
+  std::vector<std::array<double, 5>> d2(m);
   core::parallel_for(
       m,
       [&](std::size_t i) {
@@ -138,12 +143,14 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         d2[i][1] = w_ind.d2((ends[i] * inv_ind).log());
         d2[i][2] = w_joint.d2((ends[i] * inv_joint).log());
         d2[i][3] = w_4th.d2((ends[i] * inv_4th).log());
+        d2[i][4] = w_ssc_ind.d2(ssc_difference(ssc_from_se3(ends[i]), ssc_ind.mean));
       },
       s.threads);
-  CompositionPrediction* preds[4] = {&out.ssc, &out.lie_independent, &out.lie_joint, &out.lie_fourth_order};
+  CompositionPrediction* preds[5] = {&out.ssc, &out.lie_independent, &out.lie_joint, &out.lie_fourth_order,
+                                     &out.ssc_independent};
   for (double p : s.levels) {
     const double r2 = chi2_quantile(p, 6.0);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 5; ++k) {
       std::size_t inside = 0;
       for (const auto& d : d2) inside += d[k] <= r2 ? 1 : 0;
       preds[k]->inside.push_back(static_cast<double>(inside) / static_cast<double>(m));
@@ -258,7 +265,7 @@ void planar_ssc_ellipse(const CompositionPrediction& ssc, double p, int count, s
   if (count < 3) throw std::invalid_argument("planar_ssc_ellipse: count must be >= 3");
   const Mat2 c = ssc.cov.block<2, 2>(0, 0);
   const Mat2 L = Mat2(covariance_square_root(c));
-  const double r = std::sqrt(chi2_quantile(p, 2.0));
+  const double r = std::sqrt(chi2_quantile(p, 3.0));
   x.clear();
   y.clear();
   for (int i = 0; i <= count; ++i) {

@@ -45,7 +45,9 @@ struct CompositionPrediction {
 };
 
 struct CompositionOutcome {
-  CompositionPrediction ssc;               // SSC head-to-tail (§5.3.2) on UT-converted Euler parameters
+  CompositionPrediction ssc;               // SSC head-to-tail (§5.3.2) on UT-converted Euler parameters, with the
+                                           // cross-covariances of the stochastic map (eq. 5.16)
+  CompositionPrediction ssc_independent;   // the same, steps treated as independent (block-diagonal input)
   CompositionPrediction lie_independent;   // Barfoot & Furgale first order (eq. 5.39 without the cross terms)
   CompositionPrediction lie_joint;         // proposed, eq. 5.39 with cross-covariances carried along the chain
   CompositionPrediction lie_fourth_order;  // Barfoot & Furgale (2014) fourth order, independent steps
@@ -99,7 +101,8 @@ void planar_lie_region(const SE3& mean, const Mat6& cov, double p, int count, st
 void planar_lie_region(const CompositionPrediction& prediction, double p, int count, std::vector<double>& x,
                        std::vector<double>& y);
 
-// The (x, y) ellipse of the SSC prediction: its (x, y) marginal at the χ²₂(p) radius, `count` points, closed.
+// The (x, y) ellipse of the SSC prediction: the shadow on the plane of its (x, y, yaw) p-ellipsoid, i.e. the (x, y)
+// marginal at the χ²₃(p) radius — the same convention as planar_lie_region, so the two are comparable.
 void planar_ssc_ellipse(const CompositionPrediction& ssc, double p, int count, std::vector<double>& x,
                         std::vector<double>& y);
 

@@ -21,7 +21,8 @@
 //   of variables", Biometrika 12, 1918):  E[z_a z_b z_c z_d] = S_ab S_cd + S_ac S_bd + S_ad S_bc.
 // With Sigma_c = 0 this reduces exactly to Barfoot & Furgale's Sigma_4th.
 //
-// Mean.  E[xi_ik] = E[Q] + O(4) = 1/2 sum_ab S_{a,6+b} G_a e_b (G_a = curly_hat(e_a)), which is
+// Mean.  E[xi_ik] = E[Q] + O(4) = 1/2 sum_ab E[x_a y_b] G_a e_b, E[x y^T] = Sigma_c Ad(T_bar_ij)^T
+// (G_a = curly_hat(e_a)), which is
 // NON-zero at second order once the poses are correlated (it vanishes for independent poses).
 // Convention used here: the mean pose stays T_bar_ik = T_bar_ij T_bar_jk (eq. 5.32) and the
 // returned covariance is the SECOND MOMENT ABOUT ZERO of xi_ik = log(T_ik T_bar_ik^-1), the quantity

@@ -7,6 +7,7 @@
 module;
 #include "lie/concepts.hpp"
 #include "lie/euler.hpp"
+#include "lie/fourth_order_joint.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/se2.hpp"
@@ -56,6 +57,10 @@ using keel::lie::compose;
 using keel::lie::compose_chain;
 using keel::lie::compose_chain_fourth_order;
 using keel::lie::compose_fourth_order;
+using keel::lie::compose_chain_fourth_order_joint;
+using keel::lie::compose_chain_fourth_order_joint_exact;
+using keel::lie::compose_fourth_order_joint;
+using keel::lie::ChainCrossOrder;
 using keel::lie::inverse;
 using keel::lie::JointPoses;
 using keel::lie::perturb;

@@ -12,6 +12,7 @@
 #include "core/progress.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
+#include "lie/fourth_order_joint.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/ssc.hpp"
@@ -88,6 +89,12 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   out.lie_independent.cov = lie_ind.cov;
   out.lie_fourth_order.mean = lie_4th.mean;
   out.lie_fourth_order.cov = lie_4th.cov;
+  out.has_joint_fourth_order = n <= s.joint_fourth_order_max_steps;
+  if (out.has_joint_fourth_order) {
+    const auto j4 = compose_chain_fourth_order_joint_exact(joint);
+    out.lie_joint_fourth_order.mean = j4.mean;
+    out.lie_joint_fourth_order.cov = j4.cov;
+  }
 
   // SSC inputs: the Euler parameters x_k = ssc(exp(ξ_k) T̄) of each step by the unscented transform (§5.8.1 in the
   // other direction). All steps share one distribution, so one 6-D UT gives the mean x̂, the block P and the
@@ -133,9 +140,11 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
       s.threads, progress);
 
   const Whitener w_joint(lie_joint.cov, "lie_joint"), w_ind(lie_ind.cov, "lie_independent"),
-      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"), w_ssc_ind(ssc_ind.cov, "ssc_independent");
+      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"), w_ssc_ind(ssc_ind.cov, "ssc_independent"),
+      w_j4(out.has_joint_fourth_order ? out.lie_joint_fourth_order.cov : Mat6(Mat6::Identity()), "lie_joint_fourth_order");
   const SE3 inv_joint = lie_joint.mean.inverse(), inv_ind = lie_ind.mean.inverse(), inv_4th = lie_4th.mean.inverse();
-  std::vector<std::array<double, 5>> d2(m);
+  std::vector<std::array<double, 6>> d2(m);
+  const SE3 inv_j4 = out.lie_joint_fourth_order.mean.inverse();
   core::parallel_for(
       m,
       [&](std::size_t i) {
@@ -144,13 +153,14 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         d2[i][2] = w_joint.d2((ends[i] * inv_joint).log());
         d2[i][3] = w_4th.d2((ends[i] * inv_4th).log());
         d2[i][4] = w_ssc_ind.d2(ssc_difference(ssc_from_se3(ends[i]), ssc_ind.mean));
+        d2[i][5] = out.has_joint_fourth_order ? w_j4.d2((ends[i] * inv_j4).log()) : 0.0;
       },
       s.threads);
-  CompositionPrediction* preds[5] = {&out.ssc, &out.lie_independent, &out.lie_joint, &out.lie_fourth_order,
-                                     &out.ssc_independent};
+  CompositionPrediction* preds[6] = {&out.ssc,           &out.lie_independent, &out.lie_joint, &out.lie_fourth_order,
+                                     &out.ssc_independent, &out.lie_joint_fourth_order};
   for (double p : s.levels) {
     const double r2 = chi2_quantile(p, 6.0);
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < (out.has_joint_fourth_order ? 6 : 5); ++k) {
       std::size_t inside = 0;
       for (const auto& d : d2) inside += d[k] <= r2 ? 1 : 0;
       preds[k]->inside.push_back(static_cast<double>(inside) / static_cast<double>(m));

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
     r.metric(tag + ".lie_independent", ind);
     r.metric(tag + ".lie_joint", joint);
     r.metric(tag + ".lie_fourth_order", out.lie_fourth_order.inside[0]);
+    if (out.has_joint_fourth_order) r.metric(tag + ".lie_joint_fourth_order", out.lie_joint_fourth_order.inside[0]);
 
     const double pct = 100.0 * level;
     const double e_ssc = std::fabs(ssc - level), e_ind = std::fabs(ind - level), e_joint = std::fabs(joint - level);
@@ -63,32 +64,29 @@ int main(int argc, char** argv) {
 
     core::Figure f;
     f.file = ex.id() + ".png";
-    f.width = 7.5;
+    f.width = 13.0;
     f.height = 5.5;
-    f.title = "Fig. 5.4: " + std::to_string(s.trajectories) + " end poses (N = " + std::to_string(s.steps) + ")";
-    core::Panel panel;
-    std::snprintf(name, sizeof name, "%.3g %% regions (shadows of the (x, y, yaw) ellipsoids)", pct);
-    panel.title = name;
-    panel.xlabel = "x";
-    panel.ylabel = "y";
-    panel.aspect = "equal";
-    core::Layer samples;
-    samples.type = "scatter";
-    lie::planar_positions(out.samples, samples.x, samples.y);
-    samples.label = "Monte-Carlo end positions";
-    samples.color = "0.25";
-    samples.size = 3.0;
-    samples.alpha = 0.25;
-    samples.marker = ".";
-    panel.layers.push_back(samples);
-    core::Layer ssc_line;
-    ssc_line.type = "line";
-    lie::planar_ssc_ellipse(out.ssc, level, 200, ssc_line.x, ssc_line.y);
-    ssc_line.label = "SSC head-to-tail";
-    ssc_line.color = "tab:red";
-    ssc_line.linewidth = 1.5;
-    panel.layers.push_back(ssc_line);
-    auto region = [&](const lie::CompositionPrediction& pr, const char* label, const char* color) {
+    f.title = "Fig. 5.4: " + std::to_string(s.trajectories) + " end poses (N = " + std::to_string(s.steps) +
+              "); regions are shadows of the (x, y, yaw) ellipsoids";
+    auto base_panel = [&](const char* title) {
+      core::Panel panel;
+      std::snprintf(name, sizeof name, title, pct);
+      panel.title = name;
+      panel.xlabel = "x";
+      panel.ylabel = "y";
+      panel.aspect = "equal";
+      core::Layer samples;
+      samples.type = "scatter";
+      lie::planar_positions(out.samples, samples.x, samples.y);
+      samples.label = "Monte-Carlo end positions";
+      samples.color = "0.25";
+      samples.size = 3.0;
+      samples.alpha = 0.2;
+      samples.marker = ".";
+      panel.layers.push_back(samples);
+      return panel;
+    };
+    auto region = [&](core::Panel& panel, const lie::CompositionPrediction& pr, const char* label, const char* color) {
       core::Layer l;
       l.type = "scatter";
       lie::planar_lie_region(pr, level, region_points, l.x, l.y);
@@ -98,9 +96,23 @@ int main(int argc, char** argv) {
       l.marker = ".";
       panel.layers.push_back(l);
     };
-    region(out.lie_independent, "Lie algebra, correlation ignored", "tab:cyan");
-    region(out.lie_joint, "Lie algebra, joint (proposed)", "tab:green");
-    f.panels.push_back(panel);
+    core::Panel thesis = base_panel("as in the thesis: %.3g %% regions");
+    core::Layer ssc_line;
+    ssc_line.type = "line";
+    lie::planar_ssc_ellipse(out.ssc, level, 200, ssc_line.x, ssc_line.y);
+    ssc_line.label = "SSC head-to-tail";
+    ssc_line.color = "tab:red";
+    ssc_line.linewidth = 1.5;
+    thesis.layers.push_back(ssc_line);
+    region(thesis, out.lie_independent, "Lie algebra, correlation ignored", "tab:cyan");
+    region(thesis, out.lie_joint, "Lie algebra, joint (proposed)", "tab:green");
+    f.panels.push_back(thesis);
+    if (out.has_joint_fourth_order) {
+      core::Panel beyond = base_panel("beyond the thesis: first vs fourth order, %.3g %% regions");
+      region(beyond, out.lie_joint, "joint, first order (eq. 5.39)", "tab:green");
+      region(beyond, out.lie_joint_fourth_order, "joint, fourth order (Isserlis)", "tab:purple");
+      f.panels.push_back(beyond);
+    }
     r.figure(f);
   });
 }

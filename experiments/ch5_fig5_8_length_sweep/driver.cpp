@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     const double level = p.number("level");
     base.levels = {level};
     base.trajectories = p.count("trajectories");
+    base.joint_fourth_order_max_steps = static_cast<int>(p.integer("joint_fourth_order_max_steps"));
     ex.params_done();
     if (n_min < 1 || n_max < n_min || stride < 1) {
       throw core::ConfigError(p.where("steps_min") + ": need 1 <= steps_min <= steps_max and steps_stride >= 1");
@@ -31,7 +32,7 @@ int main(int argc, char** argv) {
     std::vector<double> ns;
     for (auto n = n_min; n <= n_max; n += stride) ns.push_back(static_cast<double>(n));
     core::Progress progress(ex.id(), ns.size() * base.trajectories);
-    std::vector<double> ssc, ssc_ind, ind, joint, fourth;
+    std::vector<double> ssc, ssc_ind, ind, joint, fourth, n_j4, joint4;
     for (std::size_t k = 0; k < ns.size(); ++k) {
       auto s = base;
       s.steps = static_cast<int>(ns[k]);
@@ -42,6 +43,10 @@ int main(int argc, char** argv) {
       ind.push_back(out.lie_independent.inside[0]);
       joint.push_back(out.lie_joint.inside[0]);
       fourth.push_back(out.lie_fourth_order.inside[0]);
+      if (out.has_joint_fourth_order) {
+        n_j4.push_back(ns[k]);
+        joint4.push_back(out.lie_joint_fourth_order.inside[0]);
+      }
     }
     progress.finish();
 
@@ -53,6 +58,8 @@ int main(int argc, char** argv) {
     r.series(tag + ".lie_independent", ind);
     r.series(tag + ".lie_joint", joint);
     r.series(tag + ".lie_fourth_order", fourth);
+    r.series("N_joint_fourth_order", n_j4);
+    r.series(tag + ".lie_joint_fourth_order", joint4);
 
     // "Closest" allows a tie within two Monte-Carlo standard errors of a fraction at the nominal level.
     const double tie = 2.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(base.trajectories));
@@ -94,6 +101,7 @@ int main(int argc, char** argv) {
     panel.layers.push_back(line(ns, ind, "Lie, correlation ignored", "tab:cyan", "s"));
     panel.layers.push_back(line(ns, fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
     panel.layers.push_back(line(ns, joint, "Lie, joint (proposed)", "tab:green", "o"));
+    panel.layers.push_back(line(n_j4, joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
     core::Layer nominal;
     nominal.type = "hline";
     nominal.value = level;

@@ -4,6 +4,7 @@ import keel.lie;
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
     core::Progress progress(ex.id(), 2 * sigmas.size() * base.trajectories);
     auto& r = ex.results();
     struct Sweep {
-      std::vector<double> ssc, ssc_ind, ind, joint, fourth;
+      std::vector<double> ssc, ssc_ind, ind, joint, fourth, joint4;
     };
     auto sweep = [&](bool rotation, std::uint64_t offset) {
       Sweep w;
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
         w.ind.push_back(out.lie_independent.inside[0]);
         w.joint.push_back(out.lie_joint.inside[0]);
         w.fourth.push_back(out.lie_fourth_order.inside[0]);
+        if (!out.has_joint_fourth_order) throw std::runtime_error("the fourth-order joint chain was not evaluated");
+        w.joint4.push_back(out.lie_joint_fourth_order.inside[0]);
       }
       return w;
     };
@@ -59,6 +62,7 @@ int main(int argc, char** argv) {
       r.series(pre + "." + tag + ".lie_independent", w->ind);
       r.series(pre + "." + tag + ".lie_joint", w->joint);
       r.series(pre + "." + tag + ".lie_fourth_order", w->fourth);
+      r.series(pre + "." + tag + ".lie_joint_fourth_order", w->joint4);
     }
 
     // Claim checks on our numbers. "Closer" allows a tie within two Monte-Carlo standard errors at the level.
@@ -116,6 +120,7 @@ int main(int argc, char** argv) {
       panel.layers.push_back(line(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
       panel.layers.push_back(line(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
       panel.layers.push_back(line(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
+      panel.layers.push_back(line(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
       core::Layer nominal;
       nominal.type = "hline";
       nominal.value = level;

@@ -19,6 +19,43 @@ double round_significant(double v, int digits) {
   return std::strtod(buf, nullptr);
 }
 
+Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
+                 std::string marker, std::string linestyle) {
+  Layer l;
+  l.type = "line";
+  l.x = std::move(x);
+  l.y = std::move(y);
+  l.label = std::move(label);
+  l.color = std::move(color);
+  l.marker = std::move(marker);
+  l.linestyle = std::move(linestyle);
+  return l;
+}
+
+Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color, double size,
+                    double alpha, std::string marker) {
+  Layer l;
+  l.type = "scatter";
+  l.x = std::move(x);
+  l.y = std::move(y);
+  l.label = std::move(label);
+  l.color = std::move(color);
+  l.size = size;
+  if (alpha < 1.0) l.alpha = alpha;
+  l.marker = std::move(marker);
+  return l;
+}
+
+Layer hline_layer(double y, std::string label, std::string color, std::string linestyle) {
+  Layer l;
+  l.type = "hline";
+  l.value = y;
+  l.label = std::move(label);
+  l.color = std::move(color);
+  l.linestyle = std::move(linestyle);
+  return l;
+}
+
 std::string level_tag(double p) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument("level_tag: level must lie in (0, 1)");
   char buf[32];

@@ -24,6 +24,13 @@ struct Layer {
   std::optional<double> size, alpha, linewidth, vmin, vmax;
 };
 
+// Layer builders for the common cases (drivers stay short).
+Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
+                 std::string marker = "", std::string linestyle = "");
+Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color, double size,
+                    double alpha = 1.0, std::string marker = ".");
+Layer hline_layer(double y, std::string label, std::string color, std::string linestyle = "--");
+
 struct Panel {
   std::string title, xlabel, ylabel;
   std::string xscale, yscale, aspect, legend, colorbar;

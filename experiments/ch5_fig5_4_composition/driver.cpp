@@ -68,6 +68,8 @@ int main(int argc, char** argv) {
     f.height = 5.5;
     f.title = "Fig. 5.4: " + std::to_string(s.trajectories) + " end poses (N = " + std::to_string(s.steps) +
               "); regions are shadows of the (x, y, yaw) ellipsoids";
+    std::vector<double> sx, sy;
+    lie::planar_positions(out.samples, sx, sy);
     auto base_panel = [&](const char* title) {
       core::Panel panel;
       std::snprintf(name, sizeof name, title, pct);
@@ -75,35 +77,18 @@ int main(int argc, char** argv) {
       panel.xlabel = "x";
       panel.ylabel = "y";
       panel.aspect = "equal";
-      core::Layer samples;
-      samples.type = "scatter";
-      lie::planar_positions(out.samples, samples.x, samples.y);
-      samples.label = "Monte-Carlo end positions";
-      samples.color = "0.25";
-      samples.size = 3.0;
-      samples.alpha = 0.2;
-      samples.marker = ".";
-      panel.layers.push_back(samples);
+      panel.layers.push_back(core::scatter_layer(sx, sy, "Monte-Carlo end positions", "0.25", 3.0, 0.2));
       return panel;
     };
     auto region = [&](core::Panel& panel, const lie::CompositionPrediction& pr, const char* label, const char* color) {
-      core::Layer l;
-      l.type = "scatter";
-      lie::planar_lie_region(pr, level, region_points, l.x, l.y);
-      l.label = label;
-      l.color = color;
-      l.size = 2.0;
-      l.marker = ".";
-      panel.layers.push_back(l);
+      std::vector<double> x, y;
+      lie::planar_lie_region(pr, level, region_points, x, y);
+      panel.layers.push_back(core::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
     };
     core::Panel thesis = base_panel("as in the thesis: %.3g %% regions");
-    core::Layer ssc_line;
-    ssc_line.type = "line";
-    lie::planar_ssc_ellipse(out.ssc, level, 200, ssc_line.x, ssc_line.y);
-    ssc_line.label = "SSC head-to-tail";
-    ssc_line.color = "tab:red";
-    ssc_line.linewidth = 1.5;
-    thesis.layers.push_back(ssc_line);
+    std::vector<double> ell_x, ell_y;
+    lie::planar_ssc_ellipse(out.ssc, level, 200, ell_x, ell_y);
+    thesis.layers.push_back(core::line_layer(std::move(ell_x), std::move(ell_y), "SSC head-to-tail", "tab:red"));
     region(thesis, out.lie_independent, "Lie algebra, correlation ignored", "tab:cyan");
     region(thesis, out.lie_joint, "Lie algebra, joint (proposed)", "tab:green");
     f.panels.push_back(thesis);

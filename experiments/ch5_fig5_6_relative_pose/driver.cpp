@@ -80,20 +80,9 @@ int main(int argc, char** argv) {
     err.ylabel = "ε";
     err.xscale = "log";
     err.yscale = "log";
-    auto line = [](std::vector<double> x, std::vector<double> y, const char* label, const char* color,
-                   const char* marker, const char* style) {
-      core::Layer l;
-      l.x = std::move(x);
-      l.y = std::move(y);
-      l.label = label;
-      l.color = color;
-      l.marker = marker;
-      l.linestyle = style;
-      return l;
-    };
-    err.layers.push_back(line(alphas, err_ind, "correlation ignored", "tab:cyan", "s", "-"));
-    err.layers.push_back(line(alphas, err_joint, "joint (proposed)", "tab:green", "o", "-"));
-    err.layers.push_back(line(alphas, err_floor, "Monte-Carlo noise of Σ_mc", "0.5", "", ":"));
+    err.layers.push_back(core::line_layer(alphas, err_ind, "correlation ignored", "tab:cyan", "s"));
+    err.layers.push_back(core::line_layer(alphas, err_joint, "joint (proposed)", "tab:green", "o"));
+    err.layers.push_back(core::line_layer(alphas, err_floor, "Monte-Carlo noise of Σ_mc", "0.5", "", ":"));
     core::Panel ex_panel;
     char title[96];
     std::snprintf(title, sizeof title, "relative pose samples, α = %g (cf. Fig. 5.5)", example_alpha);
@@ -101,24 +90,13 @@ int main(int argc, char** argv) {
     ex_panel.xlabel = "x";
     ex_panel.ylabel = "y";
     ex_panel.aspect = "equal";
-    core::Layer pts;
-    pts.type = "scatter";
-    lie::planar_positions(example.samples, pts.x, pts.y);
-    pts.label = "Monte-Carlo T₁₂";
-    pts.color = "0.25";
-    pts.size = 3.0;
-    pts.alpha = 0.25;
-    pts.marker = ".";
-    ex_panel.layers.push_back(pts);
+    std::vector<double> px, py;
+    lie::planar_positions(example.samples, px, py);
+    ex_panel.layers.push_back(core::scatter_layer(std::move(px), std::move(py), "Monte-Carlo T₁₂", "0.25", 3.0, 0.2));
     auto region = [&](const auto& cov, const char* label, const char* color) {
-      core::Layer l;
-      l.type = "scatter";
-      lie::planar_lie_region(example.mean, cov, level, region_points, l.x, l.y);
-      l.label = label;
-      l.color = color;
-      l.size = 2.0;
-      l.marker = ".";
-      ex_panel.layers.push_back(l);
+      std::vector<double> x, y;
+      lie::planar_lie_region(example.mean, cov, level, region_points, x, y);
+      ex_panel.layers.push_back(core::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
     };
     region(example.cov_independent, "95 %, correlation ignored", "tab:cyan");
     region(example.cov_joint, "95 %, joint (proposed)", "tab:green");

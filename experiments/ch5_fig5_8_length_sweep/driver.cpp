@@ -86,29 +86,13 @@ int main(int argc, char** argv) {
     core::Panel panel;
     panel.xlabel = "number of composed poses N";
     panel.ylabel = "fraction of samples inside";
-    auto line = [](const std::vector<double>& x, const std::vector<double>& y, const char* label, const char* color,
-                   const char* marker) {
-      core::Layer l;
-      l.x = x;
-      l.y = y;
-      l.label = label;
-      l.color = color;
-      l.marker = marker;
-      return l;
-    };
-    panel.layers.push_back(line(ns, ssc, "SSC head-to-tail", "tab:red", "^"));
-    panel.layers.push_back(line(ns, ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
-    panel.layers.push_back(line(ns, ind, "Lie, correlation ignored", "tab:cyan", "s"));
-    panel.layers.push_back(line(ns, fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
-    panel.layers.push_back(line(ns, joint, "Lie, joint (proposed)", "tab:green", "o"));
-    panel.layers.push_back(line(n_j4, joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
-    core::Layer nominal;
-    nominal.type = "hline";
-    nominal.value = level;
-    nominal.label = "nominal";
-    nominal.color = "0.3";
-    nominal.linestyle = "--";
-    panel.layers.push_back(nominal);
+    panel.layers.push_back(core::line_layer(ns, ssc, "SSC head-to-tail", "tab:red", "^"));
+    panel.layers.push_back(core::line_layer(ns, ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
+    panel.layers.push_back(core::line_layer(ns, ind, "Lie, correlation ignored", "tab:cyan", "s"));
+    panel.layers.push_back(core::line_layer(ns, fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
+    panel.layers.push_back(core::line_layer(ns, joint, "Lie, joint (proposed)", "tab:green", "o"));
+    panel.layers.push_back(core::line_layer(n_j4, joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
+    panel.layers.push_back(core::hline_layer(level, "nominal", "0.3"));
     f.panels.push_back(panel);
     r.figure(f);
   });

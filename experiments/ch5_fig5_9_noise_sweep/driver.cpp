@@ -99,34 +99,19 @@ int main(int argc, char** argv) {
     core::Figure f;
     f.file = ex.id() + ".png";
     f.title = "Fig. 5.9: fraction inside the 99.9 % ellipsoid vs noise (N = " + std::to_string(base.steps) + ")";
-    auto line = [](const std::vector<double>& x, const std::vector<double>& y, const char* label, const char* color,
-                   const char* marker) {
-      core::Layer l;
-      l.x = x;
-      l.y = y;
-      l.label = label;
-      l.color = color;
-      l.marker = marker;
-      return l;
-    };
     for (const auto& [title, xlabel, w] :
          {std::tuple{"rotation noise (σt = 3)", "σr", &rot}, std::tuple{"translation noise (σr = 3)", "σt", &tra}}) {
       core::Panel panel;
       panel.title = title;
       panel.xlabel = xlabel;
       panel.ylabel = "fraction of samples inside";
-      panel.layers.push_back(line(sigmas, w->ssc, "SSC head-to-tail", "tab:red", "^"));
-      panel.layers.push_back(line(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
-      panel.layers.push_back(line(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
-      panel.layers.push_back(line(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
-      panel.layers.push_back(line(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
-      panel.layers.push_back(line(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
-      core::Layer nominal;
-      nominal.type = "hline";
-      nominal.value = level;
-      nominal.color = "0.3";
-      nominal.linestyle = "--";
-      panel.layers.push_back(nominal);
+      panel.layers.push_back(core::line_layer(sigmas, w->ssc, "SSC head-to-tail", "tab:red", "^"));
+      panel.layers.push_back(core::line_layer(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
+      panel.layers.push_back(core::line_layer(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
+      panel.layers.push_back(core::line_layer(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
+      panel.layers.push_back(core::line_layer(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
+      panel.layers.push_back(core::line_layer(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
+      panel.layers.push_back(core::hline_layer(level, "nominal", "0.3"));
       f.panels.push_back(panel);
     }
     r.figure(f);

@@ -10,6 +10,7 @@ module;
 #include "lie/fourth_order_joint.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
+#include "lie/pair_study.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/so2.hpp"
@@ -94,6 +95,11 @@ using keel::lie::RelativePoseOutcome;
 using keel::lie::RelativePoseSetup;
 using keel::lie::run_composition_study;
 using keel::lie::run_relative_pose_study;
+// relative pose of pose pairs from a SLAM solution (Tables 5.1–5.2)
+using keel::lie::PairRecord;
+using keel::lie::PairStudySetup;
+using keel::lie::run_pair_study_2d;
+using keel::lie::ssc_jacobian_of_left_perturbation;
 }  // namespace keel::lie
 
 // SSC operations (§5.3) keep their own namespace: keel::lie::ssc::head_to_tail, ...

@@ -1,0 +1,125 @@
+#include "lie/pair_study.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "core/parallel.hpp"
+#include "core/progress.hpp"
+#include "core/random.hpp"
+#include "lie/euler.hpp"
+#include "lie/gaussian.hpp"
+#include "lie/metrics.hpp"
+#include "lie/ssc.hpp"
+#include "lie/uncertain.hpp"
+
+namespace keel::lie {
+
+void PairStudySetup::validate() const {
+  if (samples < 2) throw std::invalid_argument("PairStudySetup: samples must be >= 2");
+}
+
+Mat3 ssc_jacobian_of_left_perturbation(const SE2& T) {
+  // exp(ξ^) T = (R_ξ R, R_ξ t + V ρ): to first order t + ρ + θ_ξ (−t_y, t_x) and θ + θ_ξ.
+  Mat3 J = Mat3::Identity();
+  J(0, 2) = -T.translation()(1);
+  J(1, 2) = T.translation()(0);
+  return J;
+}
+
+namespace {
+
+double corr(const Mat6& S, int a, int b) {
+  const double d = std::sqrt(S(a, a) * S(b, b));
+  return d > 0 ? S(a, b) / d : 0.0;
+}
+
+PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t samples, core::Rng& rng) {
+  PairRecord rec;
+  rec.corr_x = corr(S, 0, 3);
+  rec.corr_y = corr(S, 1, 4);
+  rec.corr_theta = corr(S, 2, 5);
+
+  const Mat3 Sii = S.block<3, 3>(0, 0), Sjj = S.block<3, 3>(3, 3), Sij = S.block<3, 3>(0, 3);
+  const UncertainPose<SE2> gi(Ti, Sii), gj(Tj, Sjj);
+  const auto joint = relative(gi, gj, Sij);  // eq. 5.51, all four terms
+  const auto ind = relative(gi, gj);         // eq. 5.51, first two terms
+  const SE2 mean = joint.mean;               // eq. 5.48
+  const SE2 mean_inv = mean.inverse();
+
+  // SSC tail-to-tail on the (x, y, θ) parameters with the first-order coordinate covariance.
+  Mat6 Jx = Mat6::Zero();
+  Jx.block<3, 3>(0, 0) = ssc_jacobian_of_left_perturbation(Ti);
+  Jx.block<3, 3>(3, 3) = ssc_jacobian_of_left_perturbation(Tj);
+  const Mat6 Sx = Jx * S * Jx.transpose();
+  const auto ssc_pred = ssc::tail_to_tail(ssc_from_se2(Ti), ssc_from_se2(Tj), Sx);
+
+  // Monte Carlo: ξ ~ N(0, S) (eqs. 5.57–5.59); the SSC reference is the sample covariance of the same samples'
+  // parameters (about their sample mean, angle differences wrapped around the predicted mean).
+  const Mat6 L = Mat6(covariance_square_root(S));
+  Mat3 lie_acc = Mat3::Zero(), ssc_acc = Mat3::Zero();
+  Vec3 ssc_sum = Vec3::Zero();
+  for (std::size_t m = 0; m < samples; ++m) {
+    Vec6 z;
+    for (int k = 0; k < 6; ++k) z(k) = rng.normal();
+    const Vec6 xi = L * z;
+    const SE2 Ti_m = SE2::exp(xi.head<3>()) * Ti;
+    const SE2 Tj_m = SE2::exp(xi.tail<3>()) * Tj;
+    const SE2 Tm = Ti_m.inverse() * Tj_m;     // eq. 5.58
+    const Vec3 e = (Tm * mean_inv).log();     // eq. 5.59
+    lie_acc += e * e.transpose();
+    Vec3 x = ssc_from_se2(Tm) - ssc_pred.mean;
+    x(2) = wrap_angle(x(2));
+    ssc_sum += x;
+    ssc_acc += x * x.transpose();
+  }
+  const double M = static_cast<double>(samples);
+  const Mat3 lie_mc = lie_acc / M;  // eq. 5.57
+  const Vec3 ssc_mean = ssc_sum / M;
+  const Mat3 ssc_mc = (ssc_acc - M * ssc_mean * ssc_mean.transpose()) / (M - 1.0);
+  rec.error_joint = covariance_error(joint.cov, lie_mc);
+  rec.error_independent = covariance_error(ind.cov, lie_mc);
+  rec.normalized_error_lie = normalized_covariance_error(joint.cov, lie_mc);
+  rec.normalized_error_ssc = normalized_covariance_error(ssc_pred.cov, ssc_mc);
+  return rec;
+}
+
+}  // namespace
+
+std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
+                                          const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
+                                          core::Progress* progress) {
+  setup.validate();
+  if (pairs.size() != joint_covs.size()) {
+    throw std::invalid_argument("run_pair_study_2d: " + std::to_string(pairs.size()) + " pairs but " +
+                                std::to_string(joint_covs.size()) + " covariances");
+  }
+  const int n = static_cast<int>(poses.size());
+  for (const auto& [i, j] : pairs) {
+    if (i < 0 || j < 0 || i >= n || j >= n) {
+      throw std::invalid_argument("run_pair_study_2d: pair (" + std::to_string(i) + ", " + std::to_string(j) +
+                                  ") refers to a pose outside [0, " + std::to_string(n) + ")");
+    }
+  }
+  std::vector<PairRecord> out(pairs.size());
+  core::parallel_for(
+      pairs.size(),
+      [&](std::size_t k) {
+        core::Rng rng = core::Rng::stream(setup.seed, k);
+        const auto [i, j] = pairs[k];
+        try {
+          out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)], joint_covs[k],
+                             setup.samples, rng);
+        } catch (const std::exception& e) {
+          throw std::runtime_error("pair (" + std::to_string(i) + ", " + std::to_string(j) + "): " + e.what());
+        }
+        out[k].i = i;
+        out[k].j = j;
+      },
+      setup.threads, progress);
+  return out;
+}
+
+}  // namespace keel::lie

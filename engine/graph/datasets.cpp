@@ -1,0 +1,254 @@
+#include "graph/datasets.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <tuple>
+
+#include "core/config.hpp"
+#include "graph/sha256.hpp"
+
+namespace keel::graph {
+
+namespace fs = std::filesystem;
+
+const DatasetInfo* DatasetManifest::find_dataset(const std::string& name) const {
+  for (const auto& d : datasets)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+const DatasetFile* DatasetManifest::find(const std::string& name, const std::string& path) const {
+  if (const DatasetInfo* d = find_dataset(name)) {
+    for (const auto& f : d->files)
+      if (f.path == path) return &f;
+  }
+  return nullptr;
+}
+
+namespace {
+
+bool is_sha256(const std::string& s) {
+  return s.size() == 64 && std::all_of(s.begin(), s.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
+bool is_safe_relative(const std::string& p) {
+  if (p.empty() || p.front() == '/' || p.find('\\') != std::string::npos) return false;
+  for (const auto& part : fs::path(p)) {
+    if (part == ".." || part == ".") return false;
+  }
+  return true;
+}
+
+DatasetManifest parse_manifest(const fs::path& file) {
+  DatasetManifest m;
+  m.file = file;
+  const core::ConfigTable root = core::load_toml(file);
+  if (root.integer("version") != 1) {
+    throw DatasetError(root.where("version") + ": unsupported manifest version (this build reads version 1)");
+  }
+  const core::ConfigTable all = root.table("datasets");
+  for (const auto& name : all.keys()) {
+    const core::ConfigTable d = all.table(name);
+    DatasetInfo info;
+    info.name = name;
+    info.title = d.string("title");
+    info.citation = d.string("citation");
+    const core::ConfigTable files = d.table("files");
+    for (const auto& path : files.keys()) {
+      const core::ConfigTable f = files.table(path);
+      DatasetFile df;
+      df.dataset = name;
+      df.path = path;
+      if (!is_safe_relative(path)) {
+        throw DatasetError(files.where(path) +
+                           ": a file path must be relative, without '.', '..' or backslashes");
+      }
+      df.sha256 = f.string("sha256");
+      if (!is_sha256(df.sha256))
+        throw DatasetError(f.where("sha256") + ": expected 64 lower-case hex digits");
+      df.bytes = f.integer("bytes");
+      if (df.bytes < 0) throw DatasetError(f.where("bytes") + ": must be >= 0");
+      df.derived = f.has("derived") && f.boolean("derived");
+      if (df.derived) {
+        df.derived_from = f.strings("derived_from");
+        df.generator = f.string("generator");
+        df.recipe = f.string("recipe");
+        for (const auto& src : df.derived_from) {
+          if (!is_safe_relative(src))
+            throw DatasetError(f.where("derived_from") + ": '" + src + "' is not a safe path");
+        }
+      } else {
+        df.repository = f.string("repository");
+        df.commit = f.string("commit");
+        df.source_path = f.string("source_path");
+        df.git_blob = f.string("git_blob");
+        df.license = f.string("license");
+      }
+      info.files.push_back(std::move(df));
+    }
+    if (info.files.empty()) throw DatasetError(d.where("files") + ": a dataset lists at least one file");
+    // Every derived file's inputs are files of the same dataset.
+    for (const auto& f : info.files) {
+      for (const auto& src : f.derived_from) {
+        const bool known = std::any_of(info.files.begin(), info.files.end(),
+                                       [&](const DatasetFile& g) { return g.path == src && !g.derived; });
+        if (!known) {
+          throw DatasetError(file.string() + ": [datasets." + name + ".files.\"" + f.path +
+                             "\"] derived_from names '" + src +
+                             "', which is not a downloadable file of this dataset");
+        }
+      }
+    }
+    m.datasets.push_back(std::move(info));
+  }
+  root.finish();
+  return m;
+}
+
+std::mutex& cache_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// Manifests by path, and verified files by (path, size, mtime): each file is hashed once per process.
+std::map<std::string, std::shared_ptr<const DatasetManifest>>& manifest_cache() {
+  static std::map<std::string, std::shared_ptr<const DatasetManifest>> c;
+  return c;
+}
+std::map<std::tuple<std::string, std::uintmax_t, long long>, std::string>& hash_cache() {
+  static std::map<std::tuple<std::string, std::uintmax_t, long long>, std::string> c;
+  return c;
+}
+
+std::shared_ptr<const DatasetManifest> cached_manifest(const fs::path& file) {
+  const std::string key = fs::absolute(file).lexically_normal().string();
+  {
+    std::lock_guard<std::mutex> lock(cache_mutex());
+    if (auto it = manifest_cache().find(key); it != manifest_cache().end()) return it->second;
+  }
+  auto m = std::make_shared<const DatasetManifest>(load_dataset_manifest(file));
+  std::lock_guard<std::mutex> lock(cache_mutex());
+  return manifest_cache().emplace(key, m).first->second;
+}
+
+std::string cached_sha256(const fs::path& file, std::uintmax_t size) {
+  const std::string key = fs::absolute(file).lexically_normal().string();
+  std::error_code ec;
+  const auto mtime = fs::last_write_time(file, ec);
+  const long long stamp = ec ? 0 : static_cast<long long>(mtime.time_since_epoch().count());
+  const auto k = std::make_tuple(key, size, stamp);
+  {
+    std::lock_guard<std::mutex> lock(cache_mutex());
+    if (auto it = hash_cache().find(k); it != hash_cache().end()) return it->second;
+  }
+  std::string h = sha256_file(file);
+  std::lock_guard<std::mutex> lock(cache_mutex());
+  hash_cache()[k] = h;
+  return h;
+}
+
+fs::path root_or_find(const fs::path& root) { return root.empty() ? find_repo_root() : root; }
+
+}  // namespace
+
+DatasetManifest load_dataset_manifest(const fs::path& manifest_toml) {
+  try {
+    return parse_manifest(manifest_toml);
+  } catch (const core::ConfigError& e) {
+    throw DatasetError(e.what());
+  }
+}
+
+fs::path find_repo_root(const fs::path& start) {
+  std::error_code ec;
+  fs::path dir = start.empty() ? fs::current_path(ec) : fs::absolute(start, ec);
+  if (ec) throw DatasetError("cannot determine the current directory: " + ec.message());
+  const fs::path first = dir;
+  for (;;) {
+    if (fs::is_regular_file(dir / "datasets" / "manifest.toml", ec)) return dir;
+    if (!dir.has_parent_path() || dir.parent_path() == dir) break;
+    dir = dir.parent_path();
+  }
+  throw DatasetError("no datasets/manifest.toml in " + first.string() +
+                     " or any parent folder: run from inside the keel checkout, or pass its root explicitly");
+}
+
+std::vector<fs::path> dataset_search_paths(const std::string& name, const std::string& relative_path,
+                                           const fs::path& root) {
+  const fs::path r = root_or_find(root);
+  std::vector<fs::path> out;
+  if (const char* env = std::getenv("KEEL_DATASETS"); env && *env)
+    out.push_back(fs::path(env) / name / relative_path);
+  out.push_back(r / "datasets" / "cache" / name / relative_path);
+  out.push_back((r / ".." / "shared" / "datasets" / name / relative_path).lexically_normal());
+  return out;
+}
+
+fs::path resolve_dataset_file(const std::string& name, const std::string& relative_path,
+                              const fs::path& root) {
+  const fs::path r = root_or_find(root);
+  const auto manifest = cached_manifest(r / "datasets" / "manifest.toml");
+  const DatasetFile* entry = manifest->find(name, relative_path);
+  if (!entry) {
+    std::string known;
+    if (const DatasetInfo* d = manifest->find_dataset(name)) {
+      for (const auto& f : d->files) known += "\n  " + f.path;
+      throw DatasetError(manifest->file.string() + ": dataset '" + name + "' has no file '" + relative_path +
+                         "'; its files are:" + known);
+    }
+    for (const auto& d : manifest->datasets) known += (known.empty() ? "" : ", ") + d.name;
+    throw DatasetError(manifest->file.string() + ": no dataset named '" + name + "' (known: " + known + ")");
+  }
+  std::string report;
+  if (const char* env = std::getenv("KEEL_DATASETS"); !env || !*env) {
+    report += "\n  $KEEL_DATASETS/" + name + "/" + relative_path + ": KEEL_DATASETS is not set";
+  }
+  for (const fs::path& p : dataset_search_paths(name, relative_path, r)) {
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) {
+      report += "\n  " + p.string() + ": not found";
+      continue;
+    }
+    const std::uintmax_t size = fs::file_size(p, ec);
+    if (ec) {
+      report += "\n  " + p.string() + ": cannot read its size (" + ec.message() + ")";
+      continue;
+    }
+    if (static_cast<std::int64_t>(size) != entry->bytes) {
+      report += "\n  " + p.string() + ": " + std::to_string(size) + " bytes, the manifest says " +
+                std::to_string(entry->bytes);
+      continue;
+    }
+    std::string got;
+    try {
+      got = cached_sha256(p, size);
+    } catch (const std::exception& e) {
+      report += "\n  " + p.string() + ": " + e.what();
+      continue;
+    }
+    if (got != entry->sha256) {
+      report += "\n  " + p.string() + ": sha256 " + got + " differs from the manifest's " + entry->sha256;
+      continue;
+    }
+    return p;
+  }
+  std::string how = "\nFetch it with: scripts/fetch-datasets " + name +
+                    " (downloads into datasets/cache/; --from DIR copies from a local mirror laid out like "
+                    "shared/datasets), or set KEEL_DATASETS to a folder holding <name>/<path>.";
+  if (entry->derived) {
+    how += "\nThis file is derived here (not downloadable): scripts/fetch-datasets " + name +
+           " regenerates it from ";
+    for (std::size_t k = 0; k < entry->derived_from.size(); ++k)
+      how += (k ? ", " : "") + entry->derived_from[k];
+    how += " and checks its sha256.";
+  }
+  throw DatasetError("dataset file " + name + "/" + relative_path + " (sha256 " +
+                     entry->sha256.substr(0, 12) + "...) has no verified copy; looked in:" + report + how);
+}
+
+}  // namespace keel::graph

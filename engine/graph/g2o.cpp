@@ -1,0 +1,227 @@
+#include "graph/g2o.hpp"
+
+#include <array>
+#include <sstream>
+#include <stdexcept>
+
+#include "graph/build.hpp"
+#include "graph/parse_error.hpp"
+#include "graph/text_records.hpp"
+
+namespace keel::graph {
+
+using lie::SO3;
+using lie::Vec3;
+
+namespace {
+
+constexpr std::array<const char*, 4> kVertexSE2 = {"id", "x", "y", "theta"};
+constexpr std::array<const char*, 11> kEdgeSE2 = {"i",   "j",   "dx",  "dy",  "dtheta", "I11",
+                                                  "I12", "I13", "I22", "I23", "I33"};
+constexpr std::array<const char*, 8> kVertexSE3 = {"id", "x", "y", "z", "qx", "qy", "qz", "qw"};
+constexpr std::array<const char*, 30> kEdgeSE3 = {
+    "i",   "j",   "x",   "y",   "z",   "qx",  "qy",  "qz",  "qw",  "I11", "I12", "I13", "I14", "I15", "I16",
+    "I22", "I23", "I24", "I25", "I26", "I33", "I34", "I35", "I36", "I44", "I45", "I46", "I55", "I56", "I66"};
+
+bool is_3d_tag(std::string_view t) { return t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT" || t == "EDGE3"; }
+bool is_2d_tag(std::string_view t) {
+  return t == "VERTEX_SE2" || t == "EDGE_SE2" || t == "ODOMETRY" || t == "EDGE2" || t == "Constraint2" ||
+         t == "LANDMARK";
+}
+
+void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
+  if (i == j) sc.fail_field(2, "the edge connects pose " + std::to_string(i) + " to itself");
+}
+
+PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
+  detail::RecordScanner sc(text, name);
+  PoseGraph2D g;
+  g.source = name;
+  std::vector<detail::Vertex2> vertices;
+  while (sc.next()) {
+    const std::string_view tag = sc.tag();
+    if (tag == "VERTEX_SE2") {
+      sc.expect(kVertexSE2);
+      const int id = sc.id(1);
+      double v[3];
+      sc.numbers(2, 4, v);
+      vertices.push_back({id, SE2(v[0], v[1], v[2]), sc.line()});
+    } else if (tag == "EDGE_SE2") {
+      sc.expect(kEdgeSE2);
+      Edge2 e;
+      e.i = sc.id(1);
+      e.j = sc.id(2);
+      check_edge_ids(sc, e.i, e.j);
+      double v[9];
+      sc.numbers(3, 11, v);
+      e.measurement = SE2(v[0], v[1], v[2]);
+      e.information = detail::symmetric_from_upper<3>(v + 3);
+      if (auto why = detail::information_problem(e.information); !why.empty()) {
+        sc.fail_fields(6, 11, "the information matrix " + why);
+      }
+      e.line = sc.line();
+      g.edges.push_back(e);
+    } else if (is_3d_tag(tag)) {
+      sc.fail(detail::quote_token(tag) +
+              " is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or "
+              "read_pose_graph_3d)");
+    } else {
+      sc.fail("unknown tag " + detail::quote_token(tag) +
+              " (the 2D g2o reader knows VERTEX_SE2 and EDGE_SE2)");
+    }
+  }
+  detail::assemble(g, vertices, "VERTEX_SE2", "EDGE_SE2");
+  return g;
+}
+
+PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
+  detail::RecordScanner sc(text, name);
+  PoseGraph3D g;
+  g.source = name;
+  std::vector<detail::Vertex3> vertices;
+  std::string why;
+  while (sc.next()) {
+    const std::string_view tag = sc.tag();
+    if (tag == "VERTEX_SE3:QUAT") {
+      sc.expect(kVertexSE3);
+      const int id = sc.id(1);
+      double v[7];
+      sc.numbers(2, 8, v);
+      Mat3 R;
+      if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(5, 8, why);
+      vertices.push_back({id, SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2])), sc.line()});
+    } else if (tag == "EDGE_SE3:QUAT") {
+      sc.expect(kEdgeSE3);
+      Edge3 e;
+      e.i = sc.id(1);
+      e.j = sc.id(2);
+      check_edge_ids(sc, e.i, e.j);
+      double v[28];
+      sc.numbers(3, 30, v);
+      Mat3 R;
+      if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
+      e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
+      const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
+      if (auto p = detail::information_problem(w_g2o); !p.empty())
+        sc.fail_fields(10, 30, "the information matrix " + p);
+      // (t, q_vec) -> (t, φ): q_vec ≈ φ/2, J = diag(I, ½I), Ω = Jᵀ Ω_g2o J.
+      Mat6 W = w_g2o;
+      W.block<3, 3>(0, 3) *= 0.5;
+      W.block<3, 3>(3, 0) *= 0.5;
+      W.block<3, 3>(3, 3) *= 0.25;
+      if (auto p = detail::information_problem(W); !p.empty()) {
+        sc.fail_fields(10, 30, "the information matrix in (t, φ) " + p);
+      }
+      e.information = W;
+      e.line = sc.line();
+      g.edges.push_back(e);
+    } else if (is_2d_tag(tag)) {
+      sc.fail(detail::quote_token(tag) +
+              " is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or "
+              "read_pose_graph_2d)");
+    } else {
+      sc.fail("unknown tag " + detail::quote_token(tag) +
+              " (the 3D g2o reader knows VERTEX_SE3:QUAT and EDGE_SE3:QUAT)");
+    }
+  }
+  detail::assemble(g, vertices, "VERTEX_SE3:QUAT", "EDGE_SE3:QUAT");
+  return g;
+}
+
+void put(std::string& s, double v) {
+  s += ' ';
+  s += detail::fmt17(v);
+}
+
+std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
+  if (!g.landmarks.empty() || !g.landmark_measurements.empty()) {
+    throw std::invalid_argument(
+        "write_g2o: the graph has landmarks, which the g2o writer does not support "
+        "(use write_isam)");
+  }
+  detail::check_indices(g, "write_g2o");
+  std::string s;
+  s.reserve(64 * (g.poses.size() + 2 * g.edges.size()));
+  if (o.write_vertices) {
+    for (std::size_t k = 0; k < g.poses.size(); ++k) {
+      const SE2& T = g.poses[k];
+      s += "VERTEX_SE2 " + std::to_string(k);
+      put(s, T.translation().x());
+      put(s, T.translation().y());
+      put(s, T.angle());
+      s += '\n';
+    }
+  }
+  for (const auto& e : g.edges) {
+    s += "EDGE_SE2 " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    put(s, e.measurement.translation().x());
+    put(s, e.measurement.translation().y());
+    put(s, e.measurement.angle());
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) put(s, e.information(r, c));
+    s += '\n';
+  }
+  return s;
+}
+
+std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
+  detail::check_indices(g, "write_g2o");
+  std::string s;
+  s.reserve(128 * (g.poses.size() + 3 * g.edges.size()));
+  double q[4];
+  if (o.write_vertices) {
+    for (std::size_t k = 0; k < g.poses.size(); ++k) {
+      const SE3& T = g.poses[k];
+      s += "VERTEX_SE3:QUAT " + std::to_string(k);
+      for (int a = 0; a < 3; ++a) put(s, T.translation()(a));
+      detail::quaternion_from_rotation(T.rotation(), q);
+      for (double x : q) put(s, x);
+      s += '\n';
+    }
+  }
+  for (const auto& e : g.edges) {
+    s += "EDGE_SE3:QUAT " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
+    detail::quaternion_from_rotation(e.measurement.rotation(), q);
+    for (double x : q) put(s, x);
+    // (t, φ) -> (t, q_vec): Ω_g2o = K Ω K, K = diag(I, 2I).
+    Mat6 W = e.information;
+    W.block<3, 3>(0, 3) *= 2.0;
+    W.block<3, 3>(3, 0) *= 2.0;
+    W.block<3, 3>(3, 3) *= 4.0;
+    for (int r = 0; r < 6; ++r)
+      for (int c = r; c < 6; ++c) put(s, W(r, c));
+    s += '\n';
+  }
+  return s;
+}
+
+}  // namespace
+
+PoseGraph2D read_g2o_2d(const std::filesystem::path& file) {
+  return parse_g2o_2d(detail::read_file_text(file), file.string());
+}
+PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name) {
+  return parse_g2o_2d(detail::read_stream_text(in, name), name);
+}
+PoseGraph3D read_g2o_3d(const std::filesystem::path& file) {
+  return parse_g2o_3d(detail::read_file_text(file), file.string());
+}
+PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name) {
+  return parse_g2o_3d(detail::read_stream_text(in, name), name);
+}
+
+void write_g2o(const PoseGraph2D& graph, std::ostream& out, const G2oWriteOptions& options) {
+  out << g2o_text(graph, options);
+}
+void write_g2o(const PoseGraph3D& graph, std::ostream& out, const G2oWriteOptions& options) {
+  out << g2o_text(graph, options);
+}
+void write_g2o(const PoseGraph2D& graph, const std::filesystem::path& file, const G2oWriteOptions& options) {
+  detail::write_file_atomically(file, g2o_text(graph, options));
+}
+void write_g2o(const PoseGraph3D& graph, const std::filesystem::path& file, const G2oWriteOptions& options) {
+  detail::write_file_atomically(file, g2o_text(graph, options));
+}
+
+}  // namespace keel::graph

@@ -1,0 +1,74 @@
+// keel.graph — the curated facade of engine/graph: the pose-graph data model (measurement z_ij ≈ T_i⁻¹ T_j, information
+// over ρ(z_ij⁻¹ T_i⁻¹ T_j)), readers and writers for g2o, iSAM text (square-root information), iSAM ground truth,
+// derived pose lists and TUM trajectories, the format-dispatching entry points, and the dataset manifest resolver
+// (sha256-verified copies of the benchmark files).
+// Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in the export block,
+// no import of another facade. The Lie-group types (SE2, SE3, Vec2, ...) are keel.lie's: import keel.lie to name them.
+module;
+#include "graph/datasets.hpp"
+#include "graph/g2o.hpp"
+#include "graph/io.hpp"
+#include "graph/isam.hpp"
+#include "graph/parse_error.hpp"
+#include "graph/pose_graph.hpp"
+#include "graph/sha256.hpp"
+#include "graph/trajectory.hpp"
+export module keel.graph;
+
+export namespace keel::graph {
+// data model
+using keel::graph::Edge2;
+using keel::graph::Edge3;
+using keel::graph::LandmarkMeasurement2;
+using keel::graph::PoseGraph2D;
+using keel::graph::PoseGraph3D;
+// errors
+using keel::graph::DatasetError;
+using keel::graph::ParseError;
+// g2o
+using keel::graph::G2oWriteOptions;
+using keel::graph::read_g2o_2d;
+using keel::graph::read_g2o_3d;
+using keel::graph::write_g2o;
+// iSAM text and ground truth
+using keel::graph::GroundTruth2D;
+using keel::graph::GroundTruth3D;
+using keel::graph::GroundTruthOptions;
+using keel::graph::read_isam_2d;
+using keel::graph::read_isam_3d;
+using keel::graph::read_isam_ground_truth_2d;
+using keel::graph::read_isam_ground_truth_3d;
+using keel::graph::rpy_for_writing;
+using keel::graph::write_isam;
+// pose lists and TUM trajectories
+using keel::graph::read_landmarks_2d;
+using keel::graph::read_pose_list_2d;
+using keel::graph::read_poses_2d;
+using keel::graph::read_poses_3d;
+using keel::graph::read_tum;
+using keel::graph::TumPose;
+using keel::graph::write_landmarks_2d;
+using keel::graph::write_poses_2d;
+using keel::graph::write_poses_3d;
+using keel::graph::write_tum;
+// dispatch and comparison
+using keel::graph::detect_graph_format;
+using keel::graph::graph_difference;
+using keel::graph::graph_format_from_string;
+using keel::graph::GraphFormat;
+using keel::graph::read_pose_graph_2d;
+using keel::graph::read_pose_graph_3d;
+using keel::graph::to_string;
+using keel::graph::write_pose_graph;
+// datasets
+using keel::graph::dataset_search_paths;
+using keel::graph::DatasetFile;
+using keel::graph::DatasetInfo;
+using keel::graph::DatasetManifest;
+using keel::graph::find_repo_root;
+using keel::graph::load_dataset_manifest;
+using keel::graph::resolve_dataset_file;
+using keel::graph::Sha256;
+using keel::graph::sha256_file;
+using keel::graph::sha256_hex;
+}  // namespace keel::graph

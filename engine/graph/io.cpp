@@ -1,0 +1,169 @@
+#include "graph/io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "graph/g2o.hpp"
+#include "graph/isam.hpp"
+#include "graph/parse_error.hpp"
+#include "graph/text_records.hpp"
+
+namespace keel::graph {
+
+std::string to_string(GraphFormat format) {
+  switch (format) {
+    case GraphFormat::G2o:
+      return "g2o";
+    case GraphFormat::Isam:
+      return "isam";
+  }
+  return "?";
+}
+
+std::optional<GraphFormat> graph_format_from_string(std::string_view s) {
+  if (s == "g2o") return GraphFormat::G2o;
+  if (s == "isam") return GraphFormat::Isam;
+  return std::nullopt;
+}
+
+std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name) {
+  detail::RecordScanner sc(text, name.string());
+  if (sc.next()) {
+    const std::string_view t = sc.tag();
+    if (t == "VERTEX_SE2" || t == "EDGE_SE2" || t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT")
+      return GraphFormat::G2o;
+    if (t == "ODOMETRY" || t == "EDGE2" || t == "Constraint2" || t == "LANDMARK" || t == "EDGE3") {
+      return GraphFormat::Isam;
+    }
+    return std::nullopt;
+  }
+  return name.extension() == ".g2o" ? GraphFormat::G2o : GraphFormat::Isam;
+}
+
+namespace {
+
+GraphFormat format_or_throw(std::string_view text, const std::string& name) {
+  if (auto f = detect_graph_format(text, name)) return *f;
+  detail::RecordScanner sc(text, name);
+  sc.next();
+  sc.fail("unknown tag " + detail::quote_token(sc.tag()) +
+          " in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT) nor iSAM "
+          "text "
+          "(ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)");
+}
+
+PoseGraph2D read_2d(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  return format_or_throw(text, name) == GraphFormat::G2o ? read_g2o_2d(in, name) : read_isam_2d(in, name);
+}
+
+PoseGraph3D read_3d(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  return format_or_throw(text, name) == GraphFormat::G2o ? read_g2o_3d(in, name) : read_isam_3d(in, name);
+}
+
+GraphFormat format_for_writing(const std::filesystem::path& file) {
+  if (file.extension() == ".g2o") return GraphFormat::G2o;
+  if (file.extension() == ".txt") return GraphFormat::Isam;
+  throw std::invalid_argument("write_pose_graph: " + file.string() +
+                              ": unknown extension (use .g2o for g2o or .txt for iSAM text)");
+}
+
+// |a - b| <= tol * max(1, |a|, |b|)
+bool close(double a, double b, double tol) {
+  return std::abs(a - b) <= tol * std::max({1.0, std::abs(a), std::abs(b)});
+}
+
+template <class M>
+bool close_matrix(const M& a, const M& b, double tol) {
+  for (Eigen::Index r = 0; r < a.rows(); ++r)
+    for (Eigen::Index c = 0; c < a.cols(); ++c)
+      if (!close(a(r, c), b(r, c), tol)) return false;
+  return true;
+}
+
+std::string num(std::size_t k) { return std::to_string(k); }
+
+template <class Graph>
+std::string difference_common(const Graph& a, const Graph& b, double tol) {
+  if (a.poses.size() != b.poses.size())
+    return "pose count " + num(a.poses.size()) + " vs " + num(b.poses.size());
+  if (a.edges.size() != b.edges.size())
+    return "edge count " + num(a.edges.size()) + " vs " + num(b.edges.size());
+  for (std::size_t k = 0; k < a.poses.size(); ++k) {
+    if (!close_matrix(a.poses[k].matrix(), b.poses[k].matrix(), tol)) return "pose " + num(k) + " differs";
+  }
+  for (std::size_t k = 0; k < a.edges.size(); ++k) {
+    const auto& x = a.edges[k];
+    const auto& y = b.edges[k];
+    if (x.i != y.i || x.j != y.j) return "edge " + num(k) + " connects different poses";
+    if (!close_matrix(x.measurement.matrix(), y.measurement.matrix(), tol))
+      return "edge " + num(k) + " measurement differs";
+    if (!close_matrix(x.information, y.information, tol)) return "edge " + num(k) + " information differs";
+  }
+  return {};
+}
+
+}  // namespace
+
+PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file) {
+  return read_2d(detail::read_file_text(file), file.string());
+}
+PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name) {
+  return read_2d(detail::read_stream_text(in, name), name);
+}
+PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file) {
+  return read_3d(detail::read_file_text(file), file.string());
+}
+PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name) {
+  return read_3d(detail::read_stream_text(in, name), name);
+}
+
+void write_pose_graph(const PoseGraph2D& graph, const std::filesystem::path& file) {
+  if (format_for_writing(file) == GraphFormat::G2o) {
+    write_g2o(graph, file);
+  } else {
+    write_isam(graph, file);
+  }
+}
+void write_pose_graph(const PoseGraph3D& graph, const std::filesystem::path& file) {
+  if (format_for_writing(file) == GraphFormat::G2o) {
+    write_g2o(graph, file);
+  } else {
+    write_isam(graph, file);
+  }
+}
+
+std::string graph_difference(const PoseGraph2D& a, const PoseGraph2D& b, double tol) {
+  if (auto d = difference_common(a, b, tol); !d.empty()) return d;
+  if (a.landmarks.size() != b.landmarks.size()) {
+    return "landmark count " + num(a.landmarks.size()) + " vs " + num(b.landmarks.size());
+  }
+  if (a.landmark_measurements.size() != b.landmark_measurements.size()) {
+    return "landmark measurement count " + num(a.landmark_measurements.size()) + " vs " +
+           num(b.landmark_measurements.size());
+  }
+  for (std::size_t k = 0; k < a.landmarks.size(); ++k) {
+    if (!close_matrix(a.landmarks[k], b.landmarks[k], tol)) return "landmark " + num(k) + " differs";
+  }
+  for (std::size_t k = 0; k < a.landmark_measurements.size(); ++k) {
+    const auto& x = a.landmark_measurements[k];
+    const auto& y = b.landmark_measurements[k];
+    if (x.pose != y.pose || x.landmark != y.landmark)
+      return "landmark measurement " + num(k) + " has different ids";
+    if (!close_matrix(x.position, y.position, tol))
+      return "landmark measurement " + num(k) + " position differs";
+    if (!close_matrix(x.information, y.information, tol)) {
+      return "landmark measurement " + num(k) + " information differs";
+    }
+  }
+  return {};
+}
+
+std::string graph_difference(const PoseGraph3D& a, const PoseGraph3D& b, double tol) {
+  return difference_common(a, b, tol);
+}
+
+}  // namespace keel::graph

@@ -1,0 +1,555 @@
+// Readers and writers on synthetic input: round trips of random graphs through every writer/reader pair, the
+// exact TUM layout, format dispatch, Euler extraction next to gimbal lock, and one ParseError per
+// malformed-input rule, each checked for file, line and field in its message.
+#include <doctest/doctest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "graph/g2o.hpp"
+#include "graph/io.hpp"
+#include "graph/isam.hpp"
+#include "graph/parse_error.hpp"
+#include "graph/trajectory.hpp"
+#include "lie/euler.hpp"
+
+using namespace keel::graph;
+using keel::lie::kPi;
+using keel::lie::SO3;
+using keel::lie::Vec3;
+using keel::lie::Vec6;
+
+namespace {
+
+template <int N>
+Eigen::Matrix<double, N, N> random_information(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_real_distribution<double> scale(-2.0, 4.0);
+  Eigen::Matrix<double, N, N> A;
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) A(r, c) = u(rng);
+  Eigen::Matrix<double, N, 1> d;
+  for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, scale(rng));
+  return d.asDiagonal() * (A * A.transpose() + 0.5 * Eigen::Matrix<double, N, N>::Identity()) *
+         d.asDiagonal();
+}
+
+// Random 2D graph: odometry chain (so poses = chained odometry), loop closures, optional landmarks seen from
+// random poses (landmarks = first observation), measurements of every size and angle.
+PoseGraph2D random_graph_2d(std::mt19937_64& rng, int n, int loops, int landmarks) {
+  std::uniform_real_distribution<double> pos(-20.0, 20.0), ang(-kPi, kPi);
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  PoseGraph2D g;
+  g.poses.assign(static_cast<std::size_t>(n), SE2());
+  for (int k = 0; k + 1 < n; ++k) {
+    Edge2 e{k, k + 1, SE2(pos(rng), pos(rng), ang(rng)), random_information<3>(rng), 0};
+    g.poses[static_cast<std::size_t>(k + 1)] = g.poses[static_cast<std::size_t>(k)] * e.measurement;
+    g.edges.push_back(e);
+  }
+  for (int k = 0; k < loops; ++k) {
+    int i = pick(rng), j = pick(rng);
+    if (i == j) j = (i + 2) % n;
+    g.edges.push_back({i, j, SE2(pos(rng), pos(rng), ang(rng)), random_information<3>(rng), 0});
+  }
+  for (int l = 0; l < landmarks; ++l) {
+    for (int rep = 0; rep < 3; ++rep) {
+      LandmarkMeasurement2 m;
+      m.pose = pick(rng);
+      m.landmark = l;
+      m.position = Vec2(pos(rng), pos(rng));
+      m.information = random_information<2>(rng);
+      g.landmark_measurements.push_back(m);
+    }
+  }
+  // Order the landmark measurements by pose (the iSAM writer keeps time order) and set landmarks from the
+  // first one.
+  std::stable_sort(g.landmark_measurements.begin(), g.landmark_measurements.end(),
+                   [](const auto& a, const auto& b) { return a.pose < b.pose; });
+  g.landmarks.assign(static_cast<std::size_t>(landmarks), Vec2::Zero());
+  std::vector<char> seen(static_cast<std::size_t>(landmarks), 0);
+  for (const auto& m : g.landmark_measurements) {
+    if (seen[static_cast<std::size_t>(m.landmark)]++) continue;
+    g.landmarks[static_cast<std::size_t>(m.landmark)] =
+        g.poses[static_cast<std::size_t>(m.pose)] * m.position;
+  }
+  return g;
+}
+
+SE3 random_pose_3d(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> pos(-20.0, 20.0), rot(-3.0, 3.0);
+  Vec6 xi;
+  xi << pos(rng), pos(rng), pos(rng), rot(rng), rot(rng), rot(rng);
+  return SE3::exp(xi);
+}
+
+PoseGraph3D random_graph_3d(std::mt19937_64& rng, int n, int loops) {
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  PoseGraph3D g;
+  g.poses.assign(static_cast<std::size_t>(n), SE3());
+  for (int k = 0; k + 1 < n; ++k) {
+    Edge3 e{k, k + 1, random_pose_3d(rng), random_information<6>(rng), 0};
+    g.poses[static_cast<std::size_t>(k + 1)] = g.poses[static_cast<std::size_t>(k)] * e.measurement;
+    g.edges.push_back(e);
+  }
+  for (int k = 0; k < loops; ++k) {
+    int i = pick(rng), j = pick(rng);
+    if (i == j) j = (i + 2) % n;
+    g.edges.push_back({i, j, random_pose_3d(rng), random_information<6>(rng), 0});
+  }
+  return g;
+}
+
+std::string g2o_string(const PoseGraph2D& g) {
+  std::ostringstream s;
+  write_g2o(g, s);
+  return s.str();
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "(no ParseError)";
+}
+
+std::string g2o2(const std::string& text) {
+  return error_of([&] {
+    std::istringstream in(text);
+    read_g2o_2d(in, "bad.g2o");
+  });
+}
+std::string g2o3(const std::string& text) {
+  return error_of([&] {
+    std::istringstream in(text);
+    read_g2o_3d(in, "bad.g2o");
+  });
+}
+std::string isam2(const std::string& text) {
+  return error_of([&] {
+    std::istringstream in(text);
+    read_isam_2d(in, "bad.txt");
+  });
+}
+std::string isam3(const std::string& text) {
+  return error_of([&] {
+    std::istringstream in(text);
+    read_isam_3d(in, "bad.txt");
+  });
+}
+
+#define CHECK_CONTAINS(msg, part) \
+  CHECK_MESSAGE((msg).find(part) != std::string::npos, (msg), " lacks: ", (part))
+
+const std::string kV2 = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
+const std::string kInfo2 = " 1 0 0 1 0 1";
+const std::string kE01 = "EDGE_SE2 0 1 1 0 0" + kInfo2 + "\n";
+const std::string kSqrt2 = " 10 0 0 10 0 100";
+const std::string kEdge3Tail = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1";  // identity (upper triangle, 21)
+
+}  // namespace
+
+TEST_CASE("g2o 2D round trip of random graphs is exact") {
+  std::mt19937_64 rng(1);
+  for (int t = 0; t < 20; ++t) {
+    PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, 0);
+    std::istringstream in(g2o_string(g));
+    const PoseGraph2D back = read_g2o_2d(in, "mem.g2o");
+    CHECK(back.has_initial_poses);
+    CHECK_MESSAGE(graph_difference(g, back, 1e-14).empty(), graph_difference(g, back, 1e-14));
+    // Without vertices, the reader chains the odometry: equal to the poses the generator chained.
+    std::ostringstream s;
+    write_g2o(g, s, {.write_vertices = false});
+    std::istringstream in2(s.str());
+    const PoseGraph2D chained = read_g2o_2d(in2, "mem.g2o");
+    CHECK_FALSE(chained.has_initial_poses);
+    CHECK(graph_difference(g, chained, 1e-9).empty());
+  }
+}
+
+TEST_CASE("iSAM 2D round trip of random graphs with landmarks") {
+  std::mt19937_64 rng(2);
+  for (int t = 0; t < 20; ++t) {
+    const PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, t % 4 * 3);
+    std::ostringstream s;
+    write_isam(g, s);
+    std::istringstream in(s.str());
+    const PoseGraph2D back = read_isam_2d(in, "mem.txt");
+    CHECK_FALSE(back.has_initial_poses);
+    CHECK_MESSAGE(graph_difference(g, back, 1e-9).empty(), graph_difference(g, back, 1e-9));
+    // The square-root information reproduces Ω to rounding.
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {
+      CHECK((g.edges[k].information - back.edges[k].information).norm() <=
+            1e-13 * g.edges[k].information.norm());
+    }
+  }
+}
+
+TEST_CASE("g2o and iSAM 3D round trips of random graphs") {
+  std::mt19937_64 rng(3);
+  for (int t = 0; t < 20; ++t) {
+    const PoseGraph3D g = random_graph_3d(rng, 2 + t * 4, t * 2);
+    std::ostringstream a;
+    write_g2o(g, a);
+    std::istringstream ain(a.str());
+    const PoseGraph3D from_g2o = read_g2o_3d(ain, "mem.g2o");
+    CHECK_MESSAGE(graph_difference(g, from_g2o, 1e-13).empty(), graph_difference(g, from_g2o, 1e-13));
+    std::ostringstream b;
+    write_isam(g, b);
+    std::istringstream bin(b.str());
+    const PoseGraph3D from_isam = read_isam_3d(bin, "mem.txt");
+    CHECK_MESSAGE(graph_difference(g, from_isam, 1e-9).empty(), graph_difference(g, from_isam, 1e-9));
+  }
+}
+
+TEST_CASE("g2o 3D information is converted between (t, q_vec) and (t, φ)") {
+  // Ω_g2o = diag(1, 2, 3, 4, 8, 12) over (t, q_vec): over (t, φ) with q_vec = φ/2 it is diag(1, 2, 3, 1, 2,
+  // 3).
+  const std::string text =
+      "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n"
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 2 0 0 0 0 3 0 0 0 4 0 0 8 0 12\n";
+  std::istringstream in(text);
+  const PoseGraph3D g = read_g2o_3d(in, "mem.g2o");
+  REQUIRE(g.edges.size() == 1);
+  Mat6 expected = Mat6::Zero();
+  expected.diagonal() << 1, 2, 3, 1, 2, 3;
+  CHECK((g.edges[0].information - expected).norm() == 0.0);
+  std::ostringstream out;
+  write_g2o(g, out);
+  CHECK(out.str().find("EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 2 0 0 0 0 3 0 0 0 4 0 0 8 0 12\n") !=
+        std::string::npos);
+}
+
+TEST_CASE("iSAM square-root information: Ω = RᵀR, upper triangle row by row") {
+  // R = [[1, 2, 3], [0, 4, 5], [0, 0, 6]] -> RᵀR.
+  std::istringstream in("EDGE2 0 1 1 0 0 1 2 3 4 5 6\nLANDMARK 1 0 2 3 2 1 3\n");
+  const PoseGraph2D g = read_isam_2d(in, "mem.txt");
+  Mat3 R;
+  R << 1, 2, 3, 0, 4, 5, 0, 0, 6;
+  CHECK((g.edges[0].information - R.transpose() * R).norm() == 0.0);
+  Mat2 L;
+  L << 2, 1, 0, 3;
+  CHECK((g.landmark_measurements[0].information - L.transpose() * L).norm() == 0.0);
+  CHECK(g.landmarks.size() == 1);
+  CHECK((g.landmarks[0] - Vec2(3, 3)).norm() < 1e-15);  // pose 1 = (1, 0, 0), landmark at (2, 3) in its frame
+  // EDGE3: x y z roll pitch yaw, R = Rz(yaw) Ry(pitch) Rx(roll); 21 numbers of the 6×6 square root.
+  std::istringstream in3("EDGE3 0 1 1 2 3 0.1 0.2 0.3 10 0 0 0 0 0 10 0 0 0 0 10 0 0 0 100 0 0 100 0 25\n");
+  const PoseGraph3D g3 = read_isam_3d(in3, "mem.txt");
+  CHECK((g3.edges[0].measurement.rotation() - keel::lie::rotation_from_rpy(0.1, 0.2, 0.3)).norm() < 1e-15);
+  Vec6 diag;
+  diag << 100, 100, 100, 1e4, 1e4, 625;
+  CHECK((g3.edges[0].information.diagonal() - diag).norm() == 0.0);
+  CHECK((g3.poses[1].translation() - Vec3(1, 2, 3)).norm() == 0.0);
+}
+
+TEST_CASE("rpy_for_writing reproduces rotations next to gimbal lock") {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> ang(-kPi, kPi);
+  for (double eps : {0.0, 1e-15, 1e-12, 1e-9, 1e-6, 1e-3, 0.5}) {
+    for (double sign : {1.0, -1.0}) {
+      for (int t = 0; t < 50; ++t) {
+        const Mat3 R = keel::lie::rotation_from_rpy(ang(rng), sign * (0.5 * kPi - eps), ang(rng));
+        const Vec3 rpy = rpy_for_writing(R);
+        CHECK((keel::lie::rotation_from_rpy(rpy(0), rpy(1), rpy(2)) - R).norm() < 1e-14);
+      }
+    }
+  }
+}
+
+TEST_CASE("derived pose lists, landmarks and TUM round trip") {
+  std::mt19937_64 rng(5);
+  const PoseGraph2D g = random_graph_2d(rng, 30, 0, 4);
+  std::ostringstream a, b, c, d;
+  write_poses_2d(g.poses, a);
+  write_landmarks_2d(g.landmarks, b);
+  std::istringstream ain(a.str()), bin(b.str());
+  const auto poses = read_poses_2d(ain, "p.txt");
+  const auto lms = read_landmarks_2d(bin, "l.txt");
+  REQUIRE(poses.size() == g.poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) CHECK(poses[k].is_approx(g.poses[k], 1e-13));
+  REQUIRE(lms.size() == g.landmarks.size());
+  for (std::size_t k = 0; k < lms.size(); ++k) CHECK(lms[k] == g.landmarks[k]);
+  const PoseGraph3D g3 = random_graph_3d(rng, 30, 0);
+  write_poses_3d(g3.poses, c);
+  std::istringstream cin(c.str());
+  const auto p3 = read_poses_3d(cin, "p3.txt");
+  for (std::size_t k = 0; k < p3.size(); ++k) CHECK(p3[k].is_approx(g3.poses[k], 1e-13));
+  write_tum(g3.poses, d);
+  std::istringstream din(d.str());
+  const auto tum = read_tum(din, "t.tum");
+  REQUIRE(tum.size() == g3.poses.size());
+  for (std::size_t k = 0; k < tum.size(); ++k) {
+    CHECK(tum[k].timestamp == static_cast<double>(k));
+    CHECK(tum[k].pose.is_approx(g3.poses[k], 1e-13));
+  }
+  // Ids may come in any order, but each once and contiguous from 0.
+  std::istringstream shuffled("2 0 0 0\n0 1 0 0\n1 2 0 0\n");
+  const auto sh = read_poses_2d(shuffled, "s.txt");
+  CHECK(sh[0].translation().x() == 1.0);
+  CHECK(sh[2].translation().x() == 0.0);
+}
+
+TEST_CASE("TUM output format: timestamp = index, 2D poses in the plane z = 0") {
+  std::ostringstream s;
+  write_tum(std::vector<SE2>{SE2(1.5, -2.0, 0.5 * kPi), SE2(0, 0, kPi), SE2(3, 4, -0.25)}, s);
+  std::istringstream lines(s.str());
+  std::string line;
+  int k = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream f(line);
+    std::vector<double> v;
+    double x;
+    while (f >> x) v.push_back(x);
+    REQUIRE(v.size() == 8);
+    CHECK(v[0] == k);
+    CHECK(v[3] == 0.0);  // z
+    CHECK(v[4] == 0.0);  // qx
+    CHECK(v[5] == 0.0);  // qy
+    CHECK(v[7] >= 0.0);  // qw
+    CHECK(v[6] * v[6] + v[7] * v[7] == doctest::Approx(1.0));
+    ++k;
+  }
+  CHECK(k == 3);
+  CHECK(s.str().rfind("0 1.5 -2 0 0 0 0.70710678118654746 0.70710678118654757\n", 0) == 0);
+  CHECK(s.str().find("\n1 0 0 0 0 0 1 6.123233995736766e-17\n") != std::string::npos);
+}
+
+TEST_CASE("format dispatch by first tag, extension as fallback") {
+  CHECK(detect_graph_format("# c\n\nVERTEX_SE2 0 0 0 0\n", "x.txt") == GraphFormat::G2o);
+  CHECK(detect_graph_format("EDGE3 0 1", "x.g2o") == GraphFormat::Isam);
+  CHECK(detect_graph_format("", "x.g2o") == GraphFormat::G2o);
+  CHECK(detect_graph_format("# only a comment\n", "x.txt") == GraphFormat::Isam);
+  CHECK_FALSE(detect_graph_format("FOO 1 2\n", "x.g2o").has_value());
+  CHECK(graph_format_from_string(to_string(GraphFormat::Isam)) == GraphFormat::Isam);
+  CHECK(graph_format_from_string(to_string(GraphFormat::G2o)) == GraphFormat::G2o);
+  std::istringstream a(kV2 + kE01);
+  CHECK(read_pose_graph_2d(a, "a.txt").edges.size() == 1);
+  std::istringstream b("EDGE2 0 1 1 0 0" + kSqrt2 + "\n");
+  CHECK(read_pose_graph_2d(b, "b.g2o").edges[0].information(2, 2) == 1e4);
+  std::istringstream c("EDGE3 0 1 0 0 0 0 0 0" + kEdge3Tail + "\n");
+  CHECK(read_pose_graph_3d(c, "c.txt").poses.size() == 2);
+  std::istringstream d("EDGE3 0 1 0 0 0 0 0 0" + kEdge3Tail + "\n");
+  const std::string msg = error_of([&] { read_pose_graph_2d(d, "d.txt"); });
+  CHECK_CONTAINS(msg, "d.txt:1: 'EDGE3' is a 3D record");
+  CHECK_CONTAINS(msg, "read_pose_graph_3d");
+  std::istringstream e("FOO 1 2\n");
+  CHECK_CONTAINS(error_of([&] { read_pose_graph_2d(e, "e.g2o"); }), "e.g2o:1: unknown tag 'FOO'");
+}
+
+TEST_CASE("comments, blank lines, tabs and CRLF are accepted") {
+  const std::string text =
+      "# header\r\n\r\nVERTEX_SE2 0 0 0 0 # origin\r\n\tVERTEX_SE2\t1 1 0 0\r\n" + kE01 + "#\n";
+  std::istringstream in(text);
+  const PoseGraph2D g = read_g2o_2d(in, "ok.g2o");
+  CHECK(g.poses.size() == 2);
+  CHECK(g.edges.size() == 1);
+  CHECK(g.edges[0].line == 5);
+}
+
+TEST_CASE("malformed g2o 2D input: every rule gives a ParseError with file, line and field") {
+  std::string m;
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n");
+  CHECK_CONTAINS(m,
+                 "bad.g2o:3: EDGE_SE2: expected 11 fields after the tag, found 10 (truncated line?): field "
+                 "11 (I33) is missing");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 abc" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 5 (dtheta): 'abc' is not a number");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 nan 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 3 (dx): 'nan' is not finite");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 -inf 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 4 (dy): '-inf' is not finite");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 1e999 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 4 (dy): '1e999' is out of the range of a double");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0" + kInfo2 + " 7\n");
+  CHECK_CONTAINS(
+      m, "bad.g2o:3: EDGE_SE2: expected 11 fields after the tag, found 12: field 12 '7' is one too many");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n");
+  CHECK_CONTAINS(
+      m, "bad.g2o:3: EDGE_SE2 fields 6-11 (I11..I33): the information matrix is not positive definite");
+  m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n");  // positive diagonal, indefinite
+  CHECK_CONTAINS(
+      m, "bad.g2o:3: EDGE_SE2 fields 6-11 (I11..I33): the information matrix is not positive definite");
+  m = g2o2(kV2 + kE01 + "FIX 0\n");
+  CHECK_CONTAINS(m, "bad.g2o:4: unknown tag 'FIX'");
+  m = g2o2(kV2 + "EDGE_SE2 0 5 1 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 2 (j): pose 5 has no VERTEX_SE2 line");
+  m = g2o2("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 1 0 0\n" + kE01);
+  CHECK_CONTAINS(m, "bad.g2o:2: VERTEX_SE2 field 1 (id): duplicate vertex id 0 (first defined on line 1)");
+  m = g2o2("VERTEX_SE2 -1 0 0 0\n");
+  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '-1' is negative");
+  m = g2o2(kV2 + "EDGE_SE2 0 -1 1 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 2 (j): '-1' is negative");
+  m = g2o2("VERTEX_SE2 1.5 0 0 0\n");
+  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '1.5' is not an integer id");
+  m = g2o2("VERTEX_SE2 99999999999999999999 0 0 0\n");
+  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '99999999999999999999' is too large for an id");
+  m = g2o2("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 2 1 0 0\nEDGE_SE2 0 2 1 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(
+      m, "bad.g2o:2: VERTEX_SE2 field 1 (id): vertex ids must be contiguous from 0, but id 1 is missing");
+  m = g2o2(kV2 + "VERTEX_SE2 2 0 0 0\n" + kE01);
+  CHECK_CONTAINS(m, "bad.g2o:3: VERTEX_SE2 field 1 (id): vertex 2 is used by no edge");
+  m = g2o2(kV2 + "EDGE_SE2 1 1 1 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 2 (j): the edge connects pose 1 to itself");
+  m = g2o2(kV2 + "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 1" + kEdge3Tail + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: 'EDGE_SE3:QUAT' is a 3D record, but this is the 2D g2o reader");
+  // No vertices: the odometry chain must be complete.
+  m = g2o2(kE01 + "EDGE_SE2 2 3 1 0 0" + kInfo2 + "\n");
+  CHECK_CONTAINS(m, "bad.g2o: no odometry edge (1, 2)");
+  CHECK_CONTAINS(m, "pose 2 first appears on line 2 (EDGE_SE2 field 1 (i))");
+  m = g2o2("# nothing here\n\n");
+  CHECK_CONTAINS(m, "bad.g2o: no VERTEX_SE2 or edge records (empty file?)");
+  m = g2o2(std::string("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 \x01\x7f\n"));
+  CHECK_CONTAINS(m, "bad.g2o:2: VERTEX_SE2 field 4 (theta): '\\x01\\x7f' is not a number");
+}
+
+TEST_CASE("malformed g2o 3D input") {
+  const std::string v = "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n";
+  std::string m;
+  m = g2o3("VERTEX_SE3:QUAT 0 0 0 0 0 0 0 2\n");
+  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE3:QUAT fields 5-8 (qx..qw): quaternion norm 2 is not 1");
+  m = g2o3(v + "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 0" + kEdge3Tail + "\n");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE3:QUAT fields 6-9 (qx..qw): quaternion norm 0 is not 1");
+  m = g2o3(v + "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 0\n");
+  CHECK_CONTAINS(
+      m, "bad.g2o:3: EDGE_SE3:QUAT fields 10-30 (I11..I66): the information matrix is not positive definite");
+  m = g2o3(v + "EDGE_SE3:QUAT 0 1 0 0 0 0 0 0 1 1 0 0\n");
+  CHECK_CONTAINS(m,
+                 "bad.g2o:3: EDGE_SE3:QUAT: expected 30 fields after the tag, found 12 (truncated line?): "
+                 "field 13 (I14) is missing");
+  m = g2o3(v + kE01);
+  CHECK_CONTAINS(m, "bad.g2o:3: 'EDGE_SE2' is a 2D record, but this is the 3D g2o reader");
+}
+
+TEST_CASE("malformed iSAM input") {
+  std::string m;
+  m = isam2("EDGE2 0 1 1 0 0 10 0 0 0 0 100\n");
+  CHECK_CONTAINS(m,
+                 "bad.txt:1: EDGE2 fields 6-11 (r_xx..r_tt): the information RᵀR of the square-root numbers "
+                 "is not positive definite");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nLANDMARK 1 0 1 2 10 0\n");
+  CHECK_CONTAINS(m,
+                 "bad.txt:2: LANDMARK: expected 7 fields after the tag, found 6 (truncated line?): field 7 "
+                 "(r_yy) is missing");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nLANDMARK 1 0 1 2 10 0 0\n");
+  CHECK_CONTAINS(m,
+                 "bad.txt:2: LANDMARK fields 5-7 (r_xx..r_yy): the information RᵀR of the square-root "
+                 "numbers is not positive definite");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nLANDMARK 1 1 1 2 10 0 10\n");
+  CHECK_CONTAINS(m,
+                 "bad.txt:2: LANDMARK field 2 (l): landmark ids must be contiguous from 0, but landmark 0 is "
+                 "never observed");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nLANDMARK 5 0 1 2 10 0 10\n");
+  CHECK_CONTAINS(m, "bad.txt: no odometry edge (1, 2)");
+  CHECK_CONTAINS(m, "the largest, 5, is on line 2 (LANDMARK field 1 (i))");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nLANDMARK 2 0 1 2 10 0 10\n");
+  CHECK_CONTAINS(m, "bad.txt: no odometry edge (1, 2)");
+  CHECK_CONTAINS(m, "pose 2 first appears on line 2 (LANDMARK field 1 (i))");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nEDGE2 0 7 1 0 0" + kSqrt2 + "\n");
+  CHECK_CONTAINS(m, "bad.txt: no odometry edge (1, 2)");
+  CHECK_CONTAINS(
+      m,
+      "pose 2 is named by no record, though pose ids must be contiguous from 0 (the largest, 7, is on "
+      "line 2 (edge field 2 (j)))");
+  m = isam2("ODOMETRY 0 1 1 0 0" + kSqrt2 + "\nEDGE2 3 x 1 0 0" + kSqrt2 + "\n");
+  CHECK_CONTAINS(m, "bad.txt:2: EDGE2 field 2 (j): 'x' is not an integer id");
+  m = isam2("POSE2 0 1 2 3\n");
+  CHECK_CONTAINS(
+      m,
+      "bad.txt:1: unknown tag 'POSE2' (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)");
+  m = isam2("EDGE3 0 1 0 0 0 0 0 0" + kEdge3Tail + "\n");
+  CHECK_CONTAINS(m, "bad.txt:1: 'EDGE3' is a 3D record, but this is the 2D iSAM reader");
+  m = isam3("EDGE3 0 1 0 0 0 0 0 0" + kEdge3Tail + " 1\n");
+  CHECK_CONTAINS(
+      m, "bad.txt:1: EDGE3: expected 29 fields after the tag, found 30: field 30 '1' is one too many");
+  m = isam3("EDGE3 0 1 0 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 0\n");
+  CHECK_CONTAINS(m,
+                 "bad.txt:1: EDGE3 fields 9-29 (R11..R66): the information RᵀR of the square-root numbers is "
+                 "not positive definite");
+  m = isam3("EDGE3 0 1 0 0 0 0 0 0" + kEdge3Tail + "\nEDGE3 1 2 0 0 0 0 zz 0" + kEdge3Tail + "\n");
+  CHECK_CONTAINS(m, "bad.txt:2: EDGE3 field 7 (pitch): 'zz' is not a number");
+  m = isam3("");
+  CHECK_CONTAINS(m, "bad.txt: no VERTEX or edge records (empty file?)");
+  // Ground-truth readers parse the noise numbers strictly but do not check them (they are placeholders).
+  std::istringstream gt("EDGE2 0 1 1 0 0 0 0 0 0 0 0\n");
+  CHECK(read_isam_ground_truth_2d(gt, "gt.txt").poses.size() == 2);
+  std::istringstream bad_gt("EDGE2 0 1 1 0 0 0 0 0 0 0 q\n");
+  CHECK_CONTAINS(error_of([&] { read_isam_ground_truth_2d(bad_gt, "gt.txt"); }),
+                 "gt.txt:1: EDGE2 field 11 (r_tt): 'q' is not a number");
+}
+
+TEST_CASE("malformed pose lists and TUM files") {
+  auto poses2 = [](const std::string& t) {
+    return error_of([&] {
+      std::istringstream in(t);
+      read_poses_2d(in, "p.txt");
+    });
+  };
+  CHECK_CONTAINS(poses2("0 0 0 0\n0 1 0 0\n"),
+                 "p.txt:2: pose field 1 (id): duplicate id 0 (first on line 1)");
+  CHECK_CONTAINS(poses2("0 0 0 0\n2 1 0 0\n"),
+                 "p.txt:2: pose field 1 (id): ids must be contiguous from 0, but id 1 is missing");
+  CHECK_CONTAINS(poses2("0 0 0\n"),
+                 "p.txt:1: pose: expected 4 fields, found 3 (truncated line?): field 4 (theta) is missing");
+  CHECK_CONTAINS(poses2("0 0 0 x\n"), "p.txt:1: pose field 4 (theta): 'x' is not a number");
+  CHECK_CONTAINS(poses2(""), "p.txt: no pose records");
+  std::istringstream q("0 0 0 0 0 0 0 3\n");
+  CHECK_CONTAINS(error_of([&] { read_poses_3d(q, "q.txt"); }),
+                 "q.txt:1: pose fields 5-8 (qx..qw): quaternion norm 3 is not 1");
+  std::istringstream t("0 1 2 3 0 0 0\n");
+  CHECK_CONTAINS(error_of([&] { read_tum(t, "t.tum"); }),
+                 "t.tum:1: TUM: expected 8 fields, found 7 (truncated line?): field 8 (qw) is missing");
+  std::istringstream empty("# header only\n");
+  CHECK_CONTAINS(error_of([&] { read_tum(empty, "e.tum"); }), "e.tum: no TUM records");
+  std::istringstream l("0 1 2 3\n");
+  CHECK_CONTAINS(error_of([&] { read_pose_list_2d(l, "n.dat"); }),
+                 "n.dat:1: pose: expected 3 fields, found 4: field 4 '3' is one too many");
+}
+
+TEST_CASE("writers reject what their format cannot hold") {
+  std::mt19937_64 rng(6);
+  PoseGraph2D g = random_graph_2d(rng, 5, 2, 2);
+  std::ostringstream s;
+  CHECK_THROWS_AS(write_g2o(g, s), std::invalid_argument);
+  g.landmarks.clear();
+  g.landmark_measurements.clear();
+  g.edges[0].information(2, 2) = -1.0;
+  CHECK_THROWS_AS(write_isam(g, s), std::invalid_argument);
+  g.edges[0].information(2, 2) = 1.0;
+  g.edges[0].j = 99;
+  CHECK_THROWS_AS(write_g2o(g, s), std::invalid_argument);
+  CHECK_THROWS_AS(write_pose_graph(g, std::filesystem::path("x.csv")), std::invalid_argument);
+  // iSAM text holds no vertices: a graph its readers could not chain is refused, not written half.
+  std::istringstream gap(kV2 + "VERTEX_SE2 2 0 0 0\n" + kE01 + "EDGE_SE2 0 2 1 0 0" + kInfo2 + "\n");
+  const PoseGraph2D no_chain = read_g2o_2d(gap, "gap.g2o");
+  CHECK_THROWS_WITH_AS(write_isam(no_chain, s), doctest::Contains("no odometry edge (1, 2)"),
+                       std::invalid_argument);
+  std::istringstream lone("VERTEX_SE2 0 1 2 3\n");
+  const PoseGraph2D single = read_g2o_2d(lone, "lone.g2o");
+  CHECK(single.poses.size() == 1);
+  CHECK_THROWS_WITH_AS(write_isam(single, s), doctest::Contains("no edges"), std::invalid_argument);
+}
+
+TEST_CASE("ground truth of a synthetic grid: snapping makes the chain exact") {
+  // A square loop printed with 6 digits: 4 steps of (1, 0, π/2) and the closing edge (3 -> 0).
+  const std::string noise = " 50 0 0 50 0 100\n";
+  std::string text;
+  for (int k = 0; k < 3; ++k)
+    text += "EDGE2 " + std::to_string(k) + " " + std::to_string(k + 1) + " 1 0 1.5708" + noise;
+  text += "EDGE2 3 0 1 -0 1.5708" + noise + "LANDMARK 2 0 0.5 -0.5 10 0 10\n";
+  std::istringstream raw(text);
+  const GroundTruth2D loose = read_isam_ground_truth_2d(raw, "gt.txt");
+  CHECK(loose.max_edge_rotation_error > 1e-6);
+  std::istringstream again(text);
+  const GroundTruth2D exact =
+      read_isam_ground_truth_2d(again, "gt.txt", {.translation_step = 0.5, .angle_step = 0.5 * kPi});
+  CHECK(exact.max_edge_translation_error < 1e-15);
+  CHECK(exact.max_edge_rotation_error < 1e-15);
+  CHECK(exact.poses[2].translation() == Vec2(1, 1));
+  CHECK(exact.landmarks[0] == Vec2(0.5, 1.5));  // pose 2 = (1, 1, π)
+}

@@ -1,0 +1,194 @@
+#include "graph/text_records.hpp"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <system_error>
+
+#include "graph/parse_error.hpp"
+
+namespace keel::graph {
+
+ParseError::ParseError(std::string file, int line, const std::string& message)
+    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message),
+      file_(std::move(file)),
+      line_(line) {}
+
+namespace detail {
+
+std::string read_file_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    const int e = errno;
+    throw ParseError(file.string(), 0, std::string("cannot open file (") + std::strerror(e) + ")");
+  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw ParseError(file.string(), 0, "read error");
+  return text;
+}
+
+std::string read_stream_text(std::istream& in, const std::string& name) {
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw ParseError(name, 0, "read error");
+  return text;
+}
+
+void write_file_atomically(const std::filesystem::path& file, const std::string& text) {
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw std::runtime_error(tmp.string() + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(file.string() + ": cannot rename the temporary file into place");
+  }
+}
+
+std::string quote_token(std::string_view token) {
+  std::string out = "'";
+  std::size_t n = 0;
+  for (char ch : token) {
+    if (n++ == 40) {
+      out += "...";
+      break;
+    }
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c < 0x7f && c != '\\' && c != '\'') {
+      out += ch;
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  out += "'";
+  return out;
+}
+
+std::string fmt17(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+void fail_at(const std::string& name, int line, const std::string& msg) { throw ParseError(name, line, msg); }
+
+RecordScanner::RecordScanner(std::string_view text, std::string name) : text_(text), name_(std::move(name)) {}
+RecordScanner::RecordScanner(std::string_view text, std::string name, std::string kind)
+    : text_(text), name_(std::move(name)), kind_(std::move(kind)) {}
+
+namespace {
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+}  // namespace
+
+bool RecordScanner::next() {
+  names_ = {};
+  while (pos_ < text_.size()) {
+    const std::size_t nl = text_.find('\n', pos_);
+    const std::size_t end = nl == std::string_view::npos ? text_.size() : nl;
+    std::string_view ln = text_.substr(pos_, end - pos_);
+    pos_ = nl == std::string_view::npos ? text_.size() : nl + 1;
+    ++line_;
+    if (const auto hash = ln.find('#'); hash != std::string_view::npos) ln = ln.substr(0, hash);
+    fields_.clear();
+    std::size_t i = 0;
+    while (i < ln.size()) {
+      while (i < ln.size() && is_space(ln[i])) ++i;
+      const std::size_t b = i;
+      while (i < ln.size() && !is_space(ln[i])) ++i;
+      if (i > b) fields_.push_back(ln.substr(b, i - b));
+    }
+    if (!fields_.empty()) {
+      if (!kind_.empty()) fields_.insert(fields_.begin(), std::string_view(kind_));
+      return true;
+    }
+  }
+  return false;
+}
+
+void RecordScanner::expect(std::span<const char* const> names) {
+  names_ = names;
+  const std::size_t n = size();
+  const char* after = kind_.empty() ? " fields after the tag, found " : " fields, found ";
+  if (n < names.size()) {
+    fail(std::string(tag()) + ": expected " + std::to_string(names.size()) + after + std::to_string(n) +
+         " (truncated line?): field " + std::to_string(n + 1) + " (" + names[n] + ") is missing");
+  }
+  if (n > names.size()) {
+    fail(std::string(tag()) + ": expected " + std::to_string(names.size()) + after + std::to_string(n) +
+         ": field " + std::to_string(names.size() + 1) + " " + quote_token(fields_[names.size() + 1]) +
+         " is one too many");
+  }
+}
+
+std::string RecordScanner::describe_field(std::size_t k) const {
+  std::string s = std::string(tag()) + " field " + std::to_string(k);
+  if (k >= 1 && k <= names_.size()) s += std::string(" (") + names_[k - 1] + ")";
+  return s;
+}
+
+void RecordScanner::fail(const std::string& msg) const { throw ParseError(name_, line_, msg); }
+
+void RecordScanner::fail_field(std::size_t k, const std::string& msg) const {
+  fail(describe_field(k) + ": " + msg);
+}
+
+void RecordScanner::fail_fields(std::size_t first, std::size_t last, const std::string& msg) const {
+  std::string s = std::string(tag()) + " fields " + std::to_string(first) + "-" + std::to_string(last);
+  if (first >= 1 && last <= names_.size())
+    s += std::string(" (") + names_[first - 1] + ".." + names_[last - 1] + ")";
+  fail(s + ": " + msg);
+}
+
+double RecordScanner::number(std::size_t k) const {
+  std::string_view t = fields_[k];
+  std::string_view s = t;
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
+  double v = 0.0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range)
+    fail_field(k, quote_token(t) + " is out of the range of a double");
+  if (ec != std::errc() || p != s.data() + s.size()) fail_field(k, quote_token(t) + " is not a number");
+  if (!std::isfinite(v)) fail_field(k, quote_token(t) + " is not finite");
+  return v;
+}
+
+void RecordScanner::numbers(std::size_t first, std::size_t last, double* out) const {
+  for (std::size_t k = first; k <= last; ++k) *out++ = number(k);
+}
+
+int RecordScanner::id(std::size_t k) const {
+  std::string_view t = fields_[k];
+  std::string_view s = t;
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
+  long long v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec == std::errc() && p == s.data() + s.size()) {
+    if (v < 0) fail_field(k, quote_token(t) + " is negative (ids must be >= 0)");
+    if (v >= std::numeric_limits<int>::max()) fail_field(k, quote_token(t) + " is too large for an id");
+    return static_cast<int>(v);
+  }
+  if (ec == std::errc::result_out_of_range) fail_field(k, quote_token(t) + " is too large for an id");
+  fail_field(k, quote_token(t) + " is not an integer id");
+}
+
+}  // namespace detail
+}  // namespace keel::graph

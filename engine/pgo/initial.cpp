@@ -1,0 +1,234 @@
+// Initial estimates (Options::initial_guess, anchor_guess) and the global-pose helpers.
+#include <Eigen/Geometry>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/random.hpp"
+#include "pgo/internal.hpp"
+
+namespace keel::pgo {
+
+namespace detail {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pgo: " + what); }
+
+std::string name_of(const std::string& source) { return source.empty() ? "<unnamed graph>" : "'" + source + "'"; }
+
+lie::SE2 random_pose(core::Rng& rng, double extent, const lie::SE2*) {
+  const double x = rng.uniform(-extent, extent);
+  const double y = rng.uniform(-extent, extent);
+  const double th = rng.uniform(-lie::kPi, lie::kPi);
+  return lie::SE2(x, y, th);
+}
+
+lie::SE3 random_pose(core::Rng& rng, double extent, const lie::SE3*) {
+  lie::Vec3 t;
+  for (int k = 0; k < 3; ++k) t(k) = rng.uniform(-extent, extent);
+  // Uniform rotation: a normalized 4-vector of independent normals is uniform on S³.
+  Eigen::Vector4d q;
+  do {
+    for (int k = 0; k < 4; ++k) q(k) = rng.normal();
+  } while (q.norm() < 1e-12);
+  const Eigen::Quaterniond quat(q(3), q(0), q(1), q(2));
+  return lie::SE3(lie::SO3::from_matrix_unchecked(quat.normalized().toRotationMatrix()), t);
+}
+
+// Odometry chain of one robot: T_0 as read (identity if none), T_k = T_{k−1} z_{k−1,k} using the first edge between
+// k−1 and k in the file (inverted if it is stored as (k, k−1)).
+template <class D>
+std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) {
+  using Pose = typename D::Pose;
+  std::vector<std::optional<Pose>> step(n > 0 ? n - 1 : 0);
+  for (const auto& e : g.edges) {
+    if (e.j == e.i + 1 && !step[e.i]) step[e.i] = e.measurement;
+    else if (e.i == e.j + 1 && !step[e.j]) step[e.j] = e.measurement.inverse();
+  }
+  std::vector<Pose> poses(n);
+  if (n == 0) return poses;
+  poses[0] = g.poses.empty() ? Pose() : g.poses[0];
+  for (int k = 1; k < n; ++k) {
+    if (!step[k - 1])
+      fail("initial_guess = odometry: " + name_of(g.source) + " has no edge between poses " + std::to_string(k - 1) +
+           " and " + std::to_string(k));
+    poses[k] = poses[k - 1] * *step[k - 1];
+  }
+  return poses;
+}
+
+template <class D>
+typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const Options& o,
+                                   const typename D::Estimate* supplied) {
+  using Pose = typename D::Pose;
+  const int n = pose_count(g);
+  typename D::Estimate est;
+  switch (o.initial_guess) {
+    case InitialGuess::as_read:
+      if (static_cast<int>(g.poses.size()) != n)
+        fail("initial_guess = as_read: " + name_of(g.source) + " stores " + std::to_string(g.poses.size()) +
+             " poses but its measurements use " + std::to_string(n) + " (choose initial_guess = odometry?)");
+      est.poses = g.poses;
+      break;
+    case InitialGuess::odometry:
+      est.poses = odometry_chain<D>(g, n);
+      break;
+    case InitialGuess::supplied:
+      if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
+      if (static_cast<int>(supplied->poses.size()) != n)
+        fail("initial_guess = supplied: the estimate of robot " + std::to_string(robot) + " has " +
+             std::to_string(supplied->poses.size()) + " poses, the graph " + std::to_string(n));
+      est.poses = supplied->poses;
+      break;
+    case InitialGuess::random: {
+      core::Rng rng = core::Rng::stream(o.seed, static_cast<std::uint64_t>(robot));
+      est.poses.resize(n);
+      for (auto& T : est.poses) T = random_pose(rng, o.random_extent, static_cast<const Pose*>(nullptr));
+      for (int k : o.constant_poses)
+        if (k >= 0 && k < n) est.poses[k] = k < static_cast<int>(g.poses.size()) ? g.poses[k] : Pose();
+      break;
+    }
+  }
+  if constexpr (D::kLandmarks) {
+    const int m = landmark_count(g);
+    if (o.initial_guess == InitialGuess::as_read && static_cast<int>(g.landmarks.size()) == m) {
+      est.landmarks = g.landmarks;
+    } else if (o.initial_guess == InitialGuess::supplied && static_cast<int>(supplied->landmarks.size()) == m) {
+      est.landmarks = supplied->landmarks;
+    } else {
+      est.landmarks.assign(m, lie::Vec2::Zero());
+      std::vector<char> set(m, 0);
+      for (const auto& lm : g.landmark_measurements)
+        if (!set[lm.landmark]) {
+          est.landmarks[lm.landmark] = est.poses[lm.pose] * lm.position;
+          set[lm.landmark] = 1;
+        }
+    }
+  }
+  return est;
+}
+
+}  // namespace
+
+template <class D>
+typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vector<typename D::Pose>& given_anchors,
+                                       const Options& o, const typename D::MultiEstimate* supplied) {
+  using Pose = typename D::Pose;
+  o.validate();
+  validate_graph(view);
+  const int robots = static_cast<int>(view.robots.size());
+  if (o.initial_guess == InitialGuess::supplied) {
+    if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
+    if (static_cast<int>(supplied->robots.size()) != robots)
+      fail("initial_guess = supplied: the estimate has " + std::to_string(supplied->robots.size()) + " robots, the graph " +
+           std::to_string(robots));
+  }
+  typename D::MultiEstimate est;
+  for (int r = 0; r < robots; ++r)
+    est.robots.push_back(robot_initial<D>(*view.robots[r], r, o, supplied ? &supplied->robots[r] : nullptr));
+
+  if (!view.with_anchors) {
+    est.anchors.assign(1, Pose());
+    return est;
+  }
+  if (o.initial_guess == InitialGuess::supplied && static_cast<int>(supplied->anchors.size()) == robots) {
+    est.anchors = supplied->anchors;
+    return est;
+  }
+  if (!given_anchors.empty() && static_cast<int>(given_anchors.size()) != robots)
+    fail("the graph has " + std::to_string(given_anchors.size()) + " anchors for " + std::to_string(robots) +
+         " robots (give one per robot, or none)");
+  est.anchors = given_anchors.empty() ? std::vector<Pose>(robots) : given_anchors;
+  if (o.anchor_guess == AnchorGuess::inter_robot_edges && view.inter) {
+    std::vector<char> placed(robots, 0);
+    if (robots > 0) placed[0] = 1;
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (const auto& e : *view.inter) {
+        const auto& Ti = est.robots[e.robot_a].poses[e.pose_a];
+        const auto& Tj = est.robots[e.robot_b].poses[e.pose_b];
+        if (placed[e.robot_a] && !placed[e.robot_b]) {  // z ≈ (Δa Ti)⁻¹ Δb Tj  ⇒  Δb = Δa Ti z Tj⁻¹
+          est.anchors[e.robot_b] = est.anchors[e.robot_a] * Ti * e.measurement * Tj.inverse();
+          placed[e.robot_b] = progress = true;
+        } else if (placed[e.robot_b] && !placed[e.robot_a]) {  // Δa = Δb Tj z⁻¹ Ti⁻¹
+          est.anchors[e.robot_a] = est.anchors[e.robot_b] * Tj * e.measurement.inverse() * Ti.inverse();
+          placed[e.robot_a] = progress = true;
+        }
+      }
+    }
+  }
+  return est;
+}
+
+template D2::MultiEstimate initial_view<D2>(const RobotsView<D2>&, const std::vector<lie::SE2>&, const Options&,
+                                            const D2::MultiEstimate*);
+template D3::MultiEstimate initial_view<D3>(const RobotsView<D3>&, const std::vector<lie::SE3>&, const Options&,
+                                            const D3::MultiEstimate*);
+
+}  // namespace detail
+
+namespace {
+
+template <class D>
+typename D::MultiEstimate wrap_single(const typename D::Estimate* supplied) {
+  typename D::MultiEstimate m;
+  if (supplied) m.robots.push_back(*supplied);
+  return m;
+}
+
+}  // namespace
+
+Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options, const Estimate2D* supplied) {
+  const auto m = supplied ? wrap_single<detail::D2>(supplied) : MultiRobotEstimate2D{};
+  auto est = detail::initial_view<detail::D2>(detail::view_of(graph), {}, options, supplied ? &m : nullptr);
+  return std::move(est.robots[0]);
+}
+
+Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options, const Estimate3D* supplied) {
+  const auto m = supplied ? wrap_single<detail::D3>(supplied) : MultiRobotEstimate3D{};
+  auto est = detail::initial_view<detail::D3>(detail::view_of(graph), {}, options, supplied ? &m : nullptr);
+  return std::move(est.robots[0]);
+}
+
+MultiRobotEstimate2D initial_estimate(const MultiRobotGraph2D& graph, const Options& options,
+                                      const MultiRobotEstimate2D* supplied) {
+  return detail::initial_view<detail::D2>(detail::view_of(graph), graph.anchors, options, supplied);
+}
+
+MultiRobotEstimate3D initial_estimate(const MultiRobotGraph3D& graph, const Options& options,
+                                      const MultiRobotEstimate3D* supplied) {
+  return detail::initial_view<detail::D3>(detail::view_of(graph), graph.anchors, options, supplied);
+}
+
+namespace {
+
+template <class E>
+auto global_poses_impl(const E& estimate, int robot) {
+  if (robot < 0 || robot >= static_cast<int>(estimate.robots.size()) ||
+      estimate.anchors.size() != estimate.robots.size())
+    throw std::invalid_argument("pgo::global_poses: robot " + std::to_string(robot) + " out of range, or anchors and "
+                                "robots differ in number");
+  auto poses = estimate.robots[robot].poses;
+  for (auto& T : poses) T = estimate.anchors[robot] * T;
+  return poses;
+}
+
+}  // namespace
+
+std::vector<lie::SE2> global_poses(const MultiRobotEstimate2D& estimate, int robot) {
+  return global_poses_impl(estimate, robot);
+}
+std::vector<lie::SE3> global_poses(const MultiRobotEstimate3D& estimate, int robot) {
+  return global_poses_impl(estimate, robot);
+}
+std::vector<lie::Vec2> global_landmarks(const MultiRobotEstimate2D& estimate, int robot) {
+  global_poses_impl(estimate, robot);  // range checks
+  auto lms = estimate.robots[robot].landmarks;
+  for (auto& l : lms) l = estimate.anchors[robot] * l;
+  return lms;
+}
+
+}  // namespace keel::pgo

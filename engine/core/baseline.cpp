@@ -184,8 +184,10 @@ void bless(const ExperimentConfig& config, const std::filesystem::path& results_
 
 bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why) {
   json ja = read_json(a, ""), jb = read_json(b, "");
-  ja.erase("provenance");
-  jb.erase("provenance");
+  for (const char* k : {"provenance", "timings_s"}) {
+    ja.erase(k);
+    jb.erase(k);
+  }
   if (ja == jb) return true;
   if (why) {
     const json patch = json::diff(ja, jb);

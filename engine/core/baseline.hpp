@@ -38,7 +38,7 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
 // Copies latest.json to baseline.<profile>.json without the figure data (baselines hold numbers only).
 void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir);
 
-// True when the two result files agree in everything but provenance (wall time, threads). `why` gets the first
+// True when the two result files agree in everything but provenance and timings (wall time, threads). `why` gets the first
 // difference. Used by the determinism test (1 thread vs 2 threads).
 bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why);
 

@@ -3,6 +3,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -265,6 +266,27 @@ std::optional<Tolerance> ExperimentConfig::tolerance_for(std::string_view metric
 
 namespace {
 
+std::string canonical_value(const ConfigValue& v) {
+  char buf[40];
+  switch (v.data.index()) {
+    case 1: return std::to_string(std::get<std::int64_t>(v.data));
+    case 2: std::snprintf(buf, sizeof buf, "%.17g", std::get<double>(v.data)); return buf;
+    case 3: return std::get<bool>(v.data) ? "true" : "false";
+    case 4: return "\"" + std::get<std::string>(v.data) + "\"";
+    case 5: {
+      std::string s = "[";
+      for (const auto& e : std::get<std::vector<ConfigValue>>(v.data)) s += canonical_value(e) + ",";
+      return s + "]";
+    }
+    case 6: {
+      std::string s = "{";
+      for (const auto& [k, e] : *std::get<std::shared_ptr<ConfigTableData>>(v.data)) s += k + "=" + canonical_value(e) + ",";
+      return s + "}";
+    }
+    default: return "";
+  }
+}
+
 std::shared_ptr<ConfigTableData> overlay(const ConfigTableData& base, const ConfigTableData& top) {
   auto out = std::make_shared<ConfigTableData>(base);
   for (const auto& [k, v] : top) (*out)[k] = v;
@@ -336,7 +358,8 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
       }
     }
   }
-  c.params = ConfigTable(file.string(), "params", overlay(base, *selected));
+  const auto merged = overlay(base, *selected);
+  c.params = ConfigTable(file.string(), "params", merged);
   // The overlay copy is what the driver reads; the original [params] view is marked read as a whole.
   for (const auto& k : params.keys()) (void)params.value(k);
 
@@ -352,10 +375,11 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   // finish() on the root checks top-level keys only for unknowns: sub-tables were fully consumed above.
   root.finish();
 
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  c.hash = fnv1a64(profile, fnv1a64(ss.str()));
+  // The hash covers what the run depends on — id, seed, profile and the resolved parameters — not the prose
+  // (description, discussion, thesis values), so editing the report text does not make results stale.
+  std::string canon = c.id + "\n" + std::to_string(c.seed) + "\n" + profile + "\n";
+  for (const auto& [k, v] : *merged) canon += k + "=" + canonical_value(v) + "\n";
+  c.hash = fnv1a64(canon);
   // A fresh, untracked view of [thesis] for the report (so its reads are checked there, not here).
   if (root.has("thesis")) {
     const auto& tv = root.value("thesis");

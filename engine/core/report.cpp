@@ -181,6 +181,13 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     }
     os << "\n</details>\n\n";
   }
+  if (r.contains("timings_s") && !r["timings_s"].empty()) {
+    os << "Timings of this run (s):";
+    for (auto it = r["timings_s"].begin(); it != r["timings_s"].end(); ++it) {
+      os << " " << it.key() << " " << fmt(json_number(it.value())) << ";";
+    }
+    os << "\n\n";
+  }
   if (r.contains("figures")) {
     for (const auto& f : r["figures"]) {
       const std::string file = f.value("file", "");

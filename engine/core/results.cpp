@@ -165,6 +165,7 @@ void Results::figure(Figure f) {
   figures_.push_back(std::move(f));
 }
 void Results::note(const std::string& key, const std::string& text) { notes_[key] = text; }
+void Results::timing(const std::string& name, double seconds) { timings_[name] = seconds; }
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& text) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
@@ -205,6 +206,11 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
   for (const auto& fig : figures_) f.push_back(figure_json(fig));
   doc["figures"] = f;
   if (!notes_.empty()) doc["notes"] = notes_;
+  if (!timings_.empty()) {
+    json t = json::object();
+    for (const auto& [k, v] : timings_) t[k] = round_significant(v, 4);
+    doc["timings_s"] = t;
+  }
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(prov.config_hash));
   doc["provenance"] = {{"git_sha", prov.git_sha},     {"config_hash", hash},

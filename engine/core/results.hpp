@@ -59,6 +59,8 @@ class Results {
   void check(const std::string& name, bool passed, const std::string& detail);
   void figure(Figure f);
   void note(const std::string& key, const std::string& text);
+  // Wall time of a phase (seconds). Reported, never diffed against baselines (machines differ).
+  void timing(const std::string& name, double seconds);
 
   const std::map<std::string, double>& metrics() const { return metrics_; }
   const std::map<std::string, std::vector<double>>& all_series() const { return series_; }
@@ -79,6 +81,7 @@ class Results {
   std::vector<Check> checks_;
   std::vector<Figure> figures_;
   std::map<std::string, std::string> notes_;
+  std::map<std::string, double> timings_;
 };
 
 // Writes `text` to `path` through a temporary file in the same folder and an atomic rename.

@@ -96,7 +96,9 @@ using keel::lie::RelativePoseSetup;
 using keel::lie::run_composition_study;
 using keel::lie::run_relative_pose_study;
 // relative pose of pose pairs from a SLAM solution (Tables 5.1–5.2)
+using keel::lie::pair_statistics;
 using keel::lie::PairRecord;
+using keel::lie::PairStatistics;
 using keel::lie::PairStudySetup;
 using keel::lie::run_pair_study_2d;
 using keel::lie::ssc_jacobian_of_left_perturbation;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -59,8 +60,8 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
   // Monte Carlo: ξ ~ N(0, S) (eqs. 5.57–5.59); the SSC reference is the sample covariance of the same samples'
   // parameters (about their sample mean, angle differences wrapped around the predicted mean).
   const Mat6 L = Mat6(covariance_square_root(S));
-  Mat3 lie_acc = Mat3::Zero(), ssc_acc = Mat3::Zero();
-  Vec3 ssc_sum = Vec3::Zero();
+  Mat3 lie_acc = Mat3::Zero(), ssc_acc = Mat3::Zero(), raw_acc = Mat3::Zero();
+  Vec3 ssc_sum = Vec3::Zero(), raw_sum = Vec3::Zero();
   for (std::size_t m = 0; m < samples; ++m) {
     Vec6 z;
     for (int k = 0; k < 6; ++k) z(k) = rng.normal();
@@ -70,7 +71,10 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
     const SE2 Tm = Ti_m.inverse() * Tj_m;     // eq. 5.58
     const Vec3 e = (Tm * mean_inv).log();     // eq. 5.59
     lie_acc += e * e.transpose();
-    Vec3 x = ssc_from_se2(Tm) - ssc_pred.mean;
+    const Vec3 raw = ssc_from_se2(Tm);
+    raw_sum += raw;
+    raw_acc += raw * raw.transpose();
+    Vec3 x = raw - ssc_pred.mean;
     x(2) = wrap_angle(x(2));
     ssc_sum += x;
     ssc_acc += x * x.transpose();
@@ -83,6 +87,9 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
   rec.error_independent = covariance_error(ind.cov, lie_mc);
   rec.normalized_error_lie = normalized_covariance_error(joint.cov, lie_mc);
   rec.normalized_error_ssc = normalized_covariance_error(ssc_pred.cov, ssc_mc);
+  const Vec3 raw_mean = raw_sum / M;
+  const Mat3 raw_mc = (raw_acc - M * raw_mean * raw_mean.transpose()) / (M - 1.0);
+  rec.normalized_error_ssc_raw_angles = normalized_covariance_error(ssc_pred.cov, raw_mc);
   return rec;
 }
 
@@ -120,6 +127,22 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const s
       },
       setup.threads, progress);
   return out;
+}
+
+PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::*field, int offset) {
+  PairStatistics st;
+  double sum = 0, sum2 = 0;
+  for (const auto& r : records) {
+    if (offset >= 0 && r.j - r.i != offset) continue;
+    const double v = r.*field;
+    sum += v;
+    sum2 += v * v;
+    ++st.count;
+  }
+  if (st.count == 0) return st;
+  st.mean = sum / static_cast<double>(st.count);
+  st.std = std::sqrt(std::max(0.0, sum2 / static_cast<double>(st.count) - st.mean * st.mean));
+  return st;
 }
 
 }  // namespace keel::lie

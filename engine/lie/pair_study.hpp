@@ -34,6 +34,9 @@ struct PairRecord {
   // Normalized ε (§5.9.2): both covariances divided by the Frobenius norm of their own Monte-Carlo reference
   // (Table 5.2). The SSC reference is the sample covariance of the same samples' (x, y, θ) parameters.
   double normalized_error_lie = 0, normalized_error_ssc = 0;
+  // Diagnostic: SSC against a reference taken from the raw (x, y, θ) parameters with θ in (−π, π] and no wrapping
+  // around the mean — what a naive sample covariance of Euler parameters gives when θ crosses ±π.
+  double normalized_error_ssc_raw_angles = 0;
 };
 
 // The SSC (x, y, θ) covariance of poses perturbed on the left, to first order: Σ_x = J Σ_ξ Jᵀ with
@@ -46,5 +49,12 @@ Mat3 ssc_jacobian_of_left_perturbation(const SE2& T);
 std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
                                           const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
                                           keel::core::Progress* progress = nullptr);
+
+// Mean and (population) standard deviation of one field over the records, optionally only pairs with j − i = offset.
+struct PairStatistics {
+  std::size_t count = 0;
+  double mean = 0, std = 0;
+};
+PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::*field, int offset = -1);
 
 }  // namespace keel::lie

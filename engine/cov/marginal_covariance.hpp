@@ -1,0 +1,126 @@
+// keel::cov — joint marginal covariances of sets of poses / landmarks from the sparse information matrix H of
+// a pose graph (thesis §5.8.2: the joint Lie-algebra covariance Σ_{1:n} of eq. 5.28 of a jointly correlated
+// set of poses, taken from a MAP solution).
+//
+// H (information.hpp) is factorized once with CHOLMOD (supernodal LLᵀ, fill-reducing ordering chosen by
+// CHOLMOD); every query then asks for blocks of Σ = H⁻¹ without ever forming H⁻¹ densely: by default Σ_ab =
+// W_aᵀ W_b with W = L⁻¹ P E computed by sparse forward substitutions along the elimination tree, once per
+// distinct variable of a batch (Extraction, marginal_covariance.cpp). CHOLMOD stays inside the .cpp file.
+//
+// Thread-safety: a MarginalCovariance is immutable after construction. joint(), joint_many(), marginal() and
+// pair_marginals_2d() may be called concurrently from several threads on the same object: every call
+// allocates its own workspace (and, for Extraction::kSolve, its own cholmod_common), and the factor is only
+// read. joint_many(…, threads) itself spreads its column blocks and its queries over `threads` workers in the
+// same way.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "cov/information.hpp"
+#include "lie/types.hpp"
+
+namespace keel::cov {
+
+/// Fill-reducing ordering of the Cholesky factorization.
+enum class Ordering {
+  kAuto,     // CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is used
+  kAmd,      // approximate minimum degree
+  kMetis,    // METIS nested dissection
+  kNesdis,   // CHOLMOD's own nested dissection (METIS-based, with constrained minimum degree)
+  kNatural,  // no reordering (for tests; fill can be catastrophic)
+};
+std::string_view to_string(Ordering o);
+std::optional<Ordering> ordering_from_string(std::string_view s);
+
+/// How the blocks of Σ = H⁻¹ are computed (see marginal_covariance.cpp for the reasoning and the
+/// measurements).
+enum class Extraction {
+  kAuto,     // kForward for a supernodal factor, kSolve for a simplicial one
+  kForward,  // Σ_ab = W_aᵀ W_b, W = L⁻¹ P E: sparse forward substitutions along the elimination tree
+             // (supernodal only)
+  kSolve,    // multi-column cholmod_solve2 of H X = E for the distinct variables, keeping the rows needed
+};
+std::string_view to_string(Extraction e);
+std::optional<Extraction> extraction_from_string(std::string_view s);
+
+struct CovarianceOptions {
+  Ordering ordering = Ordering::kAuto;  // fill-reducing ordering handed to CHOLMOD
+  bool supernodal = true;               // supernodal factorization (needed by Extraction::kForward)
+  Extraction extraction = Extraction::kAuto;
+  int block_columns = 64;  // right-hand-side columns processed together (≥ 1)
+  /// Throws std::invalid_argument naming the violated constraint.
+  void validate() const;
+};
+
+/// What the factorization did (for reports and benchmarks).
+struct FactorSummary {
+  std::string ordering;       // ordering CHOLMOD actually used ("amd", "metis", "nesdis", "natural", …)
+  bool supernodal = false;    // the factor is supernodal
+  std::string extraction;     // the extraction method in use ("forward" or "solve")
+  int size = 0;               // rows of H
+  std::size_t nnz_h = 0;      // stored entries of the upper triangle of H
+  double nnz_l = 0.0;         // nonzeros of L (without supernodal padding), CHOLMOD's lnz
+  double factor_flops = 0.0;  // flop count of the factorization, CHOLMOD's fl
+  std::size_t num_supernodes = 0;
+  std::size_t l_storage = 0;  // doubles stored for L (with supernodal padding)
+  double mean_path_fraction =
+      0.0;  // supernodal: mean over the columns of the share of L on their path to the root
+  double analyze_seconds = 0.0;  // symbolic analysis (ordering) wall time
+  double factorize_seconds = 0.0;
+};
+
+class MarginalCovariance;
+
+/// For SE(2) pose graphs: the 6×6 joint covariance [Σ_ii Σ_ij; Σ_ji Σ_jj] of (ξ_i, ξ_j) for every pair,
+/// computed like joint_many (the work per distinct pose is shared by all pairs that name it). Throws
+/// std::invalid_argument if the poses are not SE(2) or a pair names a landmark.
+std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
+                                    const std::vector<std::pair<int, int>>& pairs, unsigned threads = 1);
+
+/// Marginal covariances of the variables of a SparseInformation (poses first, then landmarks; see
+/// information.hpp), in the Lie algebra of the left perturbation T = exp(ξ^) T̄ (eq. 5.14) for poses and in
+/// world coordinates (additive) for landmarks. The pose fixed by a Gauge::kFixPose gauge has zero covariance
+/// (and zero cross-covariance).
+class MarginalCovariance {
+ public:
+  /// Factorizes H. Throws std::invalid_argument if H is malformed and std::runtime_error if H is not positive
+  /// definite (the message names the first variable at which the factorization broke down — usually a
+  /// variable no factor constrains, or a part of the graph that is not connected to the gauge pose).
+  explicit MarginalCovariance(const SparseInformation& H, const CovarianceOptions& options = {});
+  ~MarginalCovariance();
+  MarginalCovariance(MarginalCovariance&&) noexcept;
+  MarginalCovariance& operator=(MarginalCovariance&&) noexcept;
+  MarginalCovariance(const MarginalCovariance&) = delete;
+  MarginalCovariance& operator=(const MarginalCovariance&) = delete;
+
+  /// The joint marginal covariance of `vars` (variable ids, repeats allowed): a (Σ dim) square matrix whose
+  /// blocks follow the order asked, block (a, b) = E[ξ_a ξ_bᵀ]. Throws std::out_of_range on an unknown id.
+  MatX joint(const std::vector<int>& vars) const;
+  /// Marginal covariance of one variable.
+  MatX marginal(int var) const;
+  /// joint() of many queries at once, sharing the work: the columns of H⁻¹ of every distinct variable are
+  /// computed once, in multi-column solves spread over `threads` threads (0 = keel::core::default_threads()).
+  /// The result does not depend on `threads`.
+  std::vector<MatX> joint_many(const std::vector<std::vector<int>>& queries, unsigned threads = 1) const;
+
+  const FactorSummary& summary() const;
+  int num_poses() const;
+  int num_landmarks() const;
+  int num_variables() const;
+  int variable_dim(int var) const;
+
+  struct Impl;  // CHOLMOD state (marginal_covariance.cpp)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  friend std::vector<Mat6> pair_marginals_2d(const MarginalCovariance&,
+                                             const std::vector<std::pair<int, int>>&, unsigned);
+};
+
+}  // namespace keel::cov

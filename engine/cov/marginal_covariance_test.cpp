@@ -1,0 +1,183 @@
+// MarginalCovariance against a dense inverse of H; batched queries against single ones; thread independence.
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cov/information.hpp"
+#include "cov/marginal_covariance.hpp"
+#include "cov/test_graphs.hpp"
+
+using namespace keel;
+using namespace keel::cov;
+
+namespace {
+
+// Σ of every variable (fixed pose: zero rows/columns), as a dense matrix in variable order.
+MatX dense_covariance(const SparseInformation& H) {
+  const MatX Sr = H.dense().inverse();
+  std::vector<int> start(static_cast<std::size_t>(H.num_variables()) + 1, 0);
+  for (int v = 0; v < H.num_variables(); ++v) start[v + 1] = start[v] + H.variable_dim(v);
+  MatX S = MatX::Zero(start.back(), start.back());
+  for (int a = 0; a < H.num_variables(); ++a)
+    for (int b = 0; b < H.num_variables(); ++b) {
+      if (H.offset[a] < 0 || H.offset[b] < 0) continue;
+      S.block(start[a], start[b], H.variable_dim(a), H.variable_dim(b)) =
+          Sr.block(H.offset[a], H.offset[b], H.variable_dim(a), H.variable_dim(b));
+    }
+  return S;
+}
+
+MatX dense_joint(const SparseInformation& H, const MatX& S, const std::vector<int>& vars) {
+  std::vector<int> start(static_cast<std::size_t>(H.num_variables()) + 1, 0);
+  for (int v = 0; v < H.num_variables(); ++v) start[v + 1] = start[v] + H.variable_dim(v);
+  int total = 0;
+  for (int v : vars) total += H.variable_dim(v);
+  MatX J(total, total);
+  int ra = 0;
+  for (int a : vars) {
+    int cb = 0;
+    for (int b : vars) {
+      J.block(ra, cb, H.variable_dim(a), H.variable_dim(b)) =
+          S.block(start[a], start[b], H.variable_dim(a), H.variable_dim(b));
+      cb += H.variable_dim(b);
+    }
+    ra += H.variable_dim(a);
+  }
+  return J;
+}
+
+double rel_err(const MatX& a, const MatX& b) { return (a - b).norm() / b.norm(); }
+
+}  // namespace
+
+TEST_CASE("joint marginals equal the dense inverse of H (2D with landmarks, every ordering, both gauges)") {
+  // Near the origin so that H is well conditioned (cond ≈ 1e6): the dense inverse is then a 1e-10 reference.
+  // (Far from the origin, the lever arms of the Lie-algebra perturbation make cond(H) ≈ 1e9 and both inverses
+  // lose digits.)
+  const auto tg = test::small_graph_2d(14, 4, /*seed=*/21, /*noise=*/0.05, lie::SE2(-5.0, 3.0, 0.3));
+  const std::vector<std::vector<int>> queries = {{3, 7, 1}, {0, 5},      {13, 14, 2, 17},
+                                                 {6},       {15, 15, 9}, {16, 0, 12}};
+  for (const Gauge kind : {Gauge::kFixPose, Gauge::kPrior}) {
+    GaugeOptions gauge;
+    gauge.kind = kind;
+    if (kind == Gauge::kPrior) gauge.prior_information = Mat3::Identity() * 50.0;
+    const auto H = information_matrix(tg.graph, tg.estimate, tg.landmarks, gauge);
+    const MatX S = dense_covariance(H);
+    const VecX eig = Eigen::SelfAdjointEigenSolver<MatX>(H.dense()).eigenvalues();
+    REQUIRE(eig.maxCoeff() / eig.minCoeff() < 1e7);
+    for (const Ordering o :
+         {Ordering::kAuto, Ordering::kAmd, Ordering::kMetis, Ordering::kNesdis, Ordering::kNatural})
+      for (const Extraction x : {Extraction::kForward, Extraction::kSolve, Extraction::kAuto})
+        for (const bool supernodal : {true, false}) {
+          if (x == Extraction::kForward && !supernodal) continue;
+          CAPTURE(to_string(o));
+          CAPTURE(to_string(x));
+          CAPTURE(supernodal);
+          CovarianceOptions opt;
+          opt.ordering = o;
+          opt.supernodal = supernodal;
+          opt.extraction = x;
+          opt.block_columns = 4;  // several chunks even on a small graph
+          const MarginalCovariance mc(H, opt);
+          CHECK(mc.summary().supernodal == supernodal);
+          CHECK(mc.summary().extraction ==
+                (x == Extraction::kSolve || (x == Extraction::kAuto && !supernodal) ? "solve" : "forward"));
+          if (o != Ordering::kAuto)
+            CHECK(mc.summary().ordering == (o == Ordering::kNatural ? "natural" : to_string(o)));
+          for (const auto& q : queries) {
+            const MatX J = mc.joint(q);
+            CHECK(J.rows() == dense_joint(H, S, q).rows());
+            CHECK(rel_err(J, dense_joint(H, S, q)) < 1e-10);
+            CHECK((J - J.transpose()).norm() == 0.0);
+          }
+          const auto many = mc.joint_many(queries, 2);
+          for (std::size_t k = 0; k < queries.size(); ++k)
+            CHECK(rel_err(many[k], dense_joint(H, S, queries[k])) < 1e-10);
+        }
+    const MarginalCovariance mc(H);
+    if (kind == Gauge::kFixPose) {
+      CHECK(mc.marginal(0).norm() == 0.0);
+      CHECK(mc.joint({0, 4}).block(0, 3, 3, 3).norm() == 0.0);
+    } else {
+      CHECK(mc.marginal(0).norm() > 0.0);
+    }
+    CHECK(mc.variable_dim(15) == 2);
+    CHECK(mc.num_variables() == 18);
+  }
+}
+
+TEST_CASE("joint marginals equal the dense inverse of H (3D)") {
+  const auto tg = test::small_graph_3d(10, /*seed=*/22, /*noise=*/0.05);
+  const auto H = information_matrix(tg.graph, tg.estimate);
+  const MatX S = dense_covariance(H);
+  const MarginalCovariance mc(H);
+  for (const std::vector<int>& q : std::vector<std::vector<int>>{{1, 9}, {4, 2, 8}, {0, 3}}) {
+    CHECK(rel_err(mc.joint(q), dense_joint(H, S, q)) < 1e-10);
+  }
+  CHECK_THROWS_AS((void)pair_marginals_2d(mc, {{1, 2}}, 1), std::invalid_argument);
+}
+
+TEST_CASE("batched queries equal single queries; 1 and 2 threads give identical results") {
+  const auto tg = test::small_graph_2d(300, 0, /*seed=*/23, /*noise=*/0.02);
+  const auto H = information_matrix(tg.graph, tg.estimate);
+  for (const Extraction x : {Extraction::kForward, Extraction::kSolve}) {
+    CAPTURE(to_string(x));
+    CovarianceOptions opt;
+    opt.block_columns = 16;
+    opt.extraction = x;
+    const MarginalCovariance mc(H, opt);
+    std::vector<std::pair<int, int>> pairs;
+    std::vector<std::vector<int>> queries;
+    for (int k : {1, 5, 50, 200})
+      for (int i = 0; i + k < 300; i += 7) {
+        pairs.emplace_back(i, i + k);
+        queries.push_back({i, i + k});
+      }
+    const auto p1 = pair_marginals_2d(mc, pairs, 1);
+    const auto p2 = pair_marginals_2d(mc, pairs, 2);
+    const auto q2 = mc.joint_many(queries, 2);
+    REQUIRE(p1.size() == pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      CHECK(p1[k] == p2[k]);        // bitwise: the chunks do not depend on the thread count
+      CHECK(MatX(p1[k]) == q2[k]);  // same plan → same numbers
+      if (k % 10 == 0) CHECK(rel_err(mc.joint(queries[k]), MatX(p1[k])) < 1e-12);
+    }
+    CHECK_THROWS_AS((void)pair_marginals_2d(mc, {{0, 300}}, 1), std::invalid_argument);
+    CHECK_THROWS_AS((void)mc.joint({-1}), std::out_of_range);
+  }
+  // the two methods agree
+  CovarianceOptions fwd, sol;
+  fwd.extraction = Extraction::kForward;
+  sol.extraction = Extraction::kSolve;
+  const MarginalCovariance mf(H, fwd), ms(H, sol);
+  const std::vector<std::vector<int>> q = {{1, 299, 150}, {7, 8}, {250}};
+  const auto rf = mf.joint_many(q, 2), rs = ms.joint_many(q, 2);
+  for (std::size_t k = 0; k < q.size(); ++k) CHECK(rel_err(rf[k], rs[k]) < 1e-10);
+}
+
+TEST_CASE("a variable without information is reported by name") {
+  auto tg = test::small_graph_2d(6, 0, /*seed=*/24, /*noise=*/0.0);
+  tg.graph.poses.push_back(lie::SE2(1.0, 2.0, 0.0));
+  tg.estimate.push_back(lie::SE2(1.0, 2.0, 0.0));  // pose 6: no edge touches it
+  const auto H = information_matrix(tg.graph, tg.estimate);
+  try {
+    const MarginalCovariance mc(H);
+    FAIL("expected an exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("not positive definite") != std::string::npos);
+    CHECK(std::string(e.what()).find("pose 6") != std::string::npos);
+  }
+  CovarianceOptions bad;
+  bad.block_columns = 0;
+  CHECK_THROWS_AS(bad.validate(), std::invalid_argument);
+  bad.block_columns = 8;
+  bad.supernodal = false;
+  bad.extraction = Extraction::kForward;
+  CHECK_THROWS_AS(bad.validate(), std::invalid_argument);
+  CHECK(extraction_from_string("solve") == Extraction::kSolve);
+  CHECK(ordering_from_string("metis") == Ordering::kMetis);
+  CHECK(!ordering_from_string("colamd"));
+}

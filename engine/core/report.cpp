@@ -85,7 +85,9 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(cfg.hash));
   const std::string run_sha = r["provenance"].value("git_sha", "unknown");
   std::string stale;
-  if (r["provenance"].value("config_hash", "") != hash) {
+  if (run_profile != cfg.profile) {
+    stale = "the latest run used the `" + run_profile + "` profile";
+  } else if (r["provenance"].value("config_hash", "") != hash) {
     stale = "experiment.toml changed since this result was produced";
   } else if (code_changed_since(run_sha, cfg.id)) {
     stale = "the result was produced from code (" + run_sha + ") that differs from the working tree";
@@ -168,7 +170,6 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     s.verdict = "partly reproduces (" + std::to_string(agree) + " of " + std::to_string(agree + disagree) + ")";
   }
   os << "**Verdict: " << s.verdict << ".**";
-  if (run_profile != cfg.profile) os << " (numbers from the `" << run_profile << "` profile)";
   if (!stale.empty()) os << " " << stale << "; run `scripts/reproduce " << cfg.id << "`.";
   os << "\n\n";
   if (!cfg.discussion.empty()) os << cfg.discussion << "\n\n";

@@ -90,6 +90,8 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
   const Vec3 raw_mean = raw_sum / M;
   const Mat3 raw_mc = (raw_acc - M * raw_mean * raw_mean.transpose()) / (M - 1.0);
   rec.normalized_error_ssc_raw_angles = normalized_covariance_error(ssc_pred.cov, raw_mc);
+  const double tr = joint.cov.trace();
+  rec.normalized_mc_floor = std::sqrt((tr * tr + (joint.cov * joint.cov).trace()) / M) / joint.cov.norm();
   return rec;
 }
 

@@ -37,6 +37,10 @@ struct PairRecord {
   // Diagnostic: SSC against a reference taken from the raw (x, y, θ) parameters with θ in (−π, π] and no wrapping
   // around the mean — what a naive sample covariance of Euler parameters gives when θ crosses ±π.
   double normalized_error_ssc_raw_angles = 0;
+  // The normalized error a perfect prediction would show, from sampling alone: for M Gaussian samples the sample
+  // covariance about zero S satisfies E‖S − Σ‖²_F = (tr(Σ)² + tr(Σ²)) / M, so the floor is
+  // sqrt((tr(Σ)² + tr(Σ²)) / M) / ‖Σ‖_F, evaluated at the joint prediction.
+  double normalized_mc_floor = 0;
 };
 
 // The SSC (x, y, θ) covariance of poses perturbed on the left, to first order: Σ_x = J Σ_ξ Jᵀ with

@@ -11,10 +11,8 @@ export module keel.cov;
 
 export namespace keel::cov {
 // residuals and their Lie-algebra Jacobians
-using keel::cov::edge_residual;
 using keel::cov::EdgeLinearization2;
 using keel::cov::EdgeLinearization3;
-using keel::cov::landmark_residual;
 using keel::cov::LandmarkLinearization2;
 using keel::cov::linearize_edge;
 using keel::cov::linearize_landmark;

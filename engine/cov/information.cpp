@@ -23,23 +23,6 @@ std::string where(int line) {
 // Residuals and Jacobians
 // ---------------------------------------------------------------------------------------------------------------------
 
-Vec3 edge_residual(const SE2& z, const SE2& T_i, const SE2& T_j) {
-  const SE2 E = z.inverse() * T_i.inverse() * T_j;
-  return Vec3(E.translation().x(), E.translation().y(), E.angle());
-}
-
-Vec6 edge_residual(const SE3& z, const SE3& T_i, const SE3& T_j) {
-  const SE3 E = z.inverse() * T_i.inverse() * T_j;
-  Vec6 r;
-  r.head<3>() = E.translation();
-  r.tail<3>() = E.so3().log();
-  return r;
-}
-
-Vec2 landmark_residual(const Vec2& z, const SE2& T, const Vec2& l) {
-  return T.rotation().transpose() * (l - T.translation()) - z;
-}
-
 EdgeLinearization2 linearize_edge(const SE2& z, const SE2& T_i, const SE2& T_j) {
   const SE2 E = z.inverse() * T_i.inverse() * T_j;
   EdgeLinearization2 out;

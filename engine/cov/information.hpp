@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "graph/pose_graph.hpp"
+#include "graph/residuals.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
@@ -60,12 +61,9 @@ using Mat23 = Eigen::Matrix<double, 2, 3>;
 // Residuals and their Lie-algebra Jacobians (left perturbation of eq. 5.14)
 // ---------------------------------------------------------------------------------------------------------------------
 
-/// r = ρ(z⁻¹ T_i⁻¹ T_j) = (x_E, y_E, θ_E), θ_E in (−π, π].
-Vec3 edge_residual(const SE2& z, const SE2& T_i, const SE2& T_j);
-/// r = ρ(z⁻¹ T_i⁻¹ T_j) = (t_E, Log R_E).
-Vec6 edge_residual(const SE3& z, const SE3& T_i, const SE3& T_j);
-/// r = T⁻¹ l − z = Rᵀ (l − t) − z.
-Vec2 landmark_residual(const Vec2& z, const SE2& T, const Vec2& l);
+/// The residuals themselves (graph/residuals.hpp): r = ρ(z⁻¹ T_i⁻¹ T_j), landmark r = Rᵀ (l − t) − z.
+using graph::edge_residual;
+using graph::landmark_residual;
 
 struct EdgeLinearization2 {
   Vec3 residual = Vec3::Zero();

@@ -8,6 +8,7 @@ module;
 #include "graph/datasets.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
+#include "graph/residuals.hpp"
 #include "graph/isam.hpp"
 #include "graph/parse_error.hpp"
 #include "graph/pose_graph.hpp"
@@ -16,6 +17,9 @@ module;
 export module keel.graph;
 
 export namespace keel::graph {
+// residuals of the measurement convention (pose_graph.hpp)
+using keel::graph::edge_residual;
+using keel::graph::landmark_residual;
 // data model
 using keel::graph::Edge2;
 using keel::graph::Edge3;

@@ -98,23 +98,6 @@ lie::Mat2 sqrt_information(const lie::Mat2& omega, const std::string& what) { re
 lie::Mat3 sqrt_information(const lie::Mat3& omega, const std::string& what) { return sqrt_info_impl<3>(omega, what); }
 lie::Mat6 sqrt_information(const lie::Mat6& omega, const std::string& what) { return sqrt_info_impl<6>(omega, what); }
 
-lie::Vec3 edge_residual(const lie::SE2& z, const lie::SE2& Ti, const lie::SE2& Tj) {
-  const lie::SE2 E = z.inverse() * (Ti.inverse() * Tj);
-  return lie::Vec3(E.translation()(0), E.translation()(1), E.angle());  // angle() is in (−π, π]
-}
-
-lie::Vec6 edge_residual(const lie::SE3& z, const lie::SE3& Ti, const lie::SE3& Tj) {
-  const lie::SE3 E = z.inverse() * (Ti.inverse() * Tj);
-  lie::Vec6 r;
-  r.head<3>() = E.translation();
-  r.tail<3>() = E.so3().log();
-  return r;
-}
-
-lie::Vec2 landmark_residual(const lie::Vec2& z, const lie::SE2& Ti, const lie::Vec2& l) {
-  return Ti.rotation().transpose() * (l - Ti.translation()) - z;
-}
-
 bool robust_edge(const Options& o, int i, int j) {
   if (o.robust_kernel == RobustKernel::none) return false;
   if (o.robust_scope == RobustScope::all_edges) return true;

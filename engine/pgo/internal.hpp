@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "graph/pose_graph.hpp"
+#include "graph/residuals.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
@@ -79,10 +80,9 @@ lie::Mat2 sqrt_information(const lie::Mat2& omega, const std::string& what);
 lie::Mat3 sqrt_information(const lie::Mat3& omega, const std::string& what);
 lie::Mat6 sqrt_information(const lie::Mat6& omega, const std::string& what);
 
-// Residuals of pose_graph.hpp (not whitened).
-lie::Vec3 edge_residual(const lie::SE2& z, const lie::SE2& Ti, const lie::SE2& Tj);
-lie::Vec6 edge_residual(const lie::SE3& z, const lie::SE3& Ti, const lie::SE3& Tj);
-lie::Vec2 landmark_residual(const lie::Vec2& z, const lie::SE2& Ti, const lie::Vec2& l);
+// Residuals of pose_graph.hpp (not whitened), defined once in keel::graph.
+using graph::edge_residual;
+using graph::landmark_residual;
 
 // Whether the kernel applies (kernel ≠ none and the measurement is in scope).
 bool robust_edge(const Options& o, int i, int j);  // intra-robot edge (i, j)

@@ -1,0 +1,102 @@
+// Maximum clique of a consistency graph (thesis §2.5): the PCM problem of eq. 2.5 — the largest set of
+// measurements that are pairwise consistent — is the maximum clique of the graph whose edges join
+// pairwise-consistent measurements. The exact solver is a branch and bound in the spirit of Pattabiraman et
+// al. (2015): core-number (k-core) pruning of vertices that cannot beat the incumbent, a greedy initial
+// clique (their heuristic), and per-vertex subproblems on later neighbours in degeneracy order, bounded by
+// greedy colouring of bitset candidate sets (Tomita-style). Everything is deterministic: vertex orders break
+// ties by vertex id.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace keel::pcm {
+
+// Undirected simple graph on vertices 0..n-1 with dense bitset adjacency (one row of ceil(n/64) words per
+// vertex).
+class ConsistencyGraph {
+ public:
+  ConsistencyGraph() = default;
+  explicit ConsistencyGraph(int n);  // n >= 0, no edges
+  // Edge list; duplicates are allowed (idempotent), self loops and out-of-range ids throw
+  // std::invalid_argument.
+  ConsistencyGraph(int n, const std::vector<std::pair<int, int>>& edges);
+
+  // From a symmetric boolean adjacency matrix (n rows of n entries). The diagonal is ignored (a measurement
+  // is always consistent with itself); a non-square or asymmetric matrix throws std::invalid_argument naming
+  // the entry.
+  static ConsistencyGraph from_matrix(const std::vector<std::vector<bool>>& adjacency);
+
+  // Consistency graph of §2.5 from the n x n matrix Q of consistency measures (row-major): edge {u, v} iff
+  // q_uv <= gamma and q_vu <= gamma. The diagonal is ignored; NaN entries or a wrong size throw.
+  static ConsistencyGraph from_threshold(int n, const std::vector<double>& q, double gamma);
+
+  void add_edge(int u, int v);        // idempotent; throws on self loop / out of range
+  bool adjacent(int u, int v) const;  // throws on out of range; adjacent(v, v) == false
+  int degree(int v) const;
+  int size() const { return n_; }
+  long long num_edges() const { return edges_; }
+  int words() const { return words_; }  // words per adjacency row
+  const std::uint64_t* row(int v) const { return adj_.data() + static_cast<std::size_t>(v) * words_; }
+  std::vector<int> neighbors(int v) const;  // ascending
+
+  // True iff `vertices` are distinct, in range and pairwise adjacent (the empty set is a clique).
+  bool is_clique(const std::vector<int>& vertices) const;
+
+ private:
+  void check_vertex(int v, const char* what) const;
+  int n_ = 0;
+  int words_ = 0;
+  long long edges_ = 0;
+  std::vector<std::uint64_t> adj_;
+};
+
+// Erdős–Rényi G(n, p) graph: each pair {i < j} is an edge with probability `density`, drawn from
+// keel::core::Rng::stream(seed, 0) in the order (0,1), (0,2), ..., (1,2), ... — identical on every platform.
+ConsistencyGraph random_graph(int n, double density, std::uint64_t seed);
+
+// Core number of every vertex (Batagelj–Zaversnik, O(n + m)); a clique of size k lies in the (k-1)-core.
+std::vector<int> core_numbers(const ConsistencyGraph& g);
+
+enum class CliqueAlgorithm { exact, heuristic, brute_force };
+std::string to_string(CliqueAlgorithm a);
+CliqueAlgorithm clique_algorithm_from_string(std::string_view s);  // throws std::invalid_argument
+
+struct CliqueOptions {
+  bool report_ties = false;   // collect other maximum cliques in CliqueResult::ties
+  int max_ties = 16;          // cap on ties.size()
+  double time_limit_s = 0.0;  // exact only; <= 0: none
+  long long node_limit = 0;   // exact only; <= 0: none (nodes = branch-and-bound calls)
+};
+
+struct CliqueResult {
+  std::vector<int> clique;      // sorted vertex ids of a largest clique found
+  int upper_bound = 0;          // no clique is larger than this
+  bool proven_optimal = false;  // clique.size() == upper_bound
+  std::vector<std::vector<int>>
+      ties;  // other maximum cliques (sorted ids, lexicographic order), if requested
+  long long nodes_explored = 0;
+  double seconds = 0.0;
+};
+
+CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions& options = {});
+
+// Pattabiraman et al.'s heuristic: from every vertex, grow a clique greedily choosing the candidate of
+// highest core number (then degree, then lowest id) with core-number pruning. Returns a clique (never larger
+// than the maximum); upper_bound is the degeneracy bound max core + 1; ties are not collected.
+CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOptions& options = {});
+
+// Bron–Kerbosch without pivoting over all maximal cliques, for validation only: throws std::invalid_argument
+// when g.size() > kBruteForceMaxVertices. With report_ties, ties lists every other maximum clique (up to
+// max_ties).
+inline constexpr int kBruteForceMaxVertices = 32;
+CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueOptions& options = {});
+
+// Dispatch on the algorithm.
+CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm,
+                            const CliqueOptions& options = {});
+
+}  // namespace keel::pcm

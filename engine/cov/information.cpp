@@ -250,6 +250,28 @@ void check_pose(int id, int num_poses, const char* what, std::size_t k, int line
 
 }  // namespace
 
+namespace {
+
+// The pose–pose edges of a 2D or 3D graph: A_i = −A_j, so H_ii = H_jj = A_jᵀ Ω A_j and H_ij = −A_jᵀ Ω A_j.
+template <class Graph, class Pose>
+void add_pose_edges(const Graph& g, const std::vector<Pose>& poses, Assembler& A) {
+  const int n = static_cast<int>(poses.size());
+  for (std::size_t k = 0; k < g.edges.size(); ++k) {
+    const auto& e = g.edges[k];
+    check_pose(e.i, n, "edge", k, e.line);
+    check_pose(e.j, n, "edge", k, e.line);
+    const auto lin = linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
+                                    poses[static_cast<std::size_t>(e.j)]);
+    if (e.i == e.j) continue;  // a self-loop: A_i + A_j = 0, no information
+    const auto Hjj = (lin.J_r_xi_j.transpose() * e.information * lin.J_r_xi_j).eval();
+    A.add(e.i, e.i, Hjj);
+    A.add(e.j, e.j, Hjj);
+    A.add(e.i, e.j, (-Hjj).eval());
+  }
+}
+
+}  // namespace
+
 SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2>& poses,
                                      const std::vector<Vec2>& landmarks, const GaugeOptions& gauge) {
   const int n = static_cast<int>(poses.size());
@@ -269,19 +291,7 @@ SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2
   SparseInformation H;
   layout(H, n, m, 3, gauge);
   Assembler A(H);
-  for (std::size_t k = 0; k < g.edges.size(); ++k) {
-    const auto& e = g.edges[k];
-    check_pose(e.i, n, "edge", k, e.line);
-    check_pose(e.j, n, "edge", k, e.line);
-    const auto lin = linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
-                                    poses[static_cast<std::size_t>(e.j)]);
-    if (e.i == e.j) continue;  // a self-loop: A_i + A_j = 0, no information
-    const Mat3 Hjj = lin.J_r_xi_j.transpose() * e.information * lin.J_r_xi_j;
-    // A_i = −A_j: H_ii = H_jj = A_jᵀ Ω A_j, H_ij = −A_jᵀ Ω A_j.
-    A.add(e.i, e.i, Hjj);
-    A.add(e.j, e.j, Hjj);
-    A.add(e.i, e.j, -Hjj);
-  }
+  add_pose_edges(g, poses, A);
   for (const auto& lm : g.landmark_measurements) {
     const auto lin = linearize_landmark(lm.position, poses[static_cast<std::size_t>(lm.pose)],
                                         landmarks[static_cast<std::size_t>(lm.landmark)]);
@@ -305,18 +315,7 @@ SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3
   SparseInformation H;
   layout(H, n, 0, 6, gauge);
   Assembler A(H);
-  for (std::size_t k = 0; k < g.edges.size(); ++k) {
-    const auto& e = g.edges[k];
-    check_pose(e.i, n, "edge", k, e.line);
-    check_pose(e.j, n, "edge", k, e.line);
-    const auto lin = linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
-                                    poses[static_cast<std::size_t>(e.j)]);
-    if (e.i == e.j) continue;  // a self-loop: A_i + A_j = 0, no information
-    const Mat6 Hjj = lin.J_r_xi_j.transpose() * e.information * lin.J_r_xi_j;
-    A.add(e.i, e.i, Hjj);
-    A.add(e.j, e.j, Hjj);
-    A.add(e.i, e.j, -Hjj);
-  }
+  add_pose_edges(g, poses, A);
   if (gauge.kind == Gauge::kPrior) A.add(gauge.pose, gauge.pose, gauge.prior_information);
   A.compress();
   return H;

@@ -151,18 +151,8 @@ std::string poses_3d_text(const std::vector<SE3>& poses) {
   return s;
 }
 
-std::string tum_text(const std::vector<SE3>& poses) {
-  std::string s;
-  double q[4];
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    s += std::to_string(k);
-    for (int a = 0; a < 3; ++a) put(s, poses[k].translation()(a));
-    detail::quaternion_from_rotation(poses[k].rotation(), q);
-    for (double x : q) put(s, x);
-    s += '\n';
-  }
-  return s;
-}
+// TUM lines are `timestamp tx ty tz qx qy qz qw`; with the pose index as timestamp that is exactly the 3D pose list.
+std::string tum_text(const std::vector<SE3>& poses) { return poses_3d_text(poses); }
 
 std::string tum_text(const std::vector<SE2>& poses) {
   std::string s;

@@ -5,9 +5,28 @@
 // no import of another facade.
 module;
 #include "pcm/clique.hpp"
+#include "pcm/consistency.hpp"
 export module keel.pcm;
 
 export namespace keel::pcm {
+// consistency metric (eq. 2.4) and the matrix Q (lead)
+using keel::pcm::Composition;
+using keel::pcm::composition_from_string;
+using keel::pcm::consistency_matrix;
+using keel::pcm::consistency_threshold;
+using keel::pcm::ConsistencyMatrix;
+using keel::pcm::ConsistencyOptions;
+using keel::pcm::InterRobotMeasurement;
+using keel::pcm::InterRobotMeasurement2;
+using keel::pcm::InterRobotMeasurement3;
+using keel::pcm::left_covariance_from_information;
+using keel::pcm::LocalMap;
+using keel::pcm::LocalMap2;
+using keel::pcm::LocalMap3;
+using keel::pcm::loop_error;
+using keel::pcm::LoopError;
+using keel::pcm::relative_pose;
+using keel::pcm::RelativePose;
 // consistency graph
 using keel::pcm::ConsistencyGraph;
 using keel::pcm::core_numbers;

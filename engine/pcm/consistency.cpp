@@ -1,0 +1,267 @@
+// Pairwise consistency measure of eq. 2.4 (thesis §2.4.1) and the matrix Q of §2.5/§2.6. See consistency.hpp for
+// the derivation of the first-order loop covariance.
+#include "pcm/consistency.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/parallel.hpp"
+#include "lie/metrics.hpp"
+
+namespace keel::pcm {
+
+namespace {
+
+template <class M>
+bool all_finite(const M& m) {
+  return m.allFinite();
+}
+
+// Finite and symmetric up to a tolerance relative to the largest entry.
+template <class M>
+void check_covariance(const M& c, const std::string& what) {
+  if (!all_finite(c)) throw std::invalid_argument(what + ": covariance has a non-finite entry");
+  const double scale = c.cwiseAbs().maxCoeff();
+  if ((c - c.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300))
+    throw std::invalid_argument(what + ": covariance is not symmetric");
+}
+
+template <class G>
+void check_pose(const G& T, const std::string& what) {
+  if (!T.matrix().allFinite()) throw std::invalid_argument(what + ": pose has a non-finite entry");
+}
+
+}  // namespace
+
+std::string to_string(Composition c) { return c == Composition::joint ? "joint" : "independent"; }
+
+Composition composition_from_string(std::string_view s) {
+  if (s == "joint") return Composition::joint;
+  if (s == "independent") return Composition::independent;
+  throw std::invalid_argument("pcm: unknown composition \"" + std::string(s) + "\" (expected joint or independent)");
+}
+
+template <class G>
+static typename G::Jacobian left_covariance_impl(const G& z, const typename G::Jacobian& information) {
+  using J = typename G::Jacobian;
+  check_covariance(information, "left_covariance_from_information: information");
+  const Eigen::LLT<J> llt(information);
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("left_covariance_from_information: information is not positive definite");
+  const J sigma_r = llt.solve(J::Identity());
+  const J ad = z.adjoint();
+  const J sigma = ad * sigma_r * ad.transpose();
+  return 0.5 * (sigma + sigma.transpose());
+}
+
+lie::Mat3 left_covariance_from_information(const lie::SE2& z, const lie::Mat3& information) {
+  return left_covariance_impl(z, information);
+}
+lie::Mat6 left_covariance_from_information(const lie::SE3& z, const lie::Mat6& information) {
+  return left_covariance_impl(z, information);
+}
+
+template <class G>
+RelativePose<G> relative_pose(const G& T_i, const G& T_j, const typename G::Jacobian& cov_ii,
+                              const typename G::Jacobian& cov_jj, const typename G::Jacobian& cov_ij,
+                              Composition composition) {
+  // δ_ij = Ad(T_i⁻¹)(ξ_j − ξ_i)  (eq. 5.48/5.51 with the signs of keel::lie::relative).
+  const G Ti_inv = T_i.inverse();
+  const typename G::Jacobian A = Ti_inv.adjoint();
+  typename G::Jacobian S = cov_ii + cov_jj;
+  if (composition == Composition::joint) S -= cov_ij + cov_ij.transpose();
+  const typename G::Jacobian C = A * S * A.transpose();
+  return {Ti_inv * T_j, 0.5 * (C + C.transpose())};  // (a separate target: C = ½(C + Cᵀ) would alias)
+}
+
+template <class G>
+static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
+                                         const typename G::Jacobian& cov_ij, const G& z_v,
+                                         const typename G::Jacobian& cov_v, const G& x_lk,
+                                         const typename G::Jacobian& cov_lk, bool* ok) {
+  using J = typename G::Jacobian;
+  // L = z_u⁻¹ x_ij z_v x_lk (eq. 2.4); left perturbations of the four factors enter L as
+  //   exp(−Ad(P1) δ_u), exp(Ad(P1) δ_ij), exp(Ad(P2) δ_v), exp(Ad(P3) δ_lk)
+  // with P1 = z_u⁻¹, P2 = z_u⁻¹ x_ij, P3 = z_u⁻¹ x_ij z_v, and Log(exp(w) L) ≈ Log L + J_l⁻¹(Log L) w.
+  const G P1 = z_u.inverse();
+  const G P2 = P1 * x_ij;
+  const G P3 = P2 * z_v;
+  const G L = P3 * x_lk;
+  LoopError<G> e;
+  e.epsilon = L.log();
+  const J Jinv = G::left_jacobian_inverse(e.epsilon);
+  const J A1 = Jinv * P1.adjoint();
+  e.J_u = -A1;
+  e.J_ij = A1;
+  e.J_v = Jinv * P2.adjoint();
+  e.J_lk = Jinv * P3.adjoint();
+  J C = e.J_u * cov_u * e.J_u.transpose() + e.J_ij * cov_ij * e.J_ij.transpose() +
+        e.J_v * cov_v * e.J_v.transpose() + e.J_lk * cov_lk * e.J_lk.transpose();
+  e.covariance = 0.5 * (C + C.transpose());
+  const Eigen::LLT<J> llt(e.covariance);
+  if (llt.info() != Eigen::Success) {
+    *ok = false;
+    e.q = std::numeric_limits<double>::quiet_NaN();
+    return e;
+  }
+  *ok = true;
+  e.q = e.epsilon.dot(llt.solve(e.epsilon));
+  return e;
+}
+
+template <class G>
+LoopError<G> loop_error(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
+                        const typename G::Jacobian& cov_ij, const G& z_v, const typename G::Jacobian& cov_v,
+                        const G& x_lk, const typename G::Jacobian& cov_lk) {
+  check_pose(z_u, "loop_error: z_u");
+  check_pose(x_ij, "loop_error: x_ij");
+  check_pose(z_v, "loop_error: z_v");
+  check_pose(x_lk, "loop_error: x_lk");
+  check_covariance(cov_u, "loop_error: z_u");
+  check_covariance(cov_ij, "loop_error: x_ij");
+  check_covariance(cov_v, "loop_error: z_v");
+  check_covariance(cov_lk, "loop_error: x_lk");
+  bool ok = false;
+  auto e = loop_error_unchecked(z_u, cov_u, x_ij, cov_ij, z_v, cov_v, x_lk, cov_lk, &ok);
+  if (!ok) throw std::invalid_argument("loop_error: the loop covariance J Σ Jᵀ is not positive definite");
+  return e;
+}
+
+double consistency_threshold(double p, int dof) {
+  if (!(p > 0.0 && p < 1.0)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "consistency_threshold: p must be in (0, 1) (got %g)", p);
+    throw std::invalid_argument(buf);
+  }
+  if (dof < 1) throw std::invalid_argument("consistency_threshold: dof must be >= 1 (got " + std::to_string(dof) + ")");
+  return lie::chi2_quantile(1.0 - p, static_cast<double>(dof));
+}
+
+namespace {
+
+// Index of every pose of a local map inside its `ids` list (−1 if absent), after validating the map.
+template <class G>
+std::vector<int> index_map(const LocalMap<G>& m, const char* name) {
+  constexpr int d = G::DoF;
+  const std::string who = std::string("consistency_matrix: map ") + name;
+  std::vector<int> index(m.poses.size(), -1);
+  for (std::size_t s = 0; s < m.ids.size(); ++s) {
+    const int id = m.ids[s];
+    if (id < 0 || static_cast<std::size_t>(id) >= m.poses.size())
+      throw std::invalid_argument(who + ": covered pose id " + std::to_string(id) + " is outside its " +
+                                  std::to_string(m.poses.size()) + " poses");
+    if (index[id] != -1) throw std::invalid_argument(who + ": pose id " + std::to_string(id) + " listed twice in ids");
+    index[id] = static_cast<int>(s);
+    check_pose(m.poses[id], who + " pose " + std::to_string(id));
+  }
+  const auto need = static_cast<Eigen::Index>(d * m.ids.size());
+  if (m.joint.rows() != need || m.joint.cols() != need)
+    throw std::invalid_argument(who + ": joint covariance is " + std::to_string(m.joint.rows()) + "x" +
+                                std::to_string(m.joint.cols()) + ", expected " + std::to_string(need) + "x" +
+                                std::to_string(need) + " (" + std::to_string(d) + " per covered pose)");
+  check_covariance(m.joint, who + " joint marginal");
+  return index;
+}
+
+template <class G>
+ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G>& b,
+                                          const std::vector<InterRobotMeasurement<G>>& candidates,
+                                          const ConsistencyOptions& options) {
+  using J = typename G::Jacobian;
+  constexpr int d = G::DoF;
+  if (candidates.empty()) throw std::invalid_argument("consistency_matrix: the candidate set is empty");
+  const auto ia = index_map(a, "a");
+  const auto ib = index_map(b, "b");
+  const int n = static_cast<int>(candidates.size());
+  for (int u = 0; u < n; ++u) {
+    const auto& c = candidates[u];
+    const std::string who = "consistency_matrix: candidate " + std::to_string(u);
+    if (c.pose_a < 0 || static_cast<std::size_t>(c.pose_a) >= a.poses.size())
+      throw std::invalid_argument(who + " touches pose " + std::to_string(c.pose_a) + " of robot a, which has " +
+                                  std::to_string(a.poses.size()) + " poses");
+    if (c.pose_b < 0 || static_cast<std::size_t>(c.pose_b) >= b.poses.size())
+      throw std::invalid_argument(who + " touches pose " + std::to_string(c.pose_b) + " of robot b, which has " +
+                                  std::to_string(b.poses.size()) + " poses");
+    if (ia[c.pose_a] < 0)
+      throw std::invalid_argument(who + ": pose " + std::to_string(c.pose_a) +
+                                  " of robot a has no joint marginal (not in LocalMap::ids)");
+    if (ib[c.pose_b] < 0)
+      throw std::invalid_argument(who + ": pose " + std::to_string(c.pose_b) +
+                                  " of robot b has no joint marginal (not in LocalMap::ids)");
+    check_pose(c.z, who + " measurement");
+    check_covariance(c.covariance, who);
+  }
+  auto block = [](const LocalMap<G>& m, int s, int t) -> J { return m.joint.template block<d, d>(d * s, d * t); };
+
+  ConsistencyMatrix Q;
+  Q.n = n;
+  Q.dof = d;
+  Q.q.assign(static_cast<std::size_t>(n) * n, 0.0);
+  // Every ordered pair (u, v), u ≠ v, traces its own loop from u (thesis Fig. 2.1 D: the graph keeps an edge only
+  // if q_uv and q_vu are both within the threshold). Rows are independent and processed in parallel.
+  std::vector<int> failed(static_cast<std::size_t>(n) * n, 0);
+  core::parallel_for(
+      static_cast<std::size_t>(n),
+      [&](std::size_t row) {
+        const int u = static_cast<int>(row);
+        const auto& cu = candidates[u];
+        const int i = cu.pose_a, k = cu.pose_b;
+        const int si = ia[i], sk = ib[k];
+        const J Sii = block(a, si, si), Skk = block(b, sk, sk);
+        for (int v = 0; v < n; ++v) {
+          if (v == u) continue;
+          const auto& cv = candidates[v];
+          const int j = cv.pose_a, l = cv.pose_b;
+          const int sj = ia[j], sl = ib[l];
+          const auto xij = relative_pose(a.poses[i], a.poses[j], Sii, block(a, sj, sj), block(a, si, sj),
+                                         options.composition);
+          const auto xlk = relative_pose(b.poses[l], b.poses[k], block(b, sl, sl), Skk, block(b, sl, sk),
+                                         options.composition);
+          bool ok = false;
+          const auto e = loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x,
+                                              xlk.covariance, &ok);
+          const std::size_t at = static_cast<std::size_t>(u) * n + v;
+          if (!ok) failed[at] = 1;
+          Q.q[at] = e.q;
+        }
+      },
+      options.threads);
+  for (int u = 0; u < n; ++u)
+    for (int v = 0; v < n; ++v)
+      if (failed[static_cast<std::size_t>(u) * n + v])
+        throw std::invalid_argument("consistency_matrix: candidates " + std::to_string(u) + " and " +
+                                    std::to_string(v) +
+                                    ": the loop covariance J Σ Jᵀ is not positive definite (zero or degenerate "
+                                    "measurement covariances?)");
+  return Q;
+}
+
+}  // namespace
+
+ConsistencyMatrix consistency_matrix(const LocalMap2& a, const LocalMap2& b,
+                                     const std::vector<InterRobotMeasurement2>& candidates,
+                                     const ConsistencyOptions& options) {
+  return consistency_matrix_impl(a, b, candidates, options);
+}
+ConsistencyMatrix consistency_matrix(const LocalMap3& a, const LocalMap3& b,
+                                     const std::vector<InterRobotMeasurement3>& candidates,
+                                     const ConsistencyOptions& options) {
+  return consistency_matrix_impl(a, b, candidates, options);
+}
+
+template LoopError<lie::SE2> loop_error(const lie::SE2&, const lie::Mat3&, const lie::SE2&, const lie::Mat3&,
+                                        const lie::SE2&, const lie::Mat3&, const lie::SE2&, const lie::Mat3&);
+template LoopError<lie::SE3> loop_error(const lie::SE3&, const lie::Mat6&, const lie::SE3&, const lie::Mat6&,
+                                        const lie::SE3&, const lie::Mat6&, const lie::SE3&, const lie::Mat6&);
+template RelativePose<lie::SE2> relative_pose(const lie::SE2&, const lie::SE2&, const lie::Mat3&, const lie::Mat3&,
+                                              const lie::Mat3&, Composition);
+template RelativePose<lie::SE3> relative_pose(const lie::SE3&, const lie::SE3&, const lie::Mat6&, const lie::Mat6&,
+                                              const lie::Mat6&, Composition);
+
+}  // namespace keel::pcm

@@ -1,0 +1,323 @@
+// The consistency measure of eq. 2.4: Jacobians against central differences, the relative-pose covariance against
+// keel::lie's eq. 5.51, the χ² distribution of inlier pairs (Monte Carlo, fixed seed), symmetry, thread
+// independence and bad inputs.
+#include <doctest/doctest.h>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lie/gaussian.hpp"
+#include "lie/metrics.hpp"
+#include "lie/uncertain.hpp"
+#include "pcm/consistency.hpp"
+
+using namespace keel;
+using namespace keel::pcm;
+using lie::MatX;
+using lie::SE2;
+using lie::SE3;
+
+namespace {
+
+template <class G>
+G random_pose(std::mt19937_64& rng, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  typename G::Tangent xi;
+  for (int i = 0; i < G::DoF; ++i) xi(i) = u(rng);
+  return G::exp(xi);
+}
+
+MatX random_spd(std::mt19937_64& rng, int d, double scale) {
+  std::normal_distribution<double> n(0.0, scale);
+  MatX A(d, d);
+  for (int j = 0; j < d; ++j)
+    for (int i = 0; i < d; ++i) A(i, j) = n(rng);
+  return A * A.transpose() + 0.2 * scale * scale * MatX::Identity(d, d);
+}
+
+template <class V>
+V sample(std::mt19937_64& rng, const MatX& L) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  lie::VecX z(L.rows());
+  for (int i = 0; i < z.size(); ++i) z(i) = n(rng);
+  return V(L * z);
+}
+
+template <class G>
+typename G::Tangent unit(int k) {
+  typename G::Tangent e = G::Tangent::Zero();
+  e(k) = 1.0;
+  return e;
+}
+
+bool throws_with(const std::function<void()>& f, const std::string& needle) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    if (std::string(e.what()).find(needle) != std::string::npos) return true;
+    MESSAGE("message was: " << e.what());
+    return false;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("loop_error: analytic Jacobians match central differences (eq. 2.4)", G, SE2, SE3) {
+  using J = typename G::Jacobian;
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    G in[4] = {random_pose<G>(rng, 1.5), random_pose<G>(rng, 1.5), random_pose<G>(rng, 1.5),
+               random_pose<G>(rng, 1.5)};
+    const J I = J::Identity();
+    const auto e = loop_error(in[0], I, in[1], I, in[2], I, in[3], I);
+    const J* analytic[4] = {&e.J_u, &e.J_ij, &e.J_v, &e.J_lk};
+    auto eps_of = [](const G (&x)[4]) { return (x[0].inverse() * x[1] * x[2] * x[3]).log(); };
+    const double h = 1e-6;
+    for (int f = 0; f < 4; ++f) {
+      J numeric;
+      for (int k = 0; k < G::DoF; ++k) {
+        G plus[4] = {in[0], in[1], in[2], in[3]}, minus[4] = {in[0], in[1], in[2], in[3]};
+        plus[f] = G::exp(h * unit<G>(k)) * in[f];
+        minus[f] = G::exp(-h * unit<G>(k)) * in[f];
+        numeric.col(k) = (eps_of(plus) - eps_of(minus)) / (2 * h);
+      }
+      CHECK((numeric - *analytic[f]).cwiseAbs().maxCoeff() < 1e-6);
+    }
+    // Σ_uv = J Σ Jᵀ with identity inputs.
+    const J expect = e.J_u * e.J_u.transpose() + e.J_ij * e.J_ij.transpose() + e.J_v * e.J_v.transpose() +
+                     e.J_lk * e.J_lk.transpose();
+    CHECK((expect - e.covariance).cwiseAbs().maxCoeff() < 1e-12);
+    CHECK(e.q == doctest::Approx(e.epsilon.dot(e.covariance.inverse() * e.epsilon)).epsilon(1e-9));
+  }
+}
+
+TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and without cross-covariance", G, SE2,
+                   SE3) {
+  constexpr int d = G::DoF;
+  std::mt19937_64 rng(12);
+  for (int trial = 0; trial < 10; ++trial) {
+    lie::JointPoses<G> jp;
+    jp.means = {random_pose<G>(rng, 2.0), random_pose<G>(rng, 2.0)};
+    jp.cov = random_spd(rng, 2 * d, 0.1);
+    for (const bool cross : {true, false}) {
+      const auto ref = lie::relative(jp, 0, 1, cross);
+      const auto got = relative_pose(jp.means[0], jp.means[1], jp.cov.template block<d, d>(0, 0),
+                                     jp.cov.template block<d, d>(d, d), jp.cov.template block<d, d>(0, d),
+                                     cross ? Composition::joint : Composition::independent);
+      CHECK((got.x.matrix() - ref.mean.matrix()).cwiseAbs().maxCoeff() < 1e-12);
+      CHECK((got.covariance - ref.cov).cwiseAbs().maxCoeff() < 1e-12 * (1 + ref.cov.cwiseAbs().maxCoeff()));
+    }
+  }
+}
+
+// Monte Carlo of the whole §2.6 situation: two solved local maps whose estimates scatter around the truth with a
+// strongly correlated joint covariance (a chain: ξ_j = ξ_i + w), two inlier measurements of a common true anchor.
+// With the joint composition the squared distances must follow χ²(dof); the independent composition, which
+// over-counts the relative-pose uncertainty of correlated poses, must give much smaller values.
+TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freedom (joint composition)", G, SE2,
+                   SE3) {
+  constexpr int d = G::DoF;
+  using J = typename G::Jacobian;
+  using V = typename G::Tangent;
+  std::mt19937_64 rng(1);
+  const G Ti = random_pose<G>(rng, 3.0), Tj = random_pose<G>(rng, 3.0), Tk = random_pose<G>(rng, 3.0),
+          Tl = random_pose<G>(rng, 3.0), anchor = random_pose<G>(rng, 3.0);
+  const G z_ik = Ti.inverse() * anchor * Tk, z_jl = Tj.inverse() * anchor * Tl;
+  auto chain_cov = [&](double s1, double s2) {
+    const MatX S1 = random_spd(rng, d, s1), S2 = random_spd(rng, d, s2);
+    MatX C(2 * d, 2 * d);
+    C << S1, S1, S1, S1 + S2;  // ξ_second = ξ_first + w
+    return C;
+  };
+  const MatX Ca = chain_cov(0.03, 0.01), Cb = chain_cov(0.03, 0.01);  // map a: (i, j); map b: (l, k)
+  const J Su = random_spd(rng, d, 0.01), Sv = random_spd(rng, d, 0.01);
+  const MatX La = lie::covariance_square_root(Ca), Lb = lie::covariance_square_root(Cb);
+  const MatX Lu = lie::covariance_square_root(Su), Lv = lie::covariance_square_root(Sv);
+
+  const int N = 20000;
+  std::vector<double> q_joint, q_ind;
+  for (int t = 0; t < N; ++t) {
+    const lie::VecX xa = sample<lie::VecX>(rng, La), xb = sample<lie::VecX>(rng, Lb);
+    const G Ti_hat = G::exp(V(xa.head(d))) * Ti, Tj_hat = G::exp(V(xa.tail(d))) * Tj;
+    const G Tl_hat = G::exp(V(xb.head(d))) * Tl, Tk_hat = G::exp(V(xb.tail(d))) * Tk;
+    const G zu = G::exp(sample<V>(rng, Lu)) * z_ik, zv = G::exp(sample<V>(rng, Lv)) * z_jl;
+    for (const auto comp : {Composition::joint, Composition::independent}) {
+      const auto xij = relative_pose(Ti_hat, Tj_hat, J(Ca.topLeftCorner(d, d)), J(Ca.bottomRightCorner(d, d)),
+                                     J(Ca.topRightCorner(d, d)), comp);
+      const auto xlk = relative_pose(Tl_hat, Tk_hat, J(Cb.topLeftCorner(d, d)), J(Cb.bottomRightCorner(d, d)),
+                                     J(Cb.topRightCorner(d, d)), comp);
+      const double q = loop_error(zu, Su, xij.x, xij.covariance, zv, Sv, xlk.x, xlk.covariance).q;
+      (comp == Composition::joint ? q_joint : q_ind).push_back(q);
+    }
+  }
+  std::sort(q_joint.begin(), q_joint.end());
+  double ks = 0.0, mean = 0.0;
+  for (int t = 0; t < N; ++t) {
+    const double F = lie::chi2_cdf(q_joint[t], d);
+    ks = std::max({ks, std::abs(F - (t + 1.0) / N), std::abs(F - static_cast<double>(t) / N)});
+    mean += q_joint[t] / N;
+  }
+  MESSAGE("KS statistic " << ks << " (0.1% critical value " << 1.95 / std::sqrt(N) << "), mean q " << mean);
+  CHECK(ks < 1.95 / std::sqrt(static_cast<double>(N)));  // Kolmogorov–Smirnov at the 0.1 % level
+  CHECK(mean == doctest::Approx(d).epsilon(0.06));
+  double mean_ind = 0.0;
+  for (double q : q_ind) mean_ind += q / N;
+  MESSAGE("independent composition: mean q " << mean_ind << " (dof " << d << ")");
+  CHECK(mean_ind < 0.5 * d);
+}
+
+TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual convention") {
+  std::mt19937_64 rng(5);
+  const SE2 X(3.0, -1.0, 2.5);
+  lie::Mat3 Sr;
+  Sr << 0.004, 0.001, 0.0005, 0.001, 0.002, -0.0003, 0.0005, -0.0003, 0.001;
+  const lie::Mat3 info = Sr.inverse();
+  const MatX L = lie::covariance_square_root(Sr);
+  const int N = 200000;
+  lie::Mat3 S = lie::Mat3::Zero();
+  for (int t = 0; t < N; ++t) {
+    const lie::Vec3 r = sample<lie::Vec3>(rng, L);
+    const SE2 E(r(0), r(1), r(2));       // residual E = z⁻¹ X with ρ(E) = r
+    const SE2 z = X * E.inverse();       // the measurement
+    const lie::Vec3 n = (z * X.inverse()).log();  // its left perturbation about X
+    S += n * n.transpose() / N;
+  }
+  const lie::Mat3 pred = left_covariance_from_information(X, info);
+  CHECK((S - pred).norm() / pred.norm() < 0.02);
+  CHECK_THROWS_AS(left_covariance_from_information(X, lie::Mat3::Zero()), std::invalid_argument);
+}
+
+TEST_CASE("consistency_threshold: chi-square tail probability p") {
+  for (int dof : {1, 3, 6})
+    for (double p : {0.01, 0.11, 0.5, 0.9}) {
+      const double g = consistency_threshold(p, dof);
+      CHECK(1.0 - lie::chi2_cdf(g, dof) == doctest::Approx(p).epsilon(1e-9));
+    }
+  CHECK(consistency_threshold(0.11, 3) > consistency_threshold(0.5, 3));  // larger p is stricter
+  CHECK_THROWS_AS(consistency_threshold(0.0, 3), std::invalid_argument);
+  CHECK_THROWS_AS(consistency_threshold(1.0, 3), std::invalid_argument);
+  CHECK_THROWS_AS(consistency_threshold(std::nan(""), 3), std::invalid_argument);
+  CHECK_THROWS_AS(consistency_threshold(0.1, 0), std::invalid_argument);
+}
+
+namespace {
+
+template <class G>
+struct Fixture {
+  LocalMap<G> a, b;
+  std::vector<InterRobotMeasurement<G>> c;
+};
+
+template <class G>
+Fixture<G> make_fixture(std::uint64_t seed, int n_candidates) {
+  constexpr int d = G::DoF;
+  std::mt19937_64 rng(seed);
+  Fixture<G> f;
+  for (int s = 0; s < 12; ++s) f.a.poses.push_back(random_pose<G>(rng, 4.0));
+  for (int s = 0; s < 9; ++s) f.b.poses.push_back(random_pose<G>(rng, 4.0));
+  f.a.ids = {0, 2, 3, 5, 7, 11};
+  f.b.ids = {8, 1, 4, 6};
+  f.a.joint = random_spd(rng, d * 6, 0.05);
+  f.b.joint = random_spd(rng, d * 4, 0.05);
+  const G anchor = random_pose<G>(rng, 4.0);
+  std::uniform_int_distribution<int> pa(0, 5), pb(0, 3);
+  for (int u = 0; u < n_candidates; ++u) {
+    InterRobotMeasurement<G> m;
+    m.pose_a = f.a.ids[pa(rng)];
+    m.pose_b = f.b.ids[pb(rng)];
+    m.z = u % 3 == 2 ? random_pose<G>(rng, 4.0)
+                     : random_pose<G>(rng, 0.02) * f.a.poses[m.pose_a].inverse() * anchor * f.b.poses[m.pose_b];
+    m.covariance = random_spd(rng, d, 0.03);
+    f.c.push_back(m);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, thread independent", G, SE2, SE3) {
+  constexpr int d = G::DoF;
+  using J = typename G::Jacobian;
+  const auto f = make_fixture<G>(99, 17);
+  ConsistencyOptions one;
+  ConsistencyOptions two;
+  two.threads = 2;
+  const auto Q1 = consistency_matrix(f.a, f.b, f.c, one);
+  const auto Q2 = consistency_matrix(f.a, f.b, f.c, two);
+  CHECK(Q1.n == 17);
+  CHECK(Q1.dof == d);
+  CHECK(Q1.q == Q2.q);
+  auto slot = [](const LocalMap<G>& m, int id) {
+    return static_cast<int>(std::find(m.ids.begin(), m.ids.end(), id) - m.ids.begin());
+  };
+  auto blk = [&](const LocalMap<G>& m, int s, int t) -> J { return m.joint.template block<d, d>(d * s, d * t); };
+  auto direct = [&](int u, int v) {
+    const auto &cu = f.c[u], &cv = f.c[v];
+    const int si = slot(f.a, cu.pose_a), sj = slot(f.a, cv.pose_a), sk = slot(f.b, cu.pose_b),
+              sl = slot(f.b, cv.pose_b);
+    const auto xij = relative_pose(f.a.poses[cu.pose_a], f.a.poses[cv.pose_a], blk(f.a, si, si), blk(f.a, sj, sj),
+                                   blk(f.a, si, sj), Composition::joint);
+    const auto xlk = relative_pose(f.b.poses[cv.pose_b], f.b.poses[cu.pose_b], blk(f.b, sl, sl), blk(f.b, sk, sk),
+                                   blk(f.b, sl, sk), Composition::joint);
+    return loop_error(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x, xlk.covariance).q;
+  };
+  for (int u = 0; u < Q1.n; ++u) {
+    CHECK(Q1.at(u, u) == 0.0);
+    for (int v = 0; v < Q1.n; ++v) {
+      if (u == v) continue;
+      CHECK(direct(u, v) == doctest::Approx(Q1.at(u, v)).epsilon(1e-12));
+      // Between two inliers (ε small) the loop traced from v has the same distance to first order.
+      if (u % 3 != 2 && v % 3 != 2) CHECK(Q1.at(v, u) == doctest::Approx(Q1.at(u, v)).epsilon(0.05));
+    }
+  }
+  // The independent composition drops the cross blocks, so it must change the matrix.
+  ConsistencyOptions ind;
+  ind.composition = Composition::independent;
+  CHECK(consistency_matrix(f.a, f.b, f.c, ind).q != Q1.q);
+}
+
+TEST_CASE("consistency_matrix: bad inputs give clear errors") {
+  auto f = make_fixture<SE2>(7, 5);
+  CHECK(throws_with([&] { consistency_matrix(f.a, f.b, {}); }, "candidate set is empty"));
+  {
+    auto g = f;
+    g.c[3].covariance(0, 0) = std::nan("");
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "candidate 3: covariance has a non-finite"));
+  }
+  {
+    auto g = f;
+    g.c[1].pose_a = 40;
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "candidate 1 touches pose 40 of robot a"));
+  }
+  {
+    auto g = f;
+    g.c[2].pose_b = 0;  // a pose of b that exists but has no marginal
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "pose 0 of robot b has no joint marginal"));
+  }
+  {
+    auto g = f;
+    g.a.joint = MatX::Identity(6, 6);
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "expected 18x18"));
+  }
+  {
+    auto g = f;
+    g.b.ids.push_back(1);
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "listed twice"));
+  }
+  {
+    auto g = f;
+    g.a.joint.setZero();
+    for (auto& m : g.c) m.covariance.setZero();
+    CHECK(throws_with([&] { consistency_matrix(g.a, g.b, g.c); }, "not positive definite"));
+  }
+  CHECK_THROWS_AS(composition_from_string("correlated"), std::invalid_argument);
+  CHECK(composition_from_string(to_string(Composition::independent)) == Composition::independent);
+}

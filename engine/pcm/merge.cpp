@@ -1,0 +1,515 @@
+// Robust multi-robot map merging (thesis §2.6) and the metrics of Tables 2.1–2.2; see merge.hpp.
+#include "pcm/merge.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+
+#include "cov/information.hpp"
+#include "pgo/multi_robot.hpp"
+
+namespace keel::pcm {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pcm::" + what); }
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+template <class G>
+struct Types;
+template <>
+struct Types<lie::SE2> {
+  using Multi = pgo::MultiRobotGraph2D;
+  using InterEdge = pgo::InterRobotEdge2;
+  using MultiEstimate = pgo::MultiRobotEstimate2D;
+};
+template <>
+struct Types<lie::SE3> {
+  using Multi = pgo::MultiRobotGraph3D;
+  using InterEdge = pgo::InterRobotEdge3;
+  using MultiEstimate = pgo::MultiRobotEstimate3D;
+};
+
+template <class G>
+LocalSolution<G> solve_local_impl(const PoseGraphOf<G>& graph, const LocalSolveOptions& o) {
+  o.validate();
+  pgo::Options po;
+  po.initial_guess = o.initial_guess;
+  po.max_iterations = o.max_iterations;
+  po.threads = o.threads;
+  LocalSolution<G> out;
+  out.graph = graph;
+  auto t0 = std::chrono::steady_clock::now();
+  auto solved = pgo::optimize(graph, po);
+  out.solve_time_s = seconds_since(t0);
+  if (solved.summary.termination == pgo::Termination::failure)
+    throw std::runtime_error("pcm::solve_local: the local solve of " +
+                             (graph.source.empty() ? std::string("the graph") : graph.source) +
+                             " failed: " + solved.summary.message);
+  out.summary = solved.summary;
+  out.poses = std::move(solved.estimate.poses);
+  t0 = std::chrono::steady_clock::now();
+  const auto info =
+      cov::information_matrix(graph, out.poses);  // gauge: pose 0 fixed (cov::GaugeOptions default)
+  out.covariance = std::make_shared<const cov::MarginalCovariance>(info);
+  out.factorization_time_s = seconds_since(t0);
+  return out;
+}
+
+template <class G>
+void check_candidate(const std::vector<InterRobotMeasurement<G>>& candidates, int k, int na, int nb,
+                     const char* where) {
+  const auto& c = candidates[static_cast<std::size_t>(k)];
+  if (c.pose_a < 0 || c.pose_a >= na)
+    fail(std::string(where) + ": candidate " + std::to_string(k) + " touches pose " +
+         std::to_string(c.pose_a) + " of robot a, which has " + std::to_string(na) + " poses");
+  if (c.pose_b < 0 || c.pose_b >= nb)
+    fail(std::string(where) + ": candidate " + std::to_string(k) + " touches pose " +
+         std::to_string(c.pose_b) + " of robot b, which has " + std::to_string(nb) + " poses");
+}
+
+template <class G>
+LocalMaps<G> local_maps_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
+                             const std::vector<InterRobotMeasurement<G>>& candidates) {
+  if (!a.covariance || !b.covariance) fail("local_maps: a local solution has no factorized covariance");
+  const int na = static_cast<int>(a.poses.size()), nb = static_cast<int>(b.poses.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  LocalMaps<G> out;
+  for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
+    check_candidate(candidates, k, na, nb, "local_maps");
+    out.a.ids.push_back(candidates[k].pose_a);
+    out.b.ids.push_back(candidates[k].pose_b);
+  }
+  for (auto* ids : {&out.a.ids, &out.b.ids}) {
+    std::sort(ids->begin(), ids->end());
+    ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
+  }
+  out.a.poses = a.poses;
+  out.b.poses = b.poses;
+  if (!out.a.ids.empty()) out.a.joint = a.covariance->joint(out.a.ids);
+  if (!out.b.ids.empty()) out.b.joint = b.covariance->joint(out.b.ids);
+  out.time_s = seconds_since(t0);
+  return out;
+}
+
+template <class G>
+MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
+                          const std::vector<InterRobotMeasurement<G>>& candidates,
+                          const std::vector<int>& selected, const MergeOptions& o) {
+  using T = Types<G>;
+  o.validate();
+  const int n = static_cast<int>(candidates.size());
+  const int na = static_cast<int>(a.poses.size()), nb = static_cast<int>(b.poses.size());
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  typename T::Multi g;
+  g.robots = {a.graph, b.graph};
+  for (int k : selected) {
+    if (k < 0 || k >= n)
+      fail("merge_maps: selected candidate " + std::to_string(k) + " out of range (" + std::to_string(n) +
+           " candidates)");
+    if (seen[k]) fail("merge_maps: candidate " + std::to_string(k) + " is selected twice");
+    seen[k] = 1;
+    check_candidate(candidates, k, na, nb, "merge_maps");
+    const auto& c = candidates[k];
+    typename T::InterEdge e;
+    e.robot_a = 0;
+    e.pose_a = c.pose_a;
+    e.robot_b = 1;
+    e.pose_b = c.pose_b;
+    e.measurement = c.z;
+    e.information = information_from_left_covariance(c.z, c.covariance);
+    g.inter_robot_edges.push_back(e);
+  }
+  typename T::MultiEstimate init;
+  init.robots.resize(2);
+  init.robots[0].poses = a.poses;
+  init.robots[1].poses = b.poses;  // anchors left empty: set by anchor_guess below
+
+  pgo::Options po;
+  po.initial_guess = pgo::InitialGuess::supplied;
+  po.anchor_guess = o.anchor_init == AnchorInit::selected_edges ? pgo::AnchorGuess::inter_robot_edges
+                                                                : pgo::AnchorGuess::as_given;
+  po.robust_kernel = o.kernel;
+  po.robust_parameter = o.robust_parameter;
+  po.robust_scope = o.robust_scope;
+  po.max_iterations = o.max_iterations;
+  po.threads = o.threads;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto res = pgo::optimize(g, po, &init);
+  MergeResult<G> out;
+  out.time_s = seconds_since(t0);
+  if (res.summary.termination == pgo::Termination::failure)
+    throw std::runtime_error("pcm::merge_maps: the merged solve failed: " + res.summary.message);
+  out.selected = selected;
+  out.summary = res.summary;
+  const G frame = res.estimate.anchors[0].inverse();  // a's anchor (held constant at the identity)
+  out.anchor_b = frame * res.estimate.anchors[1];
+  for (const auto& T_i : res.estimate.robots[0].poses)
+    out.poses_a.push_back(frame * res.estimate.anchors[0] * T_i);
+  for (const auto& T_k : res.estimate.robots[1].poses) out.poses_b.push_back(out.anchor_b * T_k);
+  auto add = [&](const pgo::EdgeReport& e) {
+    out.residual += e.weight * e.chi2;
+    out.chi2 += e.chi2;
+  };
+  for (const auto& robot : res.edges)
+    for (const auto& e : robot) add(e);
+  if constexpr (std::is_same_v<G, lie::SE2>) {
+    for (const auto& robot : res.landmark_edges)
+      for (const auto& e : robot) add(e);
+  }
+  for (const auto& e : res.inter_robot_edges) add(e);
+  out.inter_robot = res.inter_robot_edges;
+  return out;
+}
+
+template <class G>
+std::vector<int> accepted_impl(const MergeResult<G>& r, double min_scale) {
+  if (r.inter_robot.size() != r.selected.size())
+    fail("accepted_candidates: the result has " + std::to_string(r.inter_robot.size()) +
+         " edge reports for " + std::to_string(r.selected.size()) + " selected candidates");
+  std::vector<int> out;
+  for (std::size_t k = 0; k < r.selected.size(); ++k)
+    if (r.inter_robot[k].scale >= min_scale) out.push_back(r.selected[k]);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+template <class G>
+TrajectoryError absolute_impl(const std::vector<G>& est, const std::vector<G>& ref) {
+  if (est.size() != ref.size() || est.empty())
+    fail("absolute_error: the estimate has " + std::to_string(est.size()) + " poses and the reference " +
+         std::to_string(ref.size()) + " (need equal, non-zero sizes)");
+  TrajectoryError e;
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    e.translation_mse += (est[i].translation() - ref[i].translation()).squaredNorm();
+    e.rotation += rotation_error(est[i], ref[i]);
+  }
+  e.count = static_cast<int>(est.size());
+  e.translation_mse /= e.count;
+  e.rotation /= e.count;
+  return e;
+}
+
+template <class G>
+TrajectoryError relative_impl(const std::vector<G>& est, const std::vector<G>& ref) {
+  if (est.size() != ref.size() || est.size() < 2)
+    fail("relative_error: the estimate has " + std::to_string(est.size()) + " poses and the reference " +
+         std::to_string(ref.size()) + " (need equal sizes, at least 2)");
+  std::vector<G> de, dr;
+  for (std::size_t i = 0; i + 1 < est.size(); ++i) {
+    de.push_back(est[i].inverse() * est[i + 1]);
+    dr.push_back(ref[i].inverse() * ref[i + 1]);
+  }
+  return absolute_impl(de, dr);
+}
+
+// Count-weighted mean of two errors (the poses of both robots taken together).
+TrajectoryError combine(const TrajectoryError& x, const TrajectoryError& y) {
+  TrajectoryError e;
+  e.count = x.count + y.count;
+  if (e.count == 0) return e;
+  e.translation_mse = (x.translation_mse * x.count + y.translation_mse * y.count) / e.count;
+  e.rotation = (x.rotation * x.count + y.rotation * y.count) / e.count;
+  return e;
+}
+
+template <class G>
+MergeMetrics evaluate_impl(const MergeResult<G>& r, const MergeResult<G>& ref, const TwoRobotScenario<G>& s,
+                           const std::vector<int>& selection, const std::vector<CandidateLabel>& labels) {
+  if (r.poses_a.size() != s.truth_a.size() || r.poses_b.size() != s.truth_b.size())
+    fail("evaluate_merge: the merged result has " + std::to_string(r.poses_a.size()) + " + " +
+         std::to_string(r.poses_b.size()) + " poses, the scenario " + std::to_string(s.truth_a.size()) +
+         " + " + std::to_string(s.truth_b.size()));
+  MergeMetrics m;
+  m.map = combine(absolute_impl(r.poses_a, ref.poses_a), absolute_impl(r.poses_b, ref.poses_b));
+  m.residual = r.residual;
+  m.chi2 = r.chi2;
+  m.normalized_chi2 = r.summary.normalized_chi2;
+  m.classification = classify(selection, labels);
+  m.anchor_translation_sq = (r.anchor_b.translation() - s.true_anchor.translation()).squaredNorm();
+  m.anchor_rotation = rotation_error(r.anchor_b, s.true_anchor);
+  // Consecutive relative poses are frame-free: b's merged poses (a's frame) against b's local ground truth.
+  m.trajectory = combine(relative_impl(r.poses_a, s.truth_a), relative_impl(r.poses_b, s.truth_b));
+  return m;
+}
+
+template <class G>
+MergeDataset<G> run_dataset_impl(const TwoRobotScenario<G>& s, const LocalSolution<G>& a,
+                                 const LocalSolution<G>& b, const CandidateOptions& copt,
+                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                 std::uint64_t index, bool keep) {
+  for (const auto& m : methods) m.validate();
+  MergeDataset<G> out;
+  out.candidates = generate_candidates(s, copt, seed, index);
+  const auto& cands = out.candidates.candidates;
+  const auto& labels = out.candidates.labels;
+
+  bool need_joint = false, need_independent = false;
+  for (const auto& m : methods) {
+    if (m.kind == MergeMethodKind::no_outliers || m.kind == MergeMethodKind::dcs) continue;
+    (m.composition == Composition::joint ? need_joint : need_independent) = true;
+  }
+  const auto maps = local_maps(a, b, cands);
+  out.covariance_time_s = maps.time_s;
+  ConsistencyMatrix Q_joint, Q_independent;
+  ConsistencyOptions co;
+  co.threads = 1;
+  if (need_joint) {
+    co.composition = Composition::joint;
+    const auto t0 = std::chrono::steady_clock::now();
+    Q_joint = consistency_matrix(maps.a, maps.b, cands, co);
+    out.matrix_time_s = seconds_since(t0);
+  }
+  if (need_independent) {
+    co.composition = Composition::independent;
+    const auto t0 = std::chrono::steady_clock::now();
+    Q_independent = consistency_matrix(maps.a, maps.b, cands, co);
+    out.matrix_independent_time_s = seconds_since(t0);
+  }
+
+  const auto inliers = out.candidates.inliers();
+  const auto reference = merge_maps(a, b, cands, inliers);
+  for (const auto& m : methods) {
+    MethodOutcome<G> o;
+    const ConsistencyMatrix& Q = m.composition == Composition::joint ? Q_joint : Q_independent;
+    MergeResult<G> merged;
+    switch (m.kind) {
+      case MergeMethodKind::no_outliers:
+        o.selection = inliers;
+        merged = reference;
+        break;
+      case MergeMethodKind::dcs:
+        merged = merge_maps(a, b, cands, out.candidates.all(), MergeOptions::dcs(m.dcs_phi));
+        o.selection = accepted_candidates(merged, m.dcs_accept_scale);
+        break;
+      default: {
+        Selection sel;
+        if (m.kind == MergeMethodKind::scgp) {
+          sel = select_scgp(Q, m.scgp);
+        } else {
+          const double gamma = consistency_threshold(m.p, Q.dof);
+          if (m.kind == MergeMethodKind::ransac)
+            sel = select_ransac(Q, gamma);
+          else
+            sel = select_pcm(
+                Q, gamma,
+                m.kind == MergeMethodKind::pcm_exact ? CliqueAlgorithm::exact : CliqueAlgorithm::heuristic);
+        }
+        o.selection = sel.selected;
+        std::sort(o.selection.begin(), o.selection.end());
+        o.selection_time_s = sel.time_s;
+        o.upper_bound = sel.upper_bound;
+        o.proven_optimal = sel.proven_optimal;
+        merged = merge_maps(a, b, cands, o.selection);
+      }
+    }
+    o.solve_time_s = merged.time_s;
+    o.metrics = evaluate_impl(merged, reference, s, o.selection, labels);
+    if (keep) o.merged = std::move(merged);
+    out.methods.push_back(std::move(o));
+  }
+  return out;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------------
+void LocalSolveOptions::validate() const {
+  if (initial_guess != pgo::InitialGuess::as_read && initial_guess != pgo::InitialGuess::odometry)
+    fail("LocalSolveOptions: initial_guess must be as_read or odometry (got " +
+         std::string(pgo::to_string(initial_guess)) + ")");
+  if (max_iterations < 1)
+    fail("LocalSolveOptions: max_iterations must be >= 1 (got " + std::to_string(max_iterations) + ")");
+  if (threads < 1) fail("LocalSolveOptions: threads must be >= 1 (got " + std::to_string(threads) + ")");
+}
+
+LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options) {
+  return solve_local_impl<lie::SE2>(graph, options);
+}
+LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOptions& options) {
+  return solve_local_impl<lie::SE3>(graph, options);
+}
+
+LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
+                      const std::vector<InterRobotMeasurement2>& candidates) {
+  return local_maps_impl(a, b, candidates);
+}
+LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
+                      const std::vector<InterRobotMeasurement3>& candidates) {
+  return local_maps_impl(a, b, candidates);
+}
+
+std::string to_string(AnchorInit a) {
+  switch (a) {
+    case AnchorInit::selected_edges:
+      return "selected_edges";
+    case AnchorInit::identity:
+      return "identity";
+  }
+  return "unknown";
+}
+
+AnchorInit anchor_init_from_string(std::string_view s) {
+  if (s == "selected_edges") return AnchorInit::selected_edges;
+  if (s == "identity") return AnchorInit::identity;
+  fail("anchor_init_from_string: unknown anchor initialisation '" + std::string(s) +
+       "' (selected_edges | identity)");
+}
+
+MergeOptions MergeOptions::dcs(double phi) {
+  MergeOptions o;
+  o.kernel = pgo::RobustKernel::dcs;
+  o.robust_parameter = phi;
+  o.robust_scope = pgo::RobustScope::loop_closures;
+  o.anchor_init = AnchorInit::identity;
+  return o;
+}
+
+void MergeOptions::validate() const {
+  if (!(std::isfinite(robust_parameter) && robust_parameter > 0.0))
+    fail("MergeOptions: robust_parameter must be finite and > 0 (got " + std::to_string(robust_parameter) +
+         ")");
+  if (max_iterations < 1)
+    fail("MergeOptions: max_iterations must be >= 1 (got " + std::to_string(max_iterations) + ")");
+  if (threads < 1) fail("MergeOptions: threads must be >= 1 (got " + std::to_string(threads) + ")");
+}
+
+MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
+                        const std::vector<InterRobotMeasurement2>& candidates,
+                        const std::vector<int>& selected, const MergeOptions& options) {
+  return merge_impl(a, b, candidates, selected, options);
+}
+MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
+                        const std::vector<InterRobotMeasurement3>& candidates,
+                        const std::vector<int>& selected, const MergeOptions& options) {
+  return merge_impl(a, b, candidates, selected, options);
+}
+
+std::vector<int> accepted_candidates(const MergeResult2& result, double min_scale) {
+  return accepted_impl(result, min_scale);
+}
+std::vector<int> accepted_candidates(const MergeResult3& result, double min_scale) {
+  return accepted_impl(result, min_scale);
+}
+
+double rotation_error(const lie::SE2& estimate, const lie::SE2& reference) {
+  const double d = (reference.so2().inverse() * estimate.so2()).angle();  // wrapped to (−π, π]
+  return std::sqrt(2.0) * std::abs(d);
+}
+double rotation_error(const lie::SE3& estimate, const lie::SE3& reference) {
+  return std::sqrt(2.0) * (reference.so3().inverse() * estimate.so3()).log().norm();
+}
+
+TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate,
+                               const std::vector<lie::SE2>& reference) {
+  return absolute_impl(estimate, reference);
+}
+TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate,
+                               const std::vector<lie::SE3>& reference) {
+  return absolute_impl(estimate, reference);
+}
+TrajectoryError relative_error(const std::vector<lie::SE2>& estimate,
+                               const std::vector<lie::SE2>& reference) {
+  return relative_impl(estimate, reference);
+}
+TrajectoryError relative_error(const std::vector<lie::SE3>& estimate,
+                               const std::vector<lie::SE3>& reference) {
+  return relative_impl(estimate, reference);
+}
+
+Classification classify(const std::vector<int>& selected, const std::vector<CandidateLabel>& labels) {
+  const int n = static_cast<int>(labels.size());
+  std::vector<char> chosen(static_cast<std::size_t>(n), 0);
+  for (int k : selected) {
+    if (k < 0 || k >= n)
+      fail("classify: selected index " + std::to_string(k) + " out of range (" + std::to_string(n) +
+           " labels)");
+    if (chosen[k]) fail("classify: index " + std::to_string(k) + " is selected twice");
+    chosen[k] = 1;
+  }
+  Classification c;
+  for (int k = 0; k < n; ++k) {
+    const bool in = labels[k].is_inlier();
+    if (chosen[k])
+      (in ? c.tp : c.fp)++;
+    else
+      (in ? c.fn : c.tn)++;
+  }
+  return c;
+}
+
+MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
+                            const TwoRobotScenario2& scenario, const std::vector<int>& selection,
+                            const std::vector<CandidateLabel>& labels) {
+  return evaluate_impl(result, reference, scenario, selection, labels);
+}
+MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
+                            const TwoRobotScenario3& scenario, const std::vector<int>& selection,
+                            const std::vector<CandidateLabel>& labels) {
+  return evaluate_impl(result, reference, scenario, selection, labels);
+}
+
+std::string to_string(MergeMethodKind k) {
+  switch (k) {
+    case MergeMethodKind::no_outliers:
+      return "no_outliers";
+    case MergeMethodKind::dcs:
+      return "dcs";
+    case MergeMethodKind::scgp:
+      return "scgp";
+    case MergeMethodKind::ransac:
+      return "ransac";
+    case MergeMethodKind::pcm_exact:
+      return "pcm_exact";
+    case MergeMethodKind::pcm_heuristic:
+      return "pcm_heuristic";
+  }
+  return "unknown";
+}
+
+MergeMethodKind merge_method_kind_from_string(std::string_view s) {
+  for (auto k : {MergeMethodKind::no_outliers, MergeMethodKind::dcs, MergeMethodKind::scgp,
+                 MergeMethodKind::ransac, MergeMethodKind::pcm_exact, MergeMethodKind::pcm_heuristic})
+    if (s == to_string(k)) return k;
+  fail("merge_method_kind_from_string: unknown method '" + std::string(s) +
+       "' (no_outliers | dcs | scgp | ransac | pcm_exact | pcm_heuristic)");
+}
+
+void MergeMethod::validate() const {
+  const std::string who = "MergeMethod '" + name + "': ";
+  if (name.empty()) fail("MergeMethod: name must not be empty");
+  if ((kind == MergeMethodKind::ransac || kind == MergeMethodKind::pcm_exact ||
+       kind == MergeMethodKind::pcm_heuristic) &&
+      !(p > 0.0 && p < 1.0))
+    fail(who + "p must be in (0, 1) (got " + std::to_string(p) + ")");
+  if (kind == MergeMethodKind::scgp) scgp.validate();
+  if (kind == MergeMethodKind::dcs) {
+    if (!(std::isfinite(dcs_phi) && dcs_phi > 0.0))
+      fail(who + "dcs_phi must be finite and > 0 (got " + std::to_string(dcs_phi) + ")");
+    if (!(dcs_accept_scale > 0.0 && dcs_accept_scale <= 1.0))
+      fail(who + "dcs_accept_scale must be in (0, 1] (got " + std::to_string(dcs_accept_scale) + ")");
+  }
+}
+
+MergeDataset2 run_merge_dataset(const TwoRobotScenario2& scenario, const LocalSolution2& a,
+                                const LocalSolution2& b, const CandidateOptions& candidates,
+                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                std::uint64_t index, bool keep_solutions) {
+  return run_dataset_impl(scenario, a, b, candidates, methods, seed, index, keep_solutions);
+}
+MergeDataset3 run_merge_dataset(const TwoRobotScenario3& scenario, const LocalSolution3& a,
+                                const LocalSolution3& b, const CandidateOptions& candidates,
+                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                std::uint64_t index, bool keep_solutions) {
+  return run_dataset_impl(scenario, a, b, candidates, methods, seed, index, keep_solutions);
+}
+
+}  // namespace keel::pcm

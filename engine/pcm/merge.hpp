@@ -1,0 +1,262 @@
+// Robust multi-robot map merging (thesis §2.6) and the accuracy metrics of §2.7.2–2.7.3 (Tables 2.1 and 2.2).
+//
+// The four steps of §2.6:
+//   i)   individual map generation — solve_local(): each robot's graph is solved once (keel::pgo batch
+//   maximum
+//        likelihood, odometry initial guess, pose 0 fixed) and its information matrix, linearized in the left
+//        perturbation at the solution (keel::cov, gauge = pose 0 fixed), is factorized once;
+//   ii)  consistency calculation — local_maps() extracts, per candidate set, the joint marginal covariance of
+//   the
+//        poses the candidates touch (MarginalCovariance::joint; "we extract the covariance for every pair of
+//        nodes on a given local map that are associated with an inter-robot constraint"), which
+//        consistency_matrix() needs;
+//   iii) pairwise consistency maximization — selection.hpp (run_merge_dataset below calls it);
+//   iv)  constraint insertion and full map generation — merge_maps(): one batch solve of the two-robot graph
+//   with
+//        anchors (Kim et al. 2010, eq. 2.2) holding both local graphs and the selected candidates as
+//        inter-robot edges (thesis: "for SE(2) it was sufficient to add the inter-robot factors directly to
+//        the already existing graph and run a batch optimization"). The local poses start from the local
+//        solutions and b's anchor from the first selected edge (pgo::AnchorGuess::inter_robot_edges), or from
+//        the identity.
+// The baseline DCS (Agarwal et al. 2013, φ = 5) is merge_maps() with every candidate, the DCS kernel on the
+// loop closures (inter-robot edges included) and b's anchor at the identity: the thesis's DCS has no initial
+// alignment.
+//
+// Frames: the global frame is robot a's frame (a's anchor is the identity and held constant), so merged poses
+// of both robots and b's anchor T_ab are expressed there, like the scenario's ground truth (scenario.hpp).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cov/marginal_covariance.hpp"
+#include "graph/pose_graph.hpp"
+#include "lie/se2.hpp"
+#include "lie/se3.hpp"
+#include "pcm/clique.hpp"
+#include "pcm/consistency.hpp"
+#include "pcm/scenario.hpp"
+#include "pcm/selection.hpp"
+#include "pgo/optimize.hpp"
+#include "pgo/options.hpp"
+
+namespace keel::pcm {
+
+struct LocalSolveOptions {
+  pgo::InitialGuess initial_guess = pgo::InitialGuess::odometry;  // as_read or odometry (supplied/random: no)
+  int max_iterations = 100;                                       // trust-region iterations (≥ 1)
+  int threads = 1;  // solver threads (≥ 1); keep 1 where result files are compared across thread counts
+  // Throws std::invalid_argument naming the violated constraint.
+  void validate() const;
+};
+
+// One robot's solved local map: the solution and the factorized information matrix it came from (§2.6 step
+// i).
+template <class G>
+struct LocalSolution {
+  PoseGraphOf<G> graph;  // the local graph as given
+  std::vector<G> poses;  // the maximum-likelihood solution in the robot's frame (pose 0 fixed)
+  pgo::Summary summary;  // of the local solve
+  std::shared_ptr<const cov::MarginalCovariance> covariance;  // immutable, safe to query from several threads
+  double solve_time_s = 0.0;                                  // local solve
+  double factorization_time_s = 0.0;                          // information matrix + CHOLMOD factorization
+};
+using LocalSolution2 = LocalSolution<lie::SE2>;
+using LocalSolution3 = LocalSolution<lie::SE3>;
+
+// Solves the graph and factorizes its information at the solution (gauge: pose 0 fixed). Throws
+// std::invalid_argument for invalid options or graphs, std::runtime_error when the solver fails or the
+// information matrix is not positive definite (a graph that is not connected).
+LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options = {});
+LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOptions& options = {});
+
+// LocalMap (consistency.hpp) of both robots for one candidate set: ids = the distinct poses the candidates
+// touch (ascending), joint = their joint marginal covariance. Throws std::invalid_argument naming the
+// candidate when one touches a pose that its robot does not have.
+template <class G>
+struct LocalMaps {
+  LocalMap<G> a, b;
+  double time_s = 0.0;  // covariance extraction (both robots)
+};
+using LocalMaps2 = LocalMaps<lie::SE2>;
+using LocalMaps3 = LocalMaps<lie::SE3>;
+LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
+                      const std::vector<InterRobotMeasurement2>& candidates);
+LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
+                      const std::vector<InterRobotMeasurement3>& candidates);
+
+// Initial value of b's anchor T_ab in the merged solve.
+enum class AnchorInit {
+  selected_edges,  // from the first selected edge and the local solutions
+                   // (pgo::AnchorGuess::inter_robot_edges); identity when nothing is selected
+  identity,  // no initial alignment (the thesis's DCS)
+};
+std::string to_string(AnchorInit a);
+AnchorInit anchor_init_from_string(std::string_view s);  // "selected_edges" | "identity"; else throws
+
+struct MergeOptions {
+  pgo::RobustKernel kernel = pgo::RobustKernel::none;               // none, or dcs for the DCS baseline
+  double robust_parameter = 5.0;                                    // DCS φ (thesis §2.7: 5) (> 0)
+  pgo::RobustScope robust_scope = pgo::RobustScope::loop_closures;  // loop closures incl. inter-robot edges
+  AnchorInit anchor_init = AnchorInit::selected_edges;
+  int max_iterations = 100;  // trust-region iterations (≥ 1)
+  int threads = 1;           // solver threads (≥ 1)
+  // The DCS baseline of §2.7: DCS with φ on the loop closures, anchor at the identity.
+  static MergeOptions dcs(double phi = 5.0);
+  // Throws std::invalid_argument naming the violated constraint.
+  void validate() const;
+};
+
+template <class G>
+struct MergeResult {
+  std::vector<int> selected;        // the candidates inserted (as given)
+  std::vector<G> poses_a, poses_b;  // merged poses of both robots in a's frame
+  G anchor_b;                       // estimated T_ab (pose of b's local frame in a's frame)
+  pgo::Summary summary;             // of the merged solve (normalized_chi2 = the thesis's "Chi2")
+  // Σ over all edges (both local graphs and the inserted candidates) of weight·χ²: the χ² of the merged graph
+  // as the solver weighs it (= Σ χ² without a kernel; with DCS each χ² scaled by s², the "scaled residual").
+  double residual = 0.0;
+  double chi2 = 0.0;                         // Σ χ² over all edges, unweighted
+  std::vector<pgo::EdgeReport> inter_robot;  // one per selected candidate (order of `selected`)
+  double time_s = 0.0;                       // wall time of the merged solve
+};
+using MergeResult2 = MergeResult<lie::SE2>;
+using MergeResult3 = MergeResult<lie::SE3>;
+
+// §2.6 step iv. The selected candidates become inter-robot edges with the residual information of their left
+// covariance (information_from_left_covariance). Throws std::invalid_argument for a selected index out of
+// range or repeated, a candidate touching a missing pose, or invalid options; std::runtime_error when the
+// solver fails.
+MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
+                        const std::vector<InterRobotMeasurement2>& candidates,
+                        const std::vector<int>& selected, const MergeOptions& options = {});
+MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
+                        const std::vector<InterRobotMeasurement3>& candidates,
+                        const std::vector<int>& selected, const MergeOptions& options = {});
+
+// The candidates a robust solve kept: selected[k] with inter_robot[k].scale ≥ min_scale (every selected
+// candidate when no kernel applied). For DCS, scale is s = min(1, 2φ/(φ + χ²)); 0.5 means χ² ≤ 3φ.
+std::vector<int> accepted_candidates(const MergeResult2& result, double min_scale);
+std::vector<int> accepted_candidates(const MergeResult3& result, double min_scale);
+
+// ---------------------------------------------------------------------------------------------------------------
+// Metrics (thesis §2.7.2 and §2.7.3).
+
+// ‖log(R_refᵀ R)‖_F, the matrix logarithm's Frobenius norm of §2.7.2: √2 |Δθ| in 2D (Δθ wrapped to (−π, π]),
+// √2 ‖Log(R_refᵀ R)‖ in 3D.
+double rotation_error(const lie::SE2& estimate, const lie::SE2& reference);
+double rotation_error(const lie::SE3& estimate, const lie::SE3& reference);
+
+struct TrajectoryError {
+  double translation_mse = 0.0;  // (1/n) Σ ‖t − t_ref‖²  (m²)
+  double rotation = 0.0;  // ε_rot = (1/n) Σ ‖log(R_refᵀ R)‖_F  (§2.7.2: a mean norm, not squared)
+  int count = 0;          // n
+};
+
+// Absolute error of corresponding poses (Table 2.1: the merged map against the NO-OUT solution, both in a's
+// frame). Throws std::invalid_argument on a size mismatch or empty input.
+TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
+TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+// Error of consecutive relative poses T_i⁻¹ T_{i+1} (Table 2.2 "Traj. MSE": graph correctness, independent of
+// the alignment). Needs ≥ 2 poses.
+TrajectoryError relative_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
+TrajectoryError relative_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+
+// Inlier/outlier classification of a selection against the labels: TPR = TP/(TP+FN), FPR = FP/(FP+TN)
+// (Fig. 2.4).
+struct Classification {
+  int tp = 0, fp = 0, fn = 0, tn = 0;
+  double tpr() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 0.0; }
+  double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : 0.0; }
+};
+// Throws std::invalid_argument for an index out of range or repeated.
+Classification classify(const std::vector<int>& selected, const std::vector<CandidateLabel>& labels);
+
+// Every metric of Tables 2.1 and 2.2 for one merged solve.
+struct MergeMetrics {
+  TrajectoryError map;    // both robots (a then b) against the reference solve, in a's frame (Table 2.1)
+  double residual = 0.0;  // MergeResult::residual
+  double chi2 = 0.0;      // MergeResult::chi2
+  double normalized_chi2 = 0.0;  // Summary::normalized_chi2
+  Classification classification;
+  double anchor_translation_sq = 0.0;  // ‖t̂_ab − t_ab‖² against the true anchor (Table 2.2 "Rel. Pose")
+  double anchor_rotation = 0.0;        // ‖log(R_abᵀ R̂_ab)‖_F
+  TrajectoryError trajectory;  // consecutive relative poses of both robots vs ground truth (Table 2.2)
+};
+// `selection` is what the method chose (for DCS: accepted_candidates), `labels` those of the candidate set.
+MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
+                            const TwoRobotScenario2& scenario, const std::vector<int>& selection,
+                            const std::vector<CandidateLabel>& labels);
+MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
+                            const TwoRobotScenario3& scenario, const std::vector<int>& selection,
+                            const std::vector<CandidateLabel>& labels);
+
+// ---------------------------------------------------------------------------------------------------------------
+// One data set of Tables 2.1/2.2 with every method (§2.7): generate the candidates, extract the local
+// covariances, build Q, select, merge, and score against the NO-OUT solve of the same data set.
+
+enum class MergeMethodKind {
+  no_outliers,    // the inlier candidates only (NO-OUT): the reference solve of Table 2.1
+  dcs,            // every candidate, DCS on the loop closures, no initial alignment (Agarwal et al. 2013)
+  scgp,           // select_scgp(Q) (Olson et al. 2005)
+  ransac,         // select_ransac(Q, γ(p))
+  pcm_exact,      // select_pcm(Q, γ(p), exact)
+  pcm_heuristic,  // select_pcm(Q, γ(p), heuristic) — the thesis's PCM-HeuPatt
+};
+std::string to_string(MergeMethodKind k);
+// "no_outliers" | "dcs" | "scgp" | "ransac" | "pcm_exact" | "pcm_heuristic"; else throws
+// std::invalid_argument.
+MergeMethodKind merge_method_kind_from_string(std::string_view s);
+
+struct MergeMethod {
+  std::string name;  // key of the method's metrics (e.g. "pcm_exact_11"), non-empty
+  MergeMethodKind kind = MergeMethodKind::pcm_exact;
+  double p = 0.11;  // ransac, pcm: γ = consistency_threshold(p, dof), p in (0, 1)
+  Composition composition = Composition::joint;  // scgp, ransac, pcm: the relative-pose covariance used in Q
+  ScgpOptions scgp;                              // scgp
+  double dcs_phi = 5.0;                          // dcs: φ (> 0)
+  double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
+                                  // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
+  // Throws std::invalid_argument naming the method and the violated constraint.
+  void validate() const;
+};
+
+template <class G>
+struct MethodOutcome {
+  std::vector<int> selection;     // the candidates the method chose, ascending (DCS: accepted_candidates)
+  MergeMetrics metrics;           // against the NO-OUT solve of the same data set
+  double selection_time_s = 0.0;  // select_* wall time (threshold + clique for PCM); 0 for NO-OUT and DCS
+  double solve_time_s = 0.0;      // merged solve
+  int upper_bound = -1;           // PCM: the clique bound (Selection::upper_bound)
+  bool proven_optimal = false;    // PCM: the selection is a maximum clique
+  MergeResult<G> merged;          // the merged solve, only with keep_solutions
+};
+
+template <class G>
+struct MergeDataset {
+  CandidateSet<G> candidates;
+  std::vector<MethodOutcome<G>> methods;  // one per method, in the order given
+  double covariance_time_s = 0.0;         // local_maps (joint marginals of the touched poses, both robots)
+  double matrix_time_s = 0.0;  // consistency_matrix with Composition::joint (0 if no method uses it)
+  double matrix_independent_time_s = 0.0;  // with Composition::independent (0 if no method uses it)
+};
+using MergeDataset2 = MergeDataset<lie::SE2>;
+using MergeDataset3 = MergeDataset<lie::SE3>;
+
+// Data set `index`: candidates from generate_candidates(scenario, candidates, seed, index), then every
+// method. The NO-OUT solve is always run (it is the reference of the metrics); a no_outliers method reports
+// it. Everything is single-threaded and deterministic (Ceres with one thread), so data sets can run in
+// parallel. Throws what the steps throw (std::invalid_argument for invalid methods or options).
+MergeDataset2 run_merge_dataset(const TwoRobotScenario2& scenario, const LocalSolution2& a,
+                                const LocalSolution2& b, const CandidateOptions& candidates,
+                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                std::uint64_t index, bool keep_solutions = false);
+MergeDataset3 run_merge_dataset(const TwoRobotScenario3& scenario, const LocalSolution3& a,
+                                const LocalSolution3& b, const CandidateOptions& candidates,
+                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                std::uint64_t index, bool keep_solutions = false);
+
+}  // namespace keel::pcm

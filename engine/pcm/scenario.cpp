@@ -1,0 +1,359 @@
+// Two-robot map-merging scenarios (thesis §2.7.2 and a 3D substitute for §2.7.3); see scenario.hpp.
+#include "pcm/scenario.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/random.hpp"
+
+namespace keel::pcm {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pcm::" + what); }
+
+template <class M>
+bool all_finite(const M& m) {
+  return m.allFinite();
+}
+
+bool finite_pose(const lie::SE2& T) { return T.translation().allFinite() && std::isfinite(T.angle()); }
+bool finite_pose(const lie::SE3& T) { return T.translation().allFinite() && T.rotation().allFinite(); }
+
+// ρ⁻¹: the pose whose residual parameterization (graph/pose_graph.hpp) is r.
+lie::SE2 from_residual(const lie::Vec3& r) { return lie::SE2(r(0), r(1), r(2)); }
+lie::SE3 from_residual(const lie::Vec6& r) { return lie::SE3(lie::SO3::exp(r.tail<3>()), r.head<3>()); }
+
+// Rotation uniform on SO(2) / SO(3) (3D: the unit quaternion of four standard normals, which is uniform on
+// S³).
+lie::SO2 random_rotation(core::Rng& rng, const lie::SE2*) {
+  return lie::SO2(rng.uniform(-lie::kPi, lie::kPi));
+}
+lie::SO3 random_rotation(core::Rng& rng, const lie::SE3*) {
+  double w, x, y, z, n;
+  do {
+    w = rng.normal();
+    x = rng.normal();
+    y = rng.normal();
+    z = rng.normal();
+    n = std::sqrt(w * w + x * x + y * y + z * z);
+  } while (n < 1e-12);
+  w /= n;
+  x /= n;
+  y /= n;
+  z /= n;
+  lie::Mat3 R;
+  R << 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),  //
+      2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),   //
+      2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y);
+  return lie::SO3::from_matrix_unchecked(R);
+}
+
+lie::SE2 make_pose(const lie::SO2& R, const lie::Vec2& t) { return lie::SE2(R, t); }
+lie::SE3 make_pose(const lie::SO3& R, const lie::Vec3& t) { return lie::SE3(R, t); }
+
+int uniform_index(core::Rng& rng, int n) {
+  const int k = static_cast<int>(rng.uniform() * n);
+  return std::min(k, n - 1);
+}
+
+// A draw of N(0, C) from the lower Cholesky factor of C.
+template <class Mat>
+auto normal_sample(core::Rng& rng, const Mat& lower) {
+  typename Eigen::Matrix<double, Mat::RowsAtCompileTime, 1> n;
+  for (int k = 0; k < n.size(); ++k) n(k) = rng.normal();
+  return (lower * n).eval();
+}
+
+template <class G>
+typename G::Jacobian info_from_left(const G& z, const typename G::Jacobian& covariance) {
+  using J = typename G::Jacobian;
+  if (!all_finite(covariance))
+    fail("information_from_left_covariance: the covariance has non-finite entries");
+  const double scale = std::max(1.0, covariance.cwiseAbs().maxCoeff());
+  if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
+    fail("information_from_left_covariance: the covariance is not symmetric");
+  const J Ad_inv = z.inverse().adjoint();  // Ad(z)⁻¹ = Ad(z⁻¹)
+  J residual_cov = Ad_inv * covariance * Ad_inv.transpose();
+  residual_cov = (0.5 * (residual_cov + residual_cov.transpose())).eval();
+  Eigen::LLT<J> llt(residual_cov);
+  if (llt.info() != Eigen::Success)
+    fail("information_from_left_covariance: the covariance is not positive definite");
+  J info = llt.solve(J::Identity());
+  return (0.5 * (info + info.transpose())).eval();
+}
+
+template <class G>
+typename G::Jacobian left_cov_of_inverse(const G& z, const typename G::Jacobian& cov) {
+  // z = exp(n) z̄  ⇒  z⁻¹ = z̄⁻¹ exp(−n) = exp(−Ad(z̄⁻¹) n) z̄⁻¹.
+  const typename G::Jacobian Ad = z.inverse().adjoint();
+  return (Ad * cov * Ad.transpose()).eval();
+}
+
+// Union–find connectivity of a local graph: the first pose not connected to pose 0, or −1.
+template <class Graph>
+int first_unreachable(const Graph& g, int n) {
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& e : g.edges) parent[find(e.i)] = find(e.j);
+  const int root = find(0);
+  for (int v = 1; v < n; ++v)
+    if (find(v) != root) return v;
+  return -1;
+}
+
+template <class G>
+TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>& gt, const SplitOptions& o) {
+  using J = typename G::Jacobian;
+  const int n = static_cast<int>(gt.size());
+  if (!graph.poses.empty() && static_cast<int>(graph.poses.size()) != n)
+    fail("split_two_robots: the ground truth has " + std::to_string(n) + " poses, the graph " +
+         std::to_string(graph.poses.size()));
+  o.validate(n);
+  for (int v = o.first; v < o.last; ++v)
+    if (!finite_pose(gt[v]))
+      fail("split_two_robots: ground-truth pose " + std::to_string(v) + " is not finite");
+
+  TwoRobotScenario<G> s;
+  s.split = o;
+  const G Ga_inv = gt[o.first].inverse(), Gb_inv = gt[o.split].inverse();
+  s.true_anchor = Ga_inv * gt[o.split];
+  const int na = o.split - o.first, nb = o.last - o.split;
+  for (int v = o.first; v < o.split; ++v) s.truth_a.push_back(Ga_inv * gt[v]);
+  for (int v = o.split; v < o.last; ++v) s.truth_b.push_back(Gb_inv * gt[v]);
+  s.truth_a[0] = G();
+  s.truth_b[0] = G();
+
+  // Local graphs: the graph's own initial poses (if any), re-expressed with the robot's first pose at the
+  // identity.
+  auto init_local = [&](PoseGraphOf<G>& g, int begin, int end) {
+    g.source = graph.source;
+    g.has_initial_poses = graph.has_initial_poses;
+    if (graph.poses.empty()) return;
+    const G inv = graph.poses[begin].inverse();
+    for (int v = begin; v < end; ++v) g.poses.push_back(inv * graph.poses[v]);
+    g.poses[0] = G();
+  };
+  init_local(s.robot_a, o.first, o.split);
+  init_local(s.robot_b, o.split, o.last);
+
+  auto side = [&](int v) { return v < o.first || v >= o.last ? -1 : (v < o.split ? 0 : 1); };
+  for (const auto& e : graph.edges) {
+    const int si = side(e.i), sj = side(e.j);
+    if (si < 0 || sj < 0) continue;
+    if (si == sj) {
+      auto le = e;
+      const int base = si == 0 ? o.first : o.split;
+      le.i -= base;
+      le.j -= base;
+      (si == 0 ? s.robot_a : s.robot_b).edges.push_back(le);
+      continue;
+    }
+    if (std::abs(e.i - e.j) ==
+        1) {  // the odometry edge that joined the trajectories: removed, not a loop closure
+      ++s.dropped_odometry;
+      continue;
+    }
+    InterRobotMeasurement<G> m;
+    const J cov = left_covariance_from_information(e.measurement, e.information);
+    if (si == 0) {
+      m.pose_a = e.i - o.first;
+      m.pose_b = e.j - o.split;
+      m.z = e.measurement;
+      m.covariance = cov;
+      s.pool_information.push_back(e.information);
+    } else {  // stored b → a: invert
+      m.pose_a = e.j - o.first;
+      m.pose_b = e.i - o.split;
+      m.z = e.measurement.inverse();
+      m.covariance = left_cov_of_inverse(e.measurement, cov);
+      s.pool_information.push_back(info_from_left(m.z, m.covariance));
+    }
+    s.pool.push_back(m);
+    s.pool_lines.push_back(e.line);
+  }
+  if (const int v = first_unreachable(s.robot_a, na); v >= 0)
+    fail("split_two_robots: robot a's local graph is not connected (its pose " + std::to_string(v) +
+         " = pose " + std::to_string(o.first + v) + " of the dataset is not linked to its pose 0)");
+  if (const int v = first_unreachable(s.robot_b, nb); v >= 0)
+    fail("split_two_robots: robot b's local graph is not connected (its pose " + std::to_string(v) +
+         " = pose " + std::to_string(o.split + v) + " of the dataset is not linked to its pose 0)");
+
+  s.extent_min = s.truth_a[0].translation();
+  s.extent_max = s.extent_min;
+  auto grow = [&](const typename G::Point& p) {
+    s.extent_min = s.extent_min.cwiseMin(p);
+    s.extent_max = s.extent_max.cwiseMax(p);
+  };
+  for (const auto& T : s.truth_a) grow(T.translation());
+  for (const auto& T : s.truth_b) grow((s.true_anchor * T).translation());
+  return s;
+}
+
+template <class G>
+CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptions& o, std::uint64_t seed,
+                              std::uint64_t index) {
+  using J = typename G::Jacobian;
+  using T = typename G::Tangent;
+  using P = typename G::Point;
+  constexpr int kT = P::RowsAtCompileTime;  // translation dimensions (2 or 3)
+  constexpr int kR = G::DoF - kT;           // rotation dimensions (1 or 3)
+  o.validate();
+  const int pool = static_cast<int>(s.pool.size());
+  if (o.num_inliers > pool)
+    fail("generate_candidates: num_inliers (" + std::to_string(o.num_inliers) +
+         ") exceeds the pool of true inter-robot loop closures (" + std::to_string(pool) + ")");
+  if ((o.aliased_groups > 0 && o.aliased_group_size > 0) && pool == 0)
+    fail("generate_candidates: aliased outliers take their noise from the pool, which is empty");
+  const int na = static_cast<int>(s.truth_a.size()), nb = static_cast<int>(s.truth_b.size());
+  if (na < 1 || nb < 1) fail("generate_candidates: the scenario has a robot without poses");
+
+  core::Rng rng = core::Rng::stream(seed, index);
+  CandidateSet<G> out;
+
+  // Inliers: a partial Fisher–Yates shuffle of the pool indices.
+  std::vector<int> idx(static_cast<std::size_t>(pool));
+  std::iota(idx.begin(), idx.end(), 0);
+  for (int k = 0; k < o.num_inliers; ++k) {
+    const int r = k + uniform_index(rng, pool - k);
+    std::swap(idx[k], idx[r]);
+    const int u = idx[k];
+    out.candidates.push_back(s.pool[u]);
+    out.information.push_back(s.pool_information[u]);
+    out.labels.push_back({MeasurementLabel::inlier, -1, u});
+  }
+
+  const P extent = s.extent_max - s.extent_min;
+  auto uniform_point = [&](const P& lo, const P& hi) {
+    P p;
+    for (int d = 0; d < kT; ++d) p(d) = rng.uniform(lo(d), hi(d));
+    return p;
+  };
+
+  // Perceptually aliased groups.
+  for (int g = 0; g < o.aliased_groups; ++g) {
+    const auto R = random_rotation(rng, static_cast<const G*>(nullptr));
+    const G A = make_pose(R, uniform_point(s.extent_min, s.extent_max));
+    out.false_anchors.push_back(A);
+    for (int m = 0; m < o.aliased_group_size; ++m) {
+      const int i = uniform_index(rng, na), k = uniform_index(rng, nb);
+      const J info = s.pool_information[uniform_index(rng, pool)];
+      const J residual_cov = info.ldlt().solve(J::Identity());
+      const J L = Eigen::LLT<J>(0.5 * (residual_cov + residual_cov.transpose())).matrixL();
+      const T r = normal_sample(rng, L);
+      const G z_bar = s.truth_a[i].inverse() * A * s.truth_b[k];
+      InterRobotMeasurement<G> c;
+      c.pose_a = i;
+      c.pose_b = k;
+      c.z = z_bar * from_residual(r).inverse();  // z⁻¹ z̄ = ρ⁻¹(r): the residual at the false alignment is r
+      c.covariance = left_covariance_from_information(c.z, info);
+      out.candidates.push_back(c);
+      out.information.push_back(info);
+      out.labels.push_back({MeasurementLabel::aliased, g, -1});
+    }
+  }
+
+  // Random outliers.
+  for (int m = 0; m < o.random_outliers; ++m) {
+    const int i = uniform_index(rng, na), k = uniform_index(rng, nb);
+    const auto R = random_rotation(rng, static_cast<const G*>(nullptr));
+    const P t = uniform_point(P(-extent), P(extent));
+    // log-uniform scales: σ = exp(U[log min, log max])
+    const double st = std::exp(
+        rng.uniform(std::log(o.random_sigma_translation_min), std::log(o.random_sigma_translation_max)));
+    const double sr =
+        std::exp(rng.uniform(std::log(o.random_sigma_rotation_min), std::log(o.random_sigma_rotation_max)));
+    J info = J::Zero();
+    info.template topLeftCorner<kT, kT>().diagonal().setConstant(1.0 / (st * st));
+    info.template bottomRightCorner<kR, kR>().diagonal().setConstant(1.0 / (sr * sr));
+    InterRobotMeasurement<G> c;
+    c.pose_a = i;
+    c.pose_b = k;
+    c.z = make_pose(R, t);
+    c.covariance = left_covariance_from_information(c.z, info);
+    out.candidates.push_back(c);
+    out.information.push_back(info);
+    out.labels.push_back({MeasurementLabel::random, -1, -1});
+  }
+
+  if (o.shuffle) {
+    const int n = static_cast<int>(out.candidates.size());
+    for (int k = n - 1; k > 0; --k) {
+      const int r = uniform_index(rng, k + 1);
+      std::swap(out.candidates[k], out.candidates[r]);
+      std::swap(out.information[k], out.information[r]);
+      std::swap(out.labels[k], out.labels[r]);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+lie::Mat3 information_from_left_covariance(const lie::SE2& z, const lie::Mat3& covariance) {
+  return info_from_left(z, covariance);
+}
+lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& covariance) {
+  return info_from_left(z, covariance);
+}
+
+void SplitOptions::validate(int num_poses) const {
+  const std::string got = " (first " + std::to_string(first) + ", split " + std::to_string(split) +
+                          ", last " + std::to_string(last) + ", dataset poses " + std::to_string(num_poses) +
+                          ")";
+  if (first < 0) fail("SplitOptions: first must be >= 0" + got);
+  if (split - first < 2) fail("SplitOptions: robot a = [first, split) needs at least 2 poses" + got);
+  if (last - split < 2) fail("SplitOptions: robot b = [split, last) needs at least 2 poses" + got);
+  if (last > num_poses) fail("SplitOptions: last must be <= the number of poses" + got);
+}
+
+TwoRobotScenario2 split_two_robots(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& ground_truth,
+                                   const SplitOptions& options) {
+  return split_impl<lie::SE2>(graph, ground_truth, options);
+}
+TwoRobotScenario3 split_two_robots(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& ground_truth,
+                                   const SplitOptions& options) {
+  return split_impl<lie::SE3>(graph, ground_truth, options);
+}
+
+void CandidateOptions::validate() const {
+  auto count = [](const char* name, int v) {
+    if (v < 0)
+      fail(std::string("CandidateOptions: ") + name + " must be >= 0 (got " + std::to_string(v) + ")");
+  };
+  count("num_inliers", num_inliers);
+  count("aliased_groups", aliased_groups);
+  count("random_outliers", random_outliers);
+  if (aliased_groups > 0 && aliased_group_size < 1)
+    fail("CandidateOptions: aliased_group_size must be >= 1 when aliased_groups > 0 (got " +
+         std::to_string(aliased_group_size) + ")");
+  auto range = [](const char* name, double lo, double hi) {
+    if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0.0 && lo <= hi))
+      fail(std::string("CandidateOptions: ") + name + " range must satisfy 0 < min <= max, finite (got [" +
+           std::to_string(lo) + ", " + std::to_string(hi) + "])");
+  };
+  range("random_sigma_translation", random_sigma_translation_min, random_sigma_translation_max);
+  range("random_sigma_rotation", random_sigma_rotation_min, random_sigma_rotation_max);
+  if (total() < 1) fail("CandidateOptions: no candidates requested (all counts are 0)");
+}
+
+CandidateSet2 generate_candidates(const TwoRobotScenario2& scenario, const CandidateOptions& options,
+                                  std::uint64_t seed, std::uint64_t index) {
+  return generate_impl<lie::SE2>(scenario, options, seed, index);
+}
+CandidateSet3 generate_candidates(const TwoRobotScenario3& scenario, const CandidateOptions& options,
+                                  std::uint64_t seed, std::uint64_t index) {
+  return generate_impl<lie::SE3>(scenario, options, seed, index);
+}
+
+}  // namespace keel::pcm

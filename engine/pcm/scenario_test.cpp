@@ -1,0 +1,352 @@
+// Two-robot scenarios (thesis §2.7.2, scenario.hpp): the split keeps the right edges in the right frames, the
+// pool holds exactly the true a–b loop closures, candidate generation is deterministic with the right counts
+// and labels, and bad inputs give clear std::invalid_argument errors.
+#include <doctest/doctest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "core/random.hpp"
+#include "graph/datasets.hpp"
+#include "graph/isam.hpp"
+#include "graph/trajectory.hpp"
+#include "pcm/consistency.hpp"
+#include "pcm/scenario.hpp"
+#include "pcm/two_robot_test_graphs.hpp"
+
+using namespace keel;
+using namespace keel::pcm;
+using keel::pcm::testing::square_laps;
+
+namespace {
+
+std::string message_of(auto&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no std::invalid_argument)";
+}
+
+template <class M>
+bool symmetric_pd(const M& m) {
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, m.cwiseAbs().maxCoeff())) return false;
+  return Eigen::LLT<M>(m).info() == Eigen::Success;
+}
+
+template <class G>
+double pose_distance(const G& x, const G& y) {
+  return (x.inverse() * y).log().norm();
+}
+
+template <class G>
+void check_split(bool with_poses) {
+  // 3 laps of 40 poses, closures (i, i + 40) at every 2nd pose; noise-free so that the pool can be checked
+  // exactly.
+  const auto syn = square_laps<G>(3, 2, 7, /*noisy=*/false, with_poses);
+  const SplitOptions split{0, 60, 120};
+  const auto s = split_two_robots(syn.graph, syn.truth, split);
+  CHECK(s.truth_a.size() == 60);
+  CHECK(s.truth_b.size() == 60);
+  // robot a: odometry 0..59 (59) + closures i < 20 (10); robot b: odometry (59) + closures 60 ≤ i < 80 (10);
+  // the pool: closures 20 ≤ i < 60 (20); the odometry edge (59, 60) is dropped.
+  CHECK(s.robot_a.edges.size() == 69);
+  CHECK(s.robot_b.edges.size() == 69);
+  CHECK(s.pool.size() == 20);
+  CHECK(s.pool_information.size() == 20);
+  CHECK(s.pool_lines.size() == 20);
+  CHECK(s.dropped_odometry == 1);
+  for (const auto& e : s.robot_a.edges) CHECK((e.i >= 0 && e.i < 60 && e.j >= 0 && e.j < 60));
+  for (const auto& e : s.robot_b.edges) CHECK((e.i >= 0 && e.i < 60 && e.j >= 0 && e.j < 60));
+  CHECK(s.truth_a[0].is_approx(G()));
+  CHECK(s.truth_b[0].is_approx(G()));
+  CHECK(s.true_anchor.is_approx(syn.truth[0].inverse() * syn.truth[60], 1e-12));
+  for (int i = 0; i < 60; ++i) {
+    CHECK(s.truth_a[i].is_approx(syn.truth[0].inverse() * syn.truth[i], 1e-9));
+    CHECK((s.true_anchor * s.truth_b[i]).is_approx(syn.truth[0].inverse() * syn.truth[60 + i], 1e-9));
+  }
+  if (with_poses) {
+    REQUIRE(s.robot_b.poses.size() == 60);
+    CHECK(s.robot_b.poses[0].is_approx(G()));
+    for (int i = 0; i < 60; ++i) CHECK(s.robot_b.poses[i].is_approx(s.truth_b[i], 1e-9));
+  } else {
+    CHECK(s.robot_a.poses.empty());
+  }
+  // Every pool entry is a true loop closure z = (T^a_i)⁻¹ T_ab T^b_k (exact without noise), and its left
+  // covariance is that of its residual information.
+  for (std::size_t u = 0; u < s.pool.size(); ++u) {
+    const auto& m = s.pool[u];
+    CHECK(m.pose_b == m.pose_a + 40 - 60);
+    CHECK(m.z.is_approx(s.truth_a[m.pose_a].inverse() * s.true_anchor * s.truth_b[m.pose_b], 1e-9));
+    CHECK(symmetric_pd(m.covariance));
+    const auto cov = left_covariance_from_information(m.z, s.pool_information[u]);
+    CHECK((cov - m.covariance).cwiseAbs().maxCoeff() < 1e-12);
+  }
+  // Bounding box of the ground truth in a's frame: the square is 10 m × 10 m (3D: tilted a little by the
+  // wobble).
+  const double tol = std::is_same_v<G, lie::SE2> ? 1e-9 : 0.05;
+  CHECK(std::abs(s.extent_min(0)) < tol);
+  CHECK(std::abs(s.extent_max(0) - 10.0) < tol);
+  CHECK(std::abs(s.extent_max(1) - 10.0) < tol);
+  for (const auto& T : s.truth_a)
+    CHECK(((T.translation() - s.extent_min).minCoeff() >= 0 &&
+           (s.extent_max - T.translation()).minCoeff() >= 0));
+}
+
+}  // namespace
+
+TEST_CASE("information_from_left_covariance inverts left_covariance_from_information (2D and 3D)") {
+  auto rng = core::Rng::stream(11, 0);
+  for (int t = 0; t < 20; ++t) {
+    const lie::SE2 z(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-3, 3));
+    lie::Mat3 A;
+    for (int k = 0; k < 9; ++k) A(k) = rng.normal();
+    const lie::Mat3 info = A * A.transpose() + lie::Mat3::Identity();
+    const lie::Mat3 back = information_from_left_covariance(z, left_covariance_from_information(z, info));
+    CHECK((back - info).cwiseAbs().maxCoeff() < 1e-8 * info.cwiseAbs().maxCoeff());
+
+    lie::Vec6 xi;
+    for (int k = 0; k < 6; ++k) xi(k) = rng.normal();
+    const lie::SE3 z3 = lie::SE3::exp(xi);
+    lie::Mat6 B;
+    for (int k = 0; k < 36; ++k) B(k) = rng.normal();
+    const lie::Mat6 info3 = B * B.transpose() + lie::Mat6::Identity();
+    const lie::Mat6 back3 = information_from_left_covariance(z3, left_covariance_from_information(z3, info3));
+    CHECK((back3 - info3).cwiseAbs().maxCoeff() < 1e-8 * info3.cwiseAbs().maxCoeff());
+  }
+  CHECK(message_of([] {
+          information_from_left_covariance(lie::SE2(), lie::Mat3::Zero());
+        }).find("not positive definite") != std::string::npos);
+  lie::Mat3 asym = lie::Mat3::Identity();
+  asym(0, 1) = 0.5;
+  CHECK(message_of([&] { information_from_left_covariance(lie::SE2(), asym); }).find("not symmetric") !=
+        std::string::npos);
+}
+
+TEST_CASE("split_two_robots: edges, frames and the pool of true a-b loop closures (2D and 3D)") {
+  SUBCASE("2D, graph without initial poses") { check_split<lie::SE2>(false); }
+  SUBCASE("2D, graph with initial poses") { check_split<lie::SE2>(true); }
+  SUBCASE("3D") { check_split<lie::SE3>(false); }
+}
+
+TEST_CASE("split_two_robots: a cross edge stored b -> a is inverted into the pool") {
+  auto syn = square_laps<lie::SE2>(3, 2, 7, /*noisy=*/true);
+  // Store one cross closure (20, 60) reversed: (60, 20) with z⁻¹ and the information of the reversed
+  // residual.
+  auto it = std::find_if(syn.graph.edges.begin(), syn.graph.edges.end(),
+                         [](const auto& e) { return e.i == 20 && e.j == 60; });
+  REQUIRE(it != syn.graph.edges.end());
+  const lie::SE2 z = it->measurement;
+  const lie::Mat3 cov = left_covariance_from_information(z, it->information);
+  const lie::SE2 w = z.inverse();
+  const lie::Mat3 Ad = z.adjoint().inverse();  // Ad(z⁻¹)
+  const lie::Mat3 cov_w = Ad * cov * Ad.transpose();
+  it->i = 60;
+  it->j = 20;
+  it->measurement = w;
+  it->information = information_from_left_covariance(w, cov_w);
+  const auto s = split_two_robots(syn.graph, syn.truth, {0, 60, 120});
+  auto m = std::find_if(s.pool.begin(), s.pool.end(),
+                        [](const auto& c) { return c.pose_a == 20 && c.pose_b == 0; });
+  REQUIRE(m != s.pool.end());
+  CHECK(m->z.is_approx(z, 1e-12));
+  CHECK((m->covariance - cov).cwiseAbs().maxCoeff() < 1e-10);
+}
+
+TEST_CASE("split_two_robots: bad inputs give clear errors") {
+  const auto syn = square_laps<lie::SE2>(3, 2, 7);
+  auto msg = [&](SplitOptions o) { return message_of([&] { split_two_robots(syn.graph, syn.truth, o); }); };
+  CHECK(msg({0, 1, 120}).find("robot a = [first, split) needs at least 2 poses") != std::string::npos);
+  CHECK(msg({0, 119, 120}).find("robot b = [split, last) needs at least 2 poses") != std::string::npos);
+  CHECK(msg({0, 60, 121}).find("last must be <= the number of poses") != std::string::npos);
+  CHECK(msg({-1, 60, 120}).find("first must be >= 0") != std::string::npos);
+  CHECK(msg({0, 200, 100}).find("needs at least 2 poses") != std::string::npos);
+
+  auto short_truth = syn.truth;
+  short_truth.pop_back();
+  auto with_poses = syn.graph;
+  with_poses.poses = syn.truth;
+  CHECK(message_of([&] {
+          split_two_robots(with_poses, short_truth, {0, 60, 119});
+        }).find("ground truth has 119") != std::string::npos);
+
+  auto bad_truth = syn.truth;
+  bad_truth[70] = lie::SE2(std::nan(""), 0.0, 0.0);
+  CHECK(message_of([&] {
+          split_two_robots(syn.graph, bad_truth, {0, 60, 120});
+        }).find("pose 70 is not finite") != std::string::npos);
+
+  // Remove the odometry edge (118, 119): pose 119 has no closure (79 is odd), so robot b falls apart.
+  auto cut = syn.graph;
+  cut.edges.erase(std::remove_if(cut.edges.begin(), cut.edges.end(),
+                                 [](const auto& e) { return e.i == 118 && e.j == 119; }),
+                  cut.edges.end());
+  CHECK(message_of([&] {
+          split_two_robots(cut, syn.truth, {0, 60, 120});
+        }).find("robot b's local graph is not connected (its pose 59 = pose 119") != std::string::npos);
+}
+
+TEST_CASE("generate_candidates: deterministic, right counts, labels and members") {
+  const auto syn = square_laps<lie::SE2>(3, 2, 21);
+  const auto s = split_two_robots(syn.graph, syn.truth, {0, 60, 120});
+  REQUIRE(s.pool.size() == 20);
+  CandidateOptions o;
+  o.num_inliers = 10;
+  o.aliased_groups = 2;
+  o.aliased_group_size = 5;
+  o.random_outliers = 30;
+  const auto c = generate_candidates(s, o, 99, 3);
+  REQUIRE(c.candidates.size() == 50);
+  REQUIRE(c.labels.size() == 50);
+  REQUIRE(c.information.size() == 50);
+  CHECK(c.false_anchors.size() == 2);
+  int inl = 0, rnd = 0, group[2] = {0, 0};
+  std::set<int> pool_used;
+  for (std::size_t k = 0; k < c.candidates.size(); ++k) {
+    const auto& m = c.candidates[k];
+    const auto& l = c.labels[k];
+    CHECK((m.pose_a >= 0 && m.pose_a < 60 && m.pose_b >= 0 && m.pose_b < 60));
+    CHECK(symmetric_pd(m.covariance));
+    CHECK((left_covariance_from_information(m.z, c.information[k]) - m.covariance).cwiseAbs().maxCoeff() <
+          1e-12);
+    switch (l.kind) {
+      case MeasurementLabel::inlier:
+        ++inl;
+        CHECK(l.group == -1);
+        REQUIRE((l.pool_index >= 0 && l.pool_index < 20));
+        pool_used.insert(l.pool_index);
+        CHECK(m.z.is_approx(s.pool[l.pool_index].z, 0.0));
+        CHECK(m.pose_a == s.pool[l.pool_index].pose_a);
+        break;
+      case MeasurementLabel::aliased:
+        REQUIRE((l.group == 0 || l.group == 1));
+        ++group[l.group];
+        CHECK(l.pool_index == -1);
+        // Consistent with its group's false anchor: z ≈ (T^a_i)⁻¹ A_g T^b_k up to inlier-sized noise.
+        CHECK(pose_distance(
+                  m.z, s.truth_a[m.pose_a].inverse() * c.false_anchors[l.group] * s.truth_b[m.pose_b]) < 0.6);
+        break;
+      case MeasurementLabel::random:
+        ++rnd;
+        CHECK((l.group == -1 && l.pool_index == -1));
+        break;
+    }
+  }
+  CHECK(inl == 10);
+  CHECK(rnd == 30);
+  CHECK(group[0] == 5);
+  CHECK(group[1] == 5);
+  CHECK(pool_used.size() == 10);  // without replacement
+  CHECK(c.inliers().size() == 10);
+  CHECK(c.all().size() == 50);
+
+  // Deterministic per (seed, index); another index gives another data set.
+  const auto again = generate_candidates(s, o, 99, 3);
+  const auto other = generate_candidates(s, o, 99, 4);
+  bool same = true, differs = false;
+  for (std::size_t k = 0; k < 50; ++k) {
+    same = same && again.candidates[k].z.is_approx(c.candidates[k].z, 0.0) &&
+           again.candidates[k].pose_a == c.candidates[k].pose_a && again.labels[k].kind == c.labels[k].kind;
+    differs = differs || !other.candidates[k].z.is_approx(c.candidates[k].z, 1e-9);
+  }
+  CHECK(same);
+  CHECK(differs);
+
+  // Not shuffled: inliers, then the aliased groups in order, then the random outliers.
+  o.shuffle = false;
+  const auto ordered = generate_candidates(s, o, 99, 3);
+  for (int k = 0; k < 50; ++k) {
+    const auto& l = ordered.labels[k];
+    if (k < 10)
+      CHECK(l.kind == MeasurementLabel::inlier);
+    else if (k < 20)
+      CHECK((l.kind == MeasurementLabel::aliased && l.group == (k - 10) / 5));
+    else
+      CHECK(l.kind == MeasurementLabel::random);
+  }
+
+  // 3D: same counts.
+  const auto syn3 = square_laps<lie::SE3>(3, 2, 21);
+  const auto s3 = split_two_robots(syn3.graph, syn3.truth, {0, 60, 120});
+  const auto c3 = generate_candidates(s3, o, 5, 0);
+  CHECK(c3.candidates.size() == 50);
+  CHECK(c3.inliers().size() == 10);
+  for (const auto& m : c3.candidates) CHECK(symmetric_pd(m.covariance));
+}
+
+TEST_CASE("generate_candidates and CandidateOptions: bad inputs give clear errors") {
+  const auto syn = square_laps<lie::SE2>(3, 2, 21);
+  const auto s = split_two_robots(syn.graph, syn.truth, {0, 60, 120});
+  CandidateOptions o;
+  o.num_inliers = 21;
+  CHECK(message_of([&] {
+          generate_candidates(s, o, 1, 0);
+        }).find("num_inliers (21) exceeds the pool of true inter-robot loop closures (20)") !=
+        std::string::npos);
+  o = {};
+  o.random_outliers = -1;
+  CHECK(message_of([&] { o.validate(); }).find("random_outliers must be >= 0") != std::string::npos);
+  o = {};
+  o.aliased_group_size = 0;
+  CHECK(message_of([&] { o.validate(); }).find("aliased_group_size must be >= 1") != std::string::npos);
+  o = {};
+  o.random_sigma_translation_min = 2.0;
+  o.random_sigma_translation_max = 1.0;
+  CHECK(message_of([&] { o.validate(); }).find("random_sigma_translation range") != std::string::npos);
+  o = {};
+  o.random_sigma_rotation_min = 0.0;
+  CHECK(message_of([&] { o.validate(); }).find("random_sigma_rotation range") != std::string::npos);
+  o = {};
+  o.num_inliers = o.aliased_groups = o.random_outliers = 0;
+  CHECK(message_of([&] { o.validate(); }).find("no candidates") != std::string::npos);
+}
+
+// Real data (skipped with a message when the dataset resolver finds no verified copy): the pool sizes the
+// experiment ch2_table2_1_city and the 3D substitute of Table 2.2 rely on.
+TEST_CASE("real data: City10000 (0, 750, 1500) has 209 true a-b loop closures, sphere2500 halves 50") {
+  graph::PoseGraph2D city;
+  std::vector<lie::SE2> city_truth;
+  graph::PoseGraph3D sphere;
+  std::vector<lie::SE3> sphere_truth;
+  try {
+    city = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
+    city_truth = graph::read_poses_2d(
+        graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
+    sphere = graph::read_isam_3d(graph::resolve_dataset_file("sphere2500", "isam/sphere2500.txt"));
+    sphere_truth =
+        graph::read_isam_ground_truth_3d(
+            graph::resolve_dataset_file("sphere2500", "isam/groundtruth/sphere2500_groundtruth.txt"))
+            .poses;
+  } catch (const graph::DatasetError& e) {
+    MESSAGE("City10000 / sphere2500 not available, test skipped: " << e.what());
+    return;
+  }
+  const auto c = split_two_robots(city, city_truth, {0, 750, 1500});
+  CHECK(c.pool.size() == 209);
+  CHECK(c.dropped_odometry == 1);
+  CHECK(c.robot_a.edges.size() == 749 + 127);
+  CHECK(c.robot_b.edges.size() == 749 + 110);
+  // The pool's measurements agree with the ground truth to within their noise (City10000: σ 0.02 m, 0.01
+  // rad).
+  double worst = 0.0;
+  for (const auto& m : c.pool)
+    worst = std::max(worst,
+                     pose_distance(m.z, c.truth_a[m.pose_a].inverse() * c.true_anchor * c.truth_b[m.pose_b]));
+  CHECK(worst < 0.15);
+  const auto s = split_two_robots(sphere, sphere_truth, {0, 1250, 2500});
+  CHECK(s.pool.size() == 50);
+  for (const auto& m : s.pool) CHECK(m.pose_b + 1250 - m.pose_a == 50);  // every closure joins i and i + 50
+  CandidateOptions o;
+  o.num_inliers = 10;
+  o.random_outliers = 88;  // + 2 × 5 aliased = 98 outliers (Table 2.2)
+  const auto cand = generate_candidates(s, o, 1, 0);
+  CHECK(cand.candidates.size() == 108);
+}

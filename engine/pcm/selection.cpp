@@ -1,0 +1,210 @@
+#include "pcm/selection.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace keel::pcm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void check_gamma(double gamma, const char* who) {
+  if (!(gamma > 0.0) || !std::isfinite(gamma)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s: the consistency threshold gamma must be > 0 and finite (got %g)", who, gamma);
+    throw std::invalid_argument(buf);
+  }
+}
+
+}  // namespace
+
+void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who) {
+  if (Q.n <= 0) {
+    throw std::invalid_argument(std::string(who) + ": the consistency matrix has n = " + std::to_string(Q.n) +
+                                " candidates (need at least 1)");
+  }
+  const std::size_t n = static_cast<std::size_t>(Q.n);
+  if (Q.q.size() != n * n) {
+    throw std::invalid_argument(std::string(who) + ": the consistency matrix has " + std::to_string(Q.q.size()) +
+                                " entries, expected n*n = " + std::to_string(n * n) + " (n = " + std::to_string(Q.n) +
+                                ")");
+  }
+  for (std::size_t u = 0; u < n; ++u) {
+    for (std::size_t v = 0; v < n; ++v) {
+      const double x = Q.q[u * n + v];
+      if (std::isnan(x) || (u != v && x < 0.0)) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%s: q[%zu][%zu] = %g is %s", who, u, v, x,
+                      std::isnan(x) ? "NaN" : "negative (a squared Mahalanobis distance is >= 0)");
+        throw std::invalid_argument(buf);
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// PCM (eq. 2.5 solved as a maximum clique, §2.5)
+
+Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
+                     const CliqueOptions& options) {
+  validate_consistency_matrix(Q, "select_pcm");
+  check_gamma(gamma, "select_pcm");
+  const auto t0 = Clock::now();
+  // Consistency graph of §2.5: edge {u, v} iff q_uv <= γ and q_vu <= γ; a clique is a pairwise internally consistent
+  // set (eq. 2.3), and the maximum clique solves eq. 2.5.
+  const ConsistencyGraph g = ConsistencyGraph::from_threshold(Q.n, Q.q, gamma);
+  const CliqueResult r = maximum_clique(g, algorithm, options);
+  Selection s;
+  s.time_s = seconds_since(t0);
+  s.selected = r.clique;
+  s.upper_bound = r.upper_bound;
+  s.proven_optimal = r.proven_optimal;
+  s.ties = static_cast<int>(r.ties.size());
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// RANSAC (§2.7): every candidate is tried as the single-sample model; its support is the set of candidates likely
+// given it. No pairwise check among the supporters.
+
+Selection select_ransac(const ConsistencyMatrix& Q, double gamma) {
+  validate_consistency_matrix(Q, "select_ransac");
+  check_gamma(gamma, "select_ransac");
+  const auto t0 = Clock::now();
+  const int n = Q.n;
+  int best_u = 0, best_count = -1;
+  for (int u = 0; u < n; ++u) {
+    const double* row = Q.q.data() + static_cast<std::size_t>(u) * n;
+    int count = 1;  // u itself
+    for (int v = 0; v < n; ++v) count += (v != u && row[v] <= gamma) ? 1 : 0;
+    if (count > best_count) {  // strict: ties keep the smallest u
+      best_count = count;
+      best_u = u;
+    }
+  }
+  Selection s;
+  const double* row = Q.q.data() + static_cast<std::size_t>(best_u) * n;
+  for (int v = 0; v < n; ++v)
+    if (v == best_u || row[v] <= gamma) s.selected.push_back(v);
+  s.time_s = seconds_since(t0);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// SCGP (Olson et al. 2005)
+
+std::string to_string(ScgpDiscretization d) {
+  switch (d) {
+    case ScgpDiscretization::dot_product: return "dot_product";
+    case ScgpDiscretization::rayleigh: return "rayleigh";
+  }
+  return "?";
+}
+
+ScgpDiscretization scgp_discretization_from_string(std::string_view s) {
+  if (s == "dot_product") return ScgpDiscretization::dot_product;
+  if (s == "rayleigh") return ScgpDiscretization::rayleigh;
+  throw std::invalid_argument("unknown SCGP discretization '" + std::string(s) +
+                              "' (expected \"dot_product\" or \"rayleigh\")");
+}
+
+void ScgpOptions::validate() const {
+  if (!(affinity_scale > 0.0) || !std::isfinite(affinity_scale)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "ScgpOptions::affinity_scale must be > 0 and finite (got %g)", affinity_scale);
+    throw std::invalid_argument(buf);
+  }
+  if (discretization != ScgpDiscretization::dot_product && discretization != ScgpDiscretization::rayleigh) {
+    throw std::invalid_argument("ScgpOptions::discretization is not a ScgpDiscretization value");
+  }
+  if (!(min_eigen_ratio == 0.0 || (min_eigen_ratio >= 1.0 && std::isfinite(min_eigen_ratio)))) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "ScgpOptions::min_eigen_ratio must be 0 (test off) or a finite ratio >= 1 (got %g)",
+                  min_eigen_ratio);
+    throw std::invalid_argument(buf);
+  }
+}
+
+ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
+  validate_consistency_matrix(Q, "scgp");
+  options.validate();
+  const auto t0 = Clock::now();
+  const int n = Q.n;
+
+  // Pairwise affinity (the "consistency" entries of Olson's adjacency matrix), symmetric by construction.
+  Eigen::MatrixXd A(n, n);
+  for (int u = 0; u < n; ++u) {
+    A(u, u) = 1.0;
+    for (int v = u + 1; v < n; ++v) {
+      const double q = std::max(Q.at(u, v), Q.at(v, u));
+      const double a = std::exp(-q / options.affinity_scale);
+      A(u, v) = a;
+      A(v, u) = a;
+    }
+  }
+
+  ScgpResult out;
+  // λ(v) = vᵀAv / vᵀv is maximised over real v by the dominant eigenvector (eigenvalues come sorted ascending).
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
+  if (eig.info() != Eigen::Success) throw std::runtime_error("scgp: the eigen decomposition of A did not converge");
+  const Eigen::VectorXd& values = eig.eigenvalues();
+  Eigen::VectorXd v1 = eig.eigenvectors().col(n - 1);
+  if (v1.sum() < 0.0) v1 = -v1;  // A >= 0 elementwise: the Perron vector can be taken non-negative
+  out.lambda1 = values(n - 1);
+  out.lambda2 = n >= 2 ? values(n - 2) : 0.0;
+  out.eigen_ratio = out.lambda2 > 0.0 ? out.lambda1 / out.lambda2 : std::numeric_limits<double>::infinity();
+  out.eigenvector.assign(v1.data(), v1.data() + n);
+
+  // Threshold sets S_k: the k largest entries of v₁ (ties: lower index first).
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return v1(a) > v1(b); });
+
+  int best_k = 1;
+  double best_score = -std::numeric_limits<double>::infinity();
+  double prefix = 0.0;  // dot product: Σ v₁ over S_k; rayleigh: wᵀAw over S_k
+  for (int k = 1; k <= n; ++k) {
+    const int i = order[k - 1];
+    double score;
+    if (options.discretization == ScgpDiscretization::dot_product) {
+      prefix += v1(i);
+      score = prefix / std::sqrt(static_cast<double>(k));
+    } else {
+      double cross = 0.0;
+      for (int j = 0; j < k - 1; ++j) cross += A(i, order[j]);
+      prefix += 2.0 * cross + A(i, i);
+      score = prefix / static_cast<double>(k);
+    }
+    if (score > best_score) {  // strict: ties keep the smaller cluster
+      best_score = score;
+      best_k = k;
+    }
+  }
+  std::vector<int> cluster(order.begin(), order.begin() + best_k);
+  std::sort(cluster.begin(), cluster.end());
+  out.cluster_size = best_k;
+  out.confident = options.min_eigen_ratio == 0.0 || out.eigen_ratio >= options.min_eigen_ratio;
+  if (out.confident) out.selection.selected = cluster;
+  out.selection.time_s = seconds_since(t0);
+
+  // Diagnostics (not timed): the average affinity λ(w) of the discretised cluster.
+  double w = 0.0;
+  for (int a : cluster)
+    for (int b : cluster) w += A(a, b);
+  out.objective = w / static_cast<double>(best_k);
+  return out;
+}
+
+Selection select_scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) { return scgp(Q, options).selection; }
+
+}  // namespace keel::pcm

@@ -1,0 +1,410 @@
+#include "pcm/world1d.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "core/parallel.hpp"
+#include "pcm/selection.hpp"
+
+namespace keel::pcm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+[[noreturn]] void fail(const char* fmt, double a, double b = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  throw std::invalid_argument(buf);
+}
+
+// Uniform integer in [lo, hi].
+int uniform_int(core::Rng& rng, int lo, int hi) {
+  const int k = lo + static_cast<int>(rng.uniform() * static_cast<double>(hi - lo + 1));
+  return std::min(k, hi);
+}
+
+void check_gamma(double gamma, const char* who) {
+  if (!(gamma > 0.0) || !std::isfinite(gamma)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s: the consistency threshold gamma must be > 0 and finite (got %g)", who, gamma);
+    throw std::invalid_argument(buf);
+  }
+}
+
+}  // namespace
+
+std::string to_string(MeasurementLabel label) {
+  switch (label) {
+    case MeasurementLabel::inlier: return "inlier";
+    case MeasurementLabel::aliased: return "aliased";
+    case MeasurementLabel::random: return "random";
+  }
+  return "?";
+}
+
+void World1DOptions::validate() const {
+  if (!std::isfinite(x)) fail("World1DOptions::x must be finite (got %g)", x);
+  if (!(sigma_inlier > 0.0) || !std::isfinite(sigma_inlier))
+    fail("World1DOptions::sigma_inlier must be > 0 and finite (got %g)", sigma_inlier);
+  const struct {
+    const char* name;
+    int lo, hi;
+  } counts[] = {{"inliers", inliers_min, inliers_max},
+                {"aliased", aliased_min, aliased_max},
+                {"random", random_min, random_max}};
+  for (const auto& c : counts) {
+    if (c.lo < 0 || c.hi < c.lo) {
+      throw std::invalid_argument(std::string("World1DOptions::") + c.name + "_min/_max: need 0 <= min <= max (got " +
+                                  std::to_string(c.lo) + ", " + std::to_string(c.hi) + ")");
+    }
+  }
+  if (inliers_max + aliased_max + random_max < 1) {
+    throw std::invalid_argument("World1DOptions: the maximum counts of inliers, aliased and random outliers are all 0 "
+                                "(a world needs at least one measurement)");
+  }
+  if (!(outlier_mean_range >= 0.0) || !std::isfinite(outlier_mean_range))
+    fail("World1DOptions::outlier_mean_range must be >= 0 and finite (got %g)", outlier_mean_range);
+  if (!(outlier_sigma_min > 0.0) || !(outlier_sigma_max >= outlier_sigma_min) || !std::isfinite(outlier_sigma_max))
+    fail("World1DOptions::outlier_sigma_min/_max: need 0 < min <= max < inf (got %g, %g)", outlier_sigma_min,
+         outlier_sigma_max);
+}
+
+World1DOptions world1d_options_with_total(const World1DOptions& base, int total, double inlier_fraction,
+                                          double aliased_fraction) {
+  if (total < 1) throw std::invalid_argument("world1d_options_with_total: total must be >= 1 (got " +
+                                             std::to_string(total) + ")");
+  if (!(inlier_fraction >= 0.0 && aliased_fraction >= 0.0 && inlier_fraction + aliased_fraction <= 1.0)) {
+    fail("world1d_options_with_total: need fractions >= 0 with inlier + aliased <= 1 (got %g, %g)", inlier_fraction,
+         aliased_fraction);
+  }
+  World1DOptions o = base;
+  const int n_in = std::min(total, static_cast<int>(std::lround(inlier_fraction * total)));
+  const int n_al = std::min(total - n_in, static_cast<int>(std::lround(aliased_fraction * total)));
+  o.inliers_min = o.inliers_max = n_in;
+  o.aliased_min = o.aliased_max = n_al;
+  o.random_min = o.random_max = total - n_in - n_al;
+  o.validate();
+  return o;
+}
+
+int World1D::count(MeasurementLabel label) const {
+  return static_cast<int>(std::count(labels.begin(), labels.end(), label));
+}
+
+World1D generate_world1d(const World1DOptions& options, core::Rng& rng) {
+  options.validate();
+  World1D w;
+  w.x = options.x;
+  const int n_in = uniform_int(rng, options.inliers_min, options.inliers_max);
+  const int n_al = uniform_int(rng, options.aliased_min, options.aliased_max);
+  const int n_rand = uniform_int(rng, options.random_min, options.random_max);
+  const int m = n_in + n_al + n_rand;
+  w.z.reserve(m);
+  w.sigma.reserve(m);
+  w.labels.reserve(m);
+  auto add = [&](double z, double s, MeasurementLabel l) {
+    w.z.push_back(z);
+    w.sigma.push_back(s);
+    w.labels.push_back(l);
+  };
+  const double R = options.outlier_mean_range;
+  const double smin = options.outlier_sigma_min, smax = options.outlier_sigma_max;
+  // §2.7.1: inliers from a Gaussian of fixed variance centred on x.
+  for (int i = 0; i < n_in; ++i) add(options.x + options.sigma_inlier * rng.normal(), options.sigma_inlier,
+                                     MeasurementLabel::inlier);
+  // One perceptually aliased group: several samples from a single Gaussian with its own (random) mean and variance.
+  w.aliased_mean = rng.uniform(options.x - R, options.x + R);
+  w.aliased_sigma = rng.uniform(smin, smax);
+  for (int i = 0; i < n_al; ++i) add(w.aliased_mean + w.aliased_sigma * rng.normal(), w.aliased_sigma,
+                                     MeasurementLabel::aliased);
+  // Random outliers: each from its own Gaussian with random mean and variance.
+  for (int i = 0; i < n_rand; ++i) {
+    const double mu = rng.uniform(options.x - R, options.x + R);
+    const double s = rng.uniform(smin, smax);
+    add(mu + s * rng.normal(), s, MeasurementLabel::random);
+  }
+  if (options.shuffle) {  // Fisher–Yates with the world's own stream
+    for (int i = m - 1; i > 0; --i) {
+      const int j = uniform_int(rng, 0, i);
+      std::swap(w.z[i], w.z[j]);
+      std::swap(w.sigma[i], w.sigma[j]);
+      std::swap(w.labels[i], w.labels[j]);
+    }
+  }
+  return w;
+}
+
+World1D generate_world1d(const World1DOptions& options, std::uint64_t seed, std::uint64_t world_index) {
+  core::Rng rng = core::Rng::stream(seed, world_index);
+  return generate_world1d(options, rng);
+}
+
+ConsistencyMatrix world1d_consistency_matrix(const World1D& world) {
+  const int m = world.size();
+  if (m == 0) throw std::invalid_argument("world1d_consistency_matrix: the world has no measurements");
+  if (world.sigma.size() != world.z.size()) {
+    throw std::invalid_argument("world1d_consistency_matrix: " + std::to_string(world.z.size()) +
+                                " measurements but " + std::to_string(world.sigma.size()) + " standard deviations");
+  }
+  for (int u = 0; u < m; ++u) {
+    if (!std::isfinite(world.z[u])) fail("world1d_consistency_matrix: measurement z = %g is not finite", world.z[u]);
+    if (!(world.sigma[u] > 0.0) || !std::isfinite(world.sigma[u]))
+      fail("world1d_consistency_matrix: standard deviation %g must be > 0 and finite", world.sigma[u]);
+  }
+  ConsistencyMatrix Q;
+  Q.n = m;
+  Q.dof = 1;
+  Q.q.assign(static_cast<std::size_t>(m) * m, 0.0);
+  for (int u = 0; u < m; ++u) {
+    for (int v = u + 1; v < m; ++v) {
+      const double d = world.z[u] - world.z[v];
+      // Squared Mahalanobis distance of z_u − z_v ~ N(0, σ_u² + σ_v²) under the hypothesis that both observe x.
+      const double q = d * d / (world.sigma[u] * world.sigma[u] + world.sigma[v] * world.sigma[v]);
+      Q.q[static_cast<std::size_t>(u) * m + v] = q;
+      Q.q[static_cast<std::size_t>(v) * m + u] = q;
+    }
+  }
+  return Q;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Combinatorial solution of eq. 2.5
+
+std::string to_string(CombinatorialMethod m) {
+  switch (m) {
+    case CombinatorialMethod::exhaustive: return "exhaustive";
+    case CombinatorialMethod::pruned: return "pruned";
+  }
+  return "?";
+}
+
+CombinatorialMethod combinatorial_method_from_string(const std::string& s) {
+  if (s == "exhaustive") return CombinatorialMethod::exhaustive;
+  if (s == "pruned") return CombinatorialMethod::pruned;
+  throw std::invalid_argument("unknown combinatorial method '" + s + "' (expected \"exhaustive\" or \"pruned\")");
+}
+
+namespace {
+
+struct PrunedSearch {
+  const std::vector<std::uint64_t>& ok;  // ok[u]: candidates consistent with u (both directions), u excluded
+  int best = 0;
+  std::uint64_t best_set = 0;
+  long long optimal = 0;
+  long long nodes = 0;
+
+  // `cand`: candidates above every decided index that are consistent with every member of `cur`.
+  void run(std::uint64_t cur, int size, std::uint64_t cand) {
+    ++nodes;
+    if (size + std::popcount(cand) < best) return;  // cannot reach the best size: prune (keeps ties)
+    if (cand == 0) {
+      if (size > best) {
+        best = size;
+        best_set = cur;
+        optimal = 1;
+      } else if (size == best) {
+        ++optimal;
+      }
+      return;
+    }
+    const int j = std::countr_zero(cand);
+    const std::uint64_t bit = std::uint64_t{1} << j;
+    run(cur | bit, size + 1, cand & ok[j]);  // include j (ok[j] excludes j and every candidate inconsistent with it)
+    run(cur, size, cand & ~bit);             // exclude j
+  }
+};
+
+}  // namespace
+
+CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q, double gamma,
+                                                     CombinatorialMethod method) {
+  validate_consistency_matrix(Q, "max_consistent_set_combinatorial");
+  check_gamma(gamma, "max_consistent_set_combinatorial");
+  const int m = Q.n;
+  const int limit = method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
+  if (m > limit) {
+    throw std::invalid_argument("max_consistent_set_combinatorial (" + to_string(method) + "): m = " +
+                                std::to_string(m) + " measurements exceeds the limit " + std::to_string(limit));
+  }
+  const auto t0 = Clock::now();
+  // ok[u]: bitmask of v ≠ u with q_uv <= γ and q_vu <= γ (the pairwise constraint of eq. 2.5 for s_u = s_v = 1).
+  std::vector<std::uint64_t> ok(m, 0);
+  for (int u = 0; u < m; ++u)
+    for (int v = 0; v < m; ++v)
+      if (v != u && Q.at(u, v) <= gamma && Q.at(v, u) <= gamma) ok[u] |= std::uint64_t{1} << v;
+
+  CombinatorialResult r;
+  std::uint64_t best_set = 0;
+  if (method == CombinatorialMethod::exhaustive) {
+    // Every S ∈ {0,1}^m (as a bitmask), kept when all its pairs are consistent; ‖S‖₀ is maximised.
+    int best = 0;
+    long long optimal = 1;  // the empty set, until a non-empty one is found
+    const std::uint64_t end = std::uint64_t{1} << m;
+    for (std::uint64_t s = 1; s < end; ++s) {
+      const int size = std::popcount(s);
+      if (size < best) continue;  // cannot be a maximum set: skip the pairwise test
+      bool consistent = true;
+      for (std::uint64_t rest = s; rest != 0 && consistent; rest &= rest - 1) {
+        const int u = std::countr_zero(rest);
+        consistent = (s & ~ok[u] & ~(std::uint64_t{1} << u)) == 0;
+      }
+      if (!consistent) continue;
+      if (size > best) {
+        best = size;
+        best_set = s;
+        optimal = 1;
+      } else {
+        ++optimal;
+      }
+    }
+    r.optimal_sets = optimal;
+    r.subsets_visited = static_cast<long long>(end);
+  } else {
+    PrunedSearch search{ok};
+    const std::uint64_t all = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
+    search.run(0, 0, all);
+    best_set = search.best_set;
+    r.optimal_sets = search.optimal;
+    r.subsets_visited = search.nodes;
+  }
+  for (int u = 0; u < m; ++u)
+    if ((best_set >> u) & 1u) r.selected.push_back(u);
+  r.time_s = seconds_since(t0);
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Monte-Carlo study
+
+std::string to_string(Selector1D s) {
+  switch (s) {
+    case Selector1D::combinatorial: return "combinatorial";
+    case Selector1D::pcm_exact: return "pcm_exact";
+    case Selector1D::pcm_heuristic: return "pcm_heuristic";
+    case Selector1D::scgp: return "scgp";
+    case Selector1D::ransac: return "ransac";
+  }
+  return "?";
+}
+
+Selector1D selector1d_from_string(const std::string& s) {
+  for (auto k : {Selector1D::combinatorial, Selector1D::pcm_exact, Selector1D::pcm_heuristic, Selector1D::scgp,
+                 Selector1D::ransac})
+    if (s == to_string(k)) return k;
+  throw std::invalid_argument("unknown selector '" + s +
+                              "' (expected combinatorial, pcm_exact, pcm_heuristic, scgp or ransac)");
+}
+
+void World1DStudyOptions::validate() const {
+  world.validate();
+  check_gamma(pcm_gamma, "World1DStudyOptions::pcm_gamma");
+  check_gamma(ransac_gamma, "World1DStudyOptions::ransac_gamma");
+  scgp.validate();
+  if (worlds < 1) throw std::invalid_argument("World1DStudyOptions::worlds must be >= 1");
+  if (selectors.empty()) throw std::invalid_argument("World1DStudyOptions::selectors is empty");
+  for (std::size_t i = 0; i < selectors.size(); ++i)
+    for (std::size_t j = i + 1; j < selectors.size(); ++j)
+      if (selectors[i] == selectors[j])
+        throw std::invalid_argument("World1DStudyOptions::selectors lists '" + to_string(selectors[i]) + "' twice");
+  const bool comb = std::find(selectors.begin(), selectors.end(), Selector1D::combinatorial) != selectors.end();
+  const int max_m = world.inliers_max + world.aliased_max + world.random_max;
+  const int limit = combinatorial == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax
+                                                                     : kCombinatorialPrunedMax;
+  if (comb && max_m > limit) {
+    throw std::invalid_argument("World1DStudyOptions: worlds of up to " + std::to_string(max_m) +
+                                " measurements exceed the " + to_string(combinatorial) +
+                                " combinatorial limit of " + std::to_string(limit));
+  }
+}
+
+const std::vector<World1DOutcome>& World1DStudy::of(Selector1D s) const {
+  for (std::size_t k = 0; k < selectors.size(); ++k)
+    if (selectors[k] == s) return outcome[k];
+  throw std::invalid_argument("World1DStudy: selector '" + to_string(s) + "' was not run");
+}
+
+World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progress* progress) {
+  options.validate();
+  const std::size_t n = options.worlds, k = options.selectors.size();
+  World1DStudy study;
+  study.selectors = options.selectors;
+  study.measurements.assign(n, 0);
+  study.inliers.assign(n, 0);
+  study.outcome.assign(k, std::vector<World1DOutcome>(n));
+  core::parallel_for(
+      n,
+      [&](std::size_t i) {
+        const World1D w = generate_world1d(options.world, options.seed, options.stream_base + i);
+        const ConsistencyMatrix Q = world1d_consistency_matrix(w);  // shared by every method, not timed
+        study.measurements[i] = w.size();
+        study.inliers[i] = w.count(MeasurementLabel::inlier);
+        for (std::size_t s = 0; s < k; ++s) {
+          std::vector<int> selected;
+          double t = 0.0;
+          switch (options.selectors[s]) {
+            case Selector1D::combinatorial: {
+              auto r = max_consistent_set_combinatorial(Q, options.pcm_gamma, options.combinatorial);
+              selected = std::move(r.selected);
+              t = r.time_s;
+              break;
+            }
+            case Selector1D::pcm_exact:
+            case Selector1D::pcm_heuristic: {
+              const auto algo = options.selectors[s] == Selector1D::pcm_exact ? CliqueAlgorithm::exact
+                                                                              : CliqueAlgorithm::heuristic;
+              auto r = select_pcm(Q, options.pcm_gamma, algo);
+              selected = std::move(r.selected);
+              t = r.time_s;
+              break;
+            }
+            case Selector1D::scgp: {
+              auto r = select_scgp(Q, options.scgp);
+              selected = std::move(r.selected);
+              t = r.time_s;
+              break;
+            }
+            case Selector1D::ransac: {
+              auto r = select_ransac(Q, options.ransac_gamma);
+              selected = std::move(r.selected);
+              t = r.time_s;
+              break;
+            }
+          }
+          World1DOutcome& o = study.outcome[s][i];
+          o.size = static_cast<int>(selected.size());
+          o.inconsistent_pairs = count_inconsistent_pairs(Q, selected, options.pcm_gamma);
+          for (int u : selected) o.inliers += w.labels[u] == MeasurementLabel::inlier;
+          o.time_s = t;
+        }
+      },
+      options.threads, progress);
+  return study;
+}
+
+int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, double gamma) {
+  validate_consistency_matrix(Q, "count_inconsistent_pairs");
+  if (std::isnan(gamma)) throw std::invalid_argument("count_inconsistent_pairs: gamma is NaN");
+  std::vector<char> seen(Q.n, 0);
+  for (int u : set) {
+    if (u < 0 || u >= Q.n) {
+      throw std::invalid_argument("count_inconsistent_pairs: index " + std::to_string(u) + " is out of range [0, " +
+                                  std::to_string(Q.n) + ")");
+    }
+    if (seen[u]) throw std::invalid_argument("count_inconsistent_pairs: index " + std::to_string(u) + " repeated");
+    seen[u] = 1;
+  }
+  int bad = 0;
+  for (std::size_t a = 0; a < set.size(); ++a)
+    for (std::size_t b = a + 1; b < set.size(); ++b)
+      if (Q.at(set[a], set[b]) > gamma || Q.at(set[b], set[a]) > gamma) ++bad;
+  return bad;
+}
+
+}  // namespace keel::pcm

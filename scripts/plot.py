@@ -39,6 +39,11 @@ CONTRACT (the "figures" key of latest.json)
           {"type": "line", "x": [...], "y": [...],
            "label": str, "color": str, "marker": str, "linestyle": str,
            "linewidth": num, "alpha": num},
+                                  # line and scatter may give "y_timings":
+                                  #   [names...] instead of "y": the values are
+                                  #   looked up in the same file's "timings_s"
+                                  #   object (wall times, kept out of the figure
+                                  #   data so result files stay comparable)
           {"type": "scatter", "x": [...], "y": [...],
            "label": str, "color": str, "size": num (points^2), "alpha": num,
            "marker": str,
@@ -131,10 +136,10 @@ FIGURE_KEYS = {"file", "title", "layout", "size", "panels"}
 PANEL_KEYS = {"title", "xlabel", "ylabel", "xscale", "yscale", "aspect", "xlim",
               "ylim", "legend", "colorbar", "layers"}
 LAYER_KEYS = {
-    "line": {"type", "x", "y", "label", "color", "marker", "linestyle",
-             "linewidth", "alpha"},
-    "scatter": {"type", "x", "y", "label", "color", "size", "alpha", "marker",
-                "c", "cmap", "vmin", "vmax"},
+    "line": {"type", "x", "y", "y_timings", "label", "color", "marker",
+             "linestyle", "linewidth", "alpha"},
+    "scatter": {"type", "x", "y", "y_timings", "label", "color", "size",
+                "alpha", "marker", "c", "cmap", "vmin", "vmax"},
     "segments": {"type", "x0", "y0", "x1", "y1", "c", "cmap", "vmin", "vmax",
                  "color", "linewidth", "alpha", "label"},
     "hline": {"type", "y", "label", "color", "linestyle", "linewidth", "alpha"},
@@ -262,6 +267,27 @@ def get_pair(obj, key, ctx, ints=False, positive=False, increasing=False):
     return (int(v[0]), int(v[1])) if ints else (float(v[0]), float(v[1]))
 
 
+def get_timings_y(obj, ctx, timings):
+    """The "y_timings" names of a layer resolved against the file's timings_s."""
+    c = ctx.sub("y_timings")
+    if "y" in obj:
+        c.fail("give either \"y\" or \"y_timings\", not both")
+    names = obj["y_timings"]
+    if not isinstance(names, list):
+        c.fail("expected a list of timing names, got %s" % _typename(names))
+    out = []
+    for i, name in enumerate(names):
+        if not isinstance(name, str):
+            c.fail("element [%d] is not a string: %s %r" % (i, _typename(name), name))
+        if name not in timings:
+            c.fail("element [%d]: %r is not in \"timings_s\"" % (i, name))
+        v = timings[name]
+        if not _is_num(v) or not math.isfinite(v):
+            c.fail("element [%d]: timings_s[%r] is not a finite number: %r" % (i, name, v))
+        out.append(float(v))
+    return out
+
+
 def same_len(layer, keys, ctx, ref):
     n = len(layer[ref])
     for k in keys:
@@ -269,7 +295,7 @@ def same_len(layer, keys, ctx, ref):
             ctx.sub(k).fail("length %d != len(%s) %d" % (len(layer[k]), ref, n))
 
 
-def validate_layer(raw, ctx):
+def validate_layer(raw, ctx, timings=None):
     if not isinstance(raw, dict):
         ctx.fail("layer must be a JSON object, got %s" % _typename(raw))
     if "type" not in raw:
@@ -291,8 +317,14 @@ def validate_layer(raw, ctx):
     if t in ("line", "scatter"):
         L["marker"] = get_marker(raw, "marker", ctx)
         L["x"] = get_array(raw, "x", ctx)
-        L["y"] = get_array(raw, "y", ctx)
-        same_len(L, ["y"], ctx, "x")
+        if "y_timings" in raw:
+            L["y"] = get_timings_y(raw, ctx, timings or {})
+            if len(L["y"]) != len(L["x"]):
+                ctx.sub("y_timings").fail("length %d != len(x) %d"
+                                          % (len(L["y"]), len(L["x"])))
+        else:
+            L["y"] = get_array(raw, "y", ctx)
+            same_len(L, ["y"], ctx, "x")
         L["empty"] = len(L["x"]) == 0
     if t in ("scatter", "segments"):
         L["c"] = get_array(raw, "c", ctx, required=False)
@@ -326,7 +358,7 @@ def validate_layer(raw, ctx):
     return L
 
 
-def validate_panel(raw, ctx):
+def validate_panel(raw, ctx, timings=None):
     check_keys(raw, PANEL_KEYS, ctx, "panel")
     P = {
         "title": get_str(raw, "title", ctx),
@@ -349,7 +381,7 @@ def validate_panel(raw, ctx):
     layers = raw["layers"]
     if not isinstance(layers, list):
         ctx.sub("layers").fail("expected a list, got %s" % _typename(layers))
-    P["layers"] = [validate_layer(l, ctx.sub("layers").sub(i))
+    P["layers"] = [validate_layer(l, ctx.sub("layers").sub(i), timings)
                    for i, l in enumerate(layers)]
     if P["colorbar"] is not None and not any(
             l.get("c") is not None for l in P["layers"]):
@@ -357,7 +389,7 @@ def validate_panel(raw, ctx):
     return P
 
 
-def validate_figure(raw, ctx):
+def validate_figure(raw, ctx, timings=None):
     check_keys(raw, FIGURE_KEYS, ctx, "figure")
     if "file" not in raw:
         ctx.sub("file").fail("missing required key")
@@ -385,7 +417,7 @@ def validate_figure(raw, ctx):
     F["layout"] = layout
     size = get_pair(raw, "size", ctx, positive=True)
     F["size"] = size if size is not None else (5.5 * layout[1], 4.5 * layout[0])
-    F["panels"] = [validate_panel(p, ctx.sub("panels").sub(i))
+    F["panels"] = [validate_panel(p, ctx.sub("panels").sub(i), timings)
                    for i, p in enumerate(panels)]
     return F
 
@@ -407,7 +439,11 @@ def load_figures(json_path):
         return []
     if not isinstance(figs, list):
         ctx.sub("figures").fail("expected a list, got %s" % _typename(figs))
-    return [validate_figure(f, ctx.sub("figures").sub(i)) for i, f in enumerate(figs)]
+    timings = doc.get("timings_s", {})
+    if not isinstance(timings, dict):
+        ctx.sub("timings_s").fail("expected an object, got %s" % _typename(timings))
+    return [validate_figure(f, ctx.sub("figures").sub(i), timings)
+            for i, f in enumerate(figs)]
 
 
 # ----------------------------------------------------------------------------

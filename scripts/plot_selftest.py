@@ -171,9 +171,14 @@ def good_doc():
                 "panels": [{"layers": [
                     {"type": "line", "x": [0, 1, 2, 3], "y": [0, 1, 4, 9]},
                     {"type": "segments", "x0": [0, 1], "y0": [0, 1],
-                     "x1": [1, 2], "y1": [2, 3], "color": "C2"}]}],
+                     "x1": [1, 2], "y1": [2, 3], "color": "C2"},
+                    {"type": "line", "x": [0, 1, 2], "label": "wall time",
+                     "y_timings": ["solve.n0", "solve.n1", "solve.n2"],
+                     "marker": "s"}]}],
             },
         ],
+        "timings_s": {"solve.n0": 0.5, "solve.n1": 2.0, "solve.n2": 6.5,
+                      "other": 1.0},
     }
 
 
@@ -219,6 +224,15 @@ MALFORMED = [
      ["figures[1].panels[0].colorbar"]),
     ("bad_dup_file", lambda d: d["figures"][1].update(file="selftest_all_layers.png"),
      ["figures[1].file", "also written"]),
+    ("bad_timing_name", lambda d: L(d, 1, 0, 2)["y_timings"].__setitem__(1, "solve.nX"),
+     ["bad_timing_name/latest.json", "figures[1].panels[0].layers[2].y_timings",
+      "'solve.nX' is not in"]),
+    ("bad_timing_both", lambda d: L(d, 1, 0, 2).update(y=[1, 2, 3]),
+     ["figures[1].panels[0].layers[2].y_timings", "not both"]),
+    ("bad_timing_len", lambda d: L(d, 1, 0, 2)["y_timings"].pop(),
+     ["figures[1].panels[0].layers[2].y_timings", "length 2 != len(x) 3"]),
+    ("bad_timing_missing", lambda d: d.pop("timings_s"),
+     ["figures[1].panels[0].layers[2].y_timings", "'solve.n0' is not in"]),
 ]
 
 

@@ -93,7 +93,11 @@ json layer_json(const Layer& l) {
   };
   if (l.type == "line" || l.type == "scatter") {
     j["x"] = numbers(l.x);
-    j["y"] = numbers(l.y);
+    if (l.y_timings.empty()) {
+      j["y"] = numbers(l.y);
+    } else {
+      j["y_timings"] = l.y_timings;
+    }
   }
   arr("x0", l.x0);
   arr("y0", l.y0);

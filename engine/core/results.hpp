@@ -17,6 +17,9 @@ namespace keel::core {
 struct Layer {
   std::string type = "line";
   std::vector<double> x, y;              // line, scatter
+  std::vector<std::string> y_timings;    // line, scatter: instead of y, names of this run's timings (Results::timing)
+                                         // to plot; wall times stay out of the figure data, so result files remain
+                                         // identical across thread counts and timings are never diffed
   std::vector<double> x0, y0, x1, y1;    // segments
   std::vector<double> c;                 // scatter/segments colour values
   std::optional<double> value;           // hline: y; vline: x

@@ -77,6 +77,7 @@ using keel::pcm::World1DOutcome;
 using keel::pcm::World1DStudy;
 using keel::pcm::World1DStudyOptions;
 // scenarios and map merging (helper B)
+using keel::pcm::resample_measurements;
 using keel::pcm::absolute_error;
 using keel::pcm::accepted_candidates;
 using keel::pcm::anchor_init_from_string;

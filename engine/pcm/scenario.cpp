@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "core/random.hpp"
@@ -250,7 +251,7 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
       const J info = s.pool_information[uniform_index(rng, pool)];
       const J residual_cov = info.ldlt().solve(J::Identity());
       const J L = Eigen::LLT<J>(0.5 * (residual_cov + residual_cov.transpose())).matrixL();
-      const T r = normal_sample(rng, L);
+      const T r = o.aliased_noise_scale * normal_sample(rng, L);
       const G z_bar = s.truth_a[i].inverse() * A * s.truth_b[k];
       InterRobotMeasurement<G> c;
       c.pose_a = i;
@@ -296,6 +297,40 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
     }
   }
   return out;
+}
+
+// A residual draw r ~ N(0, s² Ω⁻¹) and the measurement X ρ⁻¹(r)⁻¹ whose residual at the true relative pose X is r.
+template <class G>
+G redraw(core::Rng& rng, const G& X, const typename G::Jacobian& info, double scale) {
+  using J = typename G::Jacobian;
+  const J cov = info.ldlt().solve(J::Identity());
+  const J L = Eigen::LLT<J>(0.5 * (cov + cov.transpose())).matrixL();
+  const typename G::Tangent r = scale * normal_sample(rng, L);
+  return X * from_residual(r).inverse();
+}
+
+template <class G, class Graph>
+void resample_graph(Graph& g, const std::vector<G>& truth, double scale, core::Rng rng) {
+  for (auto& e : g.edges) e.measurement = redraw(rng, G(truth[e.i].inverse() * truth[e.j]), e.information, scale);
+}
+
+template <class G>
+void resample_impl(TwoRobotScenario<G>& s, double scale, std::uint64_t seed) {
+  if (!(std::isfinite(scale) && scale > 0.0))
+    fail("resample_measurements: noise_scale must be > 0 and finite (got " + std::to_string(scale) + ")");
+  if constexpr (std::is_same_v<G, lie::SE2>) {
+    if (!s.robot_a.landmark_measurements.empty() || !s.robot_b.landmark_measurements.empty())
+      fail("resample_measurements: graphs with landmark measurements are not supported");
+  }
+  resample_graph<G>(s.robot_a, s.truth_a, scale, core::Rng::stream(seed, 0));
+  resample_graph<G>(s.robot_b, s.truth_b, scale, core::Rng::stream(seed, 1));
+  core::Rng rng = core::Rng::stream(seed, 2);
+  for (std::size_t u = 0; u < s.pool.size(); ++u) {
+    auto& c = s.pool[u];
+    const G X = s.truth_a[c.pose_a].inverse() * s.true_anchor * s.truth_b[c.pose_b];
+    c.z = redraw(rng, X, s.pool_information[u], scale);
+    c.covariance = left_covariance_from_information(c.z, s.pool_information[u]);
+  }
 }
 
 }  // namespace
@@ -344,7 +379,17 @@ void CandidateOptions::validate() const {
   };
   range("random_sigma_translation", random_sigma_translation_min, random_sigma_translation_max);
   range("random_sigma_rotation", random_sigma_rotation_min, random_sigma_rotation_max);
+  if (!(std::isfinite(aliased_noise_scale) && aliased_noise_scale > 0.0))
+    fail("CandidateOptions: aliased_noise_scale must be > 0 and finite (got " + std::to_string(aliased_noise_scale) +
+         ")");
   if (total() < 1) fail("CandidateOptions: no candidates requested (all counts are 0)");
+}
+
+void resample_measurements(TwoRobotScenario2& scenario, double noise_scale, std::uint64_t seed) {
+  resample_impl(scenario, noise_scale, seed);
+}
+void resample_measurements(TwoRobotScenario3& scenario, double noise_scale, std::uint64_t seed) {
+  resample_impl(scenario, noise_scale, seed);
 }
 
 CandidateSet2 generate_candidates(const TwoRobotScenario2& scenario, const CandidateOptions& options,

@@ -140,6 +140,8 @@ struct CandidateOptions {
   double random_sigma_rotation_min =
       0.005;  // rad; σ_r of a random outlier, log-uniform on [min, max] (0 < min ≤ max)
   double random_sigma_rotation_max = 1.0;
+  double aliased_noise_scale = 1.0;  // aliased members: residual r ~ N(0, s² Ω⁻¹) with this s (> 0); 1 = like an
+                                     // inlier of the dataset; < 1 with resample_measurements() (same s)
   bool shuffle = true;  // random candidate order (else: inliers, aliased groups in order, random outliers)
   int total() const { return num_inliers + aliased_groups * aliased_group_size + random_outliers; }
   // Throws std::invalid_argument naming the violated constraint (negative counts, bad σ ranges, no
@@ -176,5 +178,15 @@ CandidateSet2 generate_candidates(const TwoRobotScenario2& scenario, const Candi
                                   std::uint64_t seed, std::uint64_t index);
 CandidateSet3 generate_candidates(const TwoRobotScenario3& scenario, const CandidateOptions& options,
                                   std::uint64_t seed, std::uint64_t index);
+
+// Replaces every measurement of both local graphs and of the pool by a fresh draw around the ground truth, keeping
+// the declared information Ω: edge (i, j) gets z = X ρ⁻¹(r)⁻¹ with X the true relative pose and r ~ N(0, s² Ω⁻¹)
+// (so its residual at the truth is exactly r); pool edges are redrawn about X = (T^a_i)⁻¹ T_ab T^b_k and their left
+// covariances recomputed. s = noise_scale > 0: 1 draws a fresh realisation at the stated noise level, s < 1 makes the
+// measurements less noisy than their covariance claims (normalized χ² ≈ s²) — the regime the thesis's Table 2.1 χ²
+// values (0.013–0.018) indicate. Deterministic: robot a, robot b and the pool draw from Rng::stream(seed, 0/1/2).
+// Throws std::invalid_argument for s ≤ 0 or non-finite, or a graph with landmark measurements (not supported).
+void resample_measurements(TwoRobotScenario2& scenario, double noise_scale, std::uint64_t seed);
+void resample_measurements(TwoRobotScenario3& scenario, double noise_scale, std::uint64_t seed);
 
 }  // namespace keel::pcm

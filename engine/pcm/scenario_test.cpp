@@ -350,3 +350,66 @@ TEST_CASE("real data: City10000 (0, 750, 1500) has 209 true a-b loop closures, s
   const auto cand = generate_candidates(s, o, 1, 0);
   CHECK(cand.candidates.size() == 108);
 }
+
+namespace {
+
+// Mean whitened squared residual rᵀΩr (per degree of freedom) of every edge of a graph at the truth, and of the pool.
+template <class G>
+double mean_chi2_per_dof(const TwoRobotScenario<G>& s) {
+  double sum = 0.0;
+  int dof = 0;
+  auto add = [&](const G& z, const G& X, const typename G::Jacobian& info) {
+    const G E = z.inverse() * X;
+    typename G::Tangent r;
+    if constexpr (std::is_same_v<G, lie::SE2>) {
+      r << E.translation(), E.log()(2);  // log's θ is wrapped to (−π, π]
+    } else {
+      r << E.translation(), E.log().template tail<3>();  // (t, Log R)
+    }
+    sum += r.dot(info * r);
+    dof += G::DoF;
+  };
+  for (const auto& e : s.robot_a.edges) add(e.measurement, s.truth_a[e.i].inverse() * s.truth_a[e.j], e.information);
+  for (const auto& e : s.robot_b.edges) add(e.measurement, s.truth_b[e.i].inverse() * s.truth_b[e.j], e.information);
+  for (std::size_t u = 0; u < s.pool.size(); ++u) {
+    const auto& c = s.pool[u];
+    add(c.z, s.truth_a[c.pose_a].inverse() * s.true_anchor * s.truth_b[c.pose_b], s.pool_information[u]);
+  }
+  return sum / dof;
+}
+
+template <class G>
+void check_resample() {
+  const auto syn = square_laps<G>(6, 2, 5);
+  auto s = split_two_robots(syn.graph, syn.truth, {0, 120, 240});
+  auto s1 = s, s2 = s, tiny = s;
+  resample_measurements(s1, 1.0, 7);
+  resample_measurements(s2, 0.3, 7);
+  resample_measurements(tiny, 1e-9, 7);
+  MESSAGE("chi2/dof at the truth: scale 1 " << mean_chi2_per_dof(s1) << ", scale 0.3 " << mean_chi2_per_dof(s2));
+  CHECK(mean_chi2_per_dof(s1) == doctest::Approx(1.0).epsilon(0.1));            // ~1500 residual dofs
+  CHECK(mean_chi2_per_dof(s2) == doctest::Approx(0.09).epsilon(0.1));           // s²
+  CHECK(mean_chi2_per_dof(tiny) < 1e-15);
+  // The pool's left covariance is recomputed at the new measurement.
+  for (std::size_t u = 0; u < s2.pool.size(); ++u)
+    CHECK((s2.pool[u].covariance - left_covariance_from_information(s2.pool[u].z, s2.pool_information[u]))
+              .cwiseAbs()
+              .maxCoeff() == 0.0);
+  // Deterministic, and nothing but the measurements changes.
+  auto again = s;
+  resample_measurements(again, 1.0, 7);
+  CHECK(again.robot_a.edges.size() == s1.robot_a.edges.size());
+  for (std::size_t k = 0; k < s1.robot_a.edges.size(); ++k) {
+    CHECK(again.robot_a.edges[k].measurement.matrix() == s1.robot_a.edges[k].measurement.matrix());
+    CHECK(again.robot_a.edges[k].information == s.robot_a.edges[k].information);
+  }
+  CHECK_THROWS_AS(resample_measurements(again, 0.0, 7), std::invalid_argument);
+  CHECK_THROWS_AS(resample_measurements(again, std::nan(""), 7), std::invalid_argument);
+}
+
+}  // namespace
+
+TEST_CASE("resample_measurements: residuals at the truth follow N(0, s² Ω⁻¹), deterministic (2D and 3D)") {
+  SUBCASE("2D") { check_resample<lie::SE2>(); }
+  SUBCASE("3D") { check_resample<lie::SE3>(); }
+}

@@ -1,0 +1,113 @@
+// Shared glue of the two-robot map-merging experiments of chapter 2 (Tables 2.1–2.2): timing, number formatting,
+// summary statistics and the [params] readers for the split, the candidate generator and the method list. Include
+// after `import keel.core; import keel.pcm;` (DESIGN rule 4); it imports nothing itself. Drivers call engine
+// functions only; no linear algebra here.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace keel::experiments {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A number as printf's %g (for check descriptions).
+inline std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+struct MeanStd {
+  double mean = 0.0, std = 0.0, max = 0.0;
+};
+// Mean, sample standard deviation (n − 1) and maximum; all zero for an empty vector.
+inline MeanStd mean_std(const std::vector<double>& v) {
+  MeanStd s;
+  if (v.empty()) return s;
+  s.max = v[0];
+  for (double x : v) {
+    s.mean += x;
+    s.max = std::max(s.max, x);
+  }
+  s.mean /= static_cast<double>(v.size());
+  if (v.size() > 1) {
+    for (double x : v) s.std += (x - s.mean) * (x - s.mean);
+    s.std = std::sqrt(s.std / static_cast<double>(v.size() - 1));
+  }
+  return s;
+}
+
+struct MethodConfig {
+  keel::pcm::MergeMethod method;
+  std::string label;  // for figures and tables
+};
+
+// `methods = [names]` and one [params.method.<name>] table each: label, kind, and optionally p, composition,
+// dcs_phi, dcs_accept_scale, scgp_affinity_scale, scgp_discretization (defaults: MergeMethod's).
+inline std::vector<MethodConfig> read_methods(const keel::core::ConfigTable& p) {
+  namespace core = keel::core;
+  namespace pcm = keel::pcm;
+  std::vector<MethodConfig> out;
+  const auto table = p.table("method");
+  for (const auto& name : p.strings("methods")) {
+    if (!table.has(name))
+      throw core::ConfigError(p.where("methods") + ": no [params.method." + name + "] table");
+    const auto t = table.table(name);
+    MethodConfig m;
+    m.method.name = name;
+    m.label = t.string("label");
+    m.method.kind = pcm::merge_method_kind_from_string(t.string("kind"));
+    m.method.p = t.number_or("p", m.method.p);
+    m.method.composition = pcm::composition_from_string(t.string_or("composition", "joint"));
+    m.method.dcs_phi = t.number_or("dcs_phi", m.method.dcs_phi);
+    m.method.dcs_accept_scale = t.number_or("dcs_accept_scale", m.method.dcs_accept_scale);
+    m.method.scgp.affinity_scale = t.number_or("scgp_affinity_scale", m.method.scgp.affinity_scale);
+    if (t.has("scgp_discretization"))
+      m.method.scgp.discretization = pcm::scgp_discretization_from_string(t.string("scgp_discretization"));
+    m.method.validate();
+    out.push_back(m);
+  }
+  return out;
+}
+
+// A `[min, max]` pair of numbers.
+inline std::pair<double, double> range_of(const keel::core::ConfigTable& p, const char* key) {
+  const auto v = p.numbers(key);
+  if (v.size() != 2) throw keel::core::ConfigError(p.where(key) + ": expected [min, max]");
+  return {v[0], v[1]};
+}
+
+// `first`, `split`, `last`: robot a = poses [first, split), robot b = [split, last).
+inline keel::pcm::SplitOptions read_split(const keel::core::ConfigTable& p) {
+  keel::pcm::SplitOptions split;
+  split.first = static_cast<int>(p.integer("first"));
+  split.split = static_cast<int>(p.integer("split"));
+  split.last = static_cast<int>(p.integer("last"));
+  return split;
+}
+
+// `num_inliers`, `aliased_groups`, `aliased_group_size`, `random_outliers`, `random_sigma_translation` and
+// `random_sigma_rotation` ([min, max]); validated.
+inline keel::pcm::CandidateOptions read_candidate_options(const keel::core::ConfigTable& p) {
+  keel::pcm::CandidateOptions copt;
+  copt.num_inliers = static_cast<int>(p.integer("num_inliers"));
+  copt.aliased_groups = static_cast<int>(p.integer("aliased_groups"));
+  copt.aliased_group_size = static_cast<int>(p.integer("aliased_group_size"));
+  copt.random_outliers = static_cast<int>(p.integer("random_outliers"));
+  std::tie(copt.random_sigma_translation_min, copt.random_sigma_translation_max) =
+      range_of(p, "random_sigma_translation");
+  std::tie(copt.random_sigma_rotation_min, copt.random_sigma_rotation_max) = range_of(p, "random_sigma_rotation");
+  copt.validate();
+  return copt;
+}
+
+}  // namespace keel::experiments

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -169,8 +170,9 @@ TrajectoryError relative_error(const std::vector<lie::SE3>& estimate, const std:
 // (Fig. 2.4).
 struct Classification {
   int tp = 0, fp = 0, fn = 0, tn = 0;
-  double tpr() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 0.0; }
-  double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : 0.0; }
+  // NaN when undefined (no inliers / no outliers among the labels): a rate of 0 would read as a result.
+  double tpr() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : std::numeric_limits<double>::quiet_NaN(); }
+  double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : std::numeric_limits<double>::quiet_NaN(); }
 };
 // Throws std::invalid_argument for an index out of range or repeated.
 Classification classify(const std::vector<int>& selected, const std::vector<CandidateLabel>& labels);

@@ -23,6 +23,7 @@ namespace core = keel::core;
 namespace pcm = keel::pcm;
 using keel::experiments::fmt;
 using keel::experiments::mean_std;
+using keel::experiments::merged_maps_figure;
 using keel::experiments::MeanStd;
 using keel::experiments::read_candidate_options;
 using keel::experiments::read_methods;
@@ -371,74 +372,10 @@ int main(int argc, char** argv) {
       const int ax = static_cast<int>(figure_axes[0]), ay = static_cast<int>(figure_axes[1]);
       const char* axis_name[3] = {"x (m)", "y (m)", "z (m)"};
       const auto& fd = runs[figure_dataset];
-      core::Figure f;
-      f.file = ex.id() + "_fig2_7.png";
-      f.title = "Fig. 2.7 (substitute): merged sphere2500 maps of data set " + std::to_string(figure_dataset) +
-                " (blue: accepted inliers, red: accepted outliers, pink: rejected inliers, grey: rejected "
-                "outliers)";
-      f.cols = 4;
-      f.rows = static_cast<int>((methods.size() + 3) / 4);
-      f.width = 22.0;
-      f.height = 5.5 * f.rows;
-      for (std::size_t k = 0; k < methods.size(); ++k) {
-        const auto& o = fd.methods[k];
-        const auto& m = o.merged;
-        core::Panel panel;
-        char title[160];
-        std::snprintf(title, sizeof title, "%s: TP %d, FP %d", methods[k].label.c_str(),
-                      o.metrics.classification.tp, o.metrics.classification.fp);
-        panel.title = title;
-        panel.xlabel = axis_name[ax];
-        panel.ylabel = axis_name[ay];
-        panel.aspect = "equal";
-        panel.legend = "none";
-        std::vector<double> xa, ya, xb, yb;
-        for (const auto& T : m.poses_a) {
-          xa.push_back(T.translation()(ax));
-          ya.push_back(T.translation()(ay));
-        }
-        for (const auto& T : m.poses_b) {
-          xb.push_back(T.translation()(ax));
-          yb.push_back(T.translation()(ay));
-        }
-        auto la = core::line_layer(xa, ya, "robot a", "0.25");
-        la.linewidth = 0.4;
-        auto lb = core::line_layer(xb, yb, "robot b", "0.55");
-        lb.linewidth = 0.4;
-        panel.layers.push_back(la);
-        panel.layers.push_back(lb);
-        std::vector<char> chosen(fd.candidates.candidates.size(), 0);
-        for (int u : o.selection) chosen[static_cast<std::size_t>(u)] = 1;
-        // Drawing order: rejected outliers, rejected inliers, accepted inliers, accepted outliers (on top).
-        const struct {
-          bool accepted, inlier;
-          const char *label, *color;
-          double width, alpha;
-        } groups[] = {{false, false, "rejected outliers", "0.6", 0.4, 0.35},
-                      {false, true, "rejected inliers", "pink", 1.2, 1.0},
-                      {true, true, "accepted inliers", "navy", 1.4, 1.0},
-                      {true, false, "accepted outliers", "red", 1.4, 1.0}};
-        for (const auto& g : groups) {
-          core::Layer l;
-          l.type = "segments";
-          l.label = g.label;
-          l.color = g.color;
-          l.linewidth = g.width;
-          l.alpha = g.alpha;
-          for (std::size_t u = 0; u < fd.candidates.candidates.size(); ++u) {
-            if ((chosen[u] != 0) != g.accepted || fd.candidates.labels[u].is_inlier() != g.inlier) continue;
-            const auto& c = fd.candidates.candidates[u];
-            const auto& pa = m.poses_a[static_cast<std::size_t>(c.pose_a)].translation();
-            const auto& pb = m.poses_b[static_cast<std::size_t>(c.pose_b)].translation();
-            l.x0.push_back(pa(ax));
-            l.y0.push_back(pa(ay));
-            l.x1.push_back(pb(ax));
-            l.y1.push_back(pb(ay));
-          }
-          if (!l.x0.empty()) panel.layers.push_back(l);
-        }
-        f.panels.push_back(panel);
-      }
+      auto f = merged_maps_figure(fd, methods, ex.id() + "_fig2_7.png",
+                                  "Fig. 2.7 (substitute): merged sphere2500 maps of data set " +
+                                      std::to_string(figure_dataset),
+                                  ax, ay, 0.4, axis_name[ax], axis_name[ay]);
       r.figure(f);
     }
   });

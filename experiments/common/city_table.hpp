@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -36,8 +37,11 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   pcm::CandidateOptions copt = read_candidate_options(p);
   const std::string measurements = p.string("measurements");
   double noise_scale = 1.0;
-  if (measurements == "resampled")
+  std::uint64_t resample_seed = 0;
+  if (measurements == "resampled") {
     noise_scale = p.number("noise_scale");
+    resample_seed = static_cast<std::uint64_t>(p.integer("resample_seed"));
+  }
   else if (measurements != "dataset")
     throw core::ConfigError(p.where("measurements") + ": expected \"dataset\" or \"resampled\"");
   copt.aliased_noise_scale = noise_scale;
@@ -80,7 +84,8 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
       keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, graph_file));
   const auto truth = keel::graph::read_poses_2d(keel::graph::resolve_dataset_file(dataset, truth_file));
   auto scenario = pcm::split_two_robots(graph, truth, split);
-  if (measurements == "resampled") pcm::resample_measurements(scenario, noise_scale, ex.seed());
+  // The resampling's streams (resample_seed, 0/1/2) must not be the candidate streams (seed, d).
+  if (measurements == "resampled") pcm::resample_measurements(scenario, noise_scale, resample_seed);
   r.timing("read_and_split", seconds_since(t0));
   const auto a = pcm::solve_local(scenario.robot_a);
   const auto b = pcm::solve_local(scenario.robot_b);
@@ -143,7 +148,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
     const std::string& n = methods[k].method.name;
     std::vector<double> trans, rot, res, chi2, sel, t_sel, t_solve;
     pcm::Classification c;
-    double accepted_aliased = 0, accepted_random = 0;
+    double accepted_aliased = 0, accepted_random = 0, empty_selections = 0;
     for (const auto& d : runs) {
       for (int u : d.methods[k].selection) {
         const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
@@ -151,6 +156,9 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
         accepted_random += kind == pcm::MeasurementLabel::random;
       }
       const auto& o = d.methods[k];
+      // A selection method that returns nothing leaves robot b's anchor unconstrained: the merge is meaningless,
+      // so such data sets are counted (they stay in the averages).
+      if (o.selection.empty() && methods[k].method.kind != pcm::MergeMethodKind::dcs) ++empty_selections;
       trans.push_back(o.metrics.map.translation_mse);
       rot.push_back(o.metrics.map.rotation);
       res.push_back(o.metrics.residual);
@@ -189,6 +197,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
     r.metric(n + ".accepted_aliased",
              accepted_aliased);  // totals over the data sets (the false positives by kind)
     r.metric(n + ".accepted_random", accepted_random);
+    if (methods[k].method.kind != pcm::MergeMethodKind::dcs) r.metric(n + ".empty_selections", empty_selections);
     const auto ts = mean_std(t_sel), tv = mean_std(t_solve);
     r.timing(n + ".time_s", ts.mean);
     r.timing(n + ".time_s.max", ts.max);
@@ -263,73 +272,8 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
 
   // Fig. 2.5: one data set, the merged maps of every method with accepted / rejected candidates.
   const auto& fd = runs[figure_dataset];
-  core::Figure f;
-  f.file = ex.id() + ".png";
-  f.title =
-      "Fig. 2.5: merged maps of data set " + std::to_string(figure_dataset) +
-      " (blue: accepted inliers, red: accepted outliers, pink: rejected inliers, grey: rejected outliers)";
-  f.cols = 4;
-  f.rows = static_cast<int>((methods.size() + 3) / 4);
-  f.width = 22.0;
-  f.height = 5.5 * f.rows;
-  for (std::size_t k = 0; k < methods.size(); ++k) {
-    const auto& o = fd.methods[k];
-    const auto& m = o.merged;
-    core::Panel panel;
-    char title[160];
-    std::snprintf(title, sizeof title, "%s: TP %d, FP %d", methods[k].label.c_str(),
-                  o.metrics.classification.tp, o.metrics.classification.fp);
-    panel.title = title;
-    panel.aspect = "equal";
-    panel.legend = "none";
-    std::vector<double> xa, ya, xb, yb;
-    for (const auto& T : m.poses_a) {
-      xa.push_back(T.translation()(0));
-      ya.push_back(T.translation()(1));
-    }
-    for (const auto& T : m.poses_b) {
-      xb.push_back(T.translation()(0));
-      yb.push_back(T.translation()(1));
-    }
-    auto la = core::line_layer(xa, ya, "robot a", "0.25");
-    la.linewidth = 0.6;
-    auto lb = core::line_layer(xb, yb, "robot b", "0.55");
-    lb.linewidth = 0.6;
-    panel.layers.push_back(la);
-    panel.layers.push_back(lb);
-    std::vector<char> chosen(fd.candidates.candidates.size(), 0);
-    for (int u : o.selection) chosen[static_cast<std::size_t>(u)] = 1;
-    // Drawing order: rejected outliers, rejected inliers, accepted inliers, accepted outliers (on top).
-    const struct {
-      bool accepted, inlier;
-      const char *label, *color;
-      double width, alpha;
-    } groups[] = {{false, false, "rejected outliers", "0.6", 0.4, 0.35},
-                  {false, true, "rejected inliers", "pink", 1.2, 1.0},
-                  {true, true, "accepted inliers", "navy", 1.4, 1.0},
-                  {true, false, "accepted outliers", "red", 1.4, 1.0}};
-    for (const auto& g : groups) {
-      core::Layer l;
-      l.type = "segments";
-      l.label = g.label;
-      l.color = g.color;
-      l.linewidth = g.width;
-      l.alpha = g.alpha;
-      for (std::size_t u = 0; u < fd.candidates.candidates.size(); ++u) {
-        if ((chosen[u] != 0) != g.accepted || fd.candidates.labels[u].is_inlier() != g.inlier) continue;
-        const auto& c = fd.candidates.candidates[u];
-        const auto& pa = m.poses_a[static_cast<std::size_t>(c.pose_a)].translation();
-        const auto& pb = m.poses_b[static_cast<std::size_t>(c.pose_b)].translation();
-        l.x0.push_back(pa(0));
-        l.y0.push_back(pa(1));
-        l.x1.push_back(pb(0));
-        l.y1.push_back(pb(1));
-      }
-      if (!l.x0.empty()) panel.layers.push_back(l);
-    }
-    f.panels.push_back(panel);
-  }
-  r.figure(f);
+  r.figure(merged_maps_figure(fd, methods, ex.id() + ".png",
+                              "Fig. 2.5: merged maps of data set " + std::to_string(figure_dataset), 0, 1, 0.6));
 }
 
 }  // namespace keel::experiments

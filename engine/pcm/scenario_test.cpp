@@ -413,3 +413,25 @@ TEST_CASE("resample_measurements: residuals at the truth follow N(0, s² Ω⁻¹
   SUBCASE("2D") { check_resample<lie::SE2>(); }
   SUBCASE("3D") { check_resample<lie::SE3>(); }
 }
+
+TEST_CASE("real data: City10000's measurements are calibrated at the truth (chi2/dof about 1), after the split too") {
+  graph::PoseGraph2D city;
+  std::vector<lie::SE2> truth;
+  try {
+    city = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
+    truth = graph::read_poses_2d(graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
+  } catch (const graph::DatasetError& e) {
+    MESSAGE("City10000 not available, test skipped: " << e.what());
+    return;
+  }
+  const auto c = split_two_robots(city, truth, {0, 750, 1500});
+  // Local graphs and the pool together: 3 × (876 + 859 + 209) residual dofs. The pool alone too.
+  const double all = mean_chi2_per_dof(c);
+  auto pool_only = c;
+  pool_only.robot_a.edges.clear();
+  pool_only.robot_b.edges.clear();
+  const double pool = mean_chi2_per_dof(pool_only);
+  MESSAGE("chi2/dof at the truth: all " << all << ", pool " << pool);
+  CHECK(all == doctest::Approx(1.0).epsilon(0.1));
+  CHECK(pool == doctest::Approx(1.0).epsilon(0.15));
+}

@@ -28,7 +28,7 @@ CONTRACT (the "figures" key of latest.json)
     "size":   [w_inches, h_inches],            # optional, default [5.5*cols, 4.5*rows]
     "panels": [                                # REQUIRED, non-empty
       { "title": "...", "xlabel": "...", "ylabel": "...",       # optional strings
-        "xscale": "linear"|"log", "yscale": "linear"|"log",     # optional
+        "xscale": "linear"|"log"|"logit", "yscale": "linear"|"log"|"logit",     # optional
         "aspect": "equal"|"auto",                                # optional
         "xlim": [a, b], "ylim": [a, b],                          # optional numbers
         "legend": "best"|"none"|<matplotlib loc string>,         # optional; default
@@ -129,7 +129,7 @@ LEGEND_LOCS = ("best", "upper right", "upper left", "lower left", "lower right",
                "upper center", "center")
 LINESTYLES = ("-", "--", "-.", ":", "solid", "dashed", "dashdot", "dotted",
               "none", "None", "")
-SCALES = ("linear", "log")
+SCALES = ("linear", "log", "logit")  # logit: probabilities in (0, 1), e.g. thresholds p near 0 and 1
 ASPECTS = ("equal", "auto")
 
 FIGURE_KEYS = {"file", "title", "layout", "size", "panels"}
@@ -376,6 +376,8 @@ def validate_panel(raw, ctx, timings=None):
         scale = P["xscale" if k == "xlim" else "yscale"]
         if scale == "log" and P[k] is not None and min(P[k]) <= 0:
             ctx.sub(k).fail("log scale needs limits > 0, got %r" % (list(P[k]),))
+        if scale == "logit" and P[k] is not None and (min(P[k]) <= 0 or max(P[k]) >= 1):
+            ctx.sub(k).fail("logit scale needs limits inside (0, 1), got %r" % (list(P[k]),))
     if "layers" not in raw:
         ctx.sub("layers").fail("missing required key")
     layers = raw["layers"]

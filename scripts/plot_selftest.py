@@ -214,6 +214,8 @@ MALFORMED = [
      ["figures[0].layout"]),
     ("bad_scale", lambda d: d["figures"][0]["panels"][1].update(xscale="symlog"),
      ["figures[0].panels[1].xscale"]),
+    ("bad_logit_limits", lambda d: d["figures"][0]["panels"][1].update(xscale="logit", xlim=[0.0, 1.0]),
+     ["figures[0].panels[1].xlim", "logit"]),
     ("bad_missing_x", lambda d: L(d, 1, 0, 0).pop("x"),
      ["figures[1].panels[0].layers[0].x", "missing"]),
     ("bad_hline", lambda d: L(d, 0, 0, 2).update(y=[0.95]),

@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
         pa.title = std::string(names[panel]) + " — " + g.label;
         pa.xlabel = "p";
         pa.ylabel = names[panel];
-        pa.xscale = "log";
+        pa.xscale = "logit";  // p spans 0.001 … 0.99: both ends matter
         if (panel == 2) pa.yscale = "log";
         pa.legend = panel == 0 ? "" : "none";
         for (std::size_t f = 0; f < families.size(); ++f) {

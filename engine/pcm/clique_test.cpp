@@ -10,8 +10,12 @@
 
 #include "core/random.hpp"
 #include "pcm/clique.hpp"
+#include "pcm/test_support.hpp"
 
 using namespace keel::pcm;
+
+using keel::pcm::testing::contains;
+using keel::pcm::testing::message_of;
 
 namespace {
 
@@ -24,15 +28,6 @@ ConsistencyGraph complete(int n) {
 
 bool is_sorted_unique(const std::vector<int>& c) {
   return std::adjacent_find(c.begin(), c.end(), std::greater_equal<int>()) == c.end();
-}
-
-std::string message_of(auto&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "<no throw>";
 }
 
 }  // namespace

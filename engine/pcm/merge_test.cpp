@@ -14,21 +14,16 @@
 #include "pcm/merge.hpp"
 #include "pcm/scenario.hpp"
 #include "pcm/two_robot_test_graphs.hpp"
+#include "pcm/test_support.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
 using keel::pcm::testing::square_laps;
 
-namespace {
+using keel::pcm::testing::contains;
+using keel::pcm::testing::message_of;
 
-std::string message_of(auto&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "(no std::invalid_argument)";
-}
+namespace {
 
 template <class G>
 struct Pipeline {

@@ -12,21 +12,14 @@
 #include "pcm/clique.hpp"
 #include "pcm/selection.hpp"
 #include "pcm/world1d.hpp"
+#include "pcm/test_support.hpp"
 
 using namespace keel::pcm;
 
+using keel::pcm::testing::contains;
+using keel::pcm::testing::message_of;
+
 namespace {
-
-std::string message_of(auto&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "<no throw>";
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace
 

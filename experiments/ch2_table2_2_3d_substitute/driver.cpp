@@ -24,6 +24,7 @@ namespace pcm = keel::pcm;
 using keel::experiments::fmt;
 using keel::experiments::mean_std;
 using keel::experiments::merged_maps_figure;
+using keel::experiments::record_dataset_timings;
 using keel::experiments::MeanStd;
 using keel::experiments::read_candidate_options;
 using keel::experiments::read_methods;
@@ -137,21 +138,7 @@ int main(int argc, char** argv) {
     }
     r.timing("datasets_and_sweep", seconds_since(t0));
 
-    // Per data set: covariance extraction, the matrix Q, the independent-composition Q of the ablation.
-    std::vector<double> t_cov, t_q, t_qi;
-    for (const auto& d : runs) {
-      t_cov.push_back(d.covariance_time_s);
-      t_q.push_back(d.matrix_time_s);
-      t_qi.push_back(d.matrix_independent_time_s);
-    }
-    for (const auto& [name, v] :
-         {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
-          {"dataset.matrix", &t_q},
-          {"dataset.matrix_independent", &t_qi}}) {
-      const auto s = mean_std(*v);
-      r.timing(std::string(name) + ".mean", s.mean);
-      r.timing(std::string(name) + ".max", s.max);
-    }
+    record_dataset_timings(r, runs);
 
     // Table 2.2: per method, means over the data sets (and data set 0's row: the thesis's table is one data set).
     struct Column {

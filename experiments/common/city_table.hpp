@@ -122,21 +122,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   }
   r.timing("datasets", seconds_since(t0));
 
-  // Per data set: covariance extraction, the matrix Q, the independent-composition Q of the ablation.
-  std::vector<double> t_cov, t_q, t_qi;
-  for (const auto& d : runs) {
-    t_cov.push_back(d.covariance_time_s);
-    t_q.push_back(d.matrix_time_s);
-    t_qi.push_back(d.matrix_independent_time_s);
-  }
-  for (const auto& [name, v] :
-       {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
-        {"dataset.matrix", &t_q},
-        {"dataset.matrix_independent", &t_qi}}) {
-    const auto s = mean_std(*v);
-    r.timing(std::string(name) + ".mean", s.mean);
-    r.timing(std::string(name) + ".max", s.max);
-  }
+  record_dataset_timings(r, runs);
 
   // Table 2.1: per method over the data sets.
   struct Summary {

@@ -111,6 +111,26 @@ inline keel::pcm::CandidateOptions read_candidate_options(const keel::core::Conf
 }
 
 
+// Per data set: covariance extraction, the matrix Q and the independent-composition Q of the ablation, as timings
+// (mean and max; never diffed).
+template <class G>
+void record_dataset_timings(keel::core::Results& r, const std::vector<keel::pcm::MergeDataset<G>>& runs) {
+  std::vector<double> t_cov, t_q, t_qi;
+  for (const auto& d : runs) {
+    t_cov.push_back(d.covariance_time_s);
+    t_q.push_back(d.matrix_time_s);
+    t_qi.push_back(d.matrix_independent_time_s);
+  }
+  for (const auto& [name, v] :
+       {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
+        {"dataset.matrix", &t_q},
+        {"dataset.matrix_independent", &t_qi}}) {
+    const auto s = mean_std(*v);
+    r.timing(std::string(name) + ".mean", s.mean);
+    r.timing(std::string(name) + ".max", s.max);
+  }
+}
+
 // Figs. 2.5 / 2.7: one panel per method with the merged trajectories of both robots (axes ax, ay of the translation)
 // and every candidate as a segment between its two poses: blue accepted inliers, red accepted outliers, pink rejected
 // inliers, grey rejected outliers. `d` must have been run with keep_solutions.

@@ -62,10 +62,13 @@ bool code_changed_since(const std::string& sha, const std::string& id) {
   if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return true;
   for (char c : sha)
     if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
-  const std::string out = run_capture("git diff --name-only " + sha + " -- ':/engine' ':/CMakeLists.txt' ':/cmake' " +
+  // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code too.
+  const std::string out = run_capture("git diff --name-only " + sha +
+                                      " -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' " +
                                       shell_quote(":/experiments/" + id) + " 2>&1; echo \"rc=$?\"");
-  const std::string untracked = run_capture("git status --porcelain --untracked-files=normal -- ':/engine' " +
-                                            shell_quote(":/experiments/" + id) + " 2>/dev/null");
+  const std::string untracked =
+      run_capture("git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' " +
+                  shell_quote(":/experiments/" + id) + " 2>/dev/null");
   return out != "rc=0" || !untracked.empty();
 }
 

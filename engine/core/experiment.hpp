@@ -49,8 +49,9 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body);
 // "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
 std::string git_describe(const std::string& path);
 
-// Whether the engine, the build files or experiments/<id> differ between commit `sha` (as git_describe wrote it) and
-// the working tree now. A "-dirty" or unknown sha counts as changed: such a result cannot be tied to committed code.
+// Whether the engine, the build files, experiments/common (glue drivers include) or experiments/<id> differ between
+// commit `sha` (as git_describe wrote it) and the working tree now. A "-dirty" or unknown sha counts as changed: such
+// a result cannot be tied to committed code.
 bool code_changed_since(const std::string& sha, const std::string& id);
 
 }  // namespace keel::core

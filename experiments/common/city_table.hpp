@@ -87,22 +87,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   // The resampling's streams (resample_seed, 0/1/2) must not be the candidate streams (seed, d).
   if (measurements == "resampled") pcm::resample_measurements(scenario, noise_scale, resample_seed);
   r.timing("read_and_split", seconds_since(t0));
-  const auto a = pcm::solve_local(scenario.robot_a);
-  const auto b = pcm::solve_local(scenario.robot_b);
-  r.timing("local.a.solve", a.solve_time_s);
-  r.timing("local.b.solve", b.solve_time_s);
-  r.timing("local.a.factorization", a.factorization_time_s);
-  r.timing("local.b.factorization", b.factorization_time_s);
-  int closures_a = 0, closures_b = 0;
-  for (const auto& e : scenario.robot_a.edges) closures_a += std::abs(e.i - e.j) != 1;
-  for (const auto& e : scenario.robot_b.edges) closures_b += std::abs(e.i - e.j) != 1;
-  r.metric("scenario.pool", static_cast<double>(scenario.pool.size()));
-  r.metric("scenario.robot_a.poses", static_cast<double>(scenario.truth_a.size()));
-  r.metric("scenario.robot_b.poses", static_cast<double>(scenario.truth_b.size()));
-  r.metric("scenario.robot_a.loop_closures", closures_a);
-  r.metric("scenario.robot_b.loop_closures", closures_b);
-  r.metric("local.a.normalized_chi2", a.summary.normalized_chi2);
-  r.metric("local.b.normalized_chi2", b.summary.normalized_chi2);
+  const auto [a, b] = solve_local_maps(r, scenario);
   r.metric("datasets", static_cast<double>(datasets));
   r.metric("candidates", copt.total());
 

@@ -111,6 +111,31 @@ inline keel::pcm::CandidateOptions read_candidate_options(const keel::core::Conf
 }
 
 
+// §2.6 step i for both robots of a scenario: solves and factorizes each local map once and records what Tables 2.1/2.2
+// report about them (timings of the solves and factorizations; metrics: pool size, poses, own loop closures and the
+// normalized χ² of each local solve).
+template <class G>
+std::pair<keel::pcm::LocalSolution<G>, keel::pcm::LocalSolution<G>> solve_local_maps(
+    keel::core::Results& r, const keel::pcm::TwoRobotScenario<G>& scenario) {
+  auto a = keel::pcm::solve_local(scenario.robot_a);
+  auto b = keel::pcm::solve_local(scenario.robot_b);
+  r.timing("local.a.solve", a.solve_time_s);
+  r.timing("local.b.solve", b.solve_time_s);
+  r.timing("local.a.factorization", a.factorization_time_s);
+  r.timing("local.b.factorization", b.factorization_time_s);
+  int closures_a = 0, closures_b = 0;
+  for (const auto& e : scenario.robot_a.edges) closures_a += std::abs(e.i - e.j) != 1;
+  for (const auto& e : scenario.robot_b.edges) closures_b += std::abs(e.i - e.j) != 1;
+  r.metric("scenario.pool", static_cast<double>(scenario.pool.size()));
+  r.metric("scenario.robot_a.poses", static_cast<double>(scenario.truth_a.size()));
+  r.metric("scenario.robot_b.poses", static_cast<double>(scenario.truth_b.size()));
+  r.metric("scenario.robot_a.loop_closures", closures_a);
+  r.metric("scenario.robot_b.loop_closures", closures_b);
+  r.metric("local.a.normalized_chi2", a.summary.normalized_chi2);
+  r.metric("local.b.normalized_chi2", b.summary.normalized_chi2);
+  return {std::move(a), std::move(b)};
+}
+
 // Per data set: covariance extraction, the matrix Q and the independent-composition Q of the ablation, as timings
 // (mean and max; never diffed).
 template <class G>

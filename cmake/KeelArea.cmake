@@ -34,6 +34,7 @@ function(keel_area name)
   if(KEEL_BUILD_TESTS AND tests)
     add_executable(keel_${name}_tests ${tests} ${CMAKE_SOURCE_DIR}/tests/doctest_main.cpp)
     target_link_libraries(keel_${name}_tests PRIVATE ${impl} doctest::doctest)
+    target_include_directories(keel_${name}_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests)  # "kit/test_kit.hpp"
     add_test(NAME unit.${name} COMMAND keel_${name}_tests)
     set_tests_properties(unit.${name} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   endif()

@@ -1,5 +1,7 @@
 #include "core/config.hpp"
 
+#include <fmt/format.h>
+
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -111,6 +113,10 @@ const ConfigValue& ConfigTable::get(std::string_view key, std::string_view expec
 }
 
 const ConfigValue& ConfigTable::value(std::string_view key) const { return get(key, "a value"); }
+
+void ConfigTable::parse_error(std::string_view key, std::string_view what) const {
+  throw ConfigError(fmt::format("{}: {}", where(key), what));
+}
 
 void ConfigTable::type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const {
   throw ConfigError(where(key) + ": expected " + std::string(expected) + ", got " + config_type_name(v));

@@ -58,6 +58,24 @@ class ConfigTable {
   std::int64_t integer_or(std::string_view key, std::int64_t fallback) const;
   std::string string_or(std::string_view key, std::string fallback) const;
 
+  // The string at `key` turned into an enum by `from_string` (an area's `<e>_from_string`, docs/DESIGN.md "Naming and
+  // errors"); its std::invalid_argument comes back as a ConfigError located at the key, e.g.
+  // "x/experiment.toml: [params] key 'method' (line 7): unknown pgo::Method 'lm' (valid: levenberg_marquardt, ...)".
+  template <class F>
+  auto parse(std::string_view key, F&& from_string) const {
+    const std::string text = string(key);
+    try {
+      return from_string(std::string_view(text));
+    } catch (const std::invalid_argument& e) {
+      parse_error(key, e.what());
+    }
+  }
+  // The same, or `fallback` when the key is absent.
+  template <class T, class F>
+  T parse_or(std::string_view key, F&& from_string, T fallback) const {
+    return has(key) ? T(parse(key, from_string)) : fallback;
+  }
+
   // Raw access for generic consumers (the report reads thesis values that may be numbers or strings).
   const ConfigValue& value(std::string_view key) const;
 
@@ -71,6 +89,7 @@ class ConfigTable {
 
  private:
   const ConfigValue& get(std::string_view key, std::string_view expected) const;
+  [[noreturn]] void parse_error(std::string_view key, std::string_view what) const;
   [[noreturn]] void type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const;
   std::string file_;
   std::string name_;

@@ -2,21 +2,25 @@
 // on consistency graphs of the 1D world of §2.7.1, plus the other selection methods on the same 1D matrices Q.
 // Run: build/release/bench/bench_clique [--benchmark_filter=1D]
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 import keel.core;
 
 #include <benchmark/benchmark.h>
 
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 
 namespace {
 
 // --- random graphs G(n, p): args = vertices, density in percent ------------------------------------------------
 
 void BM_Exact(benchmark::State& state) {
-  const auto g = pcm::random_graph(static_cast<int>(state.range(0)), 0.01 * state.range(1), 2015);
+  const auto g = sim::random_graph(static_cast<int>(state.range(0)), 0.01 * state.range(1), 2015);
   long long size = 0, nodes = 0;
   for (auto _ : state) {
-    const auto r = pcm::maximum_clique_exact(g);
+    const auto r = pcm::maximum_clique(g, pcm::CliqueAlgorithm::exact);
     size = static_cast<long long>(r.clique.size());
     nodes = r.nodes_explored;
     benchmark::DoNotOptimize(size);
@@ -26,10 +30,10 @@ void BM_Exact(benchmark::State& state) {
 }
 
 void BM_Heuristic(benchmark::State& state) {
-  const auto g = pcm::random_graph(static_cast<int>(state.range(0)), 0.01 * state.range(1), 2015);
+  const auto g = sim::random_graph(static_cast<int>(state.range(0)), 0.01 * state.range(1), 2015);
   long long size = 0;
   for (auto _ : state) {
-    const auto r = pcm::maximum_clique_heuristic(g);
+    const auto r = pcm::maximum_clique(g, pcm::CliqueAlgorithm::heuristic);
     size = static_cast<long long>(r.clique.size());
     benchmark::DoNotOptimize(size);
   }
@@ -47,8 +51,8 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 // Q of world 0 of a fixed seed with m measurements; γ at p = 0.11 (dof 1), as in ch2_fig2_2_1d_vs_combinatorial.
 pcm::ConsistencyMatrix world_q(int m) {
-  const auto o = pcm::world1d_options_with_total(pcm::World1DOptions{}, m, 0.5, 0.25);
-  return pcm::world1d_consistency_matrix(pcm::generate_world1d(o, 2018, 0));
+  const auto o = sim::world1d_options_with_total(sim::World1DOptions{}, m, 0.5, 0.25);
+  return sim::world1d_consistency_matrix(sim::generate_world1d(o, 2018, 0));
 }
 const double kGamma = pcm::consistency_threshold(0.11, 1);
 
@@ -57,7 +61,7 @@ void BM_Exact1D(benchmark::State& state) {
   const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, kGamma);
   long long size = 0, nodes = 0;
   for (auto _ : state) {
-    const auto r = pcm::maximum_clique_exact(g);
+    const auto r = pcm::maximum_clique(g, pcm::CliqueAlgorithm::exact);
     size = static_cast<long long>(r.clique.size());
     nodes = r.nodes_explored;
     benchmark::DoNotOptimize(size);
@@ -72,7 +76,7 @@ void BM_Heuristic1D(benchmark::State& state) {
   const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, kGamma);
   long long size = 0;
   for (auto _ : state) {
-    const auto r = pcm::maximum_clique_heuristic(g);
+    const auto r = pcm::maximum_clique(g, pcm::CliqueAlgorithm::heuristic);
     size = static_cast<long long>(r.clique.size());
     benchmark::DoNotOptimize(size);
   }
@@ -98,13 +102,13 @@ void BM_Ransac1D(benchmark::State& state) {
 void BM_CombinatorialPruned1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
-    benchmark::DoNotOptimize(pcm::max_consistent_set_combinatorial(Q, kGamma, pcm::CombinatorialMethod::pruned));
+    benchmark::DoNotOptimize(eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::pruned));
 }
 
 void BM_CombinatorialExhaustive1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
-    benchmark::DoNotOptimize(pcm::max_consistent_set_combinatorial(Q, kGamma, pcm::CombinatorialMethod::exhaustive));
+    benchmark::DoNotOptimize(eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::exhaustive));
 }
 
 void world_sizes(benchmark::internal::Benchmark* b) {

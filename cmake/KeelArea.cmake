@@ -1,4 +1,6 @@
-# keel_area(<name> [DEPENDS <targets>...] [LINK <libs>...])
+# keel_area(<name> [DEPENDS <targets>...] [LINK <libs>...] [TEST_DEPENDS <targets>...])
+# TEST_DEPENDS: libraries only the unit tests link (independent references from a later area, e.g. random graphs
+# from keel_sim_impl for the clique tests of pcm).
 #
 # One engine area = one folder engine/<name>/ with
 #   *.hpp / *.cpp      ordinary headers and sources that import nothing (DESIGN rule 1) -> library keel_<name>_impl
@@ -8,7 +10,7 @@
 # Consumers (drivers, CLI, benchmarks, facade tests) link keel_<name> and `import keel.<name>;`.
 function(keel_area name)
   keel_register_area(${name})
-  cmake_parse_arguments(A "" "" "DEPENDS;LINK" ${ARGN})
+  cmake_parse_arguments(A "" "" "DEPENDS;LINK;TEST_DEPENDS" ${ARGN})
   set(dir ${CMAKE_CURRENT_SOURCE_DIR})
   file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cpp)
   file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cpp)
@@ -33,7 +35,7 @@ function(keel_area name)
 
   if(KEEL_BUILD_TESTS AND tests)
     add_executable(keel_${name}_tests ${tests} ${CMAKE_SOURCE_DIR}/tests/doctest_main.cpp)
-    target_link_libraries(keel_${name}_tests PRIVATE ${impl} doctest::doctest)
+    target_link_libraries(keel_${name}_tests PRIVATE ${impl} ${A_TEST_DEPENDS} doctest::doctest)
     target_include_directories(keel_${name}_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests)  # "kit/test_kit.hpp"
     add_test(NAME unit.${name} COMMAND keel_${name}_tests)
     set_tests_properties(unit.${name} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -432,17 +432,6 @@ bool ConsistencyGraph::is_clique(const std::vector<int>& vs) const {
   return true;
 }
 
-ConsistencyGraph random_graph(int n, double density, std::uint64_t seed) {
-  if (!(density >= 0.0 && density <= 1.0))
-    throw std::invalid_argument("random_graph: density " + std::to_string(density) + " not in [0, 1]");
-  ConsistencyGraph g(n);
-  auto rng = keel::core::Rng::stream(seed, 0);
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j)
-      if (rng.uniform() < density) g.add_edge(i, j);
-  return g;
-}
-
 std::vector<int> core_numbers(const ConsistencyGraph& g) { return degeneracy(g).core; }
 
 std::string to_string(CliqueAlgorithm a) {

@@ -54,10 +54,6 @@ class ConsistencyGraph {
   std::vector<std::uint64_t> adj_;
 };
 
-// Erdős–Rényi G(n, p) graph: each pair {i < j} is an edge with probability `density`, drawn from
-// keel::core::Rng::stream(seed, 0) in the order (0,1), (0,2), ..., (1,2), ... — identical on every platform.
-ConsistencyGraph random_graph(int n, double density, std::uint64_t seed);
-
 // Core number of every vertex (Batagelj–Zaversnik, O(n + m)); a clique of size k lies in the (k-1)-core.
 std::vector<int> core_numbers(const ConsistencyGraph& g);
 

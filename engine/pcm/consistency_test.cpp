@@ -17,15 +17,15 @@
 #include "lie/metrics.hpp"
 #include "lie/uncertain.hpp"
 #include "pcm/consistency.hpp"
-#include "pcm/test_support.hpp"
+#include "kit/test_kit.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
 using lie::MatX;
 using lie::SE2;
 using lie::SE3;
-using keel::pcm::testing::contains;
-using keel::pcm::testing::message_of;
+using keel::testkit::contains;
+using keel::testkit::message_of;
 
 namespace {
 

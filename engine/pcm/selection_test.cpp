@@ -11,14 +11,16 @@
 #include <vector>
 
 #include "core/random.hpp"
+#include "kit/test_kit.hpp"
+#include "eval/world1d_study.hpp"
 #include "pcm/selection.hpp"
-#include "pcm/world1d.hpp"
-#include "pcm/test_support.hpp"
 
 using namespace keel::pcm;
+using keel::eval::CombinatorialMethod;
+using keel::eval::max_consistent_set_combinatorial;
 
-using keel::pcm::testing::contains;
-using keel::pcm::testing::message_of;
+using keel::testkit::contains;
+using keel::testkit::message_of;
 
 namespace {
 
@@ -35,13 +37,21 @@ ConsistencyMatrix make_q(int n, F&& q_of) {
   return Q;
 }
 
-// 1D points with unit standard deviation: q_uv = (z_u − z_v)² / 2.
+// 1D points with unit standard deviation: q_uv = (z_u − z_v)² / 2 (the 1D case of eq. 2.4, as sim::World1D's Q).
 ConsistencyMatrix points(const std::vector<double>& z) {
-  World1D w;
-  w.z = z;
-  w.sigma.assign(z.size(), 1.0);
-  w.labels.assign(z.size(), MeasurementLabel::inlier);
-  return world1d_consistency_matrix(w);
+  return make_q(static_cast<int>(z.size()), [&](int u, int v) {
+    const double d = z[static_cast<std::size_t>(u)] - z[static_cast<std::size_t>(v)];
+    return d * d / 2.0;
+  });
+}
+
+// Pairs {u, v} of `set` with q_uv > γ or q_vu > γ (eq. 2.3 violated).
+int inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, double gamma) {
+  int n = 0;
+  for (std::size_t a = 0; a < set.size(); ++a)
+    for (std::size_t b = a + 1; b < set.size(); ++b)
+      n += Q.at(set[a], set[b]) > gamma || Q.at(set[b], set[a]) > gamma;
+  return n;
 }
 
 }  // namespace
@@ -57,13 +67,13 @@ TEST_CASE("RANSAC: a star centre wins and its support holds inconsistent pairs; 
   const double gamma = 3.0;
   const auto r = select_ransac(Q, gamma);
   CHECK(r.selected == std::vector<int>{0, 1, 2, 3, 4});
-  CHECK(count_inconsistent_pairs(Q, r.selected, gamma) == 6);  // all pairs among 1..4
+  CHECK(inconsistent_pairs(Q, r.selected, gamma) == 6);  // all pairs among 1..4
   CHECK(r.upper_bound == -1);
   CHECK(r.time_s >= 0.0);
 
   const auto p = select_pcm(Q, gamma, CliqueAlgorithm::exact);
   CHECK(p.selected.size() == 2);
-  CHECK(count_inconsistent_pairs(Q, p.selected, gamma) == 0);
+  CHECK(inconsistent_pairs(Q, p.selected, gamma) == 0);
   CHECK(p.proven_optimal);
   CHECK(p.upper_bound == 2);
 }
@@ -125,8 +135,8 @@ TEST_CASE("PCM selection = brute-force maximum clique on random Q (symmetric and
     CHECK(exact.upper_bound == static_cast<int>(exact.selected.size()));
     CHECK(heur.selected.size() <= exact.selected.size());
     CHECK(heur.upper_bound >= static_cast<int>(exact.selected.size()));
-    CHECK(count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
-    CHECK(count_inconsistent_pairs(Q, heur.selected, gamma) == 0);
+    CHECK(inconsistent_pairs(Q, exact.selected, gamma) == 0);
+    CHECK(inconsistent_pairs(Q, heur.selected, gamma) == 0);
     CHECK(std::is_sorted(exact.selected.begin(), exact.selected.end()));
     ++compared;
   }
@@ -213,36 +223,10 @@ TEST_CASE("SCGP does not enforce pairwise consistency (a smooth chain is one clu
   const double gamma = consistency_threshold(0.05, 1);
   const auto s = select_scgp(Q);
   CHECK(s.selected.size() == 7);
-  CHECK(count_inconsistent_pairs(Q, s.selected, gamma) > 0);
+  CHECK(inconsistent_pairs(Q, s.selected, gamma) > 0);
   const auto p = select_pcm(Q, gamma, CliqueAlgorithm::exact);
-  CHECK(count_inconsistent_pairs(Q, p.selected, gamma) == 0);
+  CHECK(inconsistent_pairs(Q, p.selected, gamma) == 0);
   CHECK(p.selected.size() < 7);
-}
-
-TEST_CASE("SCGP: one candidate, affinity scale, and the two discretizations on 1D worlds") {
-  ConsistencyMatrix one;
-  one.n = 1;
-  one.q = {0.0};
-  const auto r = scgp(one);
-  CHECK(r.selection.selected == std::vector<int>{0});
-  CHECK(std::isinf(r.eigen_ratio));
-
-  World1DOptions wo;
-  int differ = 0;
-  for (int i = 0; i < 300; ++i) {
-    const auto Q = world1d_consistency_matrix(generate_world1d(wo, 11, i));
-    ScgpOptions dot, ray;
-    ray.discretization = ScgpDiscretization::rayleigh;
-    const auto a = scgp(Q, dot), b = scgp(Q, ray);
-    REQUIRE_FALSE(a.selection.selected.empty());
-    REQUIRE_FALSE(b.selection.selected.empty());
-    CHECK(a.lambda1 == doctest::Approx(b.lambda1));
-    // The Rayleigh rule maximises λ(w) over the threshold sets, so it is never below the dot-product rule's λ(w).
-    CHECK(b.objective >= a.objective - 1e-12);
-    CHECK(a.lambda1 >= b.objective - 1e-9);  // no indicator beats the relaxation
-    differ += a.selection.selected != b.selection.selected;
-  }
-  MESSAGE("dot-product and Rayleigh discretizations differ on " << differ << " of 300 worlds");
 }
 
 TEST_CASE("discretization names round-trip") {
@@ -291,6 +275,6 @@ TEST_CASE("bad inputs throw std::invalid_argument with a clear message") {
   inf.q[0 * 3 + 1] = inf.q[1 * 3 + 0] = std::numeric_limits<double>::infinity();
   const auto pi = select_pcm(inf, 10.0, CliqueAlgorithm::exact).selected;
   CHECK(pi.size() == 2);
-  CHECK(count_inconsistent_pairs(inf, pi, 10.0) == 0);
+  CHECK(inconsistent_pairs(inf, pi, 10.0) == 0);
   CHECK_FALSE(select_scgp(inf).selected.empty());
 }

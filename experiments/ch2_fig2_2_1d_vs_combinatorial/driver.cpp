@@ -1,7 +1,8 @@
 // Fig. 2.2 (§2.7.1.1): PCM-Exact, PCM-Heuristic, SCGP and RANSAC against the combinatorial maximum pairwise
-// consistent set (eq. 2.5) on simulated 1D worlds (§2.7.1) — thin driver over keel::pcm::run_world1d_study.
+// consistent set (eq. 2.5) on simulated 1D worlds (§2.7.1) — thin driver over keel::eval::run_world1d_study.
 import keel.core;
 import keel.pcm;
+import keel.eval;
 
 #include <algorithm>
 #include <cstdio>
@@ -12,6 +13,7 @@ import keel.pcm;
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace eval = keel::eval;
 
 namespace {
 
@@ -31,7 +33,7 @@ core::Layer step_layer(const std::vector<double>& bins, const std::vector<double
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    pcm::World1DStudyOptions o;
+    eval::World1DStudyOptions o;
     o.world.x = p.number("x");
     o.world.sigma_inlier = p.number("sigma_inlier");
     o.world.inliers_min = static_cast<int>(p.integer("inliers_min"));
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
     o.scgp.affinity_scale = p.number("scgp_affinity_scale");
     o.scgp.discretization = pcm::scgp_discretization_from_string(p.string("scgp_discretization"));
     o.scgp.min_eigen_ratio = p.number("scgp_min_eigen_ratio");
-    o.combinatorial = pcm::combinatorial_method_from_string(p.string("combinatorial"));
+    o.combinatorial = eval::combinatorial_method_from_string(p.string("combinatorial"));
     o.worlds = p.count("worlds");
     ex.params_done();
     o.pcm_gamma = pcm::consistency_threshold(pcm_p, 1);  // γ = χ²₁ quantile of 1 − p (dof 1: the 1D world)
@@ -61,12 +63,12 @@ int main(int argc, char** argv) {
     }
 
     core::Progress progress(ex.id(), o.worlds);
-    const pcm::World1DStudy study = pcm::run_world1d_study(o, &progress);
+    const eval::World1DStudy study = keel::eval::run_world1d_study(o, &progress);
     progress.finish();
 
-    const auto& comb = study.of(pcm::Selector1D::combinatorial);
-    const std::vector<pcm::Selector1D> methods = {pcm::Selector1D::pcm_exact, pcm::Selector1D::pcm_heuristic,
-                                                  pcm::Selector1D::scgp, pcm::Selector1D::ransac};
+    const auto& comb = study.of(eval::Selector1D::combinatorial);
+    const std::vector<eval::Selector1D> methods = {eval::Selector1D::pcm_exact, eval::Selector1D::pcm_heuristic,
+                                                  eval::Selector1D::scgp, eval::Selector1D::ransac};
     const std::size_t n = o.worlds;
     auto& r = ex.results();
 
@@ -105,8 +107,8 @@ int main(int argc, char** argv) {
     };
     std::vector<Row> rows;
     int heuristic_above_exact = 0;
-    const auto& exact = study.of(pcm::Selector1D::pcm_exact);
-    const auto& heur = study.of(pcm::Selector1D::pcm_heuristic);
+    const auto& exact = study.of(eval::Selector1D::pcm_exact);
+    const auto& heur = study.of(eval::Selector1D::pcm_heuristic);
     for (std::size_t i = 0; i < n; ++i) heuristic_above_exact += heur[i].size > exact[i].size;
     double comb_time = 0;
     for (std::size_t i = 0; i < n; ++i) comb_time += comb[i].time_s;
@@ -115,7 +117,7 @@ int main(int argc, char** argv) {
     for (auto m : methods) {
       const auto& out = study.of(m);
       Row row;
-      row.name = pcm::to_string(m);
+      row.name = eval::to_string(m);
       row.dhist.assign(dbins.size(), 0.0);
       row.ihist.assign(ibins.size(), 0.0);
       for (std::size_t i = 0; i < n; ++i) {

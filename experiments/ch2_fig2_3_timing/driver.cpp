@@ -1,8 +1,10 @@
 // Fig. 2.3 (§2.7.1.2): selection time against the number of measurements on simulated 1D worlds — thin driver over
-// keel::pcm::run_world1d_study. Wall times go through Results::timing (never diffed; the figure refers to them by
+// keel::eval::run_world1d_study. Wall times go through Results::timing (never diffed; the figure refers to them by
 // name); deterministic quantities (mean selected sizes, heuristic match rates) are series.
 import keel.core;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <algorithm>
 #include <cmath>
@@ -13,14 +15,16 @@ import keel.pcm;
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 
 namespace {
 
 // One curve of the figure: a selector (the combinatorial one in one of its two variants) and the largest m it runs at.
 struct Curve {
   std::string name, label, color, marker;
-  pcm::Selector1D selector;
-  pcm::CombinatorialMethod combinatorial = pcm::CombinatorialMethod::pruned;
+  eval::Selector1D selector;
+  eval::CombinatorialMethod combinatorial = eval::CombinatorialMethod::pruned;
   long long max_m = 0;  // 0: no cap
   bool runs_at(int m) const { return max_m == 0 || m <= max_m; }
 };
@@ -36,8 +40,8 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    pcm::World1DStudyOptions base;
-    pcm::World1DOptions& w = base.world;
+    eval::World1DStudyOptions base;
+    sim::World1DOptions& w = base.world;
     w.x = p.number("x");
     w.sigma_inlier = p.number("sigma_inlier");
     w.outlier_mean_range = p.number("outlier_mean_range");
@@ -59,25 +63,25 @@ int main(int argc, char** argv) {
       }
     }
     if (sizes.empty()) throw core::ConfigError(p.where("measurements") + ": must not be empty");
-    if (exhaustive_max < 1 || exhaustive_max > pcm::kCombinatorialExhaustiveMax) {
+    if (exhaustive_max < 1 || exhaustive_max > eval::kCombinatorialExhaustiveMax) {
       throw core::ConfigError(p.where("combinatorial_exhaustive_max_measurements") + ": must be in [1, " +
-                              std::to_string(pcm::kCombinatorialExhaustiveMax) + "]");
+                              std::to_string(eval::kCombinatorialExhaustiveMax) + "]");
     }
-    if (pruned_max < 1 || pruned_max > pcm::kCombinatorialPrunedMax) {
+    if (pruned_max < 1 || pruned_max > eval::kCombinatorialPrunedMax) {
       throw core::ConfigError(p.where("combinatorial_pruned_max_measurements") + ": must be in [1, " +
-                              std::to_string(pcm::kCombinatorialPrunedMax) + "]");
+                              std::to_string(eval::kCombinatorialPrunedMax) + "]");
     }
     base.pcm_gamma = pcm::consistency_threshold(pcm_p, 1);  // γ = χ²₁ quantile of 1 − p (dof 1)
     base.ransac_gamma = pcm::consistency_threshold(ransac_p, 1);
     base.seed = ex.seed();
     base.threads = ex.threads();
 
-    using S = pcm::Selector1D;
+    using S = eval::Selector1D;
     const std::vector<Curve> curves = {
         {"combinatorial_exhaustive", "Combinatorial (all 2^m subsets)", "k", "x", S::combinatorial,
-         pcm::CombinatorialMethod::exhaustive, exhaustive_max},
+         eval::CombinatorialMethod::exhaustive, exhaustive_max},
         {"combinatorial_pruned", "Combinatorial (pruned subset search)", "0.5", "+", S::combinatorial,
-         pcm::CombinatorialMethod::pruned, pruned_max},
+         eval::CombinatorialMethod::pruned, pruned_max},
         {"pcm_exact", "PCM-Exact", "tab:blue", "o", S::pcm_exact},
         {"pcm_heuristic", "PCM-Heuristic", "tab:green", "s", S::pcm_heuristic},
         {"scgp", "SCGP", "tab:orange", "^", S::scgp},
@@ -94,23 +98,23 @@ int main(int argc, char** argv) {
     long long comb_checked = 0, comb_mismatch = 0;
     for (std::size_t k = 0; k < sizes.size(); ++k) {
       const int m = static_cast<int>(sizes[k]);
-      pcm::World1DStudyOptions o = base;
+      eval::World1DStudyOptions o = base;
       try {
-        o.world = pcm::world1d_options_with_total(w, m, inlier_fraction, aliased_fraction);
+        o.world = sim::world1d_options_with_total(w, m, inlier_fraction, aliased_fraction);
       } catch (const std::invalid_argument& e) {
         throw core::ConfigError(p.where("inlier_fraction") + ": " + e.what());
       }
       o.stream_base = static_cast<std::uint64_t>(k) << 32;  // independent worlds per size, the same for every curve
       // First pass: PCM, SCGP, RANSAC and the exhaustive enumeration; second pass (same worlds): the pruned search.
       o.selectors = {S::pcm_exact, S::pcm_heuristic, S::scgp, S::ransac};
-      o.combinatorial = pcm::CombinatorialMethod::exhaustive;
+      o.combinatorial = eval::CombinatorialMethod::exhaustive;
       if (curves[0].runs_at(m)) o.selectors.push_back(S::combinatorial);
-      const pcm::World1DStudy main = pcm::run_world1d_study(o, &progress);
-      pcm::World1DStudy pruned;
+      const eval::World1DStudy main = keel::eval::run_world1d_study(o, &progress);
+      eval::World1DStudy pruned;
       if (curves[1].runs_at(m)) {
         o.selectors = {S::combinatorial};
-        o.combinatorial = pcm::CombinatorialMethod::pruned;
-        pruned = pcm::run_world1d_study(o, &progress);
+        o.combinatorial = eval::CombinatorialMethod::pruned;
+        pruned = keel::eval::run_world1d_study(o, &progress);
       }
 
       char tag[32];

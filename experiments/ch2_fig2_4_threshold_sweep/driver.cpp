@@ -7,6 +7,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <algorithm>
 #include <chrono>
@@ -20,13 +22,15 @@ import keel.pcm;
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 namespace ke = keel::experiments;
 
 namespace {
 
 struct Family {
   std::string name, label, color;
-  pcm::MergeMethodKind kind = pcm::MergeMethodKind::pcm_exact;
+  eval::MergeMethodKind kind = eval::MergeMethodKind::pcm_exact;
   pcm::Composition composition = pcm::Composition::joint;
 };
 
@@ -54,10 +58,10 @@ int main(int argc, char** argv) {
         f.name = name;
         f.label = t.string("label");
         f.color = t.string("color");
-        f.kind = pcm::merge_method_kind_from_string(t.string("kind"));
+        f.kind = eval::merge_method_kind_from_string(t.string("kind"));
         f.composition = pcm::composition_from_string(t.string_or("composition", "joint"));
-        if (f.kind != pcm::MergeMethodKind::pcm_exact && f.kind != pcm::MergeMethodKind::pcm_heuristic &&
-            f.kind != pcm::MergeMethodKind::ransac)
+        if (f.kind != eval::MergeMethodKind::pcm_exact && f.kind != eval::MergeMethodKind::pcm_heuristic &&
+            f.kind != eval::MergeMethodKind::ransac)
           throw core::ConfigError(t.where("kind") + ": a threshold sweep needs pcm_exact, pcm_heuristic or ransac");
         families.push_back(f);
       }
@@ -103,16 +107,16 @@ int main(int argc, char** argv) {
       throw core::ConfigError(p.where("families") + ": the claims need pcm_exact, pcm_heuristic and ransac");
 
     // One method per (family, p); NO-OUT first (the χ² reference of the figure).
-    std::vector<pcm::MergeMethod> specs;
+    std::vector<eval::MergeMethod> specs;
     {
-      pcm::MergeMethod m;
+      eval::MergeMethod m;
       m.name = "no_out";
-      m.kind = pcm::MergeMethodKind::no_outliers;
+      m.kind = eval::MergeMethodKind::no_outliers;
       specs.push_back(m);
     }
     for (const auto& f : families)
       for (std::size_t k = 0; k < p_values.size(); ++k) {
-        pcm::MergeMethod m;
+        eval::MergeMethod m;
         m.name = f.name + "@" + ke::fmt(p_values[k]);
         m.kind = f.kind;
         m.p = p_values[k];
@@ -126,7 +130,7 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     const auto graph = keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, graph_file));
     const auto truth = keel::graph::read_poses_2d(keel::graph::resolve_dataset_file(dataset, truth_file));
-    const auto base = pcm::split_two_robots(graph, truth, split);
+    const auto base = sim::split_two_robots(graph, truth, split);
     r.timing("read_and_split", ke::seconds_since(t0));
     r.metric("scenario.pool", static_cast<double>(base.pool.size()));
     r.metric("datasets", static_cast<double>(datasets));
@@ -150,19 +154,19 @@ int main(int argc, char** argv) {
       auto scenario = base;
       auto c = copt;
       if (g.measurements == "resampled") {
-        pcm::resample_measurements(scenario, g.noise_scale, g.resample_seed);
+        sim::resample_measurements(scenario, g.noise_scale, g.resample_seed);
         c.aliased_noise_scale = g.noise_scale;
       }
       t0 = std::chrono::steady_clock::now();
-      const auto a = pcm::solve_local(scenario.robot_a);
-      const auto b = pcm::solve_local(scenario.robot_b);
+      const auto a = eval::solve_local(scenario.robot_a);
+      const auto b = eval::solve_local(scenario.robot_b);
       r.timing(g.name + ".local_solves", ke::seconds_since(t0));
-      std::vector<pcm::MergeDataset2> runs(datasets);
+      std::vector<eval::MergeDataset2> runs(datasets);
       t0 = std::chrono::steady_clock::now();
       {
         core::Progress progress(ex.id() + " " + g.name, datasets);
         core::parallel_for(
-            datasets, [&](std::size_t i) { runs[i] = pcm::run_merge_dataset(scenario, a, b, c, specs, ex.seed(), i); },
+            datasets, [&](std::size_t i) { runs[i] = eval::run_merge_dataset(scenario, a, b, c, specs, ex.seed(), i); },
             ex.threads(), &progress);
         progress.finish();
       }
@@ -172,7 +176,7 @@ int main(int argc, char** argv) {
       struct Curve {
         std::vector<double> tpr, fpr, chi2, selected;
       };
-      auto pooled = [&](std::size_t sp, pcm::Classification& cl, std::vector<double>& chi2,
+      auto pooled = [&](std::size_t sp, eval::Classification& cl, std::vector<double>& chi2,
                         std::vector<double>& sel) {
         for (const auto& d : runs) {
           const auto& o = d.methods[sp];
@@ -186,7 +190,7 @@ int main(int argc, char** argv) {
       };
       double chi2_no_out = 0.0;
       {
-        pcm::Classification cl;
+        eval::Classification cl;
         std::vector<double> chi2, sel;
         pooled(0, cl, chi2, sel);
         chi2_no_out = ke::mean_std(chi2).mean;
@@ -195,7 +199,7 @@ int main(int argc, char** argv) {
       std::vector<Curve> curves(families.size());
       for (std::size_t f = 0; f < families.size(); ++f) {
         for (std::size_t k = 0; k < p_values.size(); ++k) {
-          pcm::Classification cl;
+          eval::Classification cl;
           std::vector<double> chi2, sel;
           pooled(spec_index(f, k), cl, chi2, sel);
           curves[f].tpr.push_back(cl.tpr());

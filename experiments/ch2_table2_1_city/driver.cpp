@@ -7,6 +7,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <algorithm>
 #include <chrono>

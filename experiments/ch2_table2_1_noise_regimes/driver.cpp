@@ -8,6 +8,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +24,8 @@ import keel.pcm;
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 namespace ke = keel::experiments;
 
 namespace {
@@ -44,8 +48,8 @@ struct Regime {
 // One realization of a regime: its scenario, both solved local maps and the calibration of Q on its pool.
 struct Realization {
   std::size_t regime = 0, index = 0;
-  pcm::TwoRobotScenario2 scenario;
-  pcm::LocalSolution2 a, b;
+  sim::TwoRobotScenario2 scenario;
+  eval::LocalSolution2 a, b;
   // Per composition (0 joint, 1 independent): fraction of ordered pool pairs with q > γ(p) per calibration level p,
   // and the mean q over the ordered pairs.
   std::vector<double> fail[2];
@@ -55,7 +59,7 @@ struct Realization {
 
 // Mean over the pool of rᵀ Ω r / dof, r = ρ(z⁻¹ X) the residual of pool edge u at its true value
 // X = (T^a_i)⁻¹ T_ab T^b_k (graph/pose_graph.hpp: ρ = (x, y, θ) in 2D). Nominal: 1 for the stated noise, s² redrawn.
-double pool_chi2_at_truth(const pcm::TwoRobotScenario2& s) {
+double pool_chi2_at_truth(const sim::TwoRobotScenario2& s) {
   double sum = 0.0;
   for (std::size_t u = 0; u < s.pool.size(); ++u) {
     const auto& c = s.pool[u];
@@ -71,7 +75,7 @@ double pool_chi2_at_truth(const pcm::TwoRobotScenario2& s) {
 
 // Per (realization, data set, method): what the summary needs.
 struct Outcome {
-  pcm::Classification c;
+  eval::Classification c;
   double chi2 = 0.0;
   double selection_time_s = 0.0;
 };
@@ -120,7 +124,7 @@ int main(int argc, char** argv) {
     const std::string dataset = p.string("dataset"), graph_file = p.string("graph_file"),
                       truth_file = p.string("ground_truth_file");
     const auto split = ke::read_split(p);
-    const pcm::CandidateOptions copt_base = ke::read_candidate_options(p);
+    const sim::CandidateOptions copt_base = ke::read_candidate_options(p);
     const std::vector<double> scales = p.numbers("noise_scales");
     const auto resample_seed_raw = p.integer("resample_seed");
     const std::size_t realizations = p.count("realizations");
@@ -160,14 +164,14 @@ int main(int argc, char** argv) {
     std::size_t i_claim = methods.size(), i_ref = methods.size();
     for (std::size_t k = 0; k < methods.size(); ++k) {
       if (methods[k].method.name == claim_method) i_claim = k;
-      if (methods[k].method.kind == pcm::MergeMethodKind::no_outliers) i_ref = k;
+      if (methods[k].method.kind == eval::MergeMethodKind::no_outliers) i_ref = k;
     }
     if (i_claim == methods.size())
       throw core::ConfigError(claims.where("method") + ": '" + claim_method + "' is not in `methods`");
     if (i_ref == methods.size())
       throw core::ConfigError(p.where("methods") + ": needs a no_outliers method (the reference)");
     for (const auto& m : methods)
-      if (m.method.kind == pcm::MergeMethodKind::dcs)
+      if (m.method.kind == eval::MergeMethodKind::dcs)
         throw core::ConfigError(p.where("methods") + ": DCS is not part of this study");
     const auto find_scale = [&](double s, const std::string& key) {
       for (std::size_t k = 0; k < scales.size(); ++k)
@@ -198,7 +202,7 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     const auto graph = keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, graph_file));
     const auto truth = keel::graph::read_poses_2d(keel::graph::resolve_dataset_file(dataset, truth_file));
-    const auto base = pcm::split_two_robots(graph, truth, split);
+    const auto base = sim::split_two_robots(graph, truth, split);
     r.timing("read_and_split", ke::seconds_since(t0));
     r.metric("scenario.pool", static_cast<double>(base.pool.size()));
     r.metric("datasets", static_cast<double>(datasets));
@@ -225,11 +229,11 @@ int main(int argc, char** argv) {
             auto& x = reals[i];
             const auto& g = regimes[x.regime];
             x.scenario = base;
-            if (g.resampled) pcm::resample_measurements(x.scenario, g.scale, resample_seed + x.index);
+            if (g.resampled) sim::resample_measurements(x.scenario, g.scale, resample_seed + x.index);
             x.pool_chi2 = pool_chi2_at_truth(x.scenario);
-            x.a = pcm::solve_local(x.scenario.robot_a);  // one Ceres thread (LocalSolveOptions default)
-            x.b = pcm::solve_local(x.scenario.robot_b);
-            const auto maps = pcm::local_maps(x.a, x.b, x.scenario.pool);
+            x.a = eval::solve_local(x.scenario.robot_a);  // one Ceres thread (LocalSolveOptions default)
+            x.b = eval::solve_local(x.scenario.robot_b);
+            const auto maps = eval::local_maps(x.a, x.b, x.scenario.pool);
             for (int c = 0; c < 2; ++c) {
               pcm::ConsistencyOptions co;
               co.composition = c == 0 ? pcm::Composition::joint : pcm::Composition::independent;
@@ -257,7 +261,7 @@ int main(int argc, char** argv) {
 
     // Phase 2, per (realization, data set): the candidate set of data set d (stream (seed, d): the same index draws
     // in every realization) and every method.
-    std::vector<pcm::MergeMethod> specs;
+    std::vector<eval::MergeMethod> specs;
     for (const auto& m : methods) specs.push_back(m.method);
     const std::size_t items = reals.size() * datasets;
     std::vector<std::vector<Outcome>> out(items);
@@ -269,9 +273,9 @@ int main(int argc, char** argv) {
           [&](std::size_t it) {
             const auto& x = reals[it / datasets];
             const std::size_t d = it % datasets;
-            pcm::CandidateOptions copt = copt_base;
+            sim::CandidateOptions copt = copt_base;
             copt.aliased_noise_scale = regimes[x.regime].scale;
-            const auto run = pcm::run_merge_dataset(x.scenario, x.a, x.b, copt, specs, ex.seed(), d);
+            const auto run = eval::run_merge_dataset(x.scenario, x.a, x.b, copt, specs, ex.seed(), d);
             auto& o = out[it];
             for (const auto& m : run.methods)
               o.push_back({m.metrics.classification, m.metrics.normalized_chi2, m.selection_time_s});
@@ -296,7 +300,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < reals.size(); ++i) {
       const auto& x = reals[i];
       for (std::size_t m = 0; m < methods.size(); ++m) {
-        pcm::Classification c;
+        eval::Classification c;
         double chi2 = 0.0;
         for (std::size_t d = 0; d < datasets; ++d) {
           const auto& o = out[i * datasets + d][m];
@@ -321,7 +325,7 @@ int main(int argc, char** argv) {
       pool_chi2[x.regime].push_back(x.pool_chi2);
     }
     for (std::size_t m = 0; m < methods.size(); ++m)
-      if (methods[m].method.kind != pcm::MergeMethodKind::no_outliers)
+      if (methods[m].method.kind != eval::MergeMethodKind::no_outliers)
         r.timing(methods[m].method.name + ".selection_s.mean", stats_of(sel_time[m]).mean);
     const char* comp_name[2] = {"joint", "independent"};
     // Mean/min/max over the realizations: tpr_s/fpr_s/chi2_s[g][m], fail_s[g][c][j], q_s[g][c].

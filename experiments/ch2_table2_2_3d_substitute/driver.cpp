@@ -7,6 +7,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +23,8 @@ import keel.pcm;
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 using keel::experiments::fmt;
 using keel::experiments::mean_std;
 using keel::experiments::merged_maps_figure;
@@ -37,8 +41,8 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     const std::string dataset = p.string("dataset"), graph_file = p.string("graph_file"),
                       truth_file = p.string("ground_truth_file");
-    const pcm::SplitOptions split = read_split(p);
-    const pcm::CandidateOptions copt = read_candidate_options(p);
+    const sim::SplitOptions split = read_split(p);
+    const sim::CandidateOptions copt = read_candidate_options(p);
     const std::size_t datasets = p.count("datasets");
     const auto methods = read_methods(p);
     const std::vector<double> sweep_p = p.numbers("sweep_p");
@@ -73,12 +77,12 @@ int main(int argc, char** argv) {
     };
     const std::size_t i_ref = method_index(reference), i_dcs = method_index(dcs), i_heu = method_index(heuristic),
                       i_exact = method_index(exact);
-    if (methods[i_ref].method.kind != pcm::MergeMethodKind::no_outliers)
+    if (methods[i_ref].method.kind != eval::MergeMethodKind::no_outliers)
       throw core::ConfigError(claims.file() + ": [params.claims] reference must be a no_outliers method");
-    if (methods[i_heu].method.kind != pcm::MergeMethodKind::pcm_heuristic)
+    if (methods[i_heu].method.kind != eval::MergeMethodKind::pcm_heuristic)
       throw core::ConfigError(claims.file() + ": [params.claims] pcm_heuristic must be a pcm_heuristic method");
     for (const auto& n : ransacs)
-      if (methods[method_index(n)].method.kind != pcm::MergeMethodKind::ransac)
+      if (methods[method_index(n)].method.kind != eval::MergeMethodKind::ransac)
         throw core::ConfigError(claims.file() + ": [params.claims] ransac names '" + n + "', not a ransac method");
     auto& r = ex.results();
 
@@ -86,7 +90,7 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     const auto graph = keel::graph::read_pose_graph_3d(keel::graph::resolve_dataset_file(dataset, graph_file));
     const auto truth = keel::graph::read_poses_3d(keel::graph::resolve_dataset_file(dataset, truth_file));
-    const auto scenario = pcm::split_two_robots(graph, truth, split);
+    const auto scenario = sim::split_two_robots(graph, truth, split);
     r.timing("read_and_split", seconds_since(t0));
     const auto [a, b] = solve_local_maps(r, scenario);
     r.metric("scenario.dropped_odometry", scenario.dropped_odometry);
@@ -96,9 +100,9 @@ int main(int argc, char** argv) {
 
     // One task per data set, then one per threshold of the Fig. 2.6 sweep (RANSAC and PCM-HeuPatt at p on the
     // figure's data set, whose candidates are the same draw as in the table).
-    std::vector<pcm::MergeMethod> specs;
+    std::vector<eval::MergeMethod> specs;
     for (const auto& m : methods) specs.push_back(m.method);
-    std::vector<pcm::MergeDataset3> runs(datasets), sweep(sweep_p.size());
+    std::vector<eval::MergeDataset3> runs(datasets), sweep(sweep_p.size());
     t0 = std::chrono::steady_clock::now();
     {
       core::Progress progress(ex.id(), datasets + sweep_p.size());
@@ -106,18 +110,18 @@ int main(int argc, char** argv) {
           datasets + sweep_p.size(),
           [&](std::size_t i) {
             if (i < datasets) {
-              runs[i] = pcm::run_merge_dataset(scenario, a, b, copt, specs, ex.seed(), i, i == figure_dataset);
+              runs[i] = eval::run_merge_dataset(scenario, a, b, copt, specs, ex.seed(), i, i == figure_dataset);
               return;
             }
             const std::size_t k = i - datasets;
-            pcm::MergeMethod ransac, heu;
+            eval::MergeMethod ransac, heu;
             ransac.name = "sweep_ransac";
-            ransac.kind = pcm::MergeMethodKind::ransac;
+            ransac.kind = eval::MergeMethodKind::ransac;
             ransac.p = sweep_p[k];
             heu.name = "sweep_pcm_heupatt";
-            heu.kind = pcm::MergeMethodKind::pcm_heuristic;
+            heu.kind = eval::MergeMethodKind::pcm_heuristic;
             heu.p = sweep_p[k];
-            sweep[k] = pcm::run_merge_dataset(scenario, a, b, copt, {ransac, heu}, ex.seed(), figure_dataset);
+            sweep[k] = eval::run_merge_dataset(scenario, a, b, copt, {ransac, heu}, ex.seed(), figure_dataset);
           },
           ex.threads(), &progress);
       progress.finish();
@@ -129,20 +133,20 @@ int main(int argc, char** argv) {
     // Table 2.2: per method, means over the data sets (and data set 0's row: the thesis's table is one data set).
     struct Column {
       const char* name;
-      double (*get)(const pcm::MergeMetrics&);
+      double (*get)(const eval::MergeMetrics&);
     };
     const Column columns[] = {
-        {"rel_pose_trans_mse", [](const pcm::MergeMetrics& m) { return m.anchor_translation_sq; }},
-        {"rel_pose_rot", [](const pcm::MergeMetrics& m) { return m.anchor_rotation; }},
-        {"traj_trans_mse", [](const pcm::MergeMetrics& m) { return m.trajectory.translation_mse; }},
-        {"traj_rot", [](const pcm::MergeMetrics& m) { return m.trajectory.rotation; }},
-        {"residual", [](const pcm::MergeMetrics& m) { return m.residual; }},
-        {"tp", [](const pcm::MergeMetrics& m) { return static_cast<double>(m.classification.tp); }},
-        {"fp", [](const pcm::MergeMetrics& m) { return static_cast<double>(m.classification.fp); }},
-        {"chi2", [](const pcm::MergeMetrics& m) { return m.normalized_chi2; }},
+        {"rel_pose_trans_mse", [](const eval::MergeMetrics& m) { return m.anchor_translation_sq; }},
+        {"rel_pose_rot", [](const eval::MergeMetrics& m) { return m.anchor_rotation; }},
+        {"traj_trans_mse", [](const eval::MergeMetrics& m) { return m.trajectory.translation_mse; }},
+        {"traj_rot", [](const eval::MergeMetrics& m) { return m.trajectory.rotation; }},
+        {"residual", [](const eval::MergeMetrics& m) { return m.residual; }},
+        {"tp", [](const eval::MergeMetrics& m) { return static_cast<double>(m.classification.tp); }},
+        {"fp", [](const eval::MergeMetrics& m) { return static_cast<double>(m.classification.fp); }},
+        {"chi2", [](const eval::MergeMetrics& m) { return m.normalized_chi2; }},
     };
     std::vector<std::map<std::string, MeanStd>> sum(methods.size());
-    std::vector<pcm::Classification> pooled(methods.size());
+    std::vector<eval::Classification> pooled(methods.size());
     for (std::size_t k = 0; k < methods.size(); ++k) {
       const std::string& n = methods[k].method.name;
       for (const auto& col : columns) {
@@ -162,8 +166,8 @@ int main(int argc, char** argv) {
         const auto& o = d.methods[k];
         for (int u : o.selection) {
           const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
-          accepted_aliased += kind == pcm::MeasurementLabel::aliased;
-          accepted_random += kind == pcm::MeasurementLabel::random;
+          accepted_aliased += kind == sim::MeasurementLabel::aliased;
+          accepted_random += kind == sim::MeasurementLabel::random;
         }
         t_sel.push_back(o.selection_time_s);
         t_solve.push_back(o.solve_time_s);

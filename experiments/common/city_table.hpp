@@ -1,7 +1,7 @@
 // Table 2.1 and Fig. 2.5 (§2.7.2) on a two-robot split of City10000 — the body shared by ch2_table2_1_city (the
 // dataset's own measurements) and ch2_table2_1_thesis_noise (measurements redrawn about the ground truth with the
-// noise scaled down, the regime the thesis's χ² values indicate). Include after `import keel.core; … import keel.pcm;`
-// and "common/two_robot.hpp" (DESIGN rule 4); it imports nothing itself.
+// noise scaled down, the regime the thesis's χ² values indicate). Include after `import keel.core; …
+// import keel.eval;` and "common/two_robot.hpp" (DESIGN rule 4); it imports nothing itself.
 #pragma once
 
 #include <algorithm>
@@ -19,10 +19,12 @@ namespace keel::experiments {
 // The experiment: reads [params], runs every data set and method, records Table 2.1, the claim checks and Fig. 2.5.
 // `measurements = "dataset"` keeps the file's measurements; `"resampled"` redraws every measurement of both local
 // graphs, of the pool and of the aliased groups with residual noise scaled by `noise_scale`
-// (keel::pcm::resample_measurements), keeping the declared information.
+// (keel::sim::resample_measurements), keeping the declared information.
 inline void run_city_merge_table(keel::core::Experiment& ex) {
   namespace core = keel::core;
   namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
   using keel::experiments::fmt;
   using keel::experiments::mean_std;
   using keel::experiments::MeanStd;
@@ -33,8 +35,8 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   const auto& p = ex.params();
   const std::string dataset = p.string("dataset"), graph_file = p.string("graph_file"),
                     truth_file = p.string("ground_truth_file");
-  const pcm::SplitOptions split = read_split(p);
-  pcm::CandidateOptions copt = read_candidate_options(p);
+  const sim::SplitOptions split = read_split(p);
+  sim::CandidateOptions copt = read_candidate_options(p);
   const std::string measurements = p.string("measurements");
   double noise_scale = 1.0;
   std::uint64_t resample_seed = 0;
@@ -74,7 +76,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   const std::size_t i_ref = method_index(reference), i_dcs = method_index(dcs),
                     i_lo = method_index(ransac_low), i_hi = method_index(ransac_high),
                     i_exact = method_index(exact), i_heu = method_index(heuristic);
-  if (methods[i_ref].method.kind != pcm::MergeMethodKind::no_outliers)
+  if (methods[i_ref].method.kind != eval::MergeMethodKind::no_outliers)
     throw core::ConfigError(claims.file() + ": [params.claims] reference must be a no_outliers method");
   auto& r = ex.results();
 
@@ -83,24 +85,24 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   const auto graph =
       keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, graph_file));
   const auto truth = keel::graph::read_poses_2d(keel::graph::resolve_dataset_file(dataset, truth_file));
-  auto scenario = pcm::split_two_robots(graph, truth, split);
+  auto scenario = sim::split_two_robots(graph, truth, split);
   // The resampling's streams (resample_seed, 0/1/2) must not be the candidate streams (seed, d).
-  if (measurements == "resampled") pcm::resample_measurements(scenario, noise_scale, resample_seed);
+  if (measurements == "resampled") keel::sim::resample_measurements(scenario, noise_scale, resample_seed);
   r.timing("read_and_split", seconds_since(t0));
   const auto [a, b] = solve_local_maps(r, scenario);
   r.metric("datasets", static_cast<double>(datasets));
   r.metric("candidates", copt.total());
 
-  std::vector<pcm::MergeMethod> specs;
+  std::vector<eval::MergeMethod> specs;
   for (const auto& m : methods) specs.push_back(m.method);
-  std::vector<pcm::MergeDataset2> runs(datasets);
+  std::vector<eval::MergeDataset2> runs(datasets);
   t0 = std::chrono::steady_clock::now();
   {
     core::Progress progress(ex.id(), datasets);
     core::parallel_for(
         datasets,
         [&](std::size_t i) {
-          runs[i] = pcm::run_merge_dataset(scenario, a, b, copt, specs, ex.seed(), i, i == figure_dataset);
+          runs[i] = eval::run_merge_dataset(scenario, a, b, copt, specs, ex.seed(), i, i == figure_dataset);
         },
         ex.threads(), &progress);
     progress.finish();
@@ -118,18 +120,18 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const std::string& n = methods[k].method.name;
     std::vector<double> trans, rot, res, chi2, sel, t_sel, t_solve;
-    pcm::Classification c;
+    eval::Classification c;
     double accepted_aliased = 0, accepted_random = 0, empty_selections = 0;
     for (const auto& d : runs) {
       for (int u : d.methods[k].selection) {
         const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
-        accepted_aliased += kind == pcm::MeasurementLabel::aliased;
-        accepted_random += kind == pcm::MeasurementLabel::random;
+        accepted_aliased += kind == sim::MeasurementLabel::aliased;
+        accepted_random += kind == sim::MeasurementLabel::random;
       }
       const auto& o = d.methods[k];
       // A selection method that returns nothing leaves robot b's anchor unconstrained: the merge is meaningless,
       // so such data sets are counted (they stay in the averages).
-      if (o.selection.empty() && methods[k].method.kind != pcm::MergeMethodKind::dcs) ++empty_selections;
+      if (o.selection.empty() && methods[k].method.kind != eval::MergeMethodKind::dcs) ++empty_selections;
       trans.push_back(o.metrics.map.translation_mse);
       rot.push_back(o.metrics.map.rotation);
       res.push_back(o.metrics.residual);
@@ -168,7 +170,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
     r.metric(n + ".accepted_aliased",
              accepted_aliased);  // totals over the data sets (the false positives by kind)
     r.metric(n + ".accepted_random", accepted_random);
-    if (methods[k].method.kind != pcm::MergeMethodKind::dcs) r.metric(n + ".empty_selections", empty_selections);
+    if (methods[k].method.kind != eval::MergeMethodKind::dcs) r.metric(n + ".empty_selections", empty_selections);
     const auto ts = mean_std(t_sel), tv = mean_std(t_solve);
     r.timing(n + ".time_s", ts.mean);
     r.timing(n + ".time_s.max", ts.max);
@@ -200,7 +202,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
     for (const auto& name : baselines) {
       const auto& s = sum[method_index(name)];
       lowest_mse = lowest_mse && e.trans.mean < s.trans.mean;
-      if (methods[method_index(name)].method.kind != pcm::MergeMethodKind::dcs)
+      if (methods[method_index(name)].method.kind != eval::MergeMethodKind::dcs)
         lowest_fpr = lowest_fpr && e.fpr <= s.fpr;
       char one[120];
       std::snprintf(one, sizeof one, "%s%s MSE %.4g FPR %.4f", worst.empty() ? "" : "; ", name.c_str(),

@@ -1,6 +1,6 @@
 // Shared glue of the two-robot map-merging experiments of chapter 2 (Tables 2.1–2.2): timing, number formatting,
 // summary statistics and the [params] readers for the split, the candidate generator and the method list. Include
-// after `import keel.core; import keel.pcm;` (DESIGN rule 4); it imports nothing itself. Drivers call engine
+// after `import keel.core; import keel.pcm; import keel.sim; import keel.eval;` (DESIGN rule 4); it imports nothing itself. Drivers call engine
 // functions only; no linear algebra here.
 #pragma once
 
@@ -47,7 +47,7 @@ inline MeanStd mean_std(const std::vector<double>& v) {
 }
 
 struct MethodConfig {
-  keel::pcm::MergeMethod method;
+  keel::eval::MergeMethod method;
   std::string label;  // for figures and tables
 };
 
@@ -56,6 +56,8 @@ struct MethodConfig {
 inline std::vector<MethodConfig> read_methods(const keel::core::ConfigTable& p) {
   namespace core = keel::core;
   namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
   std::vector<MethodConfig> out;
   const auto table = p.table("method");
   for (const auto& name : p.strings("methods")) {
@@ -65,7 +67,7 @@ inline std::vector<MethodConfig> read_methods(const keel::core::ConfigTable& p) 
     MethodConfig m;
     m.method.name = name;
     m.label = t.string("label");
-    m.method.kind = pcm::merge_method_kind_from_string(t.string("kind"));
+    m.method.kind = eval::merge_method_kind_from_string(t.string("kind"));
     m.method.p = t.number_or("p", m.method.p);
     m.method.composition = pcm::composition_from_string(t.string_or("composition", "joint"));
     m.method.dcs_phi = t.number_or("dcs_phi", m.method.dcs_phi);
@@ -87,8 +89,8 @@ inline std::pair<double, double> range_of(const keel::core::ConfigTable& p, cons
 }
 
 // `first`, `split`, `last`: robot a = poses [first, split), robot b = [split, last).
-inline keel::pcm::SplitOptions read_split(const keel::core::ConfigTable& p) {
-  keel::pcm::SplitOptions split;
+inline keel::sim::SplitOptions read_split(const keel::core::ConfigTable& p) {
+  keel::sim::SplitOptions split;
   split.first = static_cast<int>(p.integer("first"));
   split.split = static_cast<int>(p.integer("split"));
   split.last = static_cast<int>(p.integer("last"));
@@ -97,8 +99,8 @@ inline keel::pcm::SplitOptions read_split(const keel::core::ConfigTable& p) {
 
 // `num_inliers`, `aliased_groups`, `aliased_group_size`, `random_outliers`, `random_sigma_translation` and
 // `random_sigma_rotation` ([min, max]); validated.
-inline keel::pcm::CandidateOptions read_candidate_options(const keel::core::ConfigTable& p) {
-  keel::pcm::CandidateOptions copt;
+inline keel::sim::CandidateOptions read_candidate_options(const keel::core::ConfigTable& p) {
+  keel::sim::CandidateOptions copt;
   copt.num_inliers = static_cast<int>(p.integer("num_inliers"));
   copt.aliased_groups = static_cast<int>(p.integer("aliased_groups"));
   copt.aliased_group_size = static_cast<int>(p.integer("aliased_group_size"));
@@ -115,10 +117,10 @@ inline keel::pcm::CandidateOptions read_candidate_options(const keel::core::Conf
 // report about them (timings of the solves and factorizations; metrics: pool size, poses, own loop closures and the
 // normalized χ² of each local solve).
 template <class G>
-std::pair<keel::pcm::LocalSolution<G>, keel::pcm::LocalSolution<G>> solve_local_maps(
-    keel::core::Results& r, const keel::pcm::TwoRobotScenario<G>& scenario) {
-  auto a = keel::pcm::solve_local(scenario.robot_a);
-  auto b = keel::pcm::solve_local(scenario.robot_b);
+std::pair<keel::eval::LocalSolution<G>, keel::eval::LocalSolution<G>> solve_local_maps(
+    keel::core::Results& r, const keel::sim::TwoRobotScenario<G>& scenario) {
+  auto a = keel::eval::solve_local(scenario.robot_a);
+  auto b = keel::eval::solve_local(scenario.robot_b);
   r.timing("local.a.solve", a.solve_time_s);
   r.timing("local.b.solve", b.solve_time_s);
   r.timing("local.a.factorization", a.factorization_time_s);
@@ -139,7 +141,7 @@ std::pair<keel::pcm::LocalSolution<G>, keel::pcm::LocalSolution<G>> solve_local_
 // Per data set: covariance extraction, the matrix Q and the independent-composition Q of the ablation, as timings
 // (mean and max; never diffed).
 template <class G>
-void record_dataset_timings(keel::core::Results& r, const std::vector<keel::pcm::MergeDataset<G>>& runs) {
+void record_dataset_timings(keel::core::Results& r, const std::vector<keel::eval::MergeDataset<G>>& runs) {
   std::vector<double> t_cov, t_q, t_qi;
   for (const auto& d : runs) {
     t_cov.push_back(d.covariance_time_s);
@@ -160,7 +162,7 @@ void record_dataset_timings(keel::core::Results& r, const std::vector<keel::pcm:
 // and every candidate as a segment between its two poses: blue accepted inliers, red accepted outliers, pink rejected
 // inliers, grey rejected outliers. `d` must have been run with keep_solutions.
 template <class G>
-keel::core::Figure merged_maps_figure(const keel::pcm::MergeDataset<G>& d, const std::vector<MethodConfig>& methods,
+keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d, const std::vector<MethodConfig>& methods,
                                       const std::string& file, const std::string& title, int ax, int ay,
                                       double trajectory_width, const std::string& xlabel = "",
                                       const std::string& ylabel = "") {

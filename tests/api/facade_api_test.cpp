@@ -2,6 +2,8 @@
 import keel.core;
 import keel.lie;
 import keel.pcm;
+import keel.sim;
+import keel.eval;
 
 #include <doctest/doctest.h>
 
@@ -15,6 +17,8 @@ import keel.pcm;
 namespace lie = keel::lie;
 namespace core = keel::core;
 namespace pcm = keel::pcm;
+namespace sim = keel::sim;
+namespace eval = keel::eval;
 
 TEST_CASE("keel.lie facade: group round trip and the adjoint identity (eq. 5.10)") {
   lie::Vec6 xi;
@@ -90,17 +94,17 @@ TEST_CASE("keel.core facade: config errors name file, table and key") {
 }
 
 TEST_CASE("keel.pcm facade: PCM-Exact equals the combinatorial maximum of eq. 2.5 on 1D worlds; RANSAC does not") {
-  pcm::World1DOptions options;  // the defaults of world1d.hpp
+  sim::World1DOptions options;  // the defaults of world1d.hpp
   const double gamma = pcm::consistency_threshold(0.11, 1);
   int ransac_inconsistent = 0;
   for (std::uint64_t w = 0; w < 200; ++w) {
-    const auto world = pcm::generate_world1d(options, 4242, w);
-    const auto Q = pcm::world1d_consistency_matrix(world);
-    const auto comb = pcm::max_consistent_set_combinatorial(Q, gamma);
+    const auto world = sim::generate_world1d(options, 4242, w);
+    const auto Q = sim::world1d_consistency_matrix(world);
+    const auto comb = eval::max_consistent_set_combinatorial(Q, gamma);
     const auto exact = pcm::select_pcm(Q, gamma, pcm::CliqueAlgorithm::exact);
     CHECK(exact.selected.size() == comb.selected.size());
-    CHECK(pcm::count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
-    ransac_inconsistent += pcm::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
+    CHECK(eval::count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
+    ransac_inconsistent += eval::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
   }
   CHECK(ransac_inconsistent > 0);  // RANSAC does not enforce pairwise consistency (§2.7.1)
 }

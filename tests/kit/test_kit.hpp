@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -98,5 +99,20 @@ bool throws_with(F&& f, std::string_view needle) {
   }
   return false;
 }
+
+// The message of the std::invalid_argument that f throws, or kNoThrow when it throws none (other exceptions
+// propagate).
+inline constexpr const char* kNoThrow = "<no throw>";
+template <class F>
+std::string message_of(F&& f) {
+  try {
+    std::forward<F>(f)();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return kNoThrow;
+}
+
+inline bool contains(std::string_view s, std::string_view part) { return s.find(part) != std::string_view::npos; }
 
 }  // namespace keel::testkit

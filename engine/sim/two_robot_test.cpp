@@ -18,16 +18,17 @@
 #include "graph/isam.hpp"
 #include "graph/trajectory.hpp"
 #include "pcm/consistency.hpp"
-#include "pcm/scenario.hpp"
-#include "pcm/two_robot_test_graphs.hpp"
-#include "pcm/test_support.hpp"
+#include "sim/two_robot.hpp"
+#include "sim/two_robot_test_graphs.hpp"
+#include "kit/test_kit.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
-using keel::pcm::testing::square_laps;
+using namespace keel::sim;
+using keel::sim::testing::square_laps;
 
-using keel::pcm::testing::contains;
-using keel::pcm::testing::message_of;
+using keel::testkit::contains;
+using keel::testkit::message_of;
 
 namespace {
 

@@ -39,12 +39,12 @@
 #include "lie/se3.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
-#include "pcm/scenario.hpp"
+#include "sim/two_robot.hpp"
 #include "pcm/selection.hpp"
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
 
-namespace keel::pcm {
+namespace keel::eval {
 
 struct LocalSolveOptions {
   pgo::InitialGuess initial_guess = pgo::InitialGuess::odometry;  // as_read or odometry (supplied/random: no)
@@ -58,7 +58,7 @@ struct LocalSolveOptions {
 // i).
 template <class G>
 struct LocalSolution {
-  PoseGraphOf<G> graph;  // the local graph as given
+  sim::PoseGraphOf<G> graph;  // the local graph as given
   std::vector<G> poses;  // the maximum-likelihood solution in the robot's frame (pose 0 fixed)
   pgo::Summary summary;  // of the local solve
   std::shared_ptr<const cov::MarginalCovariance> covariance;  // immutable, safe to query from several threads
@@ -79,15 +79,15 @@ LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOpti
 // candidate when one touches a pose that its robot does not have.
 template <class G>
 struct LocalMaps {
-  LocalMap<G> a, b;
+  pcm::LocalMap<G> a, b;
   double time_s = 0.0;  // covariance extraction (both robots)
 };
 using LocalMaps2 = LocalMaps<lie::SE2>;
 using LocalMaps3 = LocalMaps<lie::SE3>;
 LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
-                      const std::vector<InterRobotMeasurement2>& candidates);
+                      const std::vector<pcm::InterRobotMeasurement2>& candidates);
 LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
-                      const std::vector<InterRobotMeasurement3>& candidates);
+                      const std::vector<pcm::InterRobotMeasurement3>& candidates);
 
 // Initial value of b's anchor T_ab in the merged solve.
 enum class AnchorInit {
@@ -132,10 +132,10 @@ using MergeResult3 = MergeResult<lie::SE3>;
 // range or repeated, a candidate touching a missing pose, or invalid options; std::runtime_error when the
 // solver fails.
 MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
-                        const std::vector<InterRobotMeasurement2>& candidates,
+                        const std::vector<pcm::InterRobotMeasurement2>& candidates,
                         const std::vector<int>& selected, const MergeOptions& options = {});
 MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
-                        const std::vector<InterRobotMeasurement3>& candidates,
+                        const std::vector<pcm::InterRobotMeasurement3>& candidates,
                         const std::vector<int>& selected, const MergeOptions& options = {});
 
 // The candidates a robust solve kept: selected[k] with inter_robot[k].scale ≥ min_scale (every selected
@@ -175,7 +175,7 @@ struct Classification {
   double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : std::numeric_limits<double>::quiet_NaN(); }
 };
 // Throws std::invalid_argument for an index out of range or repeated.
-Classification classify(const std::vector<int>& selected, const std::vector<CandidateLabel>& labels);
+Classification classify(const std::vector<int>& selected, const std::vector<sim::CandidateLabel>& labels);
 
 // Every metric of Tables 2.1 and 2.2 for one merged solve.
 struct MergeMetrics {
@@ -190,11 +190,11 @@ struct MergeMetrics {
 };
 // `selection` is what the method chose (for DCS: accepted_candidates), `labels` those of the candidate set.
 MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
-                            const TwoRobotScenario2& scenario, const std::vector<int>& selection,
-                            const std::vector<CandidateLabel>& labels);
+                            const sim::TwoRobotScenario2& scenario, const std::vector<int>& selection,
+                            const std::vector<sim::CandidateLabel>& labels);
 MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
-                            const TwoRobotScenario3& scenario, const std::vector<int>& selection,
-                            const std::vector<CandidateLabel>& labels);
+                            const sim::TwoRobotScenario3& scenario, const std::vector<int>& selection,
+                            const std::vector<sim::CandidateLabel>& labels);
 
 // ---------------------------------------------------------------------------------------------------------------
 // One data set of Tables 2.1/2.2 with every method (§2.7): generate the candidates, extract the local
@@ -217,8 +217,8 @@ struct MergeMethod {
   std::string name;  // key of the method's metrics (e.g. "pcm_exact_11"), non-empty
   MergeMethodKind kind = MergeMethodKind::pcm_exact;
   double p = 0.11;  // ransac, pcm: γ = consistency_threshold(p, dof), p in (0, 1)
-  Composition composition = Composition::joint;  // scgp, ransac, pcm: the relative-pose covariance used in Q
-  ScgpOptions scgp;                              // scgp
+  pcm::Composition composition = pcm::Composition::joint;  // scgp, ransac, pcm: the relative-pose covariance used in Q
+  pcm::ScgpOptions scgp;                              // scgp
   double dcs_phi = 5.0;                          // dcs: φ (> 0)
   double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
                                   // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
@@ -239,7 +239,7 @@ struct MethodOutcome {
 
 template <class G>
 struct MergeDataset {
-  CandidateSet<G> candidates;
+  sim::CandidateSet<G> candidates;
   std::vector<MethodOutcome<G>> methods;  // one per method, in the order given
   double covariance_time_s = 0.0;         // local_maps (joint marginals of the touched poses, both robots)
   double matrix_time_s = 0.0;  // consistency_matrix with Composition::joint (0 if no method uses it)
@@ -252,13 +252,13 @@ using MergeDataset3 = MergeDataset<lie::SE3>;
 // method. The NO-OUT solve is always run (it is the reference of the metrics); a no_outliers method reports
 // it. Everything is single-threaded and deterministic (Ceres with one thread), so data sets can run in
 // parallel. Throws what the steps throw (std::invalid_argument for invalid methods or options).
-MergeDataset2 run_merge_dataset(const TwoRobotScenario2& scenario, const LocalSolution2& a,
-                                const LocalSolution2& b, const CandidateOptions& candidates,
+MergeDataset2 run_merge_dataset(const sim::TwoRobotScenario2& scenario, const LocalSolution2& a,
+                                const LocalSolution2& b, const sim::CandidateOptions& candidates,
                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                 std::uint64_t index, bool keep_solutions = false);
-MergeDataset3 run_merge_dataset(const TwoRobotScenario3& scenario, const LocalSolution3& a,
-                                const LocalSolution3& b, const CandidateOptions& candidates,
+MergeDataset3 run_merge_dataset(const sim::TwoRobotScenario3& scenario, const LocalSolution3& a,
+                                const LocalSolution3& b, const sim::CandidateOptions& candidates,
                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                 std::uint64_t index, bool keep_solutions = false);
 
-}  // namespace keel::pcm
+}  // namespace keel::eval

@@ -1,78 +1,22 @@
-// The simulated 1D world of thesis §2.7.1: one state x observed directly by m measurements, some of them outliers.
-//
-//   inliers          z ~ N(x, σ_in²), σ_in fixed;
-//   aliased group    one perceptually aliased group: every member drawn from the same Gaussian N(μ_a, σ_a²), whose
-//                    mean and standard deviation are themselves random per world (fixed within the world), so the
-//                    group is internally consistent but (usually) not with the inliers;
-//   random outliers  each from its own Gaussian N(μ_j, σ_j²) with random mean and standard deviation.
-//
-// The variances are known and used in the Mahalanobis distance of a pair (dof = 1):
-//
-//   q_uv = (z_u − z_v)² / (σ_u² + σ_v²)                                            (the 1D case of eq. 2.4)
-//
-// Also here: the combinatorial "gold standard" of eq. 2.5 — a search over the subsets S ∈ {0,1}^m that does not use
-// the clique code — and the count of inconsistent pairs of a returned set (Fig. 2.2's second row).
+// Fig. 2.2 and Fig. 2.3 (§2.7.1) on the simulated 1D world (sim/world1d.hpp): the combinatorial "gold standard" of
+// eq. 2.5 — a search over the subsets S ∈ {0,1}^m that does not use the clique code — the count of inconsistent pairs
+// of a returned set (Fig. 2.2's second row), and the Monte-Carlo study that runs every selector on the same worlds.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "core/random.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
+#include "sim/world1d.hpp"
 
 namespace keel::core {
 class Progress;
 }
 
-namespace keel::pcm {
-
-enum class MeasurementLabel { inlier, aliased, random };
-std::string to_string(MeasurementLabel label);  // "inlier" | "aliased" | "random"
-
-struct World1DOptions {
-  double x = 0.0;              // the true state
-  double sigma_inlier = 1.0;   // standard deviation of every inlier, > 0
-  int inliers_min = 4;         // number of inliers, uniform in [min, max]; 0 <= min <= max
-  int inliers_max = 10;
-  int aliased_min = 2;         // size of the perceptually aliased group, uniform in [min, max]
-  int aliased_max = 6;
-  int random_min = 2;          // number of random outliers, uniform in [min, max]
-  int random_max = 6;
-  double outlier_mean_range = 10.0;  // μ_a and each μ_j uniform in [x − R, x + R]; R >= 0
-  double outlier_sigma_min = 0.5;    // σ_a and each σ_j uniform in [min, max]; 0 < min <= max
-  double outlier_sigma_max = 3.0;
-  bool shuffle = true;  // randomly permute the measurements (otherwise: inliers, aliased, random)
-  // Throws std::invalid_argument naming the violated constraint (also when max counts sum to 0).
-  void validate() const;
-};
-
-// A World1DOptions with exactly `total` measurements: round(inlier_fraction·total) inliers,
-// round(aliased_fraction·total) aliased, the rest random (used for sweeps over the number of measurements, Fig. 2.3).
-// Fractions in [0, 1] with sum <= 1, total >= 1; throws std::invalid_argument otherwise.
-World1DOptions world1d_options_with_total(const World1DOptions& base, int total, double inlier_fraction,
-                                          double aliased_fraction);
-
-struct World1D {
-  double x = 0.0;
-  std::vector<double> z;                 // measurements
-  std::vector<double> sigma;             // their known standard deviations
-  std::vector<MeasurementLabel> labels;  // ground truth
-  double aliased_mean = 0.0, aliased_sigma = 0.0;  // the aliased group's Gaussian
-  int size() const { return static_cast<int>(z.size()); }
-  int count(MeasurementLabel label) const;
-};
-
-// Draws one world from `rng` (counts, then inliers, the aliased group, the random outliers, then the shuffle).
-World1D generate_world1d(const World1DOptions& options, core::Rng& rng);
-// World `world_index` of experiment `seed`: drawn from keel::core::Rng::stream(seed, world_index), so every world is
-// independent of how many others are generated and in which order (results do not depend on the thread count).
-World1D generate_world1d(const World1DOptions& options, std::uint64_t seed, std::uint64_t world_index);
-
-// Q of the world: q_uv = (z_u − z_v)² / (σ_u² + σ_v²), zero diagonal, dof = 1. Throws std::invalid_argument for an
-// empty world, mismatched sizes or non-positive / non-finite σ or non-finite z.
-ConsistencyMatrix world1d_consistency_matrix(const World1D& world);
+namespace keel::eval {
 
 // Combinatorial solution of eq. 2.5 straight from Q and γ, independent of the clique code: the largest S ⊆ {0..m−1}
 // with q_uv <= γ and q_vu <= γ for all u ≠ v in S.
@@ -94,7 +38,7 @@ struct CombinatorialResult {
   double time_s = 0.0;
 };
 // Throws std::invalid_argument for a bad Q or γ (as select_pcm) or m above the method's limit.
-CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q, double gamma,
+CombinatorialResult max_consistent_set_combinatorial(const pcm::ConsistencyMatrix& Q, double gamma,
                                                      CombinatorialMethod method = CombinatorialMethod::pruned);
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -106,11 +50,11 @@ std::string to_string(Selector1D s);  // "combinatorial" | "pcm_exact" | "pcm_he
 Selector1D selector1d_from_string(const std::string& s);
 
 struct World1DStudyOptions {
-  World1DOptions world;
+  sim::World1DOptions world;
   double pcm_gamma = 0.0;     // γ of PCM and of the combinatorial solution (eq. 2.5); also the γ against which
                               // inconsistent pairs are counted for every method (Fig. 2.2); > 0
   double ransac_gamma = 0.0;  // RANSAC's own likelihood threshold on q_uv; > 0
-  ScgpOptions scgp;
+  pcm::ScgpOptions scgp;
   CombinatorialMethod combinatorial = CombinatorialMethod::pruned;
   std::vector<Selector1D> selectors = {Selector1D::combinatorial, Selector1D::pcm_exact, Selector1D::pcm_heuristic,
                                        Selector1D::scgp, Selector1D::ransac};
@@ -142,6 +86,6 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
 
 // Number of pairs {u, v} of `set` that violate eq. 2.3 (q_uv > γ or q_vu > γ). `set` must hold distinct indices in
 // range (std::invalid_argument otherwise).
-int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, double gamma);
+int count_inconsistent_pairs(const pcm::ConsistencyMatrix& Q, const std::vector<int>& set, double gamma);
 
-}  // namespace keel::pcm
+}  // namespace keel::eval

@@ -11,17 +11,19 @@
 #include <vector>
 
 #include "pcm/consistency.hpp"
-#include "pcm/merge.hpp"
-#include "pcm/scenario.hpp"
-#include "pcm/two_robot_test_graphs.hpp"
-#include "pcm/test_support.hpp"
+#include "eval/merge.hpp"
+#include "sim/two_robot.hpp"
+#include "sim/two_robot_test_graphs.hpp"
+#include "kit/test_kit.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
-using keel::pcm::testing::square_laps;
+using namespace keel::sim;
+using namespace keel::eval;
+using keel::sim::testing::square_laps;
 
-using keel::pcm::testing::contains;
-using keel::pcm::testing::message_of;
+using keel::testkit::contains;
+using keel::testkit::message_of;
 
 namespace {
 

@@ -1,5 +1,5 @@
 // Two-robot map-merging scenarios (thesis §2.7.2 and a 3D substitute for §2.7.3); see scenario.hpp.
-#include "pcm/scenario.hpp"
+#include "sim/two_robot.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -13,7 +13,10 @@
 
 #include "core/random.hpp"
 
-namespace keel::pcm {
+namespace keel::sim {
+
+using namespace keel::pcm;  // measurement types and the left-perturbation covariance
+
 
 namespace {
 
@@ -401,4 +404,4 @@ CandidateSet3 generate_candidates(const TwoRobotScenario3& scenario, const Candi
   return generate_impl<lie::SE3>(scenario, options, seed, index);
 }
 
-}  // namespace keel::pcm
+}  // namespace keel::sim

@@ -1,5 +1,5 @@
 // Robust multi-robot map merging (thesis §2.6) and the metrics of Tables 2.1–2.2; see merge.hpp.
-#include "pcm/merge.hpp"
+#include "eval/merge.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,11 @@
 #include "cov/information.hpp"
 #include "pgo/multi_robot.hpp"
 
-namespace keel::pcm {
+namespace keel::eval {
+
+using namespace keel::pcm;  // consistency metric and selection methods
+using namespace keel::sim;  // scenarios and candidates
+
 
 namespace {
 
@@ -512,4 +516,4 @@ MergeDataset3 run_merge_dataset(const TwoRobotScenario3& scenario, const LocalSo
   return run_dataset_impl(scenario, a, b, candidates, methods, seed, index, keep_solutions);
 }
 
-}  // namespace keel::pcm
+}  // namespace keel::eval

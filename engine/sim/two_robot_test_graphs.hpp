@@ -14,9 +14,9 @@
 #include "graph/pose_graph.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
-#include "pcm/scenario.hpp"
+#include "sim/two_robot.hpp"
 
-namespace keel::pcm::testing {
+namespace keel::sim::testing {
 
 template <class G>
 struct SyntheticGraph {
@@ -81,4 +81,4 @@ SyntheticGraph<G> square_laps(int laps, int closure_stride, std::uint64_t seed, 
   return out;
 }
 
-}  // namespace keel::pcm::testing
+}  // namespace keel::sim::testing

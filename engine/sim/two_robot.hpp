@@ -65,9 +65,9 @@
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
 #include "pcm/consistency.hpp"
-#include "pcm/world1d.hpp"
+#include "sim/world1d.hpp"
 
-namespace keel::pcm {
+namespace keel::sim {
 
 // The pose-graph type of a group: PoseGraph2D for SE(2), PoseGraph3D for SE(3).
 template <class G>
@@ -103,7 +103,7 @@ struct TwoRobotScenario {
   PoseGraphOf<G> robot_a, robot_b;  // local graphs, poses 0.. in each robot's own frame (pose 0 = identity)
   std::vector<G> truth_a, truth_b;  // ground-truth local poses (truth_a[0] = truth_b[0] = identity)
   G true_anchor;  // T_ab: pose of b's local frame in a's frame (= ground truth G_first⁻¹ G_split)
-  std::vector<InterRobotMeasurement<G>> pool;  // the dataset's true a–b loop closures (left covariance)
+  std::vector<pcm::InterRobotMeasurement<G>> pool;  // the dataset's true a–b loop closures (left covariance)
   std::vector<typename G::Jacobian> pool_information;  // their residual information Ω (same order)
   std::vector<int> pool_lines;                         // their source lines (0 if unknown)
   SplitOptions split;
@@ -151,7 +151,7 @@ struct CandidateOptions {
 
 template <class G>
 struct CandidateSet {
-  std::vector<InterRobotMeasurement<G>> candidates;  // z ≈ (T^a_i)⁻¹ T_ab T^b_k with left covariance
+  std::vector<pcm::InterRobotMeasurement<G>> candidates;  // z ≈ (T^a_i)⁻¹ T_ab T^b_k with left covariance
   std::vector<typename G::Jacobian> information;     // residual information Ω of each candidate
   std::vector<CandidateLabel> labels;                // one per candidate
   std::vector<G> false_anchors;                      // per aliased group: the anchor its members agree on
@@ -189,4 +189,4 @@ CandidateSet3 generate_candidates(const TwoRobotScenario3& scenario, const Candi
 void resample_measurements(TwoRobotScenario2& scenario, double noise_scale, std::uint64_t seed);
 void resample_measurements(TwoRobotScenario3& scenario, double noise_scale, std::uint64_t seed);
 
-}  // namespace keel::pcm
+}  // namespace keel::sim

@@ -1,0 +1,61 @@
+// keel.eval — the curated facade of engine/eval: evaluation of outlier-rejection methods (thesis §2.6–2.7). The
+// map-merging pipeline of §2.6 (local solves and marginals, selection, merged solve), its metrics (TPR/FPR, trajectory
+// errors, normalized χ²), the combinatorial reference of eq. 2.5, and the chapter-2 studies the experiments run.
+// Facade rules (docs/DESIGN.md) as every area.
+module;
+#include "eval/merge.hpp"
+#include "eval/world1d_study.hpp"
+export module keel.eval;
+
+export namespace keel::eval {
+// map merging (§2.6)
+using keel::eval::accepted_candidates;
+using keel::eval::anchor_init_from_string;
+using keel::eval::AnchorInit;
+using keel::eval::local_maps;
+using keel::eval::LocalMaps;
+using keel::eval::LocalMaps2;
+using keel::eval::LocalMaps3;
+using keel::eval::LocalSolution;
+using keel::eval::LocalSolution2;
+using keel::eval::LocalSolution3;
+using keel::eval::LocalSolveOptions;
+using keel::eval::merge_maps;
+using keel::eval::merge_method_kind_from_string;
+using keel::eval::MergeDataset;
+using keel::eval::MergeDataset2;
+using keel::eval::MergeDataset3;
+using keel::eval::MergeMethod;
+using keel::eval::MergeMethodKind;
+using keel::eval::MergeOptions;
+using keel::eval::MergeResult;
+using keel::eval::MergeResult2;
+using keel::eval::MergeResult3;
+using keel::eval::MethodOutcome;
+using keel::eval::run_merge_dataset;
+using keel::eval::solve_local;
+using keel::eval::to_string;
+// metrics
+using keel::eval::absolute_error;
+using keel::eval::Classification;
+using keel::eval::classify;
+using keel::eval::evaluate_merge;
+using keel::eval::MergeMetrics;
+using keel::eval::relative_error;
+using keel::eval::rotation_error;
+using keel::eval::TrajectoryError;
+// 1D world study (Figs. 2.2–2.3) and the combinatorial reference of eq. 2.5
+using keel::eval::combinatorial_method_from_string;
+using keel::eval::CombinatorialMethod;
+using keel::eval::CombinatorialResult;
+using keel::eval::count_inconsistent_pairs;
+using keel::eval::kCombinatorialExhaustiveMax;
+using keel::eval::kCombinatorialPrunedMax;
+using keel::eval::max_consistent_set_combinatorial;
+using keel::eval::run_world1d_study;
+using keel::eval::selector1d_from_string;
+using keel::eval::Selector1D;
+using keel::eval::World1DOutcome;
+using keel::eval::World1DStudy;
+using keel::eval::World1DStudyOptions;
+}  // namespace keel::eval

@@ -1,0 +1,38 @@
+// keel.sim — the curated facade of engine/sim: data fabricated for experiments. The 1D world of §2.7.1, two-robot
+// scenarios split from a single-robot dataset with candidate inter-robot loop closures (inliers from the dataset,
+// perceptually aliased groups, random outliers; §2.7.2–2.7.3), measurement resampling about the ground truth, and
+// random consistency graphs. Facade rules (docs/DESIGN.md) as every area.
+module;
+#include "sim/random_graph.hpp"
+#include "sim/two_robot.hpp"
+#include "sim/world1d.hpp"
+export module keel.sim;
+
+export namespace keel::sim {
+// 1D world (§2.7.1)
+using keel::sim::generate_world1d;
+using keel::sim::MeasurementLabel;
+using keel::sim::to_string;
+using keel::sim::World1D;
+using keel::sim::world1d_consistency_matrix;
+using keel::sim::world1d_options_with_total;
+using keel::sim::World1DOptions;
+// two-robot scenarios (§2.7.2–2.7.3)
+using keel::sim::CandidateLabel;
+using keel::sim::CandidateOptions;
+using keel::sim::CandidateSet;
+using keel::sim::CandidateSet2;
+using keel::sim::CandidateSet3;
+using keel::sim::generate_candidates;
+using keel::sim::information_from_left_covariance;
+using keel::sim::PoseGraphFor;
+using keel::sim::PoseGraphOf;
+using keel::sim::resample_measurements;
+using keel::sim::split_two_robots;
+using keel::sim::SplitOptions;
+using keel::sim::TwoRobotScenario;
+using keel::sim::TwoRobotScenario2;
+using keel::sim::TwoRobotScenario3;
+// random consistency graphs
+using keel::sim::random_graph;
+}  // namespace keel::sim

@@ -1,6 +1,8 @@
 // Robust multi-robot map merging (thesis §2.6) and the metrics of Tables 2.1–2.2; see merge.hpp.
 #include "eval/merge.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/names.hpp"
 #include "cov/information.hpp"
 #include "pgo/multi_robot.hpp"
 
@@ -44,14 +47,10 @@ struct Types<lie::SE3> {
 template <class G>
 LocalSolution<G> solve_local_impl(const PoseGraphOf<G>& graph, const LocalSolveOptions& o) {
   o.validate();
-  pgo::Options po;
-  po.initial_guess = o.initial_guess;
-  po.max_iterations = o.max_iterations;
-  po.threads = o.threads;
   LocalSolution<G> out;
   out.graph = graph;
   auto t0 = std::chrono::steady_clock::now();
-  auto solved = pgo::optimize(graph, po);
+  auto solved = pgo::optimize(graph, o.solver);
   out.solve_time_s = seconds_since(t0);
   if (solved.summary.termination == pgo::Termination::failure)
     throw std::runtime_error("pcm::solve_local: the local solve of " +
@@ -136,15 +135,10 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
   init.robots[0].poses = a.poses;
   init.robots[1].poses = b.poses;  // anchors left empty: set by anchor_guess below
 
-  pgo::Options po;
+  pgo::Options po = o.solver;
   po.initial_guess = pgo::InitialGuess::supplied;
   po.anchor_guess = o.anchor_init == AnchorInit::selected_edges ? pgo::AnchorGuess::inter_robot_edges
                                                                 : pgo::AnchorGuess::as_given;
-  po.robust_kernel = o.kernel;
-  po.robust_parameter = o.robust_parameter;
-  po.robust_scope = o.robust_scope;
-  po.max_iterations = o.max_iterations;
-  po.threads = o.threads;
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto res = pgo::optimize(g, po, &init);
@@ -287,36 +281,31 @@ MergeDataset<G> run_dataset_impl(const TwoRobotScenario<G>& s, const LocalSoluti
     MergeResult<G> merged;
     switch (m.kind) {
       case MergeMethodKind::no_outliers:
-        o.selection = inliers;
+        o.selection.selected = inliers;
         merged = reference;
         break;
       case MergeMethodKind::dcs:
         merged = merge_maps(a, b, cands, out.candidates.all(), MergeOptions::dcs(m.dcs_phi));
-        o.selection = accepted_candidates(merged, m.dcs_accept_scale);
+        o.selection.selected = accepted_candidates(merged, m.dcs_accept_scale);
         break;
       default: {
-        Selection sel;
         if (m.kind == MergeMethodKind::scgp) {
-          sel = select_scgp(Q, m.scgp);
+          o.selection = select_scgp(Q, m.scgp);
         } else {
           const double gamma = consistency_threshold(m.p, Q.dof);
           if (m.kind == MergeMethodKind::ransac)
-            sel = select_ransac(Q, gamma);
+            o.selection = select_ransac(Q, gamma);
           else
-            sel = select_pcm(
+            o.selection = select_pcm(
                 Q, gamma,
                 m.kind == MergeMethodKind::pcm_exact ? CliqueAlgorithm::exact : CliqueAlgorithm::heuristic);
         }
-        o.selection = sel.selected;
-        std::sort(o.selection.begin(), o.selection.end());
-        o.selection_time_s = sel.time_s;
-        o.upper_bound = sel.upper_bound;
-        o.proven_optimal = sel.proven_optimal;
-        merged = merge_maps(a, b, cands, o.selection);
+        std::sort(o.selection.selected.begin(), o.selection.selected.end());
+        merged = merge_maps(a, b, cands, o.selection.selected);
       }
     }
     o.solve_time_s = merged.time_s;
-    o.metrics = evaluate_impl(merged, reference, s, o.selection, labels);
+    o.metrics = evaluate_impl(merged, reference, s, o.selection.selected, labels);
     if (keep) o.merged = std::move(merged);
     out.methods.push_back(std::move(o));
   }
@@ -326,13 +315,17 @@ MergeDataset<G> run_dataset_impl(const TwoRobotScenario<G>& s, const LocalSoluti
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------
+pgo::Options LocalSolveOptions::default_solver() {
+  pgo::Options o;
+  o.initial_guess = pgo::InitialGuess::odometry;
+  return o;
+}
+
 void LocalSolveOptions::validate() const {
-  if (initial_guess != pgo::InitialGuess::as_read && initial_guess != pgo::InitialGuess::odometry)
-    fail("LocalSolveOptions: initial_guess must be as_read or odometry (got " +
-         std::string(pgo::to_string(initial_guess)) + ")");
-  if (max_iterations < 1)
-    fail("LocalSolveOptions: max_iterations must be >= 1 (got " + std::to_string(max_iterations) + ")");
-  if (threads < 1) fail("LocalSolveOptions: threads must be >= 1 (got " + std::to_string(threads) + ")");
+  if (solver.initial_guess != pgo::InitialGuess::as_read && solver.initial_guess != pgo::InitialGuess::odometry)
+    fail(fmt::format("LocalSolveOptions: solver.initial_guess must be as_read or odometry (got {})",
+                     pgo::to_string(solver.initial_guess)));
+  solver.validate();
 }
 
 LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options) {
@@ -351,40 +344,25 @@ LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
   return local_maps_impl(a, b, candidates);
 }
 
-std::string to_string(AnchorInit a) {
-  switch (a) {
-    case AnchorInit::selected_edges:
-      return "selected_edges";
-    case AnchorInit::identity:
-      return "identity";
-  }
-  return "unknown";
-}
+namespace {
+constexpr core::NameTable<AnchorInit, 2> kAnchorInitNames{"eval::AnchorInit", {{
+      {AnchorInit::selected_edges, "selected_edges"},
+      {AnchorInit::identity, "identity"}}}};
+}  // namespace
 
-AnchorInit anchor_init_from_string(std::string_view s) {
-  if (s == "selected_edges") return AnchorInit::selected_edges;
-  if (s == "identity") return AnchorInit::identity;
-  fail("anchor_init_from_string: unknown anchor initialisation '" + std::string(s) +
-       "' (selected_edges | identity)");
-}
+std::string_view to_string(AnchorInit v) { return kAnchorInitNames.name(v); }
+AnchorInit anchor_init_from_string(std::string_view s) { return kAnchorInitNames.parse(s); }
 
-MergeOptions MergeOptions::dcs(double phi) {
+MergeOptions MergeOptions::dcs(double dcs_phi) {
   MergeOptions o;
-  o.kernel = pgo::RobustKernel::dcs;
-  o.robust_parameter = phi;
-  o.robust_scope = pgo::RobustScope::loop_closures;
+  o.solver.robust_kernel = pgo::RobustKernel::dcs;
+  o.solver.robust_parameter = dcs_phi;
+  o.solver.robust_scope = pgo::RobustScope::loop_closures;
   o.anchor_init = AnchorInit::identity;
   return o;
 }
 
-void MergeOptions::validate() const {
-  if (!(std::isfinite(robust_parameter) && robust_parameter > 0.0))
-    fail("MergeOptions: robust_parameter must be finite and > 0 (got " + std::to_string(robust_parameter) +
-         ")");
-  if (max_iterations < 1)
-    fail("MergeOptions: max_iterations must be >= 1 (got " + std::to_string(max_iterations) + ")");
-  if (threads < 1) fail("MergeOptions: threads must be >= 1 (got " + std::to_string(threads) + ")");
-}
+void MergeOptions::validate() const { solver.validate(); }
 
 MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
                         const std::vector<InterRobotMeasurement2>& candidates,
@@ -461,31 +439,18 @@ MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& refe
   return evaluate_impl(result, reference, scenario, selection, labels);
 }
 
-std::string to_string(MergeMethodKind k) {
-  switch (k) {
-    case MergeMethodKind::no_outliers:
-      return "no_outliers";
-    case MergeMethodKind::dcs:
-      return "dcs";
-    case MergeMethodKind::scgp:
-      return "scgp";
-    case MergeMethodKind::ransac:
-      return "ransac";
-    case MergeMethodKind::pcm_exact:
-      return "pcm_exact";
-    case MergeMethodKind::pcm_heuristic:
-      return "pcm_heuristic";
-  }
-  return "unknown";
-}
+namespace {
+constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{"eval::MergeMethodKind", {{
+      {MergeMethodKind::no_outliers, "no_outliers"},
+      {MergeMethodKind::dcs, "dcs"},
+      {MergeMethodKind::scgp, "scgp"},
+      {MergeMethodKind::ransac, "ransac"},
+      {MergeMethodKind::pcm_exact, "pcm_exact"},
+      {MergeMethodKind::pcm_heuristic, "pcm_heuristic"}}}};
+}  // namespace
 
-MergeMethodKind merge_method_kind_from_string(std::string_view s) {
-  for (auto k : {MergeMethodKind::no_outliers, MergeMethodKind::dcs, MergeMethodKind::scgp,
-                 MergeMethodKind::ransac, MergeMethodKind::pcm_exact, MergeMethodKind::pcm_heuristic})
-    if (s == to_string(k)) return k;
-  fail("merge_method_kind_from_string: unknown method '" + std::string(s) +
-       "' (no_outliers | dcs | scgp | ransac | pcm_exact | pcm_heuristic)");
-}
+std::string_view to_string(MergeMethodKind v) { return kMergeMethodKindNames.name(v); }
+MergeMethodKind merge_method_kind_from_string(std::string_view s) { return kMergeMethodKindNames.parse(s); }
 
 void MergeMethod::validate() const {
   const std::string who = "MergeMethod '" + name + "': ";

@@ -47,10 +47,11 @@
 namespace keel::eval {
 
 struct LocalSolveOptions {
-  pgo::InitialGuess initial_guess = pgo::InitialGuess::odometry;  // as_read or odometry (supplied/random: no)
-  int max_iterations = 100;                                       // trust-region iterations (≥ 1)
-  int threads = 1;  // solver threads (≥ 1); keep 1 where result files are compared across thread counts
-  // Throws std::invalid_argument naming the violated constraint.
+  // The local solve: pgo's defaults with initial_guess = odometry (as_read is the other valid choice; supplied and
+  // random are not) and one solver thread (keep 1 where result files are compared across thread counts).
+  pgo::Options solver = default_solver();
+  static pgo::Options default_solver();
+  // Throws std::invalid_argument naming the violated constraint (including solver.validate()'s).
   void validate() const;
 };
 
@@ -71,8 +72,8 @@ using LocalSolution3 = LocalSolution<lie::SE3>;
 // Solves the graph and factorizes its information at the solution (gauge: pose 0 fixed). Throws
 // std::invalid_argument for invalid options or graphs, std::runtime_error when the solver fails or the
 // information matrix is not positive definite (a graph that is not connected).
-LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options = {});
-LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOptions& options = {});
+[[nodiscard]] LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options = {});
+[[nodiscard]] LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOptions& options = {});
 
 // LocalMap (consistency.hpp) of both robots for one candidate set: ids = the distinct poses the candidates
 // touch (ascending), joint = their joint marginal covariance. Throws std::invalid_argument naming the
@@ -84,9 +85,9 @@ struct LocalMaps {
 };
 using LocalMaps2 = LocalMaps<lie::SE2>;
 using LocalMaps3 = LocalMaps<lie::SE3>;
-LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
+[[nodiscard]] LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
                       const std::vector<pcm::InterRobotMeasurement2>& candidates);
-LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
+[[nodiscard]] LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
                       const std::vector<pcm::InterRobotMeasurement3>& candidates);
 
 // Initial value of b's anchor T_ab in the merged solve.
@@ -95,19 +96,18 @@ enum class AnchorInit {
                    // (pgo::AnchorGuess::inter_robot_edges); identity when nothing is selected
   identity,  // no initial alignment (the thesis's DCS)
 };
-std::string to_string(AnchorInit a);
+std::string_view to_string(AnchorInit a);
 AnchorInit anchor_init_from_string(std::string_view s);  // "selected_edges" | "identity"; else throws
 
 struct MergeOptions {
-  pgo::RobustKernel kernel = pgo::RobustKernel::none;               // none, or dcs for the DCS baseline
-  double robust_parameter = 5.0;                                    // DCS φ (thesis §2.7: 5) (> 0)
-  pgo::RobustScope robust_scope = pgo::RobustScope::loop_closures;  // loop closures incl. inter-robot edges
+  // The merged solve: kernel (none, or dcs for the DCS baseline with robust_parameter = φ), scope (loop closures,
+  // inter-robot edges included), iterations and threads. merge_maps sets initial_guess (supplied: the local
+  // solutions) and anchor_guess (from anchor_init) itself.
+  pgo::Options solver;
   AnchorInit anchor_init = AnchorInit::selected_edges;
-  int max_iterations = 100;  // trust-region iterations (≥ 1)
-  int threads = 1;           // solver threads (≥ 1)
-  // The DCS baseline of §2.7: DCS with φ on the loop closures, anchor at the identity.
-  static MergeOptions dcs(double phi = 5.0);
-  // Throws std::invalid_argument naming the violated constraint.
+  // The DCS baseline of §2.7: DCS with φ = dcs_phi on the loop closures, anchor at the identity.
+  static MergeOptions dcs(double dcs_phi = 5.0);
+  // Throws std::invalid_argument naming the violated constraint (including solver.validate()'s).
   void validate() const;
 };
 
@@ -131,25 +131,25 @@ using MergeResult3 = MergeResult<lie::SE3>;
 // covariance (information_from_left_covariance). Throws std::invalid_argument for a selected index out of
 // range or repeated, a candidate touching a missing pose, or invalid options; std::runtime_error when the
 // solver fails.
-MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
+[[nodiscard]] MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
                         const std::vector<pcm::InterRobotMeasurement2>& candidates,
                         const std::vector<int>& selected, const MergeOptions& options = {});
-MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
+[[nodiscard]] MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
                         const std::vector<pcm::InterRobotMeasurement3>& candidates,
                         const std::vector<int>& selected, const MergeOptions& options = {});
 
 // The candidates a robust solve kept: selected[k] with inter_robot[k].scale ≥ min_scale (every selected
 // candidate when no kernel applied). For DCS, scale is s = min(1, 2φ/(φ + χ²)); 0.5 means χ² ≤ 3φ.
-std::vector<int> accepted_candidates(const MergeResult2& result, double min_scale);
-std::vector<int> accepted_candidates(const MergeResult3& result, double min_scale);
+[[nodiscard]] std::vector<int> accepted_candidates(const MergeResult2& result, double min_scale);
+[[nodiscard]] std::vector<int> accepted_candidates(const MergeResult3& result, double min_scale);
 
 // ---------------------------------------------------------------------------------------------------------------
 // Metrics (thesis §2.7.2 and §2.7.3).
 
 // ‖log(R_refᵀ R)‖_F, the matrix logarithm's Frobenius norm of §2.7.2: √2 |Δθ| in 2D (Δθ wrapped to (−π, π]),
 // √2 ‖Log(R_refᵀ R)‖ in 3D.
-double rotation_error(const lie::SE2& estimate, const lie::SE2& reference);
-double rotation_error(const lie::SE3& estimate, const lie::SE3& reference);
+[[nodiscard]] double rotation_error(const lie::SE2& estimate, const lie::SE2& reference);
+[[nodiscard]] double rotation_error(const lie::SE3& estimate, const lie::SE3& reference);
 
 struct TrajectoryError {
   double translation_mse = 0.0;  // (1/n) Σ ‖t − t_ref‖²  (m²)
@@ -159,12 +159,12 @@ struct TrajectoryError {
 
 // Absolute error of corresponding poses (Table 2.1: the merged map against the NO-OUT solution, both in a's
 // frame). Throws std::invalid_argument on a size mismatch or empty input.
-TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
-TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
+[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
 // Error of consecutive relative poses T_i⁻¹ T_{i+1} (Table 2.2 "Traj. MSE": graph correctness, independent of
 // the alignment). Needs ≥ 2 poses.
-TrajectoryError relative_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
-TrajectoryError relative_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
+[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
 
 // Inlier/outlier classification of a selection against the labels: TPR = TP/(TP+FN), FPR = FP/(FP+TN)
 // (Fig. 2.4).
@@ -175,7 +175,7 @@ struct Classification {
   double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : std::numeric_limits<double>::quiet_NaN(); }
 };
 // Throws std::invalid_argument for an index out of range or repeated.
-Classification classify(const std::vector<int>& selected, const std::vector<sim::CandidateLabel>& labels);
+[[nodiscard]] Classification classify(const std::vector<int>& selected, const std::vector<sim::CandidateLabel>& labels);
 
 // Every metric of Tables 2.1 and 2.2 for one merged solve.
 struct MergeMetrics {
@@ -189,10 +189,10 @@ struct MergeMetrics {
   TrajectoryError trajectory;  // consecutive relative poses of both robots vs ground truth (Table 2.2)
 };
 // `selection` is what the method chose (for DCS: accepted_candidates), `labels` those of the candidate set.
-MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
+[[nodiscard]] MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
                             const sim::TwoRobotScenario2& scenario, const std::vector<int>& selection,
                             const std::vector<sim::CandidateLabel>& labels);
-MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
+[[nodiscard]] MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
                             const sim::TwoRobotScenario3& scenario, const std::vector<int>& selection,
                             const std::vector<sim::CandidateLabel>& labels);
 
@@ -208,7 +208,7 @@ enum class MergeMethodKind {
   pcm_exact,      // select_pcm(Q, γ(p), exact)
   pcm_heuristic,  // select_pcm(Q, γ(p), heuristic) — the thesis's PCM-HeuPatt
 };
-std::string to_string(MergeMethodKind k);
+std::string_view to_string(MergeMethodKind k);
 // "no_outliers" | "dcs" | "scgp" | "ransac" | "pcm_exact" | "pcm_heuristic"; else throws
 // std::invalid_argument.
 MergeMethodKind merge_method_kind_from_string(std::string_view s);
@@ -228,13 +228,12 @@ struct MergeMethod {
 
 template <class G>
 struct MethodOutcome {
-  std::vector<int> selection;     // the candidates the method chose, ascending (DCS: accepted_candidates)
-  MergeMetrics metrics;           // against the NO-OUT solve of the same data set
-  double selection_time_s = 0.0;  // select_* wall time (threshold + clique for PCM); 0 for NO-OUT and DCS
-  double solve_time_s = 0.0;      // merged solve
-  int upper_bound = -1;           // PCM: the clique bound (Selection::upper_bound)
-  bool proven_optimal = false;    // PCM: the selection is a maximum clique
-  MergeResult<G> merged;          // the merged solve, only with keep_solutions
+  // The candidates the method chose, ascending (DCS: accepted_candidates), with the select_* wall time (threshold +
+  // clique for PCM; 0 for NO-OUT and DCS) and, for PCM, the clique search (bound, status).
+  pcm::Selection selection;
+  MergeMetrics metrics;       // against the NO-OUT solve of the same data set
+  double solve_time_s = 0.0;  // merged solve
+  MergeResult<G> merged;      // the merged solve, only with keep_solutions
 };
 
 template <class G>
@@ -252,11 +251,11 @@ using MergeDataset3 = MergeDataset<lie::SE3>;
 // method. The NO-OUT solve is always run (it is the reference of the metrics); a no_outliers method reports
 // it. Everything is single-threaded and deterministic (Ceres with one thread), so data sets can run in
 // parallel. Throws what the steps throw (std::invalid_argument for invalid methods or options).
-MergeDataset2 run_merge_dataset(const sim::TwoRobotScenario2& scenario, const LocalSolution2& a,
+[[nodiscard]] MergeDataset2 run_merge_dataset(const sim::TwoRobotScenario2& scenario, const LocalSolution2& a,
                                 const LocalSolution2& b, const sim::CandidateOptions& candidates,
                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                 std::uint64_t index, bool keep_solutions = false);
-MergeDataset3 run_merge_dataset(const sim::TwoRobotScenario3& scenario, const LocalSolution3& a,
+[[nodiscard]] MergeDataset3 run_merge_dataset(const sim::TwoRobotScenario3& scenario, const LocalSolution3& a,
                                 const LocalSolution3& b, const sim::CandidateOptions& candidates,
                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                 std::uint64_t index, bool keep_solutions = false);

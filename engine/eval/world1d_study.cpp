@@ -1,13 +1,16 @@
 #include "eval/world1d_study.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
+#include "core/names.hpp"
 #include "core/parallel.hpp"
+#include "core/timing.hpp"
 #include "pcm/clique.hpp"
 
 namespace keel::eval {
@@ -17,28 +20,13 @@ using namespace keel::sim;  // the 1D world
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-[[noreturn]] void fail(const char* fmt, double a, double b = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  throw std::invalid_argument(buf);
-}
-
-// Uniform integer in [lo, hi].
-int uniform_int(core::Rng& rng, int lo, int hi) {
-  const int k = lo + static_cast<int>(rng.uniform() * static_cast<double>(hi - lo + 1));
-  return std::min(k, hi);
-}
+using core::Clock;
+using core::seconds_since;
 
 void check_gamma(double gamma, const char* who) {
-  if (!(gamma > 0.0) || !std::isfinite(gamma)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: the consistency threshold gamma must be > 0 and finite (got %g)", who, gamma);
-    throw std::invalid_argument(buf);
-  }
+  if (!(gamma > 0.0) || !std::isfinite(gamma))
+    throw std::invalid_argument(
+        fmt::format("{}: the consistency threshold gamma must be > 0 and finite (got {:g})", who, gamma));
 }
 
 }  // namespace
@@ -46,19 +34,14 @@ void check_gamma(double gamma, const char* who) {
 // ---------------------------------------------------------------------------------------------------------------
 // Combinatorial solution of eq. 2.5
 
-std::string to_string(CombinatorialMethod m) {
-  switch (m) {
-    case CombinatorialMethod::exhaustive: return "exhaustive";
-    case CombinatorialMethod::pruned: return "pruned";
-  }
-  return "?";
-}
+namespace {
+constexpr core::NameTable<CombinatorialMethod, 2> kCombinatorialMethodNames{"eval::CombinatorialMethod", {{
+      {CombinatorialMethod::exhaustive, "exhaustive"},
+      {CombinatorialMethod::pruned, "pruned"}}}};
+}  // namespace
 
-CombinatorialMethod combinatorial_method_from_string(const std::string& s) {
-  if (s == "exhaustive") return CombinatorialMethod::exhaustive;
-  if (s == "pruned") return CombinatorialMethod::pruned;
-  throw std::invalid_argument("unknown combinatorial method '" + s + "' (expected \"exhaustive\" or \"pruned\")");
-}
+std::string_view to_string(CombinatorialMethod v) { return kCombinatorialMethodNames.name(v); }
+CombinatorialMethod combinatorial_method_from_string(std::string_view s) { return kCombinatorialMethodNames.parse(s); }
 
 namespace {
 
@@ -99,8 +82,8 @@ CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q,
   const int m = Q.n;
   const int limit = method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
   if (m > limit) {
-    throw std::invalid_argument("max_consistent_set_combinatorial (" + to_string(method) + "): m = " +
-                                std::to_string(m) + " measurements exceeds the limit " + std::to_string(limit));
+    throw std::invalid_argument(fmt::format("max_consistent_set_combinatorial ({}): m = {} measurements exceeds the limit {}",
+                                            to_string(method), m, limit));
   }
   const auto t0 = Clock::now();
   // ok[u]: bitmask of v ≠ u with q_uv <= γ and q_vu <= γ (the pairwise constraint of eq. 2.5 for s_u = s_v = 1).
@@ -152,24 +135,17 @@ CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q,
 // ---------------------------------------------------------------------------------------------------------------
 // Monte-Carlo study
 
-std::string to_string(Selector1D s) {
-  switch (s) {
-    case Selector1D::combinatorial: return "combinatorial";
-    case Selector1D::pcm_exact: return "pcm_exact";
-    case Selector1D::pcm_heuristic: return "pcm_heuristic";
-    case Selector1D::scgp: return "scgp";
-    case Selector1D::ransac: return "ransac";
-  }
-  return "?";
-}
+namespace {
+constexpr core::NameTable<Selector1D, 5> kSelector1DNames{"eval::Selector1D", {{
+      {Selector1D::combinatorial, "combinatorial"},
+      {Selector1D::pcm_exact, "pcm_exact"},
+      {Selector1D::pcm_heuristic, "pcm_heuristic"},
+      {Selector1D::scgp, "scgp"},
+      {Selector1D::ransac, "ransac"}}}};
+}  // namespace
 
-Selector1D selector1d_from_string(const std::string& s) {
-  for (auto k : {Selector1D::combinatorial, Selector1D::pcm_exact, Selector1D::pcm_heuristic, Selector1D::scgp,
-                 Selector1D::ransac})
-    if (s == to_string(k)) return k;
-  throw std::invalid_argument("unknown selector '" + s +
-                              "' (expected combinatorial, pcm_exact, pcm_heuristic, scgp or ransac)");
-}
+std::string_view to_string(Selector1D v) { return kSelector1DNames.name(v); }
+Selector1D selector1d_from_string(std::string_view s) { return kSelector1DNames.parse(s); }
 
 void World1DStudyOptions::validate() const {
   world.validate();
@@ -181,22 +157,23 @@ void World1DStudyOptions::validate() const {
   for (std::size_t i = 0; i < selectors.size(); ++i)
     for (std::size_t j = i + 1; j < selectors.size(); ++j)
       if (selectors[i] == selectors[j])
-        throw std::invalid_argument("World1DStudyOptions::selectors lists '" + to_string(selectors[i]) + "' twice");
+        throw std::invalid_argument(
+            fmt::format("World1DStudyOptions::selectors lists '{}' twice", to_string(selectors[i])));
   const bool comb = std::find(selectors.begin(), selectors.end(), Selector1D::combinatorial) != selectors.end();
   const int max_m = world.inliers_max + world.aliased_max + world.random_max;
   const int limit = combinatorial == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax
                                                                      : kCombinatorialPrunedMax;
   if (comb && max_m > limit) {
-    throw std::invalid_argument("World1DStudyOptions: worlds of up to " + std::to_string(max_m) +
-                                " measurements exceed the " + to_string(combinatorial) +
-                                " combinatorial limit of " + std::to_string(limit));
+    throw std::invalid_argument(
+        fmt::format("World1DStudyOptions: worlds of up to {} measurements exceed the {} combinatorial limit of {}",
+                    max_m, to_string(combinatorial), limit));
   }
 }
 
 const std::vector<World1DOutcome>& World1DStudy::of(Selector1D s) const {
   for (std::size_t k = 0; k < selectors.size(); ++k)
     if (selectors[k] == s) return outcome[k];
-  throw std::invalid_argument("World1DStudy: selector '" + to_string(s) + "' was not run");
+  throw std::invalid_argument(fmt::format("World1DStudy: selector '{}' was not run", to_string(s)));
 }
 
 World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progress* progress) {
@@ -263,10 +240,9 @@ int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>&
   std::vector<char> seen(Q.n, 0);
   for (int u : set) {
     if (u < 0 || u >= Q.n) {
-      throw std::invalid_argument("count_inconsistent_pairs: index " + std::to_string(u) + " is out of range [0, " +
-                                  std::to_string(Q.n) + ")");
+      throw std::invalid_argument(fmt::format("count_inconsistent_pairs: index {} is out of range [0, {})", u, Q.n));
     }
-    if (seen[u]) throw std::invalid_argument("count_inconsistent_pairs: index " + std::to_string(u) + " repeated");
+    if (seen[u]) throw std::invalid_argument(fmt::format("count_inconsistent_pairs: index {} repeated", u));
     seen[u] = 1;
   }
   int bad = 0;

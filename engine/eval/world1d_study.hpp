@@ -26,8 +26,8 @@ enum class CombinatorialMethod {
                // consistent with every included one, and a branch stops when even taking all remaining candidates
                // could not reach the best size (m <= kCombinatorialPrunedMax)
 };
-std::string to_string(CombinatorialMethod m);
-CombinatorialMethod combinatorial_method_from_string(const std::string& s);  // "exhaustive" | "pruned"
+std::string_view to_string(CombinatorialMethod m);
+CombinatorialMethod combinatorial_method_from_string(std::string_view s);  // "exhaustive" | "pruned"
 inline constexpr int kCombinatorialExhaustiveMax = 30;
 inline constexpr int kCombinatorialPrunedMax = 64;
 
@@ -46,8 +46,8 @@ CombinatorialResult max_consistent_set_combinatorial(const pcm::ConsistencyMatri
 // built once (not timed), and each selector runs on the same Q.
 
 enum class Selector1D { combinatorial, pcm_exact, pcm_heuristic, scgp, ransac };
-std::string to_string(Selector1D s);  // "combinatorial" | "pcm_exact" | "pcm_heuristic" | "scgp" | "ransac"
-Selector1D selector1d_from_string(const std::string& s);
+std::string_view to_string(Selector1D s);  // "combinatorial" | "pcm_exact" | "pcm_heuristic" | "scgp" | "ransac"
+Selector1D selector1d_from_string(std::string_view s);
 
 struct World1DStudyOptions {
   sim::World1DOptions world;

@@ -1,22 +1,22 @@
 #include "pcm/clique.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
-#include "core/random.hpp"
+#include "core/names.hpp"
+#include "core/timing.hpp"
 
 namespace keel::pcm {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using core::Clock;
+using core::seconds_since;
 
 inline bool test_bit(const std::uint64_t* w, int i) { return (w[i >> 6] >> (i & 63)) & 1u; }
 inline void set_bit(std::uint64_t* w, int i) { w[i >> 6] |= std::uint64_t{1} << (i & 63); }
@@ -33,8 +33,6 @@ bool any(const std::uint64_t* w, int words) {
     if (w[i]) return true;
   return false;
 }
-
-std::string idx(int v) { return std::to_string(v); }
 
 // Core numbers and the smallest-last (degeneracy) removal order of Batagelj & Zaversnik (2003); bins are
 // filled in vertex-id order so the order is deterministic.
@@ -167,6 +165,7 @@ class Search {
   std::vector<std::vector<int>> found;  // global ids, unsorted
   long long nodes = 0;
   bool aborted = false;
+  SearchStatus stop = SearchStatus::optimal;  // node_limit or time_limit once aborted
 
   int target() const { return opt_.report_ties ? best : best + 1; }
 
@@ -243,8 +242,14 @@ class Search {
 
  private:
   bool limit_hit() {
-    if (opt_.node_limit > 0 && nodes >= opt_.node_limit) return true;
-    if (opt_.time_limit_s > 0 && (nodes & 1023) == 0 && seconds_since(t0_) > opt_.time_limit_s) return true;
+    if (opt_.node_limit > 0 && nodes >= opt_.node_limit) {
+      stop = SearchStatus::node_limit;
+      return true;
+    }
+    if (opt_.time_limit_s > 0 && (nodes & 1023) == 0 && seconds_since(t0_) > opt_.time_limit_s) {
+      stop = SearchStatus::time_limit;
+      return true;
+    }
     return false;
   }
 
@@ -334,7 +339,7 @@ void finish_ties(CliqueResult& r, std::vector<std::vector<int>> found) {
 // ConsistencyGraph
 
 ConsistencyGraph::ConsistencyGraph(int n) {
-  if (n < 0) throw std::invalid_argument("ConsistencyGraph: negative vertex count " + idx(n));
+  if (n < 0) throw std::invalid_argument(fmt::format("ConsistencyGraph: negative vertex count {}", n));
   n_ = n;
   words_ = (n + 63) / 64;
   adj_.assign(static_cast<std::size_t>(n_) * words_, 0);
@@ -350,30 +355,29 @@ ConsistencyGraph ConsistencyGraph::from_matrix(const std::vector<std::vector<boo
   ConsistencyGraph g(n);
   for (int i = 0; i < n; ++i)
     if (static_cast<int>(a[i].size()) != n)
-      throw std::invalid_argument("ConsistencyGraph::from_matrix: row " + idx(i) + " has " +
-                                  idx(int(a[i].size())) + " entries, expected " + idx(n));
+      throw std::invalid_argument(
+          fmt::format("ConsistencyGraph::from_matrix: row {} has {} entries, expected {}", i, a[i].size(), n));
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
       if (a[i][j] != a[j][i])
-        throw std::invalid_argument("ConsistencyGraph::from_matrix: matrix is not symmetric at (" + idx(i) +
-                                    ", " + idx(j) + ")");
+        throw std::invalid_argument(
+            fmt::format("ConsistencyGraph::from_matrix: matrix is not symmetric at ({}, {})", i, j));
       if (a[i][j]) g.add_edge(i, j);
     }
   return g;
 }
 
 ConsistencyGraph ConsistencyGraph::from_threshold(int n, const std::vector<double>& q, double gamma) {
-  if (n < 0) throw std::invalid_argument("ConsistencyGraph::from_threshold: negative vertex count " + idx(n));
+  if (n < 0) throw std::invalid_argument(fmt::format("ConsistencyGraph::from_threshold: negative vertex count {}", n));
   if (q.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(n))
-    throw std::invalid_argument("ConsistencyGraph::from_threshold: expected " + idx(n) + "x" + idx(n) +
-                                " entries, got " + std::to_string(q.size()));
+    throw std::invalid_argument(
+        fmt::format("ConsistencyGraph::from_threshold: expected {}x{} entries, got {}", n, n, q.size()));
   if (std::isnan(gamma)) throw std::invalid_argument("ConsistencyGraph::from_threshold: gamma is NaN");
   ConsistencyGraph g(n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       if (i != j && std::isnan(q[static_cast<std::size_t>(i) * n + j]))
-        throw std::invalid_argument("ConsistencyGraph::from_threshold: NaN at (" + idx(i) + ", " + idx(j) +
-                                    ")");
+        throw std::invalid_argument(fmt::format("ConsistencyGraph::from_threshold: NaN at ({}, {})", i, j));
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j)
       if (q[static_cast<std::size_t>(i) * n + j] <= gamma && q[static_cast<std::size_t>(j) * n + i] <= gamma)
@@ -383,14 +387,13 @@ ConsistencyGraph ConsistencyGraph::from_threshold(int n, const std::vector<doubl
 
 void ConsistencyGraph::check_vertex(int v, const char* what) const {
   if (v < 0 || v >= n_)
-    throw std::invalid_argument(std::string("ConsistencyGraph::") + what + ": vertex " + idx(v) +
-                                " out of range [0, " + idx(n_) + ")");
+    throw std::invalid_argument(fmt::format("ConsistencyGraph::{}: vertex {} out of range [0, {})", what, v, n_));
 }
 
 void ConsistencyGraph::add_edge(int u, int v) {
   check_vertex(u, "add_edge");
   check_vertex(v, "add_edge");
-  if (u == v) throw std::invalid_argument("ConsistencyGraph::add_edge: self loop at vertex " + idx(u));
+  if (u == v) throw std::invalid_argument(fmt::format("ConsistencyGraph::add_edge: self loop at vertex {}", u));
   std::uint64_t* ru = adj_.data() + static_cast<std::size_t>(u) * words_;
   if (test_bit(ru, v)) return;
   set_bit(ru, v);
@@ -434,25 +437,24 @@ bool ConsistencyGraph::is_clique(const std::vector<int>& vs) const {
 
 std::vector<int> core_numbers(const ConsistencyGraph& g) { return degeneracy(g).core; }
 
-std::string to_string(CliqueAlgorithm a) {
-  switch (a) {
-    case CliqueAlgorithm::exact:
-      return "exact";
-    case CliqueAlgorithm::heuristic:
-      return "heuristic";
-    case CliqueAlgorithm::brute_force:
-      return "brute_force";
-  }
-  throw std::invalid_argument("to_string: unknown CliqueAlgorithm " + idx(static_cast<int>(a)));
-}
+namespace {
+constexpr core::NameTable<CliqueAlgorithm, 3> kCliqueAlgorithmNames{
+    "pcm::CliqueAlgorithm",
+    {{{CliqueAlgorithm::exact, "exact"},
+      {CliqueAlgorithm::heuristic, "heuristic"},
+      {CliqueAlgorithm::brute_force, "brute_force"}}}};
+constexpr core::NameTable<SearchStatus, 4> kSearchStatusNames{
+    "pcm::SearchStatus",
+    {{{SearchStatus::optimal, "optimal"},
+      {SearchStatus::unproven, "unproven"},
+      {SearchStatus::node_limit, "node_limit"},
+      {SearchStatus::time_limit, "time_limit"}}}};
+}  // namespace
 
-CliqueAlgorithm clique_algorithm_from_string(std::string_view s) {
-  if (s == "exact") return CliqueAlgorithm::exact;
-  if (s == "heuristic") return CliqueAlgorithm::heuristic;
-  if (s == "brute_force") return CliqueAlgorithm::brute_force;
-  throw std::invalid_argument("unknown clique algorithm '" + std::string(s) +
-                              "' (expected exact, heuristic or brute_force)");
-}
+std::string_view to_string(CliqueAlgorithm a) { return kCliqueAlgorithmNames.name(a); }
+CliqueAlgorithm clique_algorithm_from_string(std::string_view s) { return kCliqueAlgorithmNames.parse(s); }
+std::string_view to_string(SearchStatus s) { return kSearchStatusNames.name(s); }
+SearchStatus search_status_from_string(std::string_view s) { return kSearchStatusNames.parse(s); }
 
 // ---------------------------------------------------------------------------------------------------------------
 // Solvers
@@ -463,8 +465,8 @@ CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOpt
   const auto d = degeneracy(g);
   r.clique = greedy_clique(g, d.core, r.nodes_explored);
   r.upper_bound = g.size() == 0 ? 0 : *std::max_element(d.core.begin(), d.core.end()) + 1;
-  r.proven_optimal = static_cast<int>(r.clique.size()) == r.upper_bound;
-  r.seconds = seconds_since(t0);
+  r.status = static_cast<int>(r.clique.size()) == r.upper_bound ? SearchStatus::optimal : SearchStatus::unproven;
+  r.time_s = seconds_since(t0);
   return r;
 }
 
@@ -473,8 +475,8 @@ CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions
   CliqueResult r;
   const int n = g.size();
   if (n == 0) {
-    r.proven_optimal = true;
-    r.seconds = seconds_since(t0);
+    r.status = SearchStatus::optimal;
+    r.time_s = seconds_since(t0);
     return r;
   }
   const auto d = degeneracy(g);
@@ -528,9 +530,10 @@ CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions
       r.upper_bound = std::max(r.upper_bound, std::min(later, d.core[v]) + 1);
     }
   }
-  r.proven_optimal = static_cast<int>(r.clique.size()) == r.upper_bound;
+  // A stopped search whose best clique meets its bound is still proven maximum.
+  r.status = static_cast<int>(r.clique.size()) == r.upper_bound ? SearchStatus::optimal : s.stop;
   r.nodes_explored = s.nodes + heuristic_nodes;
-  r.seconds = seconds_since(t0);
+  r.time_s = seconds_since(t0);
   return r;
 }
 
@@ -538,8 +541,8 @@ CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueO
   const auto t0 = Clock::now();
   const int n = g.size();
   if (n > kBruteForceMaxVertices)
-    throw std::invalid_argument("maximum_clique_brute_force: " + idx(n) + " vertices exceed the limit of " +
-                                idx(kBruteForceMaxVertices));
+    throw std::invalid_argument(fmt::format("maximum_clique_brute_force: {} vertices exceed the limit of {}", n,
+                                            kBruteForceMaxVertices));
   CliqueResult r;
   std::vector<std::uint64_t> nb(n, 0);
   for (int v = 0; v < n; ++v) nb[v] = n == 0 ? 0 : g.row(v)[0];
@@ -580,9 +583,9 @@ CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueO
   finish_ties(r, cliques);
   if (!opt.report_ties) r.ties.clear();
   r.upper_bound = best;
-  r.proven_optimal = true;
+  r.status = SearchStatus::optimal;
   r.nodes_explored = nodes;
-  r.seconds = seconds_since(t0);
+  r.time_s = seconds_since(t0);
   return r;
 }
 
@@ -596,7 +599,7 @@ CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm
     case CliqueAlgorithm::brute_force:
       return maximum_clique_brute_force(g, options);
   }
-  throw std::invalid_argument("maximum_clique: unknown algorithm " + idx(static_cast<int>(algorithm)));
+  throw std::invalid_argument(fmt::format("maximum_clique: unknown algorithm {}", static_cast<int>(algorithm)));
 }
 
 }  // namespace keel::pcm

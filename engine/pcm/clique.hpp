@@ -58,8 +58,18 @@ class ConsistencyGraph {
 std::vector<int> core_numbers(const ConsistencyGraph& g);
 
 enum class CliqueAlgorithm { exact, heuristic, brute_force };
-std::string to_string(CliqueAlgorithm a);
+std::string_view to_string(CliqueAlgorithm a);
 CliqueAlgorithm clique_algorithm_from_string(std::string_view s);  // throws std::invalid_argument
+
+// How a maximum-clique search ended (docs/DESIGN.md "Naming and errors").
+enum class SearchStatus {
+  optimal,     // the clique is proven maximum: its size equals the proven upper bound
+  unproven,    // the heuristic finished without proving its clique maximum (its bound is larger)
+  node_limit,  // the exact search stopped at CliqueOptions::node_limit: the best clique so far and a valid bound
+  time_limit,  // the exact search stopped at CliqueOptions::time_limit_s: likewise
+};
+std::string_view to_string(SearchStatus s);
+SearchStatus search_status_from_string(std::string_view s);  // throws std::invalid_argument
 
 struct CliqueOptions {
   bool report_ties = false;   // collect other maximum cliques in CliqueResult::ties
@@ -69,30 +79,30 @@ struct CliqueOptions {
 };
 
 struct CliqueResult {
-  std::vector<int> clique;      // sorted vertex ids of a largest clique found
-  int upper_bound = 0;          // no clique is larger than this
-  bool proven_optimal = false;  // clique.size() == upper_bound
-  std::vector<std::vector<int>>
-      ties;  // other maximum cliques (sorted ids, lexicographic order), if requested
+  std::vector<int> clique;                        // sorted vertex ids of a largest clique found
+  int upper_bound = 0;                            // no clique is larger than this
+  SearchStatus status = SearchStatus::unproven;   // optimal iff clique.size() == upper_bound
+  std::vector<std::vector<int>> ties;             // other maximum cliques (sorted ids, lexicographic), if requested
   long long nodes_explored = 0;
-  double seconds = 0.0;
+  double time_s = 0.0;
+  bool proven_optimal() const { return status == SearchStatus::optimal; }
 };
 
-CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions& options = {});
+[[nodiscard]] CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions& options = {});
 
 // Pattabiraman et al.'s heuristic: from every vertex, grow a clique greedily choosing the candidate of
 // highest core number (then degree, then lowest id) with core-number pruning. Returns a clique (never larger
 // than the maximum); upper_bound is the degeneracy bound max core + 1; ties are not collected.
-CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOptions& options = {});
+[[nodiscard]] CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOptions& options = {});
 
 // Bron–Kerbosch without pivoting over all maximal cliques, for validation only: throws std::invalid_argument
 // when g.size() > kBruteForceMaxVertices. With report_ties, ties lists every other maximum clique (up to
 // max_ties).
 inline constexpr int kBruteForceMaxVertices = 32;
-CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueOptions& options = {});
+[[nodiscard]] CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueOptions& options = {});
 
 // Dispatch on the algorithm.
-CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm,
+[[nodiscard]] CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm,
                             const CliqueOptions& options = {});
 
 }  // namespace keel::pcm

@@ -106,15 +106,15 @@ TEST_CASE("known graphs") {
     const auto r0 = maximum_clique(ConsistencyGraph(0), algo);
     CHECK(r0.clique.empty());
     CHECK(r0.upper_bound == 0);
-    CHECK(r0.proven_optimal);
+    CHECK(r0.proven_optimal());
     for (int n : {1, 5, 20}) {
       const auto e = maximum_clique(ConsistencyGraph(n), algo);
       CHECK(e.clique.size() == 1);
-      CHECK(e.proven_optimal);
+      CHECK(e.proven_optimal());
       const auto c = maximum_clique(complete(n), algo);
       CHECK(static_cast<int>(c.clique.size()) == n);
       CHECK(c.upper_bound == n);
-      CHECK(c.proven_optimal);
+      CHECK(c.proven_optimal());
     }
   }
   // core numbers of a triangle with a pendant vertex
@@ -148,7 +148,7 @@ TEST_CASE(
         REQUIRE(ex.clique.size() == bf.clique.size());
         REQUIRE(g.is_clique(ex.clique));
         REQUIRE(is_sorted_unique(ex.clique));
-        REQUIRE(ex.proven_optimal);
+        REQUIRE(ex.proven_optimal());
         REQUIRE(ex.upper_bound == static_cast<int>(ex.clique.size()));
         // with ties: the same set of maximum cliques as brute force (each found once)
         std::set<std::vector<int>> a{bf.clique}, b{ext.clique};
@@ -206,10 +206,10 @@ TEST_CASE("exact on 200-500 vertex random graphs returns a valid maximum clique"
     const auto ex = maximum_clique_exact(g);
     const auto he = maximum_clique_heuristic(g);
     CHECK(g.is_clique(ex.clique));
-    CHECK(ex.proven_optimal);
+    CHECK(ex.proven_optimal());
     CHECK(ex.clique.size() >= he.clique.size());
     CHECK(g.is_clique(he.clique));
-    CHECK(ex.seconds < 5.0);
+    CHECK(ex.time_s < 5.0);
   }
   // a planted clique of 12 in a sparse graph is found
   auto g = random_graph(400, 0.05, 5);
@@ -223,12 +223,14 @@ TEST_CASE("exact on 200-500 vertex random graphs returns a valid maximum clique"
 TEST_CASE("node limit: not proven, valid bound and clique") {
   const auto g = random_graph(300, 0.5, 3);
   const auto full = maximum_clique_exact(g);
-  REQUIRE(full.proven_optimal);
+  REQUIRE(full.proven_optimal());
   CliqueOptions opt;
   opt.node_limit = 5;
   const auto r = maximum_clique_exact(g, opt);
   CHECK(g.is_clique(r.clique));
-  CHECK_FALSE(r.proven_optimal);
+  CHECK_FALSE(r.proven_optimal());
+  CHECK(r.status == SearchStatus::node_limit);
+  CHECK(full.status == SearchStatus::optimal);
   CHECK(r.upper_bound >= full.clique.size());
   CHECK(r.clique.size() <= full.clique.size());
   opt.node_limit = 0;
@@ -236,6 +238,21 @@ TEST_CASE("node limit: not proven, valid bound and clique") {
   const auto rt = maximum_clique_exact(g, opt);
   CHECK(g.is_clique(rt.clique));
   CHECK(rt.upper_bound >= full.clique.size());
+  CHECK(rt.status == SearchStatus::time_limit);
+}
+
+TEST_CASE("clique and status names round-trip; a bad name lists the valid ones") {
+  for (auto a : {CliqueAlgorithm::exact, CliqueAlgorithm::heuristic, CliqueAlgorithm::brute_force})
+    CHECK(clique_algorithm_from_string(to_string(a)) == a);
+  for (auto st : {SearchStatus::optimal, SearchStatus::unproven, SearchStatus::node_limit, SearchStatus::time_limit})
+    CHECK(search_status_from_string(to_string(st)) == st);
+  CHECK(message_of([] { (void)clique_algorithm_from_string("fast"); }) ==
+        "unknown pcm::CliqueAlgorithm 'fast' (valid: exact, heuristic, brute_force)");
+  // The heuristic reports `unproven` when its clique is below the degeneracy bound, `optimal` when it meets it.
+  const auto g = random_graph(300, 0.5, 3);
+  const auto h = maximum_clique_heuristic(g);
+  CHECK(h.status == (static_cast<int>(h.clique.size()) == h.upper_bound ? SearchStatus::optimal
+                                                                         : SearchStatus::unproven));
 }
 
 TEST_CASE("determinism") {

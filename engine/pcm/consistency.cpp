@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "core/names.hpp"
 #include "core/parallel.hpp"
 #include "lie/metrics.hpp"
 
@@ -39,13 +40,14 @@ void check_pose(const G& T, const std::string& what) {
 
 }  // namespace
 
-std::string to_string(Composition c) { return c == Composition::joint ? "joint" : "independent"; }
+namespace {
+constexpr core::NameTable<Composition, 2> kCompositionNames{"pcm::Composition", {{
+      {Composition::joint, "joint"},
+      {Composition::independent, "independent"}}}};
+}  // namespace
 
-Composition composition_from_string(std::string_view s) {
-  if (s == "joint") return Composition::joint;
-  if (s == "independent") return Composition::independent;
-  throw std::invalid_argument("pcm: unknown composition \"" + std::string(s) + "\" (expected joint or independent)");
-}
+std::string_view to_string(Composition v) { return kCompositionNames.name(v); }
+Composition composition_from_string(std::string_view s) { return kCompositionNames.parse(s); }
 
 template <class G>
 static typename G::Jacobian left_covariance_impl(const G& z, const typename G::Jacobian& information) {

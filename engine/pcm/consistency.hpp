@@ -48,7 +48,7 @@ enum class Composition {
   joint,        // relative poses from the joint marginal, cross-covariance included (thesis ch. 5)
   independent,  // cross-covariance dropped (the poses composed as if independent)
 };
-std::string to_string(Composition c);
+std::string_view to_string(Composition c);
 Composition composition_from_string(std::string_view s);  // "joint" | "independent"; throws std::invalid_argument
 
 // A candidate inter-robot loop closure z ≈ (T^a_i)⁻¹ T^b_k with the covariance of its left perturbation

@@ -34,6 +34,8 @@ using keel::pcm::clique_algorithm_from_string;
 using keel::pcm::CliqueAlgorithm;
 using keel::pcm::CliqueOptions;
 using keel::pcm::CliqueResult;
+using keel::pcm::search_status_from_string;
+using keel::pcm::SearchStatus;
 using keel::pcm::maximum_clique;
 using keel::pcm::to_string;
 // selection methods

@@ -1,5 +1,7 @@
 #include "pcm/selection.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -9,6 +11,8 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+
+#include "core/names.hpp"
 
 namespace keel::pcm {
 
@@ -67,9 +71,7 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
   Selection s;
   s.time_s = seconds_since(t0);
   s.selected = r.clique;
-  s.upper_bound = r.upper_bound;
-  s.proven_optimal = r.proven_optimal;
-  s.ties = static_cast<int>(r.ties.size());
+  s.search = r;
   return s;
 }
 
@@ -103,20 +105,14 @@ Selection select_ransac(const ConsistencyMatrix& Q, double gamma) {
 // ---------------------------------------------------------------------------------------------------------------
 // SCGP (Olson et al. 2005)
 
-std::string to_string(ScgpDiscretization d) {
-  switch (d) {
-    case ScgpDiscretization::dot_product: return "dot_product";
-    case ScgpDiscretization::rayleigh: return "rayleigh";
-  }
-  return "?";
-}
+namespace {
+constexpr core::NameTable<ScgpDiscretization, 2> kScgpDiscretizationNames{"pcm::ScgpDiscretization", {{
+      {ScgpDiscretization::dot_product, "dot_product"},
+      {ScgpDiscretization::rayleigh, "rayleigh"}}}};
+}  // namespace
 
-ScgpDiscretization scgp_discretization_from_string(std::string_view s) {
-  if (s == "dot_product") return ScgpDiscretization::dot_product;
-  if (s == "rayleigh") return ScgpDiscretization::rayleigh;
-  throw std::invalid_argument("unknown SCGP discretization '" + std::string(s) +
-                              "' (expected \"dot_product\" or \"rayleigh\")");
-}
+std::string_view to_string(ScgpDiscretization v) { return kScgpDiscretizationNames.name(v); }
+ScgpDiscretization scgp_discretization_from_string(std::string_view s) { return kScgpDiscretizationNames.parse(s); }
 
 void ScgpOptions::validate() const {
   if (!(affinity_scale > 0.0) || !std::isfinite(affinity_scale)) {

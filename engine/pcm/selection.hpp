@@ -13,6 +13,7 @@
 //           as done here with Eigen's SelfAdjointEigenSolver). See ScgpOptions for the exact definition used.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,12 +24,12 @@
 namespace keel::pcm {
 
 struct Selection {
-  std::vector<int> selected;    // sorted candidate indices
-  double time_s = 0.0;          // wall time of the selection itself (excludes building Q)
-  int upper_bound = -1;         // PCM: the clique solver's bound (exact: branch and bound; heuristic: degeneracy
-                                // bound max core + 1); -1 where not applicable (RANSAC, SCGP)
-  bool proven_optimal = false;  // PCM: selected.size() == upper_bound (always true for a completed exact search)
-  int ties = 0;                 // PCM with CliqueOptions::report_ties: number of other maximum cliques found
+  std::vector<int> selected;  // sorted candidate indices
+  double time_s = 0.0;        // wall time of the selection itself (excludes building Q)
+  // PCM: the maximum-clique search behind the selection — its bound (exact: branch and bound; heuristic: the
+  // degeneracy bound max core + 1), status and ties (CliqueOptions::report_ties); empty for RANSAC and SCGP.
+  std::optional<CliqueResult> search;
+  bool proven_optimal() const { return search && search->proven_optimal(); }
 };
 
 // Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() != n·n,
@@ -38,11 +39,11 @@ void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who);
 
 // PCM (eq. 2.5, §2.5): maximum clique of ConsistencyGraph::from_threshold(Q, γ). γ > 0 and finite, else
 // std::invalid_argument. time_s includes thresholding Q into the graph.
-Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
+[[nodiscard]] Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
                      const CliqueOptions& options = {});
 
 // RANSAC as in thesis §2.7 (see the header comment). γ > 0 and finite.
-Selection select_ransac(const ConsistencyMatrix& Q, double gamma);
+[[nodiscard]] Selection select_ransac(const ConsistencyMatrix& Q, double gamma);
 
 // How SCGP turns the continuous dominant eigenvector v₁ into a discrete indicator vector. Both consider only the n
 // "threshold" sets S_k = the k candidates with the largest entries of v₁ (k = 1..n; ties in v₁ broken by lower index).
@@ -51,7 +52,7 @@ enum class ScgpDiscretization {
                 // v₁ (‖v₁‖ = 1), i.e. maximise (Σ_{i∈S_k} v₁ᵢ)/√k — the discrete vector closest in angle to v₁
   rayleigh,     // the S_k with the largest λ(w_k) = w_kᵀ A w_k / w_kᵀ w_k (the average affinity SCGP maximises)
 };
-std::string to_string(ScgpDiscretization d);
+std::string_view to_string(ScgpDiscretization d);
 ScgpDiscretization scgp_discretization_from_string(std::string_view s);  // "dot_product" | "rayleigh"
 
 // SCGP (Olson et al. 2005): the pairwise affinity matrix
@@ -83,9 +84,9 @@ struct ScgpResult {
   int cluster_size = 0;             // size of the discretised cluster before the confidence test
   double objective = 0.0;           // λ(w) = wᵀAw / wᵀw of the discretised cluster
 };
-ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options = {});
+[[nodiscard]] ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options = {});
 
 // SCGP's selection only (scgp(Q, options).selection).
-Selection select_scgp(const ConsistencyMatrix& Q, const ScgpOptions& options = {});
+[[nodiscard]] Selection select_scgp(const ConsistencyMatrix& Q, const ScgpOptions& options = {});
 
 }  // namespace keel::pcm

@@ -68,14 +68,14 @@ TEST_CASE("RANSAC: a star centre wins and its support holds inconsistent pairs; 
   const auto r = select_ransac(Q, gamma);
   CHECK(r.selected == std::vector<int>{0, 1, 2, 3, 4});
   CHECK(inconsistent_pairs(Q, r.selected, gamma) == 6);  // all pairs among 1..4
-  CHECK(r.upper_bound == -1);
+  CHECK_FALSE(r.search.has_value());
   CHECK(r.time_s >= 0.0);
 
   const auto p = select_pcm(Q, gamma, CliqueAlgorithm::exact);
   CHECK(p.selected.size() == 2);
   CHECK(inconsistent_pairs(Q, p.selected, gamma) == 0);
-  CHECK(p.proven_optimal);
-  CHECK(p.upper_bound == 2);
+  CHECK(p.proven_optimal());
+  CHECK(p.search->upper_bound == 2);
 }
 
 TEST_CASE("RANSAC: ties go to the smallest candidate; the sample's own row decides (asymmetric Q)") {
@@ -131,10 +131,10 @@ TEST_CASE("PCM selection = brute-force maximum clique on random Q (symmetric and
     const auto comb = max_consistent_set_combinatorial(Q, gamma, CombinatorialMethod::pruned);
     CHECK(exact.selected.size() == brute.selected.size());
     CHECK(exact.selected.size() == comb.selected.size());
-    CHECK(exact.proven_optimal);
-    CHECK(exact.upper_bound == static_cast<int>(exact.selected.size()));
+    CHECK(exact.proven_optimal());
+    CHECK(exact.search->upper_bound == static_cast<int>(exact.selected.size()));
     CHECK(heur.selected.size() <= exact.selected.size());
-    CHECK(heur.upper_bound >= static_cast<int>(exact.selected.size()));
+    CHECK(heur.search->upper_bound >= static_cast<int>(exact.selected.size()));
     CHECK(inconsistent_pairs(Q, exact.selected, gamma) == 0);
     CHECK(inconsistent_pairs(Q, heur.selected, gamma) == 0);
     CHECK(std::is_sorted(exact.selected.begin(), exact.selected.end()));
@@ -150,8 +150,8 @@ TEST_CASE("PCM reports ties when asked") {
   o.report_ties = true;
   const auto s = select_pcm(Q, 1.0, CliqueAlgorithm::exact, o);
   CHECK(s.selected == std::vector<int>{0, 1, 2});
-  CHECK(s.ties == 1);
-  CHECK(select_pcm(Q, 1.0, CliqueAlgorithm::exact).ties == 0);  // not requested
+  CHECK(s.search->ties.size() == 1);
+  CHECK(select_pcm(Q, 1.0, CliqueAlgorithm::exact).search->ties.empty());  // not requested
 }
 
 TEST_CASE("SCGP finds the dominant block among a smaller block and scattered candidates") {
@@ -176,7 +176,7 @@ TEST_CASE("SCGP finds the dominant block among a smaller block and scattered can
     CHECK(r.cluster_size == 6);
     CHECK(r.lambda1 > r.lambda2);
     CHECK(r.eigen_ratio > 1.5);
-    CHECK(r.selection.upper_bound == -1);
+    CHECK_FALSE(r.selection.search.has_value());
     double norm = 0.0;
     for (double x : r.eigenvector) norm += x * x;
     CHECK(norm == doctest::Approx(1.0).epsilon(1e-9));

@@ -1,11 +1,15 @@
 #include "sim/world1d.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+
+#include "core/names.hpp"
 
 
 namespace keel::sim {
@@ -38,14 +42,15 @@ void check_gamma(double gamma, const char* who) {
 
 }  // namespace
 
-std::string to_string(MeasurementLabel label) {
-  switch (label) {
-    case MeasurementLabel::inlier: return "inlier";
-    case MeasurementLabel::aliased: return "aliased";
-    case MeasurementLabel::random: return "random";
-  }
-  return "?";
-}
+namespace {
+constexpr core::NameTable<MeasurementLabel, 3> kMeasurementLabelNames{"sim::MeasurementLabel", {{
+      {MeasurementLabel::inlier, "inlier"},
+      {MeasurementLabel::aliased, "aliased"},
+      {MeasurementLabel::random, "random"}}}};
+}  // namespace
+
+std::string_view to_string(MeasurementLabel v) { return kMeasurementLabelNames.name(v); }
+MeasurementLabel measurement_label_from_string(std::string_view s) { return kMeasurementLabelNames.parse(s); }
 
 void World1DOptions::validate() const {
   if (!std::isfinite(x)) fail("World1DOptions::x must be finite (got %g)", x);

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/random.hpp"
@@ -23,7 +24,8 @@
 namespace keel::sim {
 
 enum class MeasurementLabel { inlier, aliased, random };
-std::string to_string(MeasurementLabel label);  // "inlier" | "aliased" | "random"
+std::string_view to_string(MeasurementLabel label);  // "inlier" | "aliased" | "random"
+MeasurementLabel measurement_label_from_string(std::string_view s);
 
 struct World1DOptions {
   double x = 0.0;              // the true state

@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
           cl.fn += o.metrics.classification.fn;
           cl.tn += o.metrics.classification.tn;
           chi2.push_back(o.metrics.normalized_chi2);
-          sel.push_back(static_cast<double>(o.selection.size()));
+          sel.push_back(static_cast<double>(o.selection.selected.size()));
         }
       };
       double chi2_no_out = 0.0;
@@ -207,7 +207,7 @@ int main(int argc, char** argv) {
           curves[f].chi2.push_back(ke::mean_std(chi2).mean);
           curves[f].selected.push_back(ke::mean_std(sel).mean);
           std::vector<double> t_sel;
-          for (const auto& d : runs) t_sel.push_back(d.methods[spec_index(f, k)].selection_time_s);
+          for (const auto& d : runs) t_sel.push_back(d.methods[spec_index(f, k)].selection.time_s);
           r.timing(g.name + "." + specs[spec_index(f, k)].name + ".time_s", ke::mean_std(t_sel).mean);
         }
         const auto n = g.name + "." + families[f].name;

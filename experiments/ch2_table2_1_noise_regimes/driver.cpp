@@ -278,7 +278,7 @@ int main(int argc, char** argv) {
             const auto run = eval::run_merge_dataset(x.scenario, x.a, x.b, copt, specs, ex.seed(), d);
             auto& o = out[it];
             for (const auto& m : run.methods)
-              o.push_back({m.metrics.classification, m.metrics.normalized_chi2, m.selection_time_s});
+              o.push_back({m.metrics.classification, m.metrics.normalized_chi2, m.selection.time_s});
           },
           ex.threads(), &progress);
       progress.finish();

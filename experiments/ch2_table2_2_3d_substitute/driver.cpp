@@ -164,12 +164,12 @@ int main(int argc, char** argv) {
       auto& c = pooled[k];
       for (const auto& d : runs) {
         const auto& o = d.methods[k];
-        for (int u : o.selection) {
+        for (int u : o.selection.selected) {
           const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
           accepted_aliased += kind == sim::MeasurementLabel::aliased;
           accepted_random += kind == sim::MeasurementLabel::random;
         }
-        t_sel.push_back(o.selection_time_s);
+        t_sel.push_back(o.selection.time_s);
         t_solve.push_back(o.solve_time_s);
         c.tp += o.metrics.classification.tp;
         c.fp += o.metrics.classification.fp;
@@ -188,8 +188,8 @@ int main(int argc, char** argv) {
     }
     std::size_t same = 0, proven = 0;
     for (const auto& d : runs) {
-      same += d.methods[i_exact].selection == d.methods[i_heu].selection;
-      proven += d.methods[i_exact].proven_optimal;
+      same += d.methods[i_exact].selection.selected == d.methods[i_heu].selection.selected;
+      proven += d.methods[i_exact].selection.proven_optimal();
     }
     r.metric(heuristic + ".same_selection_as_exact", static_cast<double>(same) / static_cast<double>(datasets));
     r.metric(exact + ".proven_optimal", static_cast<double>(proven) / static_cast<double>(datasets));

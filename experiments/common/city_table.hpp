@@ -123,7 +123,7 @@ namespace eval = keel::eval;
     eval::Classification c;
     double accepted_aliased = 0, accepted_random = 0, empty_selections = 0;
     for (const auto& d : runs) {
-      for (int u : d.methods[k].selection) {
+      for (int u : d.methods[k].selection.selected) {
         const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
         accepted_aliased += kind == sim::MeasurementLabel::aliased;
         accepted_random += kind == sim::MeasurementLabel::random;
@@ -131,13 +131,13 @@ namespace eval = keel::eval;
       const auto& o = d.methods[k];
       // A selection method that returns nothing leaves robot b's anchor unconstrained: the merge is meaningless,
       // so such data sets are counted (they stay in the averages).
-      if (o.selection.empty() && methods[k].method.kind != eval::MergeMethodKind::dcs) ++empty_selections;
+      if (o.selection.selected.empty() && methods[k].method.kind != eval::MergeMethodKind::dcs) ++empty_selections;
       trans.push_back(o.metrics.map.translation_mse);
       rot.push_back(o.metrics.map.rotation);
       res.push_back(o.metrics.residual);
       chi2.push_back(o.metrics.normalized_chi2);
-      sel.push_back(static_cast<double>(o.selection.size()));
-      t_sel.push_back(o.selection_time_s);
+      sel.push_back(static_cast<double>(o.selection.selected.size()));
+      t_sel.push_back(o.selection.time_s);
       t_solve.push_back(o.solve_time_s);
       c.tp += o.metrics.classification.tp;
       c.fp += o.metrics.classification.fp;
@@ -179,8 +179,8 @@ namespace eval = keel::eval;
   }
   std::size_t same = 0, proven = 0;
   for (const auto& d : runs) {
-    same += d.methods[i_exact].selection == d.methods[i_heu].selection;
-    proven += d.methods[i_exact].proven_optimal;
+    same += d.methods[i_exact].selection.selected == d.methods[i_heu].selection.selected;
+    proven += d.methods[i_exact].selection.proven_optimal();
   }
   const double same_fraction = static_cast<double>(same) / static_cast<double>(datasets);
   r.metric(heuristic + ".same_selection_as_exact", same_fraction);

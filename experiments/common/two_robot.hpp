@@ -202,7 +202,7 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d, cons
     panel.layers.push_back(la);
     panel.layers.push_back(lb);
     std::vector<char> chosen(d.candidates.candidates.size(), 0);
-    for (int u : o.selection) chosen[static_cast<std::size_t>(u)] = 1;
+    for (int u : o.selection.selected) chosen[static_cast<std::size_t>(u)] = 1;
     // Drawing order: rejected outliers, rejected inliers, accepted inliers, accepted outliers (on top).
     const struct {
       bool accepted, inlier;

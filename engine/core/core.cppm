@@ -10,6 +10,8 @@ module;
 #include "core/random.hpp"
 #include "core/report.hpp"
 #include "core/results.hpp"
+#include "core/statistics.hpp"
+#include "core/timing.hpp"
 export module keel.core;
 
 export namespace keel::core {
@@ -59,4 +61,9 @@ using keel::core::list_experiments;
 using keel::core::ReportOptions;
 using keel::core::same_results;
 using keel::core::write_report;
+// summary statistics and wall-clock durations
+using keel::core::Clock;
+using keel::core::mean_std;
+using keel::core::MeanStd;
+using keel::core::seconds_since;
 }  // namespace keel::core

@@ -3,7 +3,9 @@
 // errors, normalized χ²), the combinatorial reference of eq. 2.5, and the chapter-2 studies the experiments run.
 // Facade rules (docs/DESIGN.md) as every area.
 module;
+#include "eval/config.hpp"
 #include "eval/merge.hpp"
+#include "eval/studies.hpp"
 #include "eval/world1d_study.hpp"
 export module keel.eval;
 
@@ -58,4 +60,34 @@ using keel::eval::Selector1D;
 using keel::eval::World1DOutcome;
 using keel::eval::World1DStudy;
 using keel::eval::World1DStudyOptions;
+// chapter-2 studies: measurement regimes, local pairs, data sets in parallel, summaries, calibration of Q
+using keel::eval::apply_regime;
+using keel::eval::LocalPair;
+using keel::eval::MeasurementRegime;
+using keel::eval::method_index;
+using keel::eval::methods_of;
+using keel::eval::MethodSummary;
+using keel::eval::pool_calibration;
+using keel::eval::pool_chi2_at_truth;
+using keel::eval::PoolCalibration;
+using keel::eval::proven_optimal;
+using keel::eval::record_dataset_timings;
+using keel::eval::record_local_pair;
+using keel::eval::run_merge_datasets;
+using keel::eval::run_method_sweep;
+using keel::eval::same_selections;
+using keel::eval::solve_local_pair;
+using keel::eval::StudyMethod;
+using keel::eval::summarize_method;
+// readers of the options structs from an experiment's [params]
+using keel::eval::load_scenario_2d;
+using keel::eval::load_scenario_3d;
+using keel::eval::read_candidate_options;
+using keel::eval::read_methods;
+using keel::eval::read_range;
+using keel::eval::read_regime;
+using keel::eval::read_regimes;
+using keel::eval::read_scgp_options;
+using keel::eval::read_split;
+using keel::eval::read_world1d_options;
 }  // namespace keel::eval

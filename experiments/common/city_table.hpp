@@ -1,252 +1,154 @@
-// Table 2.1 and Fig. 2.5 (§2.7.2) on a two-robot split of City10000 — the body shared by ch2_table2_1_city (the
+// Table 2.1 and Fig. 2.5 (§2.7.2) on a two-robot split of City10000 — the glue shared by ch2_table2_1_city (the
 // dataset's own measurements) and ch2_table2_1_thesis_noise (measurements redrawn about the ground truth with the
-// noise scaled down, the regime the thesis's χ² values indicate). Include after `import keel.core; …
+// noise scaled down, the regime the thesis's χ² values indicate): read [params], run keel::eval's two-robot study,
+// record Table 2.1, the claims of §2.7.2 and Fig. 2.5. Include after `import keel.core; import keel.pcm;
 // import keel.eval;` and "common/two_robot.hpp" (DESIGN rule 4); it imports nothing itself.
 #pragma once
 
-#include <algorithm>
-#include <chrono>
+#include <fmt/format.h>
+
 #include <cmath>
-#include <cstdint>
-#include <cstdio>
-#include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace keel::experiments {
 
-// The experiment: reads [params], runs every data set and method, records Table 2.1, the claim checks and Fig. 2.5.
-// `measurements = "dataset"` keeps the file's measurements; `"resampled"` redraws every measurement of both local
-// graphs, of the pool and of the aliased groups with residual noise scaled by `noise_scale`
-// (keel::sim::resample_measurements), keeping the declared information.
+// Index of the method [params.claims] names under `key`, as a located configuration error when it is unknown.
+inline std::size_t claimed_method(const std::vector<keel::eval::StudyMethod>& methods,
+                                  const keel::core::ConfigTable& claims, const std::string& name) {
+  try {
+    return keel::eval::method_index(methods, name, "[params.claims]");
+  } catch (const std::invalid_argument& e) {
+    throw keel::core::ConfigError(fmt::format("{}: {}", claims.file(), e.what()));
+  }
+}
+
+// `measurements = "dataset"` keeps the file's measurements; `"resampled"` redraws every measurement with the noise
+// scaled by `noise_scale` (keel::eval::MeasurementRegime).
 inline void run_city_merge_table(keel::core::Experiment& ex) {
   namespace core = keel::core;
   namespace pcm = keel::pcm;
-namespace sim = keel::sim;
-namespace eval = keel::eval;
-  using keel::experiments::fmt;
-  using keel::experiments::mean_std;
-  using keel::experiments::MeanStd;
-  using keel::experiments::read_candidate_options;
-  using keel::experiments::read_methods;
-  using keel::experiments::read_split;
-  using keel::experiments::seconds_since;
+  namespace eval = keel::eval;
   const auto& p = ex.params();
-  const std::string dataset = p.string("dataset"), graph_file = p.string("graph_file"),
-                    truth_file = p.string("ground_truth_file");
-  const sim::SplitOptions split = read_split(p);
-  sim::CandidateOptions copt = read_candidate_options(p);
-  const std::string measurements = p.string("measurements");
-  double noise_scale = 1.0;
-  std::uint64_t resample_seed = 0;
-  if (measurements == "resampled") {
-    noise_scale = p.number("noise_scale");
-    resample_seed = static_cast<std::uint64_t>(p.integer("resample_seed"));
-  }
-  else if (measurements != "dataset")
-    throw core::ConfigError(p.where("measurements") + ": expected \"dataset\" or \"resampled\"");
-  copt.aliased_noise_scale = noise_scale;
+  const auto regime = eval::read_regime(p, "dataset");
+  const auto copt = eval::apply_regime(eval::read_candidate_options(p), regime);
   const std::size_t datasets = p.count("datasets");
   const auto figure_dataset = static_cast<std::size_t>(p.integer("figure_dataset"));
-  const auto methods = read_methods(p);
+  const auto methods = eval::read_methods(p);
   const auto claims = p.table("claims");
-  const std::vector<std::string> pcm_names = claims.strings("pcm");
+  const auto pcm_names = claims.strings("pcm"), baselines = claims.strings("baselines");
   const double tpr_min = claims.number("pcm_tpr_min"), fpr_max = claims.number("pcm_fpr_max");
-  const std::vector<std::string> baselines = claims.strings("baselines");
   const std::string reference = claims.string("reference"), dcs = claims.string("dcs"),
-                    ransac_low = claims.string("ransac_low"), ransac_high = claims.string("ransac_high"),
                     exact = claims.string("pcm_exact"), heuristic = claims.string("pcm_heuristic");
-  const double dcs_tpr_max = claims.number("dcs_tpr_max");
+  const std::size_t i_ref = claimed_method(methods, claims, reference), i_dcs = claimed_method(methods, claims, dcs),
+                    i_lo = claimed_method(methods, claims, claims.string("ransac_low")),
+                    i_hi = claimed_method(methods, claims, claims.string("ransac_high")),
+                    i_exact = claimed_method(methods, claims, exact),
+                    i_heu = claimed_method(methods, claims, heuristic);
+  const double dcs_tpr_max = claims.number("dcs_tpr_max"), chi2_rel = claims.number("pcm_chi2_rel");
   const double same_selection_min = claims.number("heuristic_same_selection_min");
-  const double chi2_rel = claims.number("pcm_chi2_rel");
+  auto t0 = core::Clock::now();
+  const auto scenario = eval::apply_regime(eval::load_scenario_2d(p), regime);
   ex.params_done();
   if (figure_dataset >= datasets)
-    throw core::ConfigError(p.where("figure_dataset") + ": must be < datasets (" +
-                            std::to_string(datasets) + ")");
-  std::map<std::string, std::size_t> index_of;
-  for (std::size_t k = 0; k < methods.size(); ++k) index_of[methods[k].method.name] = k;
-  auto method_index = [&](const std::string& name) {
-    const auto it = index_of.find(name);
-    if (it == index_of.end())
-      throw core::ConfigError(claims.file() + ": [params.claims] names method '" + name +
-                              "', not in `methods`");
-    return it->second;
-  };
-  const std::size_t i_ref = method_index(reference), i_dcs = method_index(dcs),
-                    i_lo = method_index(ransac_low), i_hi = method_index(ransac_high),
-                    i_exact = method_index(exact), i_heu = method_index(heuristic);
+    throw core::ConfigError(fmt::format("{}: must be < datasets ({})", p.where("figure_dataset"), datasets));
   if (methods[i_ref].method.kind != eval::MergeMethodKind::no_outliers)
     throw core::ConfigError(claims.file() + ": [params.claims] reference must be a no_outliers method");
   auto& r = ex.results();
-
-  // The scenario and the two local solutions (shared by every data set).
-  auto t0 = std::chrono::steady_clock::now();
-  const auto graph =
-      keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, graph_file));
-  const auto truth = keel::graph::read_poses_2d(keel::graph::resolve_dataset_file(dataset, truth_file));
-  auto scenario = sim::split_two_robots(graph, truth, split);
-  // The resampling's streams (resample_seed, 0/1/2) must not be the candidate streams (seed, d).
-  if (measurements == "resampled") keel::sim::resample_measurements(scenario, noise_scale, resample_seed);
-  r.timing("read_and_split", seconds_since(t0));
-  const auto [a, b] = solve_local_maps(r, scenario);
+  r.timing("read_and_split", core::seconds_since(t0));
+  const auto local = eval::solve_local_pair(scenario);
+  eval::record_local_pair(r, scenario, local);
   r.metric("datasets", static_cast<double>(datasets));
   r.metric("candidates", copt.total());
 
-  std::vector<eval::MergeMethod> specs;
-  for (const auto& m : methods) specs.push_back(m.method);
-  std::vector<eval::MergeDataset2> runs(datasets);
-  t0 = std::chrono::steady_clock::now();
-  {
-    core::Progress progress(ex.id(), datasets);
-    core::parallel_for(
-        datasets,
-        [&](std::size_t i) {
-          runs[i] = eval::run_merge_dataset(scenario, a, b, copt, specs, ex.seed(), i, i == figure_dataset);
-        },
-        ex.threads(), &progress);
-    progress.finish();
-  }
-  r.timing("datasets", seconds_since(t0));
-
-  record_dataset_timings(r, runs);
+  t0 = core::Clock::now();
+  core::Progress progress(ex.id(), datasets);
+  const auto runs = eval::run_merge_datasets(scenario, local, copt, eval::methods_of(methods), ex.seed(), datasets,
+                                             ex.threads(), figure_dataset, &progress);
+  progress.finish();
+  r.timing("datasets", core::seconds_since(t0));
+  eval::record_dataset_timings(r, runs);
 
   // Table 2.1: per method over the data sets.
-  struct Summary {
-    MeanStd trans, rot, residual, chi2, selected;
-    double tpr = 0, fpr = 0;
-  };
-  std::vector<Summary> sum(methods.size());
+  std::vector<eval::MethodSummary> sum;
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const std::string& n = methods[k].method.name;
-    std::vector<double> trans, rot, res, chi2, sel, t_sel, t_solve;
-    eval::Classification c;
-    double accepted_aliased = 0, accepted_random = 0, empty_selections = 0;
-    for (const auto& d : runs) {
-      for (int u : d.methods[k].selection.selected) {
-        const auto kind = d.candidates.labels[static_cast<std::size_t>(u)].kind;
-        accepted_aliased += kind == sim::MeasurementLabel::aliased;
-        accepted_random += kind == sim::MeasurementLabel::random;
-      }
-      const auto& o = d.methods[k];
-      // A selection method that returns nothing leaves robot b's anchor unconstrained: the merge is meaningless,
-      // so such data sets are counted (they stay in the averages).
-      if (o.selection.selected.empty() && methods[k].method.kind != eval::MergeMethodKind::dcs) ++empty_selections;
-      trans.push_back(o.metrics.map.translation_mse);
-      rot.push_back(o.metrics.map.rotation);
-      res.push_back(o.metrics.residual);
-      chi2.push_back(o.metrics.normalized_chi2);
-      sel.push_back(static_cast<double>(o.selection.selected.size()));
-      t_sel.push_back(o.selection.time_s);
-      t_solve.push_back(o.solve_time_s);
-      c.tp += o.metrics.classification.tp;
-      c.fp += o.metrics.classification.fp;
-      c.fn += o.metrics.classification.fn;
-      c.tn += o.metrics.classification.tn;
+    const auto s = sum.emplace_back(eval::summarize_method(runs, k));
+    for (const char* key : {"trans_mse", "rot_mse", "residual", "chi2"}) {
+      const auto v = s.stats(key);
+      r.metric(fmt::format("{}.{}", n, key), v.mean);
+      r.metric(fmt::format("{}.{}.std", n, key), v.std);
     }
-    auto& s = sum[k];
-    s.trans = mean_std(trans);
-    s.rot = mean_std(rot);
-    s.residual = mean_std(res);
-    s.chi2 = mean_std(chi2);
-    s.selected = mean_std(sel);
-    s.tpr = c.tpr();
-    s.fpr = c.fpr();
-    r.metric(n + ".trans_mse", s.trans.mean);
-    r.metric(n + ".trans_mse.std", s.trans.std);
-    r.metric(n + ".rot_mse", s.rot.mean);
-    r.metric(n + ".rot_mse.std", s.rot.std);
-    r.metric(n + ".residual", s.residual.mean);
-    r.metric(n + ".residual.std", s.residual.std);
-    r.metric(n + ".chi2", s.chi2.mean);
-    r.metric(n + ".chi2.std", s.chi2.std);
-    r.metric(n + ".tpr", s.tpr);
-    r.metric(n + ".fpr", s.fpr);
-    r.metric(n + ".selected", s.selected.mean);
-    std::vector<double> fp;
-    for (const auto& d : runs) fp.push_back(d.methods[k].metrics.classification.fp);
-    r.series(n + ".trans_mse", trans);  // per data set
-    r.series(n + ".fp", fp);
-    r.metric(n + ".accepted_aliased",
-             accepted_aliased);  // totals over the data sets (the false positives by kind)
-    r.metric(n + ".accepted_random", accepted_random);
-    if (methods[k].method.kind != eval::MergeMethodKind::dcs) r.metric(n + ".empty_selections", empty_selections);
-    const auto ts = mean_std(t_sel), tv = mean_std(t_solve);
+    r.metric(n + ".tpr", s.pooled.tpr());
+    r.metric(n + ".fpr", s.pooled.fpr());
+    r.metric(n + ".selected", s.mean("selected"));
+    r.series(n + ".trans_mse", s.column("trans_mse"));  // per data set
+    r.series(n + ".fp", s.column("fp"));
+    r.metric(n + ".accepted_aliased", s.accepted_aliased);  // totals over the data sets (false positives by kind)
+    r.metric(n + ".accepted_random", s.accepted_random);
+    if (methods[k].method.kind != eval::MergeMethodKind::dcs) r.metric(n + ".empty_selections", s.empty_selections);
+    const auto ts = s.stats("selection_time_s"), tv = s.stats("solve_time_s");
     r.timing(n + ".time_s", ts.mean);
     r.timing(n + ".time_s.max", ts.max);
     r.timing(n + ".solve_s.mean", tv.mean);
     r.timing(n + ".solve_s.max", tv.max);
   }
-  std::size_t same = 0, proven = 0;
-  for (const auto& d : runs) {
-    same += d.methods[i_exact].selection.selected == d.methods[i_heu].selection.selected;
-    proven += d.methods[i_exact].selection.proven_optimal();
-  }
+  const std::size_t same = eval::same_selections(runs, i_exact, i_heu);
   const double same_fraction = static_cast<double>(same) / static_cast<double>(datasets);
   r.metric(heuristic + ".same_selection_as_exact", same_fraction);
-  r.metric(exact + ".proven_optimal", static_cast<double>(proven) / static_cast<double>(datasets));
+  r.metric(exact + ".proven_optimal",
+           static_cast<double>(eval::proven_optimal(runs, i_exact)) / static_cast<double>(datasets));
 
   // Claims of §2.7.2, checked on our numbers (they may fail).
-  char detail[400];
   for (const auto& name : pcm_names) {
-    const auto& s = sum[method_index(name)];
-    std::snprintf(detail, sizeof detail, "TPR %.4f (thesis 0.997), FPR %.4f (thesis 0.001)", s.tpr, s.fpr);
-    r.check(name + " keeps the true loop closures and rejects the outliers (TPR >= " + fmt(tpr_min) +
-                " and FPR <= " + fmt(fpr_max) + ")",
-            s.tpr >= tpr_min && s.fpr <= fpr_max, detail);
+    const auto& c = sum[claimed_method(methods, claims, name)].pooled;
+    r.check(fmt::format("{} keeps the true loop closures and rejects the outliers (TPR >= {:g} and FPR <= {:g})", name,
+                        tpr_min, fpr_max),
+            c.tpr() >= tpr_min && c.fpr() <= fpr_max,
+            fmt::format("TPR {:.4f} (thesis 0.997), FPR {:.4f} (thesis 0.001)", c.tpr(), c.fpr()));
   }
-  {
-    const auto& e = sum[i_exact];
-    std::string worst;
-    bool lowest_mse = true, lowest_fpr = true;
-    for (const auto& name : baselines) {
-      const auto& s = sum[method_index(name)];
-      lowest_mse = lowest_mse && e.trans.mean < s.trans.mean;
-      if (methods[method_index(name)].method.kind != eval::MergeMethodKind::dcs)
-        lowest_fpr = lowest_fpr && e.fpr <= s.fpr;
-      char one[120];
-      std::snprintf(one, sizeof one, "%s%s MSE %.4g FPR %.4f", worst.empty() ? "" : "; ", name.c_str(),
-                    s.trans.mean, s.fpr);
-      worst += one;
-    }
-    std::snprintf(detail, sizeof detail, "%s: MSE %.4g; %s", exact.c_str(), e.trans.mean, worst.c_str());
-    r.check("PCM merges with a lower translation MSE than every baseline (DCS, SCGP, RANSAC)", lowest_mse,
-            detail);
-    std::snprintf(detail, sizeof detail, "%s FPR %.4f; %s", exact.c_str(), e.fpr, worst.c_str());
-    r.check("PCM accepts no more outliers than the selection baselines (SCGP, RANSAC): lowest FPR",
-            lowest_fpr, detail);
+  const auto& e = sum[i_exact];
+  std::string worst;
+  bool lowest_mse = true, lowest_fpr = true;
+  for (const auto& name : baselines) {
+    const std::size_t k = claimed_method(methods, claims, name);
+    lowest_mse = lowest_mse && e.mean("trans_mse") < sum[k].mean("trans_mse");
+    if (methods[k].method.kind != eval::MergeMethodKind::dcs) lowest_fpr = lowest_fpr && e.pooled.fpr() <= sum[k].pooled.fpr();
+    worst += fmt::format("{}{} MSE {:.4g} FPR {:.4f}", worst.empty() ? "" : "; ", name, sum[k].mean("trans_mse"),
+                         sum[k].pooled.fpr());
   }
-  std::snprintf(detail, sizeof detail, "%s TPR %.4f FPR %.4f", dcs.c_str(), sum[i_dcs].tpr, sum[i_dcs].fpr);
-  r.check("DCS without an initial alignment turns off (nearly) all inter-robot factors (TPR <= " +
-              fmt(dcs_tpr_max) + ")",
-          sum[i_dcs].tpr <= dcs_tpr_max, detail);
-  {
-    // The looser RANSAC is the one with the larger γ(p) = F⁻¹(1 − p), i.e. the smaller p (consistency.hpp).
-    const bool low_is_looser = methods[i_lo].method.p < methods[i_hi].method.p;
-    const std::size_t i_loose = low_is_looser ? i_lo : i_hi, i_strict = low_is_looser ? i_hi : i_lo;
-    std::snprintf(detail, sizeof detail, "FPR %s (gamma %.3g) %.4f vs %s (gamma %.3g) %.4f",
-                  methods[i_loose].method.name.c_str(),
-                  pcm::consistency_threshold(methods[i_loose].method.p, 3), sum[i_loose].fpr,
-                  methods[i_strict].method.name.c_str(),
-                  pcm::consistency_threshold(methods[i_strict].method.p, 3), sum[i_strict].fpr);
-    r.check("RANSAC depends on its threshold: the looser threshold (larger gamma) accepts more outliers",
-            sum[i_loose].fpr > sum[i_strict].fpr, detail);
-  }
-  std::snprintf(detail, sizeof detail, "identical selections in %zu of %zu data sets", same, datasets);
-  r.check("PCM-HeuPatt is almost indistinguishable from PCM-Exact (same selection in >= " +
-              fmt(100 * same_selection_min) + " % of the data sets)",
-          same_fraction >= same_selection_min, detail);
-  std::snprintf(detail, sizeof detail, "mean normalized chi2: %s %.4f, %s %.4f", exact.c_str(),
-                sum[i_exact].chi2.mean, reference.c_str(), sum[i_ref].chi2.mean);
-  r.check("PCM's merged graphs are as consistent as the outlier-free graph (mean normalized chi2 within " +
-              fmt(100 * chi2_rel) + " % of NO-OUT's)",
-          std::abs(sum[i_exact].chi2.mean - sum[i_ref].chi2.mean) <= chi2_rel * sum[i_ref].chi2.mean,
-          detail);
+  r.check("PCM merges with a lower translation MSE than every baseline (DCS, SCGP, RANSAC)", lowest_mse,
+          fmt::format("{}: MSE {:.4g}; {}", exact, e.mean("trans_mse"), worst));
+  r.check("PCM accepts no more outliers than the selection baselines (SCGP, RANSAC): lowest FPR", lowest_fpr,
+          fmt::format("{} FPR {:.4f}; {}", exact, e.pooled.fpr(), worst));
+  r.check(fmt::format("DCS without an initial alignment turns off (nearly) all inter-robot factors (TPR <= {:g})",
+                      dcs_tpr_max),
+          sum[i_dcs].pooled.tpr() <= dcs_tpr_max,
+          fmt::format("{} TPR {:.4f} FPR {:.4f}", dcs, sum[i_dcs].pooled.tpr(), sum[i_dcs].pooled.fpr()));
+  // The looser RANSAC is the one with the larger γ(p) = F⁻¹(1 − p), i.e. the smaller p (pcm/consistency.hpp).
+  const std::size_t i_loose = methods[i_lo].method.p < methods[i_hi].method.p ? i_lo : i_hi,
+                    i_strict = i_loose == i_lo ? i_hi : i_lo;
+  r.check("RANSAC depends on its threshold: the looser threshold (larger gamma) accepts more outliers",
+          sum[i_loose].pooled.fpr() > sum[i_strict].pooled.fpr(),
+          fmt::format("FPR {} (gamma {:.3g}) {:.4f} vs {} (gamma {:.3g}) {:.4f}", methods[i_loose].method.name,
+                      pcm::consistency_threshold(methods[i_loose].method.p, 3), sum[i_loose].pooled.fpr(),
+                      methods[i_strict].method.name, pcm::consistency_threshold(methods[i_strict].method.p, 3),
+                      sum[i_strict].pooled.fpr()));
+  r.check(fmt::format("PCM-HeuPatt is almost indistinguishable from PCM-Exact (same selection in >= {:g} % of the "
+                      "data sets)",
+                      100 * same_selection_min),
+          same_fraction >= same_selection_min,
+          fmt::format("identical selections in {} of {} data sets", same, datasets));
+  r.check(fmt::format("PCM's merged graphs are as consistent as the outlier-free graph (mean normalized chi2 within "
+                      "{:g} % of NO-OUT's)",
+                      100 * chi2_rel),
+          std::abs(e.mean("chi2") - sum[i_ref].mean("chi2")) <= chi2_rel * sum[i_ref].mean("chi2"),
+          fmt::format("mean normalized chi2: {} {:.4f}, {} {:.4f}", exact, e.mean("chi2"), reference,
+                      sum[i_ref].mean("chi2")));
 
   // Fig. 2.5: one data set, the merged maps of every method with accepted / rejected candidates.
-  const auto& fd = runs[figure_dataset];
-  r.figure(merged_maps_figure(fd, methods, ex.id() + ".png",
-                              "Fig. 2.5: merged maps of data set " + std::to_string(figure_dataset), 0, 1, 0.6));
+  r.figure(merged_maps_figure(runs[figure_dataset], methods, ex.id() + ".png",
+                              fmt::format("Fig. 2.5: merged maps of data set {}", figure_dataset), 0, 1, 0.6));
 }
 
 }  // namespace keel::experiments

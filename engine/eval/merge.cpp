@@ -452,6 +452,15 @@ constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{"eval::Merge
 std::string_view to_string(MergeMethodKind v) { return kMergeMethodKindNames.name(v); }
 MergeMethodKind merge_method_kind_from_string(std::string_view s) { return kMergeMethodKindNames.parse(s); }
 
+MergeMethod MergeMethod::make(std::string name, MergeMethodKind kind, double p, pcm::Composition composition) {
+  MergeMethod m;
+  m.name = std::move(name);
+  m.kind = kind;
+  m.p = p;
+  m.composition = composition;
+  return m;
+}
+
 void MergeMethod::validate() const {
   const std::string who = "MergeMethod '" + name + "': ";
   if (name.empty()) fail("MergeMethod: name must not be empty");

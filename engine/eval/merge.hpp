@@ -222,6 +222,9 @@ struct MergeMethod {
   double dcs_phi = 5.0;                          // dcs: φ (> 0)
   double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
                                   // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
+  // A method with its name, kind, p and composition, other fields at their defaults.
+  static MergeMethod make(std::string name, MergeMethodKind kind, double p = 0.11,
+                          pcm::Composition composition = pcm::Composition::joint);
   // Throws std::invalid_argument naming the method and the violated constraint.
   void validate() const;
 };

@@ -234,6 +234,148 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
   return study;
 }
 
+CombinatorialComparison compare_to_combinatorial(const World1DStudy& study, const std::vector<Selector1D>& selectors) {
+  const auto& comb = study.of(Selector1D::combinatorial);
+  const std::size_t n = comb.size();
+  CombinatorialComparison out;
+  // Histogram ranges shared by all selectors (size difference to the maximum; inconsistent pairs).
+  int dmin = 0, dmax = 0, imax = 0;
+  for (auto m : selectors) {
+    const auto& o = study.of(m);
+    for (std::size_t i = 0; i < n; ++i) {
+      dmin = std::min(dmin, o[i].size - comb[i].size);
+      dmax = std::max(dmax, o[i].size - comb[i].size);
+      imax = std::max(imax, o[i].inconsistent_pairs);
+    }
+  }
+  for (int d = dmin; d <= dmax; ++d) out.size_diff_bins.push_back(d);
+  for (int k = 0; k <= imax; ++k) out.inconsistent_bins.push_back(k);
+  const double worlds = static_cast<double>(n);
+  for (auto m : selectors) {
+    const auto& o = study.of(m);
+    SelectorComparison row;
+    row.selector = m;
+    row.size_diff_hist.assign(out.size_diff_bins.size(), 0.0);
+    row.inconsistent_hist.assign(out.inconsistent_bins.size(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int d = o[i].size - comb[i].size;
+      row.match_rate += d == 0;
+      row.larger_rate += d > 0;
+      row.smaller_rate += d < 0;
+      row.inconsistent_total += o[i].inconsistent_pairs;
+      row.inconsistent_rate += o[i].inconsistent_pairs > 0;
+      row.time_mean_s += o[i].time_s;
+      row.size_diff_hist[static_cast<std::size_t>(d - dmin)] += 1.0;
+      row.inconsistent_hist[static_cast<std::size_t>(o[i].inconsistent_pairs)] += 1.0;
+    }
+    for (auto& c : row.size_diff_hist) c /= worlds;  // fractions of worlds
+    for (auto& c : row.inconsistent_hist) c /= worlds;
+    row.match_rate /= worlds;
+    row.larger_rate /= worlds;
+    row.smaller_rate /= worlds;
+    row.inconsistent_mean = static_cast<double>(row.inconsistent_total) / worlds;
+    row.inconsistent_rate /= worlds;
+    row.time_mean_s /= worlds;
+    out.rows.push_back(std::move(row));
+  }
+  const auto ran = [&](Selector1D s) {
+    return std::find(study.selectors.begin(), study.selectors.end(), s) != study.selectors.end();
+  };
+  if (ran(Selector1D::pcm_exact) && ran(Selector1D::pcm_heuristic)) {
+    const auto &exact = study.of(Selector1D::pcm_exact), &heur = study.of(Selector1D::pcm_heuristic);
+    for (std::size_t i = 0; i < n; ++i) out.heuristic_above_exact += heur[i].size > exact[i].size;
+  }
+  return out;
+}
+
+void TimingSweepOptions::validate() const {
+  if (sizes.empty()) throw std::invalid_argument("TimingSweepOptions::sizes must not be empty");
+  for (std::size_t k = 0; k < sizes.size(); ++k)
+    if (sizes[k] < 1 || (k > 0 && sizes[k] <= sizes[k - 1]))
+      throw std::invalid_argument("TimingSweepOptions::sizes must be positive integers in increasing order");
+  if (exhaustive_max < 1 || exhaustive_max > kCombinatorialExhaustiveMax)
+    throw std::invalid_argument(fmt::format("TimingSweepOptions::exhaustive_max must be in [1, {}] (got {})",
+                                            kCombinatorialExhaustiveMax, exhaustive_max));
+  if (pruned_max < 1 || pruned_max > kCombinatorialPrunedMax)
+    throw std::invalid_argument(fmt::format("TimingSweepOptions::pruned_max must be in [1, {}] (got {})",
+                                            kCombinatorialPrunedMax, pruned_max));
+}
+
+std::size_t TimingSweepOptions::work() const {
+  std::size_t total = 0;
+  for (int m : sizes) total += base.worlds * (1 + (m <= pruned_max ? 1 : 0));
+  return total;
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* progress) {
+  options.validate();
+  using S = Selector1D;
+  struct Curve {
+    const char* name;
+    S selector;
+    int max_m;  // 0: no cap
+  };
+  const Curve curves[] = {{"combinatorial_exhaustive", S::combinatorial, options.exhaustive_max},
+                          {"combinatorial_pruned", S::combinatorial, options.pruned_max},
+                          {"pcm_exact", S::pcm_exact, 0},
+                          {"pcm_heuristic", S::pcm_heuristic, 0},
+                          {"scgp", S::scgp, 0},
+                          {"ransac", S::ransac, 0}};
+  const auto runs_at = [](const Curve& c, int m) { return c.max_m == 0 || m <= c.max_m; };
+  TimingSweep out;
+  for (const auto& c : curves) out.curves.push_back({c.name, {}, {}, {}});
+  for (std::size_t k = 0; k < options.sizes.size(); ++k) {
+    const int m = options.sizes[k];
+    World1DStudyOptions o = options.base;
+    o.world = world1d_options_with_total(options.base.world, m, options.inlier_fraction, options.aliased_fraction);
+    o.stream_base = static_cast<std::uint64_t>(k) << 32;  // independent worlds per size, the same for every curve
+    o.selectors = {S::pcm_exact, S::pcm_heuristic, S::scgp, S::ransac};
+    o.combinatorial = CombinatorialMethod::exhaustive;
+    if (runs_at(curves[0], m)) o.selectors.push_back(S::combinatorial);
+    const World1DStudy main = run_world1d_study(o, progress);
+    World1DStudy pruned;
+    if (runs_at(curves[1], m)) {
+      o.selectors = {S::combinatorial};
+      o.combinatorial = CombinatorialMethod::pruned;
+      pruned = run_world1d_study(o, progress);
+    }
+    const auto& exact = main.of(S::pcm_exact);
+    for (std::size_t c = 0; c < std::size(curves); ++c) {
+      if (!runs_at(curves[c], m)) continue;
+      const auto& res = (c == 1 ? pruned : main).of(curves[c].selector);
+      std::vector<double> t;
+      double n_sel = 0;
+      for (std::size_t i = 0; i < res.size(); ++i) {
+        t.push_back(res[i].time_s);
+        n_sel += res[i].size;
+        if (curves[c].selector == S::combinatorial) {
+          ++out.combinatorial_checked;
+          out.combinatorial_mismatch += res[i].size != exact[i].size;
+        }
+      }
+      auto& curve = out.curves[c];
+      curve.m.push_back(m);
+      curve.median_time_s.push_back(median(t));
+      curve.size_mean.push_back(n_sel / res.size());
+    }
+    const auto& heur = main.of(S::pcm_heuristic);
+    double match = 0;
+    for (std::size_t i = 0; i < exact.size(); ++i) match += heur[i].size == exact[i].size;
+    out.heuristic_match.push_back(match / exact.size());
+  }
+  return out;
+}
+
 int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, double gamma) {
   validate_consistency_matrix(Q, "count_inconsistent_pairs");
   if (std::isnan(gamma)) throw std::invalid_argument("count_inconsistent_pairs: gamma is NaN");

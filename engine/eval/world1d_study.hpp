@@ -38,7 +38,7 @@ struct CombinatorialResult {
   double time_s = 0.0;
 };
 // Throws std::invalid_argument for a bad Q or γ (as select_pcm) or m above the method's limit.
-CombinatorialResult max_consistent_set_combinatorial(const pcm::ConsistencyMatrix& Q, double gamma,
+[[nodiscard]] CombinatorialResult max_consistent_set_combinatorial(const pcm::ConsistencyMatrix& Q, double gamma,
                                                      CombinatorialMethod method = CombinatorialMethod::pruned);
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -82,10 +82,59 @@ struct World1DStudy {
 };
 
 // Runs the study on options.threads threads (parallel_for over worlds; progress advanced once per world, may be null).
-World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progress* progress = nullptr);
+[[nodiscard]] World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progress* progress = nullptr);
+
+// How selectors compare with the combinatorial maximum over a study's worlds (Fig. 2.2): histograms over ranges
+// shared by all the selectors compared.
+struct SelectorComparison {
+  Selector1D selector = Selector1D::pcm_exact;
+  double match_rate = 0.0, larger_rate = 0.0, smaller_rate = 0.0;  // fractions of worlds where the selection's size
+                                                                   // equals / exceeds / falls short of the maximum
+  long long inconsistent_total = 0;   // pairs violating eq. 2.3, summed over the worlds
+  double inconsistent_mean = 0.0;     // per world
+  double inconsistent_rate = 0.0;     // fraction of worlds with at least one
+  double time_mean_s = 0.0;           // mean selection wall time
+  std::vector<double> size_diff_hist, inconsistent_hist;  // fractions of worlds per bin
+};
+struct CombinatorialComparison {
+  std::vector<double> size_diff_bins;     // size returned − maximum size, one bin per integer
+  std::vector<double> inconsistent_bins;  // 0 … the largest count of inconsistent pairs
+  std::vector<SelectorComparison> rows;   // one per selector compared, in the order given
+  int heuristic_above_exact = 0;          // worlds where PCM-Heuristic returned more than PCM-Exact (when both ran)
+};
+// Needs the combinatorial selector in the study; throws std::invalid_argument naming a selector that was not run.
+[[nodiscard]] CombinatorialComparison compare_to_combinatorial(const World1DStudy& study,
+                                                               const std::vector<Selector1D>& selectors);
+
+// Fig. 2.3: selection time against the number of measurements m. For each m, worlds of exactly m measurements
+// (sim::world1d_options_with_total with the given fractions) drawn from streams (seed, k << 32 | i), the same for
+// every curve; PCM-Exact, PCM-Heuristic, SCGP, RANSAC and the exhaustive enumeration (m <= exhaustive_max) in one
+// pass, the pruned subset search (m <= pruned_max) in a second pass over the same worlds.
+struct TimingSweepOptions {
+  World1DStudyOptions base;  // noise model, thresholds, SCGP, worlds per size, seed, threads (counts are replaced)
+  std::vector<int> sizes;    // m, increasing, >= 1
+  double inlier_fraction = 0.5, aliased_fraction = 0.25;
+  int exhaustive_max = kCombinatorialExhaustiveMax;  // in [1, kCombinatorialExhaustiveMax]
+  int pruned_max = kCombinatorialPrunedMax;          // in [1, kCombinatorialPrunedMax]
+  void validate() const;  // throws std::invalid_argument naming the field
+  [[nodiscard]] std::size_t work() const;  // worlds × passes: the progress total
+};
+struct TimingCurve {
+  std::string name;  // combinatorial_exhaustive, combinatorial_pruned, pcm_exact, pcm_heuristic, scgp, ransac
+  std::vector<double> m;              // the sizes this curve ran at
+  std::vector<double> median_time_s;  // median wall time of one selection at each m (robust to preemption)
+  std::vector<double> size_mean;      // mean selected size at each m
+};
+struct TimingSweep {
+  std::vector<TimingCurve> curves;        // in the order listed above
+  std::vector<double> heuristic_match;    // per m: fraction of worlds where PCM-Heuristic's size = PCM-Exact's
+  long long combinatorial_checked = 0;    // combinatorial runs (both variants) compared with PCM-Exact's size
+  long long combinatorial_mismatch = 0;   // … of which with a different size
+};
+[[nodiscard]] TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* progress = nullptr);
 
 // Number of pairs {u, v} of `set` that violate eq. 2.3 (q_uv > γ or q_vu > γ). `set` must hold distinct indices in
 // range (std::invalid_argument otherwise).
-int count_inconsistent_pairs(const pcm::ConsistencyMatrix& Q, const std::vector<int>& set, double gamma);
+[[nodiscard]] int count_inconsistent_pairs(const pcm::ConsistencyMatrix& Q, const std::vector<int>& set, double gamma);
 
 }  // namespace keel::eval

@@ -53,10 +53,10 @@ int main(int argc, char** argv) {
     const std::size_t fe = family("pcm_exact"), fh = family("pcm_heuristic"), fr = family("ransac");
 
     // One method per (family, p); NO-OUT first (the χ² reference of the figure).
-    std::vector<eval::MergeMethod> specs = {{"no_out", eval::MergeMethodKind::no_outliers}};
+    std::vector<eval::MergeMethod> specs = {eval::MergeMethod::make("no_out", eval::MergeMethodKind::no_outliers)};
     for (const auto& f : families)
       for (double q : p_values) {
-        specs.push_back({fmt::format("{}@{:g}", f.name, q), f.kind, q, f.composition});
+        specs.push_back(eval::MergeMethod::make(fmt::format("{}@{:g}", f.name, q), f.kind, q, f.composition));
         specs.back().validate();
       }
     const auto spec_index = [&](std::size_t f, std::size_t k) { return 1 + f * p_values.size() + k; };

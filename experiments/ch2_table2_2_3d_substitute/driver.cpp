@@ -59,8 +59,8 @@ int main(int argc, char** argv) {
     std::vector<std::vector<eval::MergeMethod>> sweep_methods;
     for (double q : sweep_p) {
       if (!(q > 0 && q < 1)) throw core::ConfigError(p.where("sweep_p") + ": every p must be in (0, 1)");
-      sweep_methods.push_back({{"sweep_ransac", eval::MergeMethodKind::ransac, q},
-                               {"sweep_pcm_heupatt", eval::MergeMethodKind::pcm_heuristic, q}});
+      sweep_methods.push_back({eval::MergeMethod::make("sweep_ransac", eval::MergeMethodKind::ransac, q),
+                               eval::MergeMethod::make("sweep_pcm_heupatt", eval::MergeMethodKind::pcm_heuristic, q)});
     }
     auto& r = ex.results();
     r.timing("read_and_split", core::seconds_since(t0));

@@ -20,8 +20,8 @@
 //     Σ_ij = Ad(T_i⁻¹) (Σ_ii + Σ_jj − Σ_ij − Σ_ji) Ad(T_i⁻¹)ᵀ            (Composition::joint)
 //     Σ_ij = Ad(T_i⁻¹) (Σ_ii + Σ_jj) Ad(T_i⁻¹)ᵀ                          (Composition::independent)
 //
-// The independent variant composes the two poses as if uncorrelated (the issue that commissioned this work reports
-// that public PCM implementations do so; we have not verified any); it is kept so the difference can be measured (experiment ch2_table2_1_city, the joint-vs-independent ablation).
+// The independent variant composes the two poses as if uncorrelated (the cross-covariance dropped); it is kept as
+// an ablation so the difference can be measured (ch2_table2_1_city and ch2_fig2_4_threshold_sweep).
 //
 // The consistency measure stored in Q is the SQUARED Mahalanobis distance q_uv = ε_uvᵀ Σ_uv⁻¹ ε_uv (the thesis
 // writes the norm ‖ε‖_Σ; squaring keeps the χ² scale). For inlier pairs q_uv ~ χ²(dof), dof = 3 (SE(2)) or 6

@@ -1,32 +1,31 @@
 // Google Benchmark: the consistency matrix Q of eq. 2.4 (thesis §2.6: "the bottleneck in processing"; the thesis
 // reports 70.8 s per City dataset without analytic Jacobians and parallelism). Synthetic local maps with a random
 // SPD joint marginal over the touched poses; n candidates → n(n−1) loop errors. Arguments: n, threads.
+import keel.core;
 import keel.lie;
 import keel.pcm;
 
 #include <benchmark/benchmark.h>
 
-#include <random>
 #include <vector>
 
+namespace core = keel::core;
 namespace lie = keel::lie;
 namespace pcm = keel::pcm;
 
 namespace {
 
 template <class G>
-G random_pose(std::mt19937_64& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
+G random_pose(core::Rng& rng, double scale) {
   typename G::Tangent xi;
-  for (int i = 0; i < G::DoF; ++i) xi(i) = u(rng);
+  for (int i = 0; i < G::DoF; ++i) xi(i) = rng.uniform(-scale, scale);
   return G::exp(xi);
 }
 
-lie::MatX random_spd(std::mt19937_64& rng, int d, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
+lie::MatX random_spd(core::Rng& rng, int d, double scale) {
   lie::MatX A(d, d);
   for (int j = 0; j < d; ++j)
-    for (int i = 0; i < d; ++i) A(i, j) = n(rng);
+    for (int i = 0; i < d; ++i) A(i, j) = scale * rng.normal();
   return A * A.transpose() + 0.2 * scale * scale * lie::MatX::Identity(d, d);
 }
 
@@ -34,7 +33,7 @@ template <class G>
 void BM_ConsistencyMatrix(benchmark::State& state) {
   constexpr int d = G::DoF;
   const int n = static_cast<int>(state.range(0));
-  std::mt19937_64 rng(42);
+  core::Rng rng(42);
   pcm::LocalMap<G> a, b;
   for (int s = 0; s < 2 * n; ++s) a.poses.push_back(random_pose<G>(rng, 50.0));
   for (int s = 0; s < 2 * n; ++s) b.poses.push_back(random_pose<G>(rng, 50.0));

@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -12,6 +11,7 @@
 #include <utility>
 
 #include "core/names.hpp"
+#include "core/timing.hpp"
 #include "cov/information.hpp"
 #include "pgo/multi_robot.hpp"
 
@@ -23,10 +23,13 @@ using namespace keel::sim;  // scenarios and candidates
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pcm::" + what); }
+using core::Clock;
+using core::seconds_since;
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+// Throws std::invalid_argument with the formatted message, prefixed "pcm::".
+template <class... A>
+[[noreturn]] void fail(fmt::format_string<A...> format, A&&... args) {
+  throw std::invalid_argument(fmt::format("pcm::{}", fmt::format(format, std::forward<A>(args)...)));
 }
 
 template <class G>
@@ -49,16 +52,16 @@ LocalSolution<G> solve_local_impl(const PoseGraphOf<G>& graph, const LocalSolveO
   o.validate();
   LocalSolution<G> out;
   out.graph = graph;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   auto solved = pgo::optimize(graph, o.solver);
   out.solve_time_s = seconds_since(t0);
   if (solved.summary.termination == pgo::Termination::failure)
-    throw std::runtime_error("pcm::solve_local: the local solve of " +
-                             (graph.source.empty() ? std::string("the graph") : graph.source) +
-                             " failed: " + solved.summary.message);
+    throw std::runtime_error(fmt::format("pcm::solve_local: the local solve of {} failed: {}",
+                                         graph.source.empty() ? std::string("the graph") : graph.source,
+                                         solved.summary.message));
   out.summary = solved.summary;
   out.poses = std::move(solved.estimate.poses);
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   const auto info =
       cov::information_matrix(graph, out.poses);  // gauge: pose 0 fixed (cov::GaugeOptions default)
   out.covariance = std::make_shared<const cov::MarginalCovariance>(info);
@@ -71,11 +74,9 @@ void check_candidate(const std::vector<InterRobotMeasurement<G>>& candidates, in
                      const char* where) {
   const auto& c = candidates[static_cast<std::size_t>(k)];
   if (c.pose_a < 0 || c.pose_a >= na)
-    fail(std::string(where) + ": candidate " + std::to_string(k) + " touches pose " +
-         std::to_string(c.pose_a) + " of robot a, which has " + std::to_string(na) + " poses");
+    fail("{}: candidate {} touches pose {} of robot a, which has {} poses", where, k, c.pose_a, na);
   if (c.pose_b < 0 || c.pose_b >= nb)
-    fail(std::string(where) + ": candidate " + std::to_string(k) + " touches pose " +
-         std::to_string(c.pose_b) + " of robot b, which has " + std::to_string(nb) + " poses");
+    fail("{}: candidate {} touches pose {} of robot b, which has {} poses", where, k, c.pose_b, nb);
 }
 
 template <class G>
@@ -83,7 +84,7 @@ LocalMaps<G> local_maps_impl(const LocalSolution<G>& a, const LocalSolution<G>& 
                              const std::vector<InterRobotMeasurement<G>>& candidates) {
   if (!a.covariance || !b.covariance) fail("local_maps: a local solution has no factorized covariance");
   const int na = static_cast<int>(a.poses.size()), nb = static_cast<int>(b.poses.size());
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   LocalMaps<G> out;
   for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
     check_candidate(candidates, k, na, nb, "local_maps");
@@ -115,9 +116,8 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
   g.robots = {a.graph, b.graph};
   for (int k : selected) {
     if (k < 0 || k >= n)
-      fail("merge_maps: selected candidate " + std::to_string(k) + " out of range (" + std::to_string(n) +
-           " candidates)");
-    if (seen[k]) fail("merge_maps: candidate " + std::to_string(k) + " is selected twice");
+      fail("merge_maps: selected candidate {} out of range ({} candidates)", k, n);
+    if (seen[k]) fail("merge_maps: candidate {} is selected twice", k);
     seen[k] = 1;
     check_candidate(candidates, k, na, nb, "merge_maps");
     const auto& c = candidates[k];
@@ -140,12 +140,13 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
   po.anchor_guess = o.anchor_init == AnchorInit::selected_edges ? pgo::AnchorGuess::inter_robot_edges
                                                                 : pgo::AnchorGuess::as_given;
 
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   const auto res = pgo::optimize(g, po, &init);
   MergeResult<G> out;
   out.time_s = seconds_since(t0);
   if (res.summary.termination == pgo::Termination::failure)
-    throw std::runtime_error("pcm::merge_maps: the merged solve failed: " + res.summary.message);
+    throw std::runtime_error(
+        fmt::format("pcm::merge_maps: the merged solve failed: {}", res.summary.message));
   out.selected = selected;
   out.summary = res.summary;
   const G frame = res.estimate.anchors[0].inverse();  // a's anchor (held constant at the identity)
@@ -171,8 +172,8 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
 template <class G>
 std::vector<int> accepted_impl(const MergeResult<G>& r, double min_scale) {
   if (r.inter_robot.size() != r.selected.size())
-    fail("accepted_candidates: the result has " + std::to_string(r.inter_robot.size()) +
-         " edge reports for " + std::to_string(r.selected.size()) + " selected candidates");
+    fail("accepted_candidates: the result has {} edge reports for {} selected candidates",
+         r.inter_robot.size(), r.selected.size());
   std::vector<int> out;
   for (std::size_t k = 0; k < r.selected.size(); ++k)
     if (r.inter_robot[k].scale >= min_scale) out.push_back(r.selected[k]);
@@ -183,8 +184,8 @@ std::vector<int> accepted_impl(const MergeResult<G>& r, double min_scale) {
 template <class G>
 TrajectoryError absolute_impl(const std::vector<G>& est, const std::vector<G>& ref) {
   if (est.size() != ref.size() || est.empty())
-    fail("absolute_error: the estimate has " + std::to_string(est.size()) + " poses and the reference " +
-         std::to_string(ref.size()) + " (need equal, non-zero sizes)");
+    fail("absolute_error: the estimate has {} poses and the reference {} (need equal, non-zero sizes)",
+         est.size(), ref.size());
   TrajectoryError e;
   for (std::size_t i = 0; i < est.size(); ++i) {
     e.translation_mse += (est[i].translation() - ref[i].translation()).squaredNorm();
@@ -199,8 +200,8 @@ TrajectoryError absolute_impl(const std::vector<G>& est, const std::vector<G>& r
 template <class G>
 TrajectoryError relative_impl(const std::vector<G>& est, const std::vector<G>& ref) {
   if (est.size() != ref.size() || est.size() < 2)
-    fail("relative_error: the estimate has " + std::to_string(est.size()) + " poses and the reference " +
-         std::to_string(ref.size()) + " (need equal sizes, at least 2)");
+    fail("relative_error: the estimate has {} poses and the reference {} (need equal sizes, at least 2)",
+         est.size(), ref.size());
   std::vector<G> de, dr;
   for (std::size_t i = 0; i + 1 < est.size(); ++i) {
     de.push_back(est[i].inverse() * est[i + 1]);
@@ -223,9 +224,8 @@ template <class G>
 MergeMetrics evaluate_impl(const MergeResult<G>& r, const MergeResult<G>& ref, const TwoRobotScenario<G>& s,
                            const std::vector<int>& selection, const std::vector<CandidateLabel>& labels) {
   if (r.poses_a.size() != s.truth_a.size() || r.poses_b.size() != s.truth_b.size())
-    fail("evaluate_merge: the merged result has " + std::to_string(r.poses_a.size()) + " + " +
-         std::to_string(r.poses_b.size()) + " poses, the scenario " + std::to_string(s.truth_a.size()) +
-         " + " + std::to_string(s.truth_b.size()));
+    fail("evaluate_merge: the merged result has {} + {} poses, the scenario {} + {}", r.poses_a.size(),
+         r.poses_b.size(), s.truth_a.size(), s.truth_b.size());
   MergeMetrics m;
   m.map = combine(absolute_impl(r.poses_a, ref.poses_a), absolute_impl(r.poses_b, ref.poses_b));
   m.residual = r.residual;
@@ -262,13 +262,13 @@ MergeDataset<G> run_dataset_impl(const TwoRobotScenario<G>& s, const LocalSoluti
   co.threads = 1;
   if (need_joint) {
     co.composition = Composition::joint;
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     Q_joint = consistency_matrix(maps.a, maps.b, cands, co);
     out.matrix_time_s = seconds_since(t0);
   }
   if (need_independent) {
     co.composition = Composition::independent;
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     Q_independent = consistency_matrix(maps.a, maps.b, cands, co);
     out.matrix_independent_time_s = seconds_since(t0);
   }
@@ -323,8 +323,8 @@ pgo::Options LocalSolveOptions::default_solver() {
 
 void LocalSolveOptions::validate() const {
   if (solver.initial_guess != pgo::InitialGuess::as_read && solver.initial_guess != pgo::InitialGuess::odometry)
-    fail(fmt::format("LocalSolveOptions: solver.initial_guess must be as_read or odometry (got {})",
-                     pgo::to_string(solver.initial_guess)));
+    fail("LocalSolveOptions: solver.initial_guess must be as_read or odometry (got {})",
+         pgo::to_string(solver.initial_guess));
   solver.validate();
 }
 
@@ -412,9 +412,8 @@ Classification classify(const std::vector<int>& selected, const std::vector<Cand
   std::vector<char> chosen(static_cast<std::size_t>(n), 0);
   for (int k : selected) {
     if (k < 0 || k >= n)
-      fail("classify: selected index " + std::to_string(k) + " out of range (" + std::to_string(n) +
-           " labels)");
-    if (chosen[k]) fail("classify: index " + std::to_string(k) + " is selected twice");
+      fail("classify: selected index {} out of range ({} labels)", k, n);
+    if (chosen[k]) fail("classify: index {} is selected twice", k);
     chosen[k] = 1;
   }
   Classification c;
@@ -462,18 +461,17 @@ MergeMethod MergeMethod::make(std::string name, MergeMethodKind kind, double p, 
 }
 
 void MergeMethod::validate() const {
-  const std::string who = "MergeMethod '" + name + "': ";
   if (name.empty()) fail("MergeMethod: name must not be empty");
   if ((kind == MergeMethodKind::ransac || kind == MergeMethodKind::pcm_exact ||
        kind == MergeMethodKind::pcm_heuristic) &&
       !(p > 0.0 && p < 1.0))
-    fail(who + "p must be in (0, 1) (got " + std::to_string(p) + ")");
+    fail("MergeMethod '{}': p must be in (0, 1) (got {:g})", name, p);
   if (kind == MergeMethodKind::scgp) scgp.validate();
   if (kind == MergeMethodKind::dcs) {
     if (!(std::isfinite(dcs_phi) && dcs_phi > 0.0))
-      fail(who + "dcs_phi must be finite and > 0 (got " + std::to_string(dcs_phi) + ")");
+      fail("MergeMethod '{}': dcs_phi must be finite and > 0 (got {:g})", name, dcs_phi);
     if (!(dcs_accept_scale > 0.0 && dcs_accept_scale <= 1.0))
-      fail(who + "dcs_accept_scale must be in (0, 1] (got " + std::to_string(dcs_accept_scale) + ")");
+      fail("MergeMethod '{}': dcs_accept_scale must be in (0, 1] (got {:g})", name, dcs_accept_scale);
   }
 }
 

@@ -2,11 +2,12 @@
 // the derivation of the first-order loop covariance.
 #include "pcm/consistency.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -27,15 +28,16 @@ bool all_finite(const M& m) {
 // Finite and symmetric up to a tolerance relative to the largest entry.
 template <class M>
 void check_covariance(const M& c, const std::string& what) {
-  if (!all_finite(c)) throw std::invalid_argument(what + ": covariance has a non-finite entry");
+  if (!all_finite(c)) throw std::invalid_argument(fmt::format("{}: covariance has a non-finite entry", what));
   const double scale = c.cwiseAbs().maxCoeff();
   if ((c - c.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300))
-    throw std::invalid_argument(what + ": covariance is not symmetric");
+    throw std::invalid_argument(fmt::format("{}: covariance is not symmetric", what));
 }
 
 template <class G>
 void check_pose(const G& T, const std::string& what) {
-  if (!T.matrix().allFinite()) throw std::invalid_argument(what + ": pose has a non-finite entry");
+  if (!T.matrix().allFinite())
+    throw std::invalid_argument(fmt::format("{}: pose has a non-finite entry", what));
 }
 
 }  // namespace
@@ -136,12 +138,10 @@ LoopError<G> loop_error(const G& z_u, const typename G::Jacobian& cov_u, const G
 }
 
 double consistency_threshold(double p, int dof) {
-  if (!(p > 0.0 && p < 1.0)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "consistency_threshold: p must be in (0, 1) (got %g)", p);
-    throw std::invalid_argument(buf);
-  }
-  if (dof < 1) throw std::invalid_argument("consistency_threshold: dof must be >= 1 (got " + std::to_string(dof) + ")");
+  if (!(p > 0.0 && p < 1.0))
+    throw std::invalid_argument(fmt::format("consistency_threshold: p must be in (0, 1) (got {:g})", p));
+  if (dof < 1)
+    throw std::invalid_argument(fmt::format("consistency_threshold: dof must be >= 1 (got {})", dof));
   return lie::chi2_quantile(1.0 - p, static_cast<double>(dof));
 }
 
@@ -151,23 +151,24 @@ namespace {
 template <class G>
 std::vector<int> index_map(const LocalMap<G>& m, const char* name) {
   constexpr int d = G::DoF;
-  const std::string who = std::string("consistency_matrix: map ") + name;
+  const std::string who = fmt::format("consistency_matrix: map {}", name);
   std::vector<int> index(m.poses.size(), -1);
   for (std::size_t s = 0; s < m.ids.size(); ++s) {
     const int id = m.ids[s];
     if (id < 0 || static_cast<std::size_t>(id) >= m.poses.size())
-      throw std::invalid_argument(who + ": covered pose id " + std::to_string(id) + " is outside its " +
-                                  std::to_string(m.poses.size()) + " poses");
-    if (index[id] != -1) throw std::invalid_argument(who + ": pose id " + std::to_string(id) + " listed twice in ids");
+      throw std::invalid_argument(
+          fmt::format("{}: covered pose id {} is outside its {} poses", who, id, m.poses.size()));
+    if (index[id] != -1)
+      throw std::invalid_argument(fmt::format("{}: pose id {} listed twice in ids", who, id));
     index[id] = static_cast<int>(s);
-    check_pose(m.poses[id], who + " pose " + std::to_string(id));
+    check_pose(m.poses[id], fmt::format("{} pose {}", who, id));
   }
   const auto need = static_cast<Eigen::Index>(d * m.ids.size());
   if (m.joint.rows() != need || m.joint.cols() != need)
-    throw std::invalid_argument(who + ": joint covariance is " + std::to_string(m.joint.rows()) + "x" +
-                                std::to_string(m.joint.cols()) + ", expected " + std::to_string(need) + "x" +
-                                std::to_string(need) + " (" + std::to_string(d) + " per covered pose)");
-  check_covariance(m.joint, who + " joint marginal");
+    throw std::invalid_argument(fmt::format("{}: joint covariance is {}x{}, expected {}x{} ({} per covered "
+                                            "pose)",
+                                            who, m.joint.rows(), m.joint.cols(), need, need, d));
+  check_covariance(m.joint, fmt::format("{} joint marginal", who));
   return index;
 }
 
@@ -183,20 +184,20 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
   const int n = static_cast<int>(candidates.size());
   for (int u = 0; u < n; ++u) {
     const auto& c = candidates[u];
-    const std::string who = "consistency_matrix: candidate " + std::to_string(u);
+    const std::string who = fmt::format("consistency_matrix: candidate {}", u);
     if (c.pose_a < 0 || static_cast<std::size_t>(c.pose_a) >= a.poses.size())
-      throw std::invalid_argument(who + " touches pose " + std::to_string(c.pose_a) + " of robot a, which has " +
-                                  std::to_string(a.poses.size()) + " poses");
+      throw std::invalid_argument(
+          fmt::format("{} touches pose {} of robot a, which has {} poses", who, c.pose_a, a.poses.size()));
     if (c.pose_b < 0 || static_cast<std::size_t>(c.pose_b) >= b.poses.size())
-      throw std::invalid_argument(who + " touches pose " + std::to_string(c.pose_b) + " of robot b, which has " +
-                                  std::to_string(b.poses.size()) + " poses");
+      throw std::invalid_argument(
+          fmt::format("{} touches pose {} of robot b, which has {} poses", who, c.pose_b, b.poses.size()));
     if (ia[c.pose_a] < 0)
-      throw std::invalid_argument(who + ": pose " + std::to_string(c.pose_a) +
-                                  " of robot a has no joint marginal (not in LocalMap::ids)");
+      throw std::invalid_argument(
+          fmt::format("{}: pose {} of robot a has no joint marginal (not in LocalMap::ids)", who, c.pose_a));
     if (ib[c.pose_b] < 0)
-      throw std::invalid_argument(who + ": pose " + std::to_string(c.pose_b) +
-                                  " of robot b has no joint marginal (not in LocalMap::ids)");
-    check_pose(c.z, who + " measurement");
+      throw std::invalid_argument(
+          fmt::format("{}: pose {} of robot b has no joint marginal (not in LocalMap::ids)", who, c.pose_b));
+    check_pose(c.z, fmt::format("{} measurement", who));
     check_covariance(c.covariance, who);
   }
   auto block = [](const LocalMap<G>& m, int s, int t) -> J { return m.joint.template block<d, d>(d * s, d * t); };
@@ -237,10 +238,10 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
   for (int u = 0; u < n; ++u)
     for (int v = 0; v < n; ++v)
       if (failed[static_cast<std::size_t>(u) * n + v])
-        throw std::invalid_argument("consistency_matrix: candidates " + std::to_string(u) + " and " +
-                                    std::to_string(v) +
-                                    ": the loop covariance J Σ Jᵀ is not positive definite (zero or degenerate "
-                                    "measurement covariances?)");
+        throw std::invalid_argument(
+            fmt::format("consistency_matrix: candidates {} and {}: the loop covariance J Σ Jᵀ is not "
+                        "positive definite (zero or degenerate measurement covariances?)",
+                        u, v));
   return Q;
 }
 

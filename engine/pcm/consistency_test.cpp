@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "core/random.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/uncertain.hpp"
@@ -24,64 +24,50 @@ using namespace keel::pcm;
 using lie::MatX;
 using lie::SE2;
 using lie::SE3;
+using keel::core::Rng;
 using keel::testkit::contains;
 using keel::testkit::message_of;
 
 namespace {
 
+// exp of a tangent with every entry N(0, scale²).
 template <class G>
-G random_pose(std::mt19937_64& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  typename G::Tangent xi;
-  for (int i = 0; i < G::DoF; ++i) xi(i) = u(rng);
-  return G::exp(xi);
+G random_pose(Rng& rng, double scale) {
+  return testkit::random_pose<G>(rng, scale, scale);
 }
 
-MatX random_spd(std::mt19937_64& rng, int d, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
-  MatX A(d, d);
-  for (int j = 0; j < d; ++j)
-    for (int i = 0; i < d; ++i) A(i, j) = n(rng);
-  return A * A.transpose() + 0.2 * scale * scale * MatX::Identity(d, d);
+// A Aᵀ + 0.2 scale² I with A i.i.d. N(0, scale²): the kit's B Bᵀ / d + λ I with B i.i.d. N(0, d scale²).
+MatX random_spd(Rng& rng, int d, double scale) {
+  return testkit::random_spd(rng, d, scale * std::sqrt(static_cast<double>(d)), 0.2 * scale * scale);
 }
 
+// A draw from N(0, L Lᵀ).
 template <class V>
-V sample(std::mt19937_64& rng, const MatX& L) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  lie::VecX z(L.rows());
-  for (int i = 0; i < z.size(); ++i) z(i) = n(rng);
-  return V(L * z);
+V sample(Rng& rng, const MatX& L) {
+  return V(L * testkit::random_vector(rng, L.cols()));
 }
 
-template <class G>
-typename G::Tangent unit(int k) {
-  typename G::Tangent e = G::Tangent::Zero();
-  e(k) = 1.0;
-  return e;
-}
-
+// Uniform integer in [0, n).
+int uniform_index(Rng& rng, int n) { return std::min(n - 1, static_cast<int>(rng.uniform() * n)); }
 
 }  // namespace
 
 TEST_CASE_TEMPLATE("loop_error: analytic Jacobians match central differences (eq. 2.4)", G, SE2, SE3) {
   using J = typename G::Jacobian;
-  std::mt19937_64 rng(11);
+  Rng rng(11);
   for (int trial = 0; trial < 20; ++trial) {
     G in[4] = {random_pose<G>(rng, 1.5), random_pose<G>(rng, 1.5), random_pose<G>(rng, 1.5),
                random_pose<G>(rng, 1.5)};
     const J I = J::Identity();
     const auto e = loop_error(in[0], I, in[1], I, in[2], I, in[3], I);
     const J* analytic[4] = {&e.J_u, &e.J_ij, &e.J_v, &e.J_lk};
-    auto eps_of = [](const G (&x)[4]) { return (x[0].inverse() * x[1] * x[2] * x[3]).log(); };
-    const double h = 1e-6;
     for (int f = 0; f < 4; ++f) {
-      J numeric;
-      for (int k = 0; k < G::DoF; ++k) {
-        G plus[4] = {in[0], in[1], in[2], in[3]}, minus[4] = {in[0], in[1], in[2], in[3]};
-        plus[f] = G::exp(h * unit<G>(k)) * in[f];
-        minus[f] = G::exp(-h * unit<G>(k)) * in[f];
-        numeric.col(k) = (eps_of(plus) - eps_of(minus)) / (2 * h);
-      }
+      // ε as a function of a left perturbation exp(δ^) of input f.
+      const MatX numeric = testkit::numerical_jacobian_tangent<G>([&](const typename G::Tangent& delta) {
+        G x[4] = {in[0], in[1], in[2], in[3]};
+        x[f] = G::exp(delta) * in[f];
+        return (x[0].inverse() * x[1] * x[2] * x[3]).log();
+      });
       CHECK((numeric - *analytic[f]).cwiseAbs().maxCoeff() < 1e-6);
     }
     // Σ_uv = J Σ Jᵀ with identity inputs.
@@ -95,7 +81,7 @@ TEST_CASE_TEMPLATE("loop_error: analytic Jacobians match central differences (eq
 TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and without cross-covariance", G, SE2,
                    SE3) {
   constexpr int d = G::DoF;
-  std::mt19937_64 rng(12);
+  Rng rng(12);
   for (int trial = 0; trial < 10; ++trial) {
     lie::JointPoses<G> jp;
     jp.means = {random_pose<G>(rng, 2.0), random_pose<G>(rng, 2.0)};
@@ -120,7 +106,7 @@ TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freed
   constexpr int d = G::DoF;
   using J = typename G::Jacobian;
   using V = typename G::Tangent;
-  std::mt19937_64 rng(1);
+  Rng rng(1);
   const G Ti = random_pose<G>(rng, 3.0), Tj = random_pose<G>(rng, 3.0), Tk = random_pose<G>(rng, 3.0),
           Tl = random_pose<G>(rng, 3.0), anchor = random_pose<G>(rng, 3.0);
   const G z_ik = Ti.inverse() * anchor * Tk, z_jl = Tj.inverse() * anchor * Tl;
@@ -168,7 +154,7 @@ TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freed
 }
 
 TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual convention") {
-  std::mt19937_64 rng(5);
+  Rng rng(5);
   const SE2 X(3.0, -1.0, 2.5);
   lie::Mat3 Sr;
   Sr << 0.004, 0.001, 0.0005, 0.001, 0.002, -0.0003, 0.0005, -0.0003, 0.001;
@@ -212,7 +198,7 @@ struct Fixture {
 template <class G>
 Fixture<G> make_fixture(std::uint64_t seed, int n_candidates) {
   constexpr int d = G::DoF;
-  std::mt19937_64 rng(seed);
+  Rng rng(seed);
   Fixture<G> f;
   for (int s = 0; s < 12; ++s) f.a.poses.push_back(random_pose<G>(rng, 4.0));
   for (int s = 0; s < 9; ++s) f.b.poses.push_back(random_pose<G>(rng, 4.0));
@@ -221,11 +207,10 @@ Fixture<G> make_fixture(std::uint64_t seed, int n_candidates) {
   f.a.joint = random_spd(rng, d * 6, 0.05);
   f.b.joint = random_spd(rng, d * 4, 0.05);
   const G anchor = random_pose<G>(rng, 4.0);
-  std::uniform_int_distribution<int> pa(0, 5), pb(0, 3);
   for (int u = 0; u < n_candidates; ++u) {
     InterRobotMeasurement<G> m;
-    m.pose_a = f.a.ids[pa(rng)];
-    m.pose_b = f.b.ids[pb(rng)];
+    m.pose_a = f.a.ids[uniform_index(rng, 6)];
+    m.pose_b = f.b.ids[uniform_index(rng, 4)];
     m.z = u % 3 == 2 ? random_pose<G>(rng, 4.0)
                      : random_pose<G>(rng, 0.02) * f.a.poses[m.pose_a].inverse() * anchor * f.b.poses[m.pose_b];
     m.covariance = random_spd(rng, d, 0.03);

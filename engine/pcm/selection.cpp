@@ -5,53 +5,47 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
 
 #include "core/names.hpp"
+#include "core/timing.hpp"
 
 namespace keel::pcm {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using core::Clock;
+using core::seconds_since;
 
 void check_gamma(double gamma, const char* who) {
-  if (!(gamma > 0.0) || !std::isfinite(gamma)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: the consistency threshold gamma must be > 0 and finite (got %g)", who, gamma);
-    throw std::invalid_argument(buf);
-  }
+  if (!(gamma > 0.0) || !std::isfinite(gamma))
+    throw std::invalid_argument(
+        fmt::format("{}: the consistency threshold gamma must be > 0 and finite (got {:g})", who, gamma));
 }
 
 }  // namespace
 
 void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who) {
   if (Q.n <= 0) {
-    throw std::invalid_argument(std::string(who) + ": the consistency matrix has n = " + std::to_string(Q.n) +
-                                " candidates (need at least 1)");
+    throw std::invalid_argument(
+        fmt::format("{}: the consistency matrix has n = {} candidates (need at least 1)", who, Q.n));
   }
   const std::size_t n = static_cast<std::size_t>(Q.n);
   if (Q.q.size() != n * n) {
-    throw std::invalid_argument(std::string(who) + ": the consistency matrix has " + std::to_string(Q.q.size()) +
-                                " entries, expected n*n = " + std::to_string(n * n) + " (n = " + std::to_string(Q.n) +
-                                ")");
+    throw std::invalid_argument(fmt::format("{}: the consistency matrix has {} entries, expected n*n = {} "
+                                            "(n = {})",
+                                            who, Q.q.size(), n * n, Q.n));
   }
   for (std::size_t u = 0; u < n; ++u) {
     for (std::size_t v = 0; v < n; ++v) {
       const double x = Q.q[u * n + v];
-      if (std::isnan(x) || (u != v && x < 0.0)) {
-        char buf[200];
-        std::snprintf(buf, sizeof buf, "%s: q[%zu][%zu] = %g is %s", who, u, v, x,
-                      std::isnan(x) ? "NaN" : "negative (a squared Mahalanobis distance is >= 0)");
-        throw std::invalid_argument(buf);
-      }
+      if (std::isnan(x) || (u != v && x < 0.0))
+        throw std::invalid_argument(
+            fmt::format("{}: q[{}][{}] = {:g} is {}", who, u, v, x,
+                        std::isnan(x) ? "NaN" : "negative (a squared Mahalanobis distance is >= 0)"));
     }
   }
 }
@@ -115,20 +109,16 @@ std::string_view to_string(ScgpDiscretization v) { return kScgpDiscretizationNam
 ScgpDiscretization scgp_discretization_from_string(std::string_view s) { return kScgpDiscretizationNames.parse(s); }
 
 void ScgpOptions::validate() const {
-  if (!(affinity_scale > 0.0) || !std::isfinite(affinity_scale)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "ScgpOptions::affinity_scale must be > 0 and finite (got %g)", affinity_scale);
-    throw std::invalid_argument(buf);
-  }
+  if (!(affinity_scale > 0.0) || !std::isfinite(affinity_scale))
+    throw std::invalid_argument(
+        fmt::format("ScgpOptions::affinity_scale must be > 0 and finite (got {:g})", affinity_scale));
   if (discretization != ScgpDiscretization::dot_product && discretization != ScgpDiscretization::rayleigh) {
     throw std::invalid_argument("ScgpOptions::discretization is not a ScgpDiscretization value");
   }
-  if (!(min_eigen_ratio == 0.0 || (min_eigen_ratio >= 1.0 && std::isfinite(min_eigen_ratio)))) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "ScgpOptions::min_eigen_ratio must be 0 (test off) or a finite ratio >= 1 (got %g)",
-                  min_eigen_ratio);
-    throw std::invalid_argument(buf);
-  }
+  if (!(min_eigen_ratio == 0.0 || (min_eigen_ratio >= 1.0 && std::isfinite(min_eigen_ratio))))
+    throw std::invalid_argument(
+        fmt::format("ScgpOptions::min_eigen_ratio must be 0 (test off) or a finite ratio >= 1 (got {:g})",
+                    min_eigen_ratio));
 }
 
 ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {

@@ -1,6 +1,8 @@
 // Two-robot map-merging scenarios (thesis §2.7.2 and a 3D substitute for §2.7.3); see scenario.hpp.
 #include "sim/two_robot.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
@@ -20,7 +22,11 @@ using namespace keel::pcm;  // measurement types and the left-perturbation covar
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pcm::" + what); }
+// Throws std::invalid_argument with the formatted message, prefixed "pcm::".
+template <class... A>
+[[noreturn]] void fail(fmt::format_string<A...> format, A&&... args) {
+  throw std::invalid_argument(fmt::format("pcm::{}", fmt::format(format, std::forward<A>(args)...)));
+}
 
 template <class M>
 bool all_finite(const M& m) {
@@ -121,12 +127,11 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
   using J = typename G::Jacobian;
   const int n = static_cast<int>(gt.size());
   if (!graph.poses.empty() && static_cast<int>(graph.poses.size()) != n)
-    fail("split_two_robots: the ground truth has " + std::to_string(n) + " poses, the graph " +
-         std::to_string(graph.poses.size()));
+    fail("split_two_robots: the ground truth has {} poses, the graph {}", n, graph.poses.size());
   o.validate(n);
   for (int v = o.first; v < o.last; ++v)
     if (!finite_pose(gt[v]))
-      fail("split_two_robots: ground-truth pose " + std::to_string(v) + " is not finite");
+      fail("split_two_robots: ground-truth pose {} is not finite", v);
 
   TwoRobotScenario<G> s;
   s.split = o;
@@ -187,11 +192,13 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
     s.pool_lines.push_back(e.line);
   }
   if (const int v = first_unreachable(s.robot_a, na); v >= 0)
-    fail("split_two_robots: robot a's local graph is not connected (its pose " + std::to_string(v) +
-         " = pose " + std::to_string(o.first + v) + " of the dataset is not linked to its pose 0)");
+    fail("split_two_robots: robot a's local graph is not connected (its pose {} = pose {} of the "
+         "dataset is not linked to its pose 0)",
+         v, o.first + v);
   if (const int v = first_unreachable(s.robot_b, nb); v >= 0)
-    fail("split_two_robots: robot b's local graph is not connected (its pose " + std::to_string(v) +
-         " = pose " + std::to_string(o.split + v) + " of the dataset is not linked to its pose 0)");
+    fail("split_two_robots: robot b's local graph is not connected (its pose {} = pose {} of the "
+         "dataset is not linked to its pose 0)",
+         v, o.split + v);
 
   s.extent_min = s.truth_a[0].translation();
   s.extent_max = s.extent_min;
@@ -215,8 +222,8 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
   o.validate();
   const int pool = static_cast<int>(s.pool.size());
   if (o.num_inliers > pool)
-    fail("generate_candidates: num_inliers (" + std::to_string(o.num_inliers) +
-         ") exceeds the pool of true inter-robot loop closures (" + std::to_string(pool) + ")");
+    fail("generate_candidates: num_inliers ({}) exceeds the pool of true inter-robot loop closures ({})",
+         o.num_inliers, pool);
   if ((o.aliased_groups > 0 && o.aliased_group_size > 0) && pool == 0)
     fail("generate_candidates: aliased outliers take their noise from the pool, which is empty");
   const int na = static_cast<int>(s.truth_a.size()), nb = static_cast<int>(s.truth_b.size());
@@ -320,7 +327,7 @@ void resample_graph(Graph& g, const std::vector<G>& truth, double scale, core::R
 template <class G>
 void resample_impl(TwoRobotScenario<G>& s, double scale, std::uint64_t seed) {
   if (!(std::isfinite(scale) && scale > 0.0))
-    fail("resample_measurements: noise_scale must be > 0 and finite (got " + std::to_string(scale) + ")");
+    fail("resample_measurements: noise_scale must be > 0 and finite (got {:g})", scale);
   if constexpr (std::is_same_v<G, lie::SE2>) {
     if (!s.robot_a.landmark_measurements.empty() || !s.robot_b.landmark_measurements.empty())
       fail("resample_measurements: graphs with landmark measurements are not supported");
@@ -346,13 +353,15 @@ lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& c
 }
 
 void SplitOptions::validate(int num_poses) const {
-  const std::string got = " (first " + std::to_string(first) + ", split " + std::to_string(split) +
-                          ", last " + std::to_string(last) + ", dataset poses " + std::to_string(num_poses) +
-                          ")";
-  if (first < 0) fail("SplitOptions: first must be >= 0" + got);
-  if (split - first < 2) fail("SplitOptions: robot a = [first, split) needs at least 2 poses" + got);
-  if (last - split < 2) fail("SplitOptions: robot b = [split, last) needs at least 2 poses" + got);
-  if (last > num_poses) fail("SplitOptions: last must be <= the number of poses" + got);
+  auto check = [&](bool ok, const char* what) {
+    if (!ok)
+      fail("SplitOptions: {} (first {}, split {}, last {}, dataset poses {})", what, first, split, last,
+           num_poses);
+  };
+  check(first >= 0, "first must be >= 0");
+  check(split - first >= 2, "robot a = [first, split) needs at least 2 poses");
+  check(last - split >= 2, "robot b = [split, last) needs at least 2 poses");
+  check(last <= num_poses, "last must be <= the number of poses");
 }
 
 TwoRobotScenario2 split_two_robots(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& ground_truth,
@@ -367,24 +376,22 @@ TwoRobotScenario3 split_two_robots(const graph::PoseGraph3D& graph, const std::v
 void CandidateOptions::validate() const {
   auto count = [](const char* name, int v) {
     if (v < 0)
-      fail(std::string("CandidateOptions: ") + name + " must be >= 0 (got " + std::to_string(v) + ")");
+      fail("CandidateOptions: {} must be >= 0 (got {})", name, v);
   };
   count("num_inliers", num_inliers);
   count("aliased_groups", aliased_groups);
   count("random_outliers", random_outliers);
   if (aliased_groups > 0 && aliased_group_size < 1)
-    fail("CandidateOptions: aliased_group_size must be >= 1 when aliased_groups > 0 (got " +
-         std::to_string(aliased_group_size) + ")");
+    fail("CandidateOptions: aliased_group_size must be >= 1 when aliased_groups > 0 (got {})",
+         aliased_group_size);
   auto range = [](const char* name, double lo, double hi) {
     if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0.0 && lo <= hi))
-      fail(std::string("CandidateOptions: ") + name + " range must satisfy 0 < min <= max, finite (got [" +
-           std::to_string(lo) + ", " + std::to_string(hi) + "])");
+      fail("CandidateOptions: {} range must satisfy 0 < min <= max, finite (got [{:g}, {:g}])", name, lo, hi);
   };
   range("random_sigma_translation", random_sigma_translation_min, random_sigma_translation_max);
   range("random_sigma_rotation", random_sigma_rotation_min, random_sigma_rotation_max);
   if (!(std::isfinite(aliased_noise_scale) && aliased_noise_scale > 0.0))
-    fail("CandidateOptions: aliased_noise_scale must be > 0 and finite (got " + std::to_string(aliased_noise_scale) +
-         ")");
+    fail("CandidateOptions: aliased_noise_scale must be > 0 and finite (got {:g})", aliased_noise_scale);
   if (total() < 1) fail("CandidateOptions: no candidates requested (all counts are 0)");
 }
 

@@ -103,17 +103,13 @@ TEST_CASE("information_from_left_covariance inverts left_covariance_from_informa
   auto rng = core::Rng::stream(11, 0);
   for (int t = 0; t < 20; ++t) {
     const lie::SE2 z(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-3, 3));
-    lie::Mat3 A;
-    for (int k = 0; k < 9; ++k) A(k) = rng.normal();
+    const lie::Mat3 A = testkit::random_matrix(rng, 3, 3);
     const lie::Mat3 info = A * A.transpose() + lie::Mat3::Identity();
     const lie::Mat3 back = information_from_left_covariance(z, left_covariance_from_information(z, info));
     CHECK((back - info).cwiseAbs().maxCoeff() < 1e-8 * info.cwiseAbs().maxCoeff());
 
-    lie::Vec6 xi;
-    for (int k = 0; k < 6; ++k) xi(k) = rng.normal();
-    const lie::SE3 z3 = lie::SE3::exp(xi);
-    lie::Mat6 B;
-    for (int k = 0; k < 36; ++k) B(k) = rng.normal();
+    const lie::SE3 z3 = lie::SE3::exp(testkit::random_tangent<lie::SE3>(rng));
+    const lie::Mat6 B = testkit::random_matrix(rng, 6, 6);
     const lie::Mat6 info3 = B * B.transpose() + lie::Mat6::Identity();
     const lie::Mat6 back3 = information_from_left_covariance(z3, left_covariance_from_information(z3, info3));
     CHECK((back3 - info3).cwiseAbs().maxCoeff() < 1e-8 * info3.cwiseAbs().maxCoeff());

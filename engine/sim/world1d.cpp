@@ -4,10 +4,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "core/names.hpp"
 
@@ -16,28 +15,16 @@ namespace keel::sim {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-[[noreturn]] void fail(const char* fmt, double a, double b = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  throw std::invalid_argument(buf);
+// Throws std::invalid_argument with the formatted message.
+template <class... A>
+[[noreturn]] void fail(fmt::format_string<A...> format, A&&... args) {
+  throw std::invalid_argument(fmt::format(format, std::forward<A>(args)...));
 }
 
 // Uniform integer in [lo, hi].
 int uniform_int(core::Rng& rng, int lo, int hi) {
   const int k = lo + static_cast<int>(rng.uniform() * static_cast<double>(hi - lo + 1));
   return std::min(k, hi);
-}
-
-void check_gamma(double gamma, const char* who) {
-  if (!(gamma > 0.0) || !std::isfinite(gamma)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: the consistency threshold gamma must be > 0 and finite (got %g)", who, gamma);
-    throw std::invalid_argument(buf);
-  }
 }
 
 }  // namespace
@@ -53,9 +40,9 @@ std::string_view to_string(MeasurementLabel v) { return kMeasurementLabelNames.n
 MeasurementLabel measurement_label_from_string(std::string_view s) { return kMeasurementLabelNames.parse(s); }
 
 void World1DOptions::validate() const {
-  if (!std::isfinite(x)) fail("World1DOptions::x must be finite (got %g)", x);
+  if (!std::isfinite(x)) fail("World1DOptions::x must be finite (got {:g})", x);
   if (!(sigma_inlier > 0.0) || !std::isfinite(sigma_inlier))
-    fail("World1DOptions::sigma_inlier must be > 0 and finite (got %g)", sigma_inlier);
+    fail("World1DOptions::sigma_inlier must be > 0 and finite (got {:g})", sigma_inlier);
   const struct {
     const char* name;
     int lo, hi;
@@ -64,8 +51,7 @@ void World1DOptions::validate() const {
                 {"random", random_min, random_max}};
   for (const auto& c : counts) {
     if (c.lo < 0 || c.hi < c.lo) {
-      throw std::invalid_argument(std::string("World1DOptions::") + c.name + "_min/_max: need 0 <= min <= max (got " +
-                                  std::to_string(c.lo) + ", " + std::to_string(c.hi) + ")");
+      fail("World1DOptions::{}_min/_max: need 0 <= min <= max (got {}, {})", c.name, c.lo, c.hi);
     }
   }
   if (inliers_max + aliased_max + random_max < 1) {
@@ -73,19 +59,18 @@ void World1DOptions::validate() const {
                                 "(a world needs at least one measurement)");
   }
   if (!(outlier_mean_range >= 0.0) || !std::isfinite(outlier_mean_range))
-    fail("World1DOptions::outlier_mean_range must be >= 0 and finite (got %g)", outlier_mean_range);
+    fail("World1DOptions::outlier_mean_range must be >= 0 and finite (got {:g})", outlier_mean_range);
   if (!(outlier_sigma_min > 0.0) || !(outlier_sigma_max >= outlier_sigma_min) || !std::isfinite(outlier_sigma_max))
-    fail("World1DOptions::outlier_sigma_min/_max: need 0 < min <= max < inf (got %g, %g)", outlier_sigma_min,
-         outlier_sigma_max);
+    fail("World1DOptions::outlier_sigma_min/_max: need 0 < min <= max < inf (got {:g}, {:g})",
+         outlier_sigma_min, outlier_sigma_max);
 }
 
 World1DOptions world1d_options_with_total(const World1DOptions& base, int total, double inlier_fraction,
                                           double aliased_fraction) {
-  if (total < 1) throw std::invalid_argument("world1d_options_with_total: total must be >= 1 (got " +
-                                             std::to_string(total) + ")");
+  if (total < 1) fail("world1d_options_with_total: total must be >= 1 (got {})", total);
   if (!(inlier_fraction >= 0.0 && aliased_fraction >= 0.0 && inlier_fraction + aliased_fraction <= 1.0)) {
-    fail("world1d_options_with_total: need fractions >= 0 with inlier + aliased <= 1 (got %g, %g)", inlier_fraction,
-         aliased_fraction);
+    fail("world1d_options_with_total: need fractions >= 0 with inlier + aliased <= 1 (got {:g}, {:g})",
+         inlier_fraction, aliased_fraction);
   }
   World1DOptions o = base;
   const int n_in = std::min(total, static_cast<int>(std::lround(inlier_fraction * total)));
@@ -153,13 +138,14 @@ pcm::ConsistencyMatrix world1d_consistency_matrix(const World1D& world) {
   const int m = world.size();
   if (m == 0) throw std::invalid_argument("world1d_consistency_matrix: the world has no measurements");
   if (world.sigma.size() != world.z.size()) {
-    throw std::invalid_argument("world1d_consistency_matrix: " + std::to_string(world.z.size()) +
-                                " measurements but " + std::to_string(world.sigma.size()) + " standard deviations");
+    fail("world1d_consistency_matrix: {} measurements but {} standard deviations", world.z.size(),
+         world.sigma.size());
   }
   for (int u = 0; u < m; ++u) {
-    if (!std::isfinite(world.z[u])) fail("world1d_consistency_matrix: measurement z = %g is not finite", world.z[u]);
+    if (!std::isfinite(world.z[u]))
+      fail("world1d_consistency_matrix: measurement z = {:g} is not finite", world.z[u]);
     if (!(world.sigma[u] > 0.0) || !std::isfinite(world.sigma[u]))
-      fail("world1d_consistency_matrix: standard deviation %g must be > 0 and finite", world.sigma[u]);
+      fail("world1d_consistency_matrix: standard deviation {:g} must be > 0 and finite", world.sigma[u]);
   }
   pcm::ConsistencyMatrix Q;
   Q.n = m;

@@ -8,6 +8,8 @@
 // Options: --experiments DIR (experiments), --results DIR (results), --paper DIR (paper).
 import keel.core;
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -24,9 +26,9 @@ struct Args {
 };
 
 int usage() {
-  std::fprintf(stderr,
-               "usage: keel <list|diff|bless|report|eta|same> [--profile quick|full] [--experiments DIR] "
-               "[--results DIR] [--paper DIR] [ids...]\n");
+  fmt::print(stderr,
+             "usage: keel <list|diff|bless|report|eta|same> [--profile quick|full] [--experiments DIR] "
+             "[--results DIR] [--paper DIR] [ids...]\n");
   return 2;
 }
 
@@ -37,9 +39,7 @@ std::vector<std::string> resolve_ids(const Args& a) {
     bool found = false;
     for (const auto& x : all) found = found || x == id;
     if (!found) {
-      std::string known;
-      for (const auto& x : all) known += " " + x;
-      throw std::runtime_error("unknown experiment '" + id + "' (known:" + known + ")");
+      throw std::runtime_error(fmt::format("unknown experiment '{}' (known: {})", id, fmt::join(all, " ")));
     }
   }
   return a.ids;
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string s = argv[i];
     auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(s + " needs a value");
+      if (i + 1 >= argc) throw std::runtime_error(fmt::format("{} needs a value", s));
       return argv[++i];
     };
     try {
@@ -76,17 +76,17 @@ int main(int argc, char** argv) {
       else if (s == "--results") a.results = next();
       else if (s == "--paper") a.paper = next();
       else if (s.rfind("--", 0) == 0) {
-        std::fprintf(stderr, "keel: unknown option '%s'\n", s.c_str());
+        fmt::print(stderr, "keel: unknown option '{}'\n", s);
         return usage();
       } else a.ids.push_back(s);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "keel: %s\n", e.what());
+      fmt::print(stderr, "keel: {}\n", e.what());
       return 2;
     }
   }
   try {
     if (a.command == "list") {
-      for (const auto& id : keel::core::list_experiments(a.experiments)) std::printf("%s\n", id.c_str());
+      for (const auto& id : keel::core::list_experiments(a.experiments)) fmt::print("{}\n", id);
       return 0;
     }
     if (a.command == "diff") {
@@ -94,23 +94,23 @@ int main(int argc, char** argv) {
       for (const auto& id : resolve_ids(a)) {
         try {
           const auto d = keel::core::diff_against_baseline(load(a, id), a.results);
-          std::printf("%s\n", keel::core::format_diff(d).c_str());
+          fmt::print("{}\n", keel::core::format_diff(d));
           failed += d.ok() ? 0 : 1;
         } catch (const keel::core::ConfigError&) {
           throw;
         } catch (const std::exception& e) {
-          std::printf("%s [%s]: cannot compare: %s\n\n", id.c_str(), a.profile.c_str(), e.what());
+          fmt::print("{} [{}]: cannot compare: {}\n\n", id, a.profile, e.what());
           failed += 1;
         }
       }
-      if (failed) std::printf("%d experiment(s) left their baseline tolerance\n", failed);
+      if (failed) fmt::print("{} experiment(s) left their baseline tolerance\n", failed);
       return failed ? 1 : 0;
     }
     if (a.command == "bless") {
       if (a.ids.empty()) throw std::runtime_error("bless needs explicit experiment ids (baselines change only on purpose)");
       for (const auto& id : resolve_ids(a)) {
         keel::core::bless(load(a, id), a.results);
-        std::printf("blessed %s\n", keel::core::baseline_path(a.results, id, a.profile).c_str());
+        fmt::print("blessed {}\n", keel::core::baseline_path(a.results, id, a.profile).string());
       }
       return 0;
     }
@@ -121,28 +121,28 @@ int main(int argc, char** argv) {
       o.paper_dir = a.paper;
       o.profile = a.profile;
       o.ids = a.ids;
-      std::printf("wrote %s\n", keel::core::write_report(o).c_str());
+      fmt::print("wrote {}\n", keel::core::write_report(o).string());
       return 0;
     }
     if (a.command == "eta") {
-      for (const auto& id : resolve_ids(a)) std::printf("%s %.3f\n", id.c_str(), baseline_wall(a, id));
+      for (const auto& id : resolve_ids(a)) fmt::print("{} {:.3f}\n", id, baseline_wall(a, id));
       return 0;
     }
     if (a.command == "same") {
       if (a.ids.size() != 2) return usage();
       std::string why;
       if (keel::core::same_results(a.ids[0], a.ids[1], &why)) {
-        std::printf("identical (provenance aside)\n");
+        fmt::print("identical (provenance aside)\n");
         return 0;
       }
-      std::printf("results differ: %s\n", why.c_str());
+      fmt::print("results differ: {}\n", why);
       return 1;
     }
   } catch (const keel::core::ConfigError& e) {
-    std::fprintf(stderr, "keel %s: config error: %s\n", a.command.c_str(), e.what());
+    fmt::print(stderr, "keel {}: config error: {}\n", a.command, e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "keel %s: %s\n", a.command.c_str(), e.what());
+    fmt::print(stderr, "keel {}: {}\n", a.command, e.what());
     return 1;
   }
   return usage();

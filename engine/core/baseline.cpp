@@ -1,12 +1,12 @@
 #include "core/baseline.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
-#include <sstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "core/results.hpp"
@@ -19,11 +19,14 @@ namespace {
 
 json read_json(const std::filesystem::path& p, const std::string& hint) {
   std::ifstream in(p);
-  if (!in) throw std::runtime_error(p.string() + ": not found" + (hint.empty() ? "" : " (" + hint + ")"));
+  if (!in) {
+    throw std::runtime_error(hint.empty() ? fmt::format("{}: not found", p.string())
+                                          : fmt::format("{}: not found ({})", p.string(), hint));
+  }
   try {
     return json::parse(in);
   } catch (const json::parse_error& e) {
-    throw std::runtime_error(p.string() + ": invalid JSON: " + e.what());
+    throw std::runtime_error(fmt::format("{}: invalid JSON: {}", p.string(), e.what()));
   }
 }
 
@@ -35,14 +38,11 @@ double as_number(const json& v) {
     if (s == "inf") return INFINITY;
     if (s == "-inf") return -INFINITY;
   }
-  throw std::runtime_error("not a number: " + v.dump());
+  throw std::runtime_error(fmt::format("not a number: {}", v.dump()));
 }
 
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+// A number in a diff table: 6 significant digits.
+std::string number_text(double v) { return fmt::format("{:.6g}", v); }
 
 }  // namespace
 
@@ -56,16 +56,17 @@ std::filesystem::path latest_path(const std::filesystem::path& results_dir, cons
 }
 std::filesystem::path baseline_path(const std::filesystem::path& results_dir, const std::string& id,
                                     const std::string& profile) {
-  return results_dir / id / ("baseline." + profile + ".json");
+  return results_dir / id / fmt::format("baseline.{}.json", profile);
 }
 
 DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir) {
   const auto lp = latest_path(results_dir, config.id);
   const auto bp = baseline_path(results_dir, config.id, config.profile);
-  const json latest = read_json(lp, "run the experiment first: scripts/reproduce --profile " + config.profile +
-                                        " " + config.id);
-  const json base = read_json(bp, "no committed baseline; create one on purpose with scripts/reproduce --profile " +
-                                      config.profile + " --bless " + config.id);
+  const json latest =
+      read_json(lp, fmt::format("run the experiment first: scripts/reproduce --profile {} {}", config.profile, config.id));
+  const json base = read_json(
+      bp, fmt::format("no committed baseline; create one on purpose with scripts/reproduce --profile {} --bless {}",
+                      config.profile, config.id));
   DiffResult d;
   d.id = config.id;
   d.profile = config.profile;
@@ -75,43 +76,45 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   }
   const auto lh = latest["provenance"].value("config_hash", "");
   const auto bh = base["provenance"].value("config_hash", "");
-  if (lh != bh) d.warnings.push_back("experiment.toml changed since the baseline was blessed (hash " + bh + " -> " + lh + ")");
+  if (lh != bh) {
+    d.warnings.push_back(fmt::format("experiment.toml changed since the baseline was blessed (hash {} -> {})", bh, lh));
+  }
 
   auto tol_of = [&](const std::string& name) { return config.tolerance_for(name).value_or(Tolerance{}); };
 
   const json& bm = base.at("metrics");
   const json& lm = latest.at("metrics");
   for (auto it = bm.begin(); it != bm.end(); ++it) {
-    DiffRow r{it.key(), fmt(as_number(it.value())), "-", tol_of(it.key()).describe(), true, ""};
+    DiffRow r{it.key(), number_text(as_number(it.value())), "-", tol_of(it.key()).describe(), true, ""};
     if (!lm.contains(it.key())) {
       r.ok = false;
       r.note = "missing from latest";
     } else {
       const double b = as_number(it.value()), l = as_number(lm.at(it.key()));
-      r.latest = fmt(l);
+      r.latest = number_text(l);
       if (!tol_of(it.key()).accepts(l, b)) {
         r.ok = false;
-        r.note = "|delta| = " + fmt(std::fabs(l - b));
+        r.note = fmt::format("|delta| = {}", number_text(std::fabs(l - b)));
       }
     }
     d.rows.push_back(r);
   }
   for (auto it = lm.begin(); it != lm.end(); ++it) {
     if (!bm.contains(it.key())) {
-      d.rows.push_back({it.key(), "-", fmt(as_number(it.value())), "", false, "new metric: bless to accept"});
+      d.rows.push_back({it.key(), "-", number_text(as_number(it.value())), "", false, "new metric: bless to accept"});
     }
   }
   const json& bs = base.at("series");
   const json& ls = latest.at("series");
   for (auto it = bs.begin(); it != bs.end(); ++it) {
     const std::string name = it.key();
-    DiffRow r{name + "[]", "", "", tol_of(name).describe(), true, ""};
+    DiffRow r{fmt::format("{}[]", name), "", "", tol_of(name).describe(), true, ""};
     if (!ls.contains(name)) {
       r.ok = false;
       r.note = "series missing from latest";
     } else if (ls.at(name).size() != it.value().size()) {
       r.ok = false;
-      r.note = "length " + std::to_string(it.value().size()) + " -> " + std::to_string(ls.at(name).size());
+      r.note = fmt::format("length {} -> {}", it.value().size(), ls.at(name).size());
     } else {
       // Report the worst element (largest |delta| relative to what the tolerance allows).
       double worst = -1;
@@ -122,26 +125,27 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
         const double score = ok ? delta : 1e300;
         if (score > worst || (!ok && r.ok)) {
           worst = score;
-          r.name = name + "[" + std::to_string(i) + "]";
-          r.baseline = fmt(b);
-          r.latest = fmt(l);
+          r.name = fmt::format("{}[{}]", name, i);
+          r.baseline = number_text(b);
+          r.latest = number_text(l);
         }
         if (!ok && r.ok) {
           r.ok = false;
-          r.note = "|delta| = " + fmt(delta);
+          r.note = fmt::format("|delta| = {}", number_text(delta));
         }
       }
     }
     d.rows.push_back(r);
   }
   for (auto it = ls.begin(); it != ls.end(); ++it) {
-    if (!bs.contains(it.key())) d.rows.push_back({it.key() + "[]", "-", "new", "", false, "new series: bless to accept"});
+    if (!bs.contains(it.key()))
+      d.rows.push_back({fmt::format("{}[]", it.key()), "-", "new", "", false, "new series: bless to accept"});
   }
   // A tolerance key that names nothing is a typo that would silently fall back to the default.
   for (const auto& [key, tol] : config.tolerances) {
     if (key == "default") continue;
     if (!bm.contains(key) && !lm.contains(key) && !bs.contains(key) && !ls.contains(key)) {
-      d.rows.push_back({"tolerance '" + key + "'", "-", "-", tol.describe(), false,
+      d.rows.push_back({fmt::format("tolerance '{}'", key), "-", "-", tol.describe(), false,
                         "[tolerance] key names no metric or series of this experiment"});
     }
   }
@@ -153,18 +157,18 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
                                    [&](const json& c) { return c.value("name", "") == name; });
       const std::string bstate = bc.value("passed", false) ? "holds" : "fails";
       if (lc == latest.at("checks").end()) {
-        d.rows.push_back({"check: " + name, bstate, "-", "", false, "claim check missing from latest"});
+        d.rows.push_back({fmt::format("check: {}", name), bstate, "-", "", false, "claim check missing from latest"});
         continue;
       }
       const std::string lstate = lc->value("passed", false) ? "holds" : "fails";
-      d.rows.push_back({"check: " + name, bstate, lstate, "same", bstate == lstate,
+      d.rows.push_back({fmt::format("check: {}", name), bstate, lstate, "same", bstate == lstate,
                         bstate == lstate ? "" : "claim verdict changed"});
     }
     for (const auto& lc : latest.at("checks")) {
       const std::string name = lc.value("name", "");
       const bool known = std::any_of(base.at("checks").begin(), base.at("checks").end(),
                                      [&](const json& c) { return c.value("name", "") == name; });
-      if (!known) d.rows.push_back({"check: " + name, "-", lc.value("passed", false) ? "holds" : "fails", "", false,
+      if (!known) d.rows.push_back({fmt::format("check: {}", name), "-", lc.value("passed", false) ? "holds" : "fails", "", false,
                                     "new claim check: bless to accept"});
     }
   }
@@ -175,8 +179,8 @@ void bless(const ExperimentConfig& config, const std::filesystem::path& results_
   const auto lp = latest_path(results_dir, config.id);
   json latest = read_json(lp, "run the experiment before blessing it");
   if (latest.value("profile", "") != config.profile) {
-    throw std::runtime_error(lp.string() + ": was produced with profile '" + latest.value("profile", "?") +
-                             "', not '" + config.profile + "'");
+    throw std::runtime_error(fmt::format("{}: was produced with profile '{}', not '{}'", lp.string(),
+                                         latest.value("profile", "?"), config.profile));
   }
   latest.erase("figures");
   write_file_atomic(baseline_path(results_dir, config.id, config.profile), latest.dump(1) + "\n");
@@ -200,20 +204,20 @@ std::string format_diff(const DiffResult& d) {
   std::size_t w = 6;
   for (const auto& r : d.rows) w = std::max(w, r.name.size());
   w = std::min<std::size_t>(w, 60);
-  std::ostringstream os;
-  os << d.id << " [" << d.profile << "]: " << (d.ok() ? "within tolerance" : std::to_string(d.failures()) + " out of tolerance") << "\n";
-  for (const auto& warn : d.warnings) os << "  warning: " << warn << "\n";
-  char line[512];
-  std::snprintf(line, sizeof line, "  %-*s %14s %14s  %-16s %s\n", static_cast<int>(w), "metric", "baseline",
-                "latest", "tolerance", "");
-  os << line;
-  for (const auto& r : d.rows) {
-    std::snprintf(line, sizeof line, "  %-*s %14s %14s  %-16s %s%s\n", static_cast<int>(w), r.name.substr(0, 60).c_str(),
-                  r.baseline.c_str(), r.latest.c_str(), r.tolerance.c_str(), r.ok ? "ok" : "FAIL",
-                  r.note.empty() ? "" : ("  " + r.note).c_str());
-    os << line;
+  std::string text;
+  auto out = std::back_inserter(text);
+  if (d.ok()) {
+    fmt::format_to(out, "{} [{}]: within tolerance\n", d.id, d.profile);
+  } else {
+    fmt::format_to(out, "{} [{}]: {} out of tolerance\n", d.id, d.profile, d.failures());
   }
-  return os.str();
+  for (const auto& warn : d.warnings) fmt::format_to(out, "  warning: {}\n", warn);
+  fmt::format_to(out, "  {:<{}} {:>14} {:>14}  {:<16} \n", "metric", w, "baseline", "latest", "tolerance");
+  for (const auto& r : d.rows) {
+    fmt::format_to(out, "  {:<{}} {:>14} {:>14}  {:<16} {}{}{}\n", r.name.substr(0, 60), w, r.baseline, r.latest,
+                   r.tolerance, r.ok ? "ok" : "FAIL", r.note.empty() ? "" : "  ", r.note);
+  }
+  return text;
 }
 
 }  // namespace keel::core

@@ -33,16 +33,16 @@ std::filesystem::path baseline_path(const std::filesystem::path& results_dir, co
                                     const std::string& profile);
 
 // Throws std::runtime_error with a message naming the missing file (and the command that creates it).
-DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir);
+[[nodiscard]] DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir);
 
 // Copies latest.json to baseline.<profile>.json without the figure data (baselines hold numbers only).
 void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir);
 
 // True when the two result files agree in everything but provenance and timings (wall time, threads). `why` gets the first
 // difference. Used by the determinism test (1 thread vs 2 threads).
-bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why);
+[[nodiscard]] bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why);
 
 // Renders a DiffResult as an aligned text table.
-std::string format_diff(const DiffResult& d);
+[[nodiscard]] std::string format_diff(const DiffResult& d);
 
 }  // namespace keel::core

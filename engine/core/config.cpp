@@ -5,9 +5,8 @@
 #include <toml++/toml.h>
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
-#include <sstream>
+#include <iterator>
 
 namespace keel::core {
 
@@ -34,7 +33,7 @@ std::string config_type_name(const ConfigValue& v) {
 namespace {
 
 std::string join_name(const std::string& parent, const std::string& key) {
-  return parent.empty() ? key : parent + "." + key;
+  return parent.empty() ? key : fmt::format("{}.{}", parent, key);
 }
 
 ConfigValue convert(const toml::node& node, const std::string& table_name, const std::string& file);
@@ -71,7 +70,7 @@ ConfigValue convert(const toml::node& node, const std::string& table_name, const
   } else if (auto t = node.as_table()) {
     cv.data = convert_table(*t, table_name, file);
   } else {
-    throw ConfigError(file + ":" + std::to_string(cv.line) + ": unsupported TOML value type (dates are not used)");
+    throw ConfigError(fmt::format("{}:{}: unsupported TOML value type (dates are not used)", file, cv.line));
   }
   return cv;
 }
@@ -82,14 +81,11 @@ ConfigTable::ConfigTable(std::string file, std::string name, std::shared_ptr<con
     : file_(std::move(file)), name_(std::move(name)), data_(std::move(data)) {}
 
 std::string ConfigTable::where(std::string_view key) const {
-  std::string s = file_ + ": [" + (name_.empty() ? std::string("top level") : name_) + "] key '" +
-                  std::string(key) + "'";
+  std::string s = fmt::format("{}: [{}] key '{}'", file_, name_.empty() ? std::string_view("top level") : name_, key);
   if (data_) {
     if (auto it = data_->find(key); it != data_->end()) {
-      if (it->second.table != name_) {
-        s = file_ + ": [" + it->second.table + "] key '" + std::string(key) + "'";
-      }
-      if (it->second.line > 0) s += " (line " + std::to_string(it->second.line) + ")";
+      if (it->second.table != name_) s = fmt::format("{}: [{}] key '{}'", file_, it->second.table, key);
+      if (it->second.line > 0) s += fmt::format(" (line {})", it->second.line);
     }
   }
   return s;
@@ -106,7 +102,7 @@ std::vector<std::string> ConfigTable::keys() const {
 
 const ConfigValue& ConfigTable::get(std::string_view key, std::string_view expected) const {
   if (!data_ || data_->find(key) == data_->end()) {
-    throw ConfigError(where(key) + ": missing (expected " + std::string(expected) + ")");
+    throw ConfigError(fmt::format("{}: missing (expected {})", where(key), expected));
   }
   used_->insert(std::string(key));
   return data_->find(key)->second;
@@ -119,7 +115,7 @@ void ConfigTable::parse_error(std::string_view key, std::string_view what) const
 }
 
 void ConfigTable::type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const {
-  throw ConfigError(where(key) + ": expected " + std::string(expected) + ", got " + config_type_name(v));
+  throw ConfigError(fmt::format("{}: expected {}, got {}", where(key), expected, config_type_name(v)));
 }
 
 double ConfigTable::number(std::string_view key) const {
@@ -159,8 +155,7 @@ std::vector<double> ConfigTable::numbers(std::string_view key) const {
     } else if (auto d = std::get_if<double>(&e.data)) {
       out.push_back(*d);
     } else {
-      throw ConfigError(where(key) + ": element " + std::to_string(i) + " must be a number, got " +
-                        config_type_name(e));
+      throw ConfigError(fmt::format("{}: element {} must be a number, got {}", where(key), i, config_type_name(e)));
     }
   }
   return out;
@@ -174,8 +169,8 @@ std::vector<std::string> ConfigTable::strings(std::string_view key) const {
   for (std::size_t i = 0; i < a->size(); ++i) {
     auto s = std::get_if<std::string>(&(*a)[i].data);
     if (!s) {
-      throw ConfigError(where(key) + ": element " + std::to_string(i) + " must be a string, got " +
-                        config_type_name((*a)[i]));
+      throw ConfigError(
+          fmt::format("{}: element {} must be a string, got {}", where(key), i, config_type_name((*a)[i])));
     }
     out.push_back(*s);
   }
@@ -193,7 +188,7 @@ ConfigTable ConfigTable::table(std::string_view key) const {
 
 std::size_t ConfigTable::count(std::string_view key) const {
   const std::int64_t v = integer(key);
-  if (v < 1) throw ConfigError(where(key) + ": must be a positive integer, got " + std::to_string(v));
+  if (v < 1) throw ConfigError(fmt::format("{}: must be a positive integer, got {}", where(key), v));
   return static_cast<std::size_t>(v);
 }
 
@@ -213,16 +208,16 @@ void ConfigTable::finish() const {
     for (const auto& [k, v] : *data_)
       if (!used_->count(k)) unknown.push_back(k);
     if (!unknown.empty()) {
-      std::string msg = where(unknown.front()) + ": unknown key";
+      std::string msg = fmt::format("{}: unknown key", where(unknown.front()));
       if (unknown.size() > 1) {
         msg += " (also unknown:";
-        for (std::size_t i = 1; i < unknown.size(); ++i) msg += " '" + unknown[i] + "'";
+        for (std::size_t i = 1; i < unknown.size(); ++i) fmt::format_to(std::back_inserter(msg), " '{}'", unknown[i]);
         msg += ")";
       }
-      std::string names;
+      std::vector<std::string_view> names;
       for (const auto& [k, v] : *data_)
-        if (used_->count(k)) names += (names.empty() ? "" : ", ") + k;
-      if (!names.empty()) msg += "; known keys here: " + names;
+        if (used_->count(k)) names.push_back(k);
+      if (!names.empty()) fmt::format_to(std::back_inserter(msg), "; known keys here: {}", fmt::join(names, ", "));
       throw ConfigError(msg);
     }
   }
@@ -231,17 +226,14 @@ void ConfigTable::finish() const {
 
 ConfigTable load_toml(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw ConfigError(file.string() + ": cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  if (!in) throw ConfigError(fmt::format("{}: cannot open file", file.string()));
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   toml::table root;
   try {
     root = toml::parse(text, file.string());
   } catch (const toml::parse_error& e) {
-    throw ConfigError(file.string() + ":" + std::to_string(e.source().begin.line) + ":" +
-                      std::to_string(e.source().begin.column) + ": TOML syntax error: " +
-                      std::string(e.description()));
+    throw ConfigError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), e.source().begin.line,
+                                  e.source().begin.column, e.description()));
   }
   return ConfigTable(file.string(), "", convert_table(root, "", file.string()));
 }
@@ -256,12 +248,10 @@ bool Tolerance::accepts(double ours, double base) const {
 }
 
 std::string Tolerance::describe() const {
-  std::ostringstream os;
-  if (abs >= 0) os << "abs " << abs;
-  if (abs >= 0 && rel >= 0) os << " or ";
-  if (rel >= 0) os << "rel " << rel;
-  if (abs < 0 && rel < 0) os << "exact";
-  return os.str();
+  if (abs >= 0 && rel >= 0) return fmt::format("abs {:g} or rel {:g}", abs, rel);
+  if (abs >= 0) return fmt::format("abs {:g}", abs);
+  if (rel >= 0) return fmt::format("rel {:g}", rel);
+  return "exact";
 }
 
 std::optional<Tolerance> ExperimentConfig::tolerance_for(std::string_view metric) const {
@@ -273,20 +263,20 @@ std::optional<Tolerance> ExperimentConfig::tolerance_for(std::string_view metric
 namespace {
 
 std::string canonical_value(const ConfigValue& v) {
-  char buf[40];
   switch (v.data.index()) {
-    case 1: return std::to_string(std::get<std::int64_t>(v.data));
-    case 2: std::snprintf(buf, sizeof buf, "%.17g", std::get<double>(v.data)); return buf;
+    case 1: return fmt::format("{}", std::get<std::int64_t>(v.data));
+    case 2: return fmt::format("{:.17g}", std::get<double>(v.data));
     case 3: return std::get<bool>(v.data) ? "true" : "false";
-    case 4: return "\"" + std::get<std::string>(v.data) + "\"";
+    case 4: return fmt::format("\"{}\"", std::get<std::string>(v.data));
     case 5: {
       std::string s = "[";
-      for (const auto& e : std::get<std::vector<ConfigValue>>(v.data)) s += canonical_value(e) + ",";
+      for (const auto& e : std::get<std::vector<ConfigValue>>(v.data)) fmt::format_to(std::back_inserter(s), "{},", canonical_value(e));
       return s + "]";
     }
     case 6: {
       std::string s = "{";
-      for (const auto& [k, e] : *std::get<std::shared_ptr<ConfigTableData>>(v.data)) s += k + "=" + canonical_value(e) + ",";
+      for (const auto& [k, e] : *std::get<std::shared_ptr<ConfigTableData>>(v.data))
+        fmt::format_to(std::back_inserter(s), "{}={},", k, canonical_value(e));
       return s + "}";
     }
     default: return "";
@@ -305,10 +295,10 @@ Tolerance parse_tolerance(const ConfigTable& t) {
   if (t.has("rel")) tol.rel = t.number("rel");
   t.finish();
   if ((t.has("abs") && !(tol.abs >= 0)) || (t.has("rel") && !(tol.rel >= 0))) {
-    throw ConfigError(t.file() + ": [" + t.name() + "] tolerances must be >= 0");
+    throw ConfigError(fmt::format("{}: [{}] tolerances must be >= 0", t.file(), t.name()));
   }
   if (!t.has("abs") && !t.has("rel")) {
-    throw ConfigError(t.file() + ": [" + t.name() + "] needs 'abs' and/or 'rel'");
+    throw ConfigError(fmt::format("{}: [{}] needs 'abs' and/or 'rel'", t.file(), t.name()));
   }
   return tol;
 }
@@ -323,23 +313,23 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   c.id = root.string("id");
   const std::string folder = std::filesystem::absolute(file).parent_path().filename().string();
   if (c.id != folder) {
-    throw ConfigError(root.where("id") + ": '" + c.id + "' must equal the experiment folder name '" + folder + "'");
+    throw ConfigError(
+        fmt::format("{}: '{}' must equal the experiment folder name '{}'", root.where("id"), c.id, folder));
   }
   c.title = root.string("title");
   c.reproduces = root.string("reproduces");
   c.description = root.string_or("description", "");
   c.discussion = root.string_or("discussion", "");
   const std::int64_t seed = root.integer("seed");
-  if (seed < 0) throw ConfigError(root.where("seed") + ": must be >= 0");
+  if (seed < 0) throw ConfigError(fmt::format("{}: must be >= 0", root.where("seed")));
   c.seed = static_cast<std::uint64_t>(seed);
 
   ConfigTable params = root.table("params");
   ConfigTable profiles = root.table("profiles");
   c.profiles = profiles.keys();
   if (!profiles.has(profile)) {
-    std::string have;
-    for (const auto& p : c.profiles) have += (have.empty() ? "" : ", ") + p;
-    throw ConfigError(file.string() + ": [profiles] has no profile '" + profile + "' (defined: " + have + ")");
+    throw ConfigError(fmt::format("{}: [profiles] has no profile '{}' (defined: {})", file.string(), profile,
+                                  fmt::join(c.profiles, ", ")));
   }
   // Only the selected profile is laid over [params]; the driver's reads check its keys. The other profiles must
   // not hide typos until their own run: every profile key must either override a [params] key or be set by every
@@ -358,8 +348,9 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
       if (base.count(k)) continue;
       for (const auto& other : profile_tables) {
         if (!other.has(k)) {
-          throw ConfigError(pt.where(k) + ": set in [" + pt.name() + "] but neither in [params] nor in [" +
-                            other.name() + "] (a typo? every profile must set the same keys)");
+          throw ConfigError(fmt::format(
+              "{}: set in [{}] but neither in [params] nor in [{}] (a typo? every profile must set the same keys)",
+              pt.where(k), pt.name(), other.name()));
         }
       }
     }
@@ -383,8 +374,8 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
 
   // The hash covers what the run depends on — id, seed, profile and the resolved parameters — not the prose
   // (description, discussion, thesis values), so editing the report text does not make results stale.
-  std::string canon = c.id + "\n" + std::to_string(c.seed) + "\n" + profile + "\n";
-  for (const auto& [k, v] : *merged) canon += k + "=" + canonical_value(v) + "\n";
+  std::string canon = fmt::format("{}\n{}\n{}\n", c.id, c.seed, profile);
+  for (const auto& [k, v] : *merged) fmt::format_to(std::back_inserter(canon), "{}={}\n", k, canonical_value(v));
   c.hash = fnv1a64(canon);
   // A fresh, untracked view of [thesis] for the report (so its reads are checked there, not here).
   if (root.has("thesis")) {

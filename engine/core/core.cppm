@@ -5,6 +5,7 @@ module;
 #include "core/baseline.hpp"
 #include "core/config.hpp"
 #include "core/experiment.hpp"
+#include "core/names.hpp"
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/random.hpp"
@@ -15,6 +16,10 @@ module;
 export module keel.core;
 
 export namespace keel::core {
+// enum <-> string name tables (docs/DESIGN.md "Naming and errors")
+using keel::core::NameTable;
+using keel::core::throw_unknown_name;
+using keel::core::throw_unnamed_value;
 // random streams
 using keel::core::Rng;
 using keel::core::splitmix64;

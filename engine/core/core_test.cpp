@@ -1,5 +1,6 @@
 // Unit tests of engine/core internals (they include the headers; no module import).
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <atomic>
 #include <cmath>
@@ -11,7 +12,9 @@
 
 #include "core/baseline.hpp"
 #include "core/config.hpp"
+#include "core/names.hpp"
 #include "core/parallel.hpp"
+#include "core/progress.hpp"
 #include "core/random.hpp"
 #include "core/results.hpp"
 
@@ -24,7 +27,7 @@ namespace {
 struct Scratch {
   fs::path root;
   explicit Scratch(const std::string& tag) {
-    root = fs::temp_directory_path() / ("keel_core_test_" + tag + "_" + std::to_string(::getpid()));
+    root = fs::temp_directory_path() / fmt::format("keel_core_test_{}_{}", tag, ::getpid());
     fs::remove_all(root);
     fs::create_directories(root);
   }
@@ -108,7 +111,7 @@ TEST_CASE("config: bad files give clear errors") {
             .find("no profile 'nope'") != std::string::npos);
   CHECK(error_of([&] { ExperimentConfig::load(s.write("other/experiment.toml", text), "quick"); })
             .find("must equal the experiment folder name 'other'") != std::string::npos);
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", "colour = 3\n" + text), "quick"); })
+  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", fmt::format("colour = 3\n{}", text)), "quick"); })
             .find("[top level] key 'colour'") != std::string::npos);
   CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", "id = \n"), "quick"); })
             .find("TOML syntax error") != std::string::npos);
@@ -193,6 +196,58 @@ TEST_CASE("tolerance semantics") {
   CHECK_FALSE(r.accepts(1.0, std::nan("")));
 }
 
+TEST_CASE("tolerance descriptions") {
+  Tolerance t;
+  CHECK(t.describe() == "exact");
+  t.abs = 0.01;
+  CHECK(t.describe() == "abs 0.01");
+  t.rel = 1e-6;
+  CHECK(t.describe() == "abs 0.01 or rel 1e-06");
+  t.abs = -1;
+  CHECK(t.describe() == "rel 1e-06");
+}
+
+TEST_CASE("durations and rounding") {
+  CHECK(format_duration(-1.0) == "0.0s");
+  CHECK(format_duration(12.34) == "12.3s");
+  CHECK(format_duration(245.0) == "4m05s");
+  CHECK(format_duration(3725.0) == "1h02m");
+  CHECK(round_significant(0.1 + 0.2) == 0.3);
+  CHECK(round_significant(123456.789, 4) == 123500.0);
+  CHECK(round_significant(-0.000123456, 2) == -0.00012);
+}
+
+namespace {
+enum class Colour { light_red, dark_blue };
+constexpr NameTable<Colour, 2> kColourNames{"test::Colour", {{
+    {Colour::light_red, "light_red"},
+    {Colour::dark_blue, "dark_blue"},
+}}};
+Colour colour_from_string(std::string_view s) { return kColourNames.parse(s); }
+}  // namespace
+
+TEST_CASE("name tables: round trip, exact matches, errors naming the type and every valid name") {
+  for (const auto& [value, name] : kColourNames.names) {
+    CHECK(kColourNames.name(value) == name);
+    CHECK(colour_from_string(name) == value);
+  }
+  CHECK(error_of([] { (void)colour_from_string("Light_Red"); }) ==
+        "unknown test::Colour 'Light_Red' (valid: light_red, dark_blue)");
+  CHECK(error_of([] { (void)colour_from_string(""); }) == "unknown test::Colour '' (valid: light_red, dark_blue)");
+  CHECK(error_of([] { (void)kColourNames.name(static_cast<Colour>(7)); }) == "test::Colour: value 7 has no name");
+  CHECK_THROWS_AS((void)colour_from_string("dark"), std::invalid_argument);
+
+  // A config reader turns the parse error into a ConfigError located at file, table, key and line.
+  Scratch s("names");
+  const auto file = s.write("colours.toml", "good = \"dark_blue\"\n[style]\nbad = \"green\"\n");
+  const ConfigTable root = load_toml(file);
+  CHECK(root.parse("good", colour_from_string) == Colour::dark_blue);
+  CHECK(root.parse_or("absent", colour_from_string, Colour::light_red) == Colour::light_red);
+  const std::string e = error_of([&] { (void)root.table("style").parse("bad", colour_from_string); });
+  CHECK(e == fmt::format("{}: [style] key 'bad' (line 3): unknown test::Colour 'green' (valid: light_red, dark_blue)",
+                         file.string()));
+}
+
 TEST_CASE("results round trip through baseline diff and bless") {
   Scratch s("diff");
   const auto file = s.write("experiments/demo/experiment.toml", kGood);
@@ -211,7 +266,7 @@ TEST_CASE("results round trip through baseline diff and bless") {
   p.profile = "quick";
   r.write(latest_path(results, "demo"), p);
   // No baseline yet: a clear error that says how to create one.
-  CHECK(error_of([&] { diff_against_baseline(c, results); }).find("--bless demo") != std::string::npos);
+  CHECK(error_of([&] { (void)diff_against_baseline(c, results); }).find("--bless demo") != std::string::npos);
   bless(c, results);
   auto d = diff_against_baseline(c, results);
   CHECK(d.ok());
@@ -231,7 +286,7 @@ TEST_CASE("results round trip through baseline diff and bless") {
   CHECK(text.find("figures") == std::string::npos);
   // A tolerance key that names no metric or series is reported (a typo would silently fall back to the default).
   auto c2 = ExperimentConfig::load(
-      s.write("experiments/demo/experiment.toml", std::string(kGood) + "\"a.bb\" = { abs = 1 }\n"), "quick");
+      s.write("experiments/demo/experiment.toml", fmt::format("{}\"a.bb\" = {{ abs = 1 }}\n", kGood)), "quick");
   r.write(latest_path(results, "demo"), p);
   d = diff_against_baseline(c2, results);
   CHECK(d.failures() == 1);

@@ -1,5 +1,7 @@
 #include "core/experiment.hpp"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -38,24 +40,25 @@ std::string shell_quote(const std::string& s) {
 }
 
 void usage(const char* prog) {
-  std::fprintf(stderr,
-               "usage: %s --config experiments/<id>/experiment.toml [--profile quick|full] "
-               "[--out results/<id>/latest.json] [--threads N]\n",
-               prog);
+  fmt::print(stderr,
+             "usage: {} --config experiments/<id>/experiment.toml [--profile quick|full] "
+             "[--out results/<id>/latest.json] [--threads N]\n",
+             prog);
 }
 
 }  // namespace
 
 std::string git_describe(const std::string& path) {
   const std::string dir = shell_quote(path.empty() ? "." : path);
-  std::string sha = run_capture("git -C " + dir + " rev-parse --short=12 HEAD 2>/dev/null");
+  std::string sha = run_capture(fmt::format("git -C {} rev-parse --short=12 HEAD 2>/dev/null", dir));
   if (sha.empty()) return "unknown";
   // Pathspecs from the repository root (":/"), untracked sources included: any change to the engine or the
   // experiments since HEAD makes the result "-dirty".
-  const std::string dirty = run_capture("git -C " + dir +
-                                        " status --porcelain --untracked-files=normal -- ':/engine' ':/experiments' "
-                                        "':/CMakeLists.txt' ':/cmake' 2>/dev/null");
-  return dirty.empty() ? sha : sha + "-dirty";
+  const std::string dirty = run_capture(fmt::format(
+      "git -C {} status --porcelain --untracked-files=normal -- ':/engine' ':/experiments' ':/CMakeLists.txt' "
+      "':/cmake' 2>/dev/null",
+      dir));
+  return dirty.empty() ? sha : fmt::format("{}-dirty", sha);
 }
 
 bool code_changed_since(const std::string& sha, const std::string& id) {
@@ -63,12 +66,13 @@ bool code_changed_since(const std::string& sha, const std::string& id) {
   for (char c : sha)
     if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
   // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code too.
-  const std::string out = run_capture("git diff --name-only " + sha +
-                                      " -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' " +
-                                      shell_quote(":/experiments/" + id) + " 2>&1; echo \"rc=$?\"");
-  const std::string untracked =
-      run_capture("git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' " +
-                  shell_quote(":/experiments/" + id) + " 2>/dev/null");
+  const std::string folder = shell_quote(fmt::format(":/experiments/{}", id));
+  const std::string out = run_capture(fmt::format(
+      "git diff --name-only {} -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' {} 2>&1; "
+      "echo \"rc=$?\"",
+      sha, folder));
+  const std::string untracked = run_capture(fmt::format(
+      "git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' {} 2>/dev/null", folder));
   return out != "rc=0" || !untracked.empty();
 }
 
@@ -79,7 +83,7 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
     const std::string a = argv[i];
     auto need = [&](const char* what) -> std::string {
       if (i + 1 >= argc) {
-        std::fprintf(stderr, "error: %s needs %s\n", a.c_str(), what);
+        fmt::print(stderr, "error: {} needs {}\n", a, what);
         usage(argv[0]);
         std::exit(2);
       }
@@ -96,7 +100,7 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
       char* end = nullptr;
       const long t = std::strtol(v.c_str(), &end, 10);
       if (*end != '\0' || t < 1 || t > 1024) {
-        std::fprintf(stderr, "error: --threads expects an integer in [1, 1024], got '%s'\n", v.c_str());
+        fmt::print(stderr, "error: --threads expects an integer in [1, 1024], got '{}'\n", v);
         return 2;
       }
       threads = static_cast<unsigned>(t);
@@ -104,13 +108,13 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
       usage(argv[0]);
       return 0;
     } else {
-      std::fprintf(stderr, "error: unknown argument '%s'\n", a.c_str());
+      fmt::print(stderr, "error: unknown argument '{}'\n", a);
       usage(argv[0]);
       return 2;
     }
   }
   if (config_path.empty()) {
-    std::fprintf(stderr, "error: --config is required\n");
+    fmt::print(stderr, "error: --config is required\n");
     usage(argv[0]);
     return 2;
   }
@@ -120,20 +124,20 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   try {
     ex.emplace(ExperimentConfig::load(config_path, profile), threads);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "config error: %s\n", e.what());
+    fmt::print(stderr, "config error: {}\n", e.what());
     return 2;
   }
-  if (out_path.empty()) out_path = "results/" + ex->id() + "/latest.json";
+  if (out_path.empty()) out_path = fmt::format("results/{}/latest.json", ex->id());
 
   const auto start = std::chrono::steady_clock::now();
   try {
     body(*ex);
     ex->params_done();
   } catch (const ConfigError& e) {
-    std::fprintf(stderr, "config error: %s\n", e.what());
+    fmt::print(stderr, "config error: {}\n", e.what());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: run failed: %s\n", ex->id().c_str(), e.what());
+    fmt::print(stderr, "{}: run failed: {}\n", ex->id(), e.what());
     return 1;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -143,9 +147,9 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   prov.profile = profile;
   prov.git_sha = git_describe(std::filesystem::absolute(config_path).parent_path().string());
 #if defined(__clang__)
-  prov.compiler = std::string("clang ") + __clang_version__;
+  prov.compiler = fmt::format("clang {}", __clang_version__);
 #elif defined(__GNUC__)
-  prov.compiler = std::string("gcc ") + __VERSION__;
+  prov.compiler = fmt::format("gcc {}", __VERSION__);
 #else
   prov.compiler = "unknown";
 #endif
@@ -157,14 +161,14 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   try {
     ex->results().write(out_path, prov);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: cannot write results: %s\n", ex->id().c_str(), e.what());
+    fmt::print(stderr, "{}: cannot write results: {}\n", ex->id(), e.what());
     return 1;
   }
   int failed = 0;
   for (const auto& c : ex->results().checks()) failed += c.passed ? 0 : 1;
-  std::fprintf(stderr, "%s [%s]: %zu metrics, %zu series, %zu checks (%d not met) in %s -> %s\n", ex->id().c_str(),
-               profile.c_str(), ex->results().metrics().size(), ex->results().all_series().size(),
-               ex->results().checks().size(), failed, format_duration(wall).c_str(), out_path.c_str());
+  fmt::print(stderr, "{} [{}]: {} metrics, {} series, {} checks ({} not met) in {} -> {}\n", ex->id(), profile,
+             ex->results().metrics().size(), ex->results().all_series().size(), ex->results().checks().size(), failed,
+             format_duration(wall), out_path);
   return 0;
 }
 

@@ -44,7 +44,7 @@ class Experiment {
 
 using ExperimentBody = std::function<void(Experiment&)>;
 
-int experiment_main(int argc, char** argv, const ExperimentBody& body);
+[[nodiscard]] int experiment_main(int argc, char** argv, const ExperimentBody& body);
 
 // "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
 std::string git_describe(const std::string& path);

@@ -2,23 +2,20 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
 namespace keel::core {
 
-std::string format_duration(double s) {
-  char buf[32];
-  if (s < 0) s = 0;
-  if (s < 60) {
-    std::snprintf(buf, sizeof buf, "%.1fs", s);
-  } else if (s < 3600) {
-    std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
-  } else {
-    std::snprintf(buf, sizeof buf, "%dh%02dm", static_cast<int>(s) / 3600, (static_cast<int>(s) % 3600) / 60);
-  }
-  return buf;
+std::string format_duration(double time_s) {
+  const double s = time_s < 0 ? 0.0 : time_s;
+  if (s < 60) return fmt::format("{:.1f}s", s);
+  const int whole = static_cast<int>(s);
+  if (s < 3600) return fmt::format("{}m{:02}s", whole / 60, whole % 60);
+  return fmt::format("{}h{:02}m", whole / 3600, (whole % 3600) / 60);
 }
 
 namespace {
@@ -67,14 +64,14 @@ void Progress::draw(bool final_line) {
   bar.append(static_cast<std::size_t>(width - filled), '-');
   std::string tail;
   if (final_line) {
-    tail = "done in " + format_duration(elapsed);
+    tail = fmt::format("done in {}", format_duration(elapsed));
   } else if (done > 0) {
-    tail = "elapsed " + format_duration(elapsed) + ", left ~" + format_duration(elapsed * (1.0 - frac) / frac);
+    tail = fmt::format("elapsed {}, left ~{}", format_duration(elapsed), format_duration(elapsed * (1.0 - frac) / frac));
   } else {
-    tail = "elapsed " + format_duration(elapsed);
+    tail = fmt::format("elapsed {}", format_duration(elapsed));
   }
-  std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %zu/%zu %s%s", label_.c_str(), bar.c_str(),
-               static_cast<int>(frac * 100.0), done, total_, tail.c_str(), final_line ? "\n" : "");
+  fmt::print(stderr, "\r\033[K{} [{}] {:3}% {}/{} {}{}", label_, bar, static_cast<int>(frac * 100.0), done, total_, tail,
+             final_line ? "\n" : "");
   std::fflush(stderr);
 }
 

@@ -37,6 +37,6 @@ class Progress {
 };
 
 // Formats seconds as "12.3s", "4m05s" or "1h02m".
-std::string format_duration(double seconds);
+std::string format_duration(double time_s);
 
 }  // namespace keel::core

@@ -1,9 +1,10 @@
 #include "core/results.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <unistd.h>
@@ -14,9 +15,7 @@ using json = nlohmann::json;
 
 double round_significant(double v, int digits) {
   if (!std::isfinite(v) || v == 0.0) return v;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return std::strtod(buf, nullptr);
+  return std::strtod(fmt::format("{:.{}g}", v, digits).c_str(), nullptr);
 }
 
 Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
@@ -58,9 +57,7 @@ Layer hline_layer(double y, std::string label, std::string color, std::string li
 
 std::string level_tag(double p) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument("level_tag: level must lie in (0, 1)");
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6f", p);
-  std::string s(buf + 2);  // digits after "0."
+  std::string s = fmt::format("{:.6f}", p).substr(2);  // digits after "0."
   while (!s.empty() && s.back() == '0') s.pop_back();
   return s;
 }
@@ -164,32 +161,32 @@ void Results::check(const std::string& name, bool passed, const std::string& det
 }
 void Results::figure(Figure f) {
   if (f.file.empty() || f.file.find('/') != std::string::npos || f.file.find("..") != std::string::npos) {
-    throw std::invalid_argument("Results::figure: file must be a plain file name, got '" + f.file + "'");
+    throw std::invalid_argument(fmt::format("Results::figure: file must be a plain file name, got '{}'", f.file));
   }
   figures_.push_back(std::move(f));
 }
 void Results::note(const std::string& key, const std::string& text) { notes_[key] = text; }
-void Results::timing(const std::string& name, double seconds) { timings_[name] = seconds; }
+void Results::timing(const std::string& name, double time_s) { timings_[name] = time_s; }
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& text) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  const std::filesystem::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  const std::filesystem::path tmp = fmt::format("{}.tmp.{}", path.string(), ::getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", tmp.string()));
     out << text;
     out.flush();
     if (!out) {
       out.close();
       std::filesystem::remove(tmp);
-      throw std::runtime_error(tmp.string() + ": write failed");
+      throw std::runtime_error(fmt::format("{}: write failed", tmp.string()));
     }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp);
-    throw std::runtime_error(path.string() + ": rename failed: " + ec.message());
+    throw std::runtime_error(fmt::format("{}: rename failed: {}", path.string(), ec.message()));
   }
 }
 
@@ -215,8 +212,7 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
     for (const auto& [k, v] : timings_) t[k] = round_significant(v, 4);
     doc["timings_s"] = t;
   }
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(prov.config_hash));
+  const std::string hash = fmt::format("{:016x}", prov.config_hash);
   doc["provenance"] = {{"git_sha", prov.git_sha},     {"config_hash", hash},
                        {"config_file", prov.config_file}, {"compiler", prov.compiler},
                        {"seed", prov.seed},           {"profile", prov.profile},

@@ -62,8 +62,8 @@ class Results {
   void check(const std::string& name, bool passed, const std::string& detail);
   void figure(Figure f);
   void note(const std::string& key, const std::string& text);
-  // Wall time of a phase (seconds). Reported, never diffed against baselines (machines differ).
-  void timing(const std::string& name, double seconds);
+  // Wall time of a phase in seconds. Reported, never diffed against baselines (machines differ).
+  void timing(const std::string& name, double time_s);
 
   const std::map<std::string, double>& metrics() const { return metrics_; }
   const std::map<std::string, std::vector<double>>& all_series() const { return series_; }

@@ -2,11 +2,12 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <random>
 
+#include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
 
 using namespace keel::lie;
+namespace testkit = keel::testkit;
 
 TEST_CASE("wrap_angle maps to (-pi, pi]") {
   CHECK(wrap_angle(0.5) == doctest::Approx(0.5));
@@ -16,10 +17,9 @@ TEST_CASE("wrap_angle maps to (-pi, pi]") {
   CHECK(wrap_angle(-1.5 * kPi) == doctest::Approx(0.5 * kPi));
   CHECK(wrap_angle(2.0 * kPi + 0.25) == doctest::Approx(0.25));
   CHECK(wrap_angle(-7.0) == doctest::Approx(-7.0 + 2.0 * kPi));
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-50.0, 50.0);
+  keel::core::Rng rng(11);
   for (int i = 0; i < 1000; ++i) {
-    const double a = u(rng);
+    const double a = rng.uniform(-50.0, 50.0);
     const double w = wrap_angle(a);
     CHECK(w > -kPi);
     CHECK(w <= kPi);
@@ -35,20 +35,20 @@ TEST_CASE("rotation_from_rpy is Rz(yaw) Ry(pitch) Rx(roll)") {
 }
 
 TEST_CASE("SE3 <-> SSC round trip") {
-  std::mt19937_64 rng(12);
-  std::uniform_real_distribution<double> ang(-kPi + 1e-6, kPi);
-  std::uniform_real_distribution<double> pit(-0.5 * kPi + 1e-3, 0.5 * kPi - 1e-3);
-  std::uniform_real_distribution<double> pos(-10.0, 10.0);
+  keel::core::Rng rng(12);
+  auto ang = [&] { return rng.uniform(-kPi + 1e-6, kPi); };
+  auto pit = [&] { return rng.uniform(-0.5 * kPi + 1e-3, 0.5 * kPi - 1e-3); };
+  auto pos = [&] { return rng.uniform(-10.0, 10.0); };
   for (int i = 0; i < 500; ++i) {
     Vec6 x;
-    x << pos(rng), pos(rng), pos(rng), ang(rng), pit(rng), ang(rng);
+    x << pos(), pos(), pos(), ang(), pit(), ang();
     const SE3 T = se3_from_ssc(x);
     CHECK((T.translation() - x.head<3>()).norm() == 0.0);
     CHECK((T.rotation() - rotation_from_rpy(x(3), x(4), x(5))).norm() < 1e-15);
     const Vec6 back = ssc_from_se3(T);
     CHECK((back - x).norm() < 1e-12);
     // Matrix -> SSC -> matrix for arbitrary rotations (outside the principal ranges too).
-    const SE3 R = SE3::exp((Vec6() << pos(rng), pos(rng), pos(rng), ang(rng), ang(rng), ang(rng)).finished());
+    const SE3 R = SE3::exp((Vec6() << pos(), pos(), pos(), ang(), ang(), ang()).finished());
     CHECK(se3_from_ssc(ssc_from_se3(R)).is_approx(R, 1e-12));
     const Vec6 xr = ssc_from_se3(R);
     CHECK(std::abs(xr(4)) <= 0.5 * kPi);

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/names.hpp"
+
 namespace keel::lie {
 
 namespace {
@@ -186,6 +188,16 @@ UncertainPose<SE3> compose_fourth_order_joint(const JointPoses<SE3>& poses, std:
 // ------------------------------------------------------------------------------------------
 // Sequential chain
 // ------------------------------------------------------------------------------------------
+
+namespace {
+constexpr core::NameTable<ChainCrossOrder, 2> kChainCrossOrderNames{"lie::ChainCrossOrder", {{
+    {ChainCrossOrder::first, "first"},
+    {ChainCrossOrder::fourth, "fourth"},
+}}};
+}  // namespace
+
+std::string_view to_string(ChainCrossOrder v) { return kChainCrossOrderNames.name(v); }
+ChainCrossOrder chain_cross_order_from_string(std::string_view s) { return kChainCrossOrderNames.parse(s); }
 
 Mat6 chain_second_moment_fourth_order_sequential(const JointPoses<SE3>& poses, ChainCrossOrder cross) {
   poses.check_dimensions();

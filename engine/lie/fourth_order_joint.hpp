@@ -32,6 +32,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 
 #include "se3.hpp"
 #include "types.hpp"
@@ -76,6 +77,10 @@ enum class ChainCrossOrder {
   /// that the sequential scheme cannot represent remain; use the _exact chain instead.
   fourth,
 };
+
+/// "first" / "fourth"; chain_cross_order_from_string throws std::invalid_argument naming the valid names.
+[[nodiscard]] std::string_view to_string(ChainCrossOrder v);
+[[nodiscard]] ChainCrossOrder chain_cross_order_from_string(std::string_view s);
 
 /// T_1 T_2 ... T_N of jointly distributed poses, composed left to right one step at a time with
 /// compose_fourth_order_joint.  Approximation (as in Barfoot & Furgale's sequential chain): the

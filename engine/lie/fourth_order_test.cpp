@@ -2,22 +2,20 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <random>
 #include <vector>
 
+#include "kit/test_kit.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/uncertain.hpp"
 
 using namespace keel::lie;
+namespace testkit = keel::testkit;
 
 namespace {
 
-Mat6 random_spd6(std::mt19937_64& rng, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
-  Mat6 A;
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < 6; ++i) A(i, j) = n(rng);
+Mat6 random_spd6(keel::core::Rng& rng, double scale) {
+  const Mat6 A = testkit::random_matrix(rng, 6, 6, scale);
   return A * A.transpose() + 0.1 * scale * scale * Mat6::Identity();
 }
 
@@ -47,7 +45,7 @@ struct ChainErrors {
 };
 
 // Independent chain T_1 ... T_N, T_k = exp(xi_k) T_bar, xi_k ~ N(0, Sigma_k).
-ChainErrors chain_vs_monte_carlo(const std::vector<UncertainPose<SE3>>& steps, int M, std::mt19937_64& rng) {
+ChainErrors chain_vs_monte_carlo(const std::vector<UncertainPose<SE3>>& steps, int M, keel::core::Rng& rng) {
   const UncertainPose<SE3> first = compose_chain(steps);
   const UncertainPose<SE3> fourth = compose_chain_fourth_order(steps);
   CHECK(first.mean.is_approx(fourth.mean, 1e-12));
@@ -67,7 +65,7 @@ ChainErrors chain_vs_monte_carlo(const std::vector<UncertainPose<SE3>>& steps, i
 }  // namespace
 
 TEST_CASE("<<.>> operators equal the exact Gaussian expectations") {
-  std::mt19937_64 rng(201);
+  keel::core::Rng rng(201);
   for (int trial = 0; trial < 10; ++trial) {
     const Mat6 S1 = random_spd6(rng, 0.3);
     const Mat6 S2 = random_spd6(rng, 0.5);
@@ -88,7 +86,7 @@ TEST_CASE("<<.>> operators equal the exact Gaussian expectations") {
 }
 
 TEST_CASE("fourth-order compounding reduces to first order as the noise vanishes") {
-  std::mt19937_64 rng(202);
+  keel::core::Rng rng(202);
   Vec6 xi;
   xi << 1.0, 0.2, -0.3, 0.4, -0.2, 0.7;
   const SE3 A = SE3::exp(xi), B = SE3::exp(-0.5 * xi);
@@ -101,7 +99,7 @@ TEST_CASE("fourth-order compounding reduces to first order as the noise vanishes
 }
 
 TEST_CASE("fourth-order compounding vs Monte Carlo (Barfoot-Furgale style chain)") {
-  std::mt19937_64 rng(203);
+  keel::core::Rng rng(203);
   // T_bar = [I | (1, 0, 0)] (eq. 5.42); per-step covariance in the spirit of eq. 5.41 but with
   // moderate isotropic rotational noise (sigma_phi ~ 0.1 rad per step).
   Mat4 Tm = Mat4::Identity();

@@ -1,10 +1,11 @@
 #include "gaussian.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -12,21 +13,17 @@ namespace keel::lie {
 
 void validate_covariance(const Eigen::Ref<const MatX>& cov, std::string_view what, double rel_tol) {
   auto fail = [&](const std::string& why) {
-    throw std::invalid_argument(std::string(what) + ": " + why);
+    throw std::invalid_argument(fmt::format("{}: {}", what, why));
   };
   if (cov.rows() != cov.cols()) {
-    std::ostringstream os;
-    os << "covariance must be square, got " << cov.rows() << "x" << cov.cols();
-    fail(os.str());
+    fail(fmt::format("covariance must be square, got {}x{}", cov.rows(), cov.cols()));
   }
   if (cov.size() == 0) return;
   if (!cov.allFinite()) fail("covariance has non-finite entries");
   const double scale = cov.cwiseAbs().maxCoeff();
   const double asym = (cov - cov.transpose()).cwiseAbs().maxCoeff();
   if (asym > rel_tol * std::max(scale, 1e-300)) {
-    std::ostringstream os;
-    os << "covariance is not symmetric (max |C - C^T| = " << asym << ", max |C| = " << scale << ")";
-    fail(os.str());
+    fail(fmt::format("covariance is not symmetric (max |C - C^T| = {:g}, max |C| = {:g})", asym, scale));
   }
   if (scale == 0.0) return;  // zero covariance (a known pose) is valid
   const MatX sym = 0.5 * (cov + cov.transpose());
@@ -35,10 +32,8 @@ void validate_covariance(const Eigen::Ref<const MatX>& cov, std::string_view wha
   const double lmin = es.eigenvalues().minCoeff();
   const double lmax = es.eigenvalues().cwiseAbs().maxCoeff();
   if (lmin < -rel_tol * lmax) {
-    std::ostringstream os;
-    os << "covariance is not positive semi-definite (smallest eigenvalue " << lmin << ", largest |eigenvalue| "
-       << lmax << ")";
-    fail(os.str());
+    fail(fmt::format("covariance is not positive semi-definite (smallest eigenvalue {:g}, largest |eigenvalue| {:g})",
+                     lmin, lmax));
   }
 }
 
@@ -59,18 +54,16 @@ MatX covariance_square_root(const Eigen::Ref<const MatX>& cov) {
 
 GaussianSampler::GaussianSampler(const Eigen::Ref<const MatX>& cov) : L_(covariance_square_root(cov)) {}
 
-VecX GaussianSampler::operator()(std::mt19937_64& rng) const {
-  std::normal_distribution<double> n01(0.0, 1.0);
+VecX GaussianSampler::operator()(keel::core::Rng& rng) const {
   VecX z(L_.cols());
-  for (Eigen::Index i = 0; i < z.size(); ++i) z(i) = n01(rng);
+  for (Eigen::Index i = 0; i < z.size(); ++i) z(i) = rng.normal();
   return L_ * z;
 }
 
-MatX GaussianSampler::sample(std::mt19937_64& rng, int n) const {
-  std::normal_distribution<double> n01(0.0, 1.0);
+MatX GaussianSampler::sample(keel::core::Rng& rng, int n) const {
   MatX Z(L_.cols(), n);
   for (int j = 0; j < n; ++j)
-    for (Eigen::Index i = 0; i < Z.rows(); ++i) Z(i, j) = n01(rng);
+    for (Eigen::Index i = 0; i < Z.rows(); ++i) Z(i, j) = rng.normal();
   return L_ * Z;
 }
 

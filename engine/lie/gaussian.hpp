@@ -1,9 +1,9 @@
 // keel::lie — covariance validation and multivariate-normal sampling helpers.
 #pragma once
 
-#include <random>
 #include <string_view>
 
+#include "core/random.hpp"
 #include "types.hpp"
 
 namespace keel::lie {
@@ -22,15 +22,16 @@ void validate_covariance(const Eigen::Ref<const MatX>& cov, std::string_view wha
 /// only semi-definite.  Validates cov first.
 MatX covariance_square_root(const Eigen::Ref<const MatX>& cov);
 
-/// Draws zero-mean samples x = L z, z ~ N(0, I), L = covariance_square_root(cov).
+/// Draws zero-mean samples x = L z, z ~ N(0, I) from keel::core::Rng (identical on every standard library),
+/// L = covariance_square_root(cov).
 class GaussianSampler {
  public:
   explicit GaussianSampler(const Eigen::Ref<const MatX>& cov);
   int dim() const { return static_cast<int>(L_.rows()); }
   const MatX& factor() const { return L_; }
-  VecX operator()(std::mt19937_64& rng) const;
+  VecX operator()(keel::core::Rng& rng) const;
   /// `n` samples as the columns of a dim() x n matrix.
-  MatX sample(std::mt19937_64& rng, int n) const;
+  MatX sample(keel::core::Rng& rng, int n) const;
 
  private:
   MatX L_;

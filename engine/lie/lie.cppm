@@ -62,6 +62,8 @@ using keel::lie::compose_chain_fourth_order_joint;
 using keel::lie::compose_chain_fourth_order_joint_exact;
 using keel::lie::compose_fourth_order_joint;
 using keel::lie::ChainCrossOrder;
+using keel::lie::chain_cross_order_from_string;
+using keel::lie::to_string;
 using keel::lie::inverse;
 using keel::lie::JointPoses;
 using keel::lie::perturb;

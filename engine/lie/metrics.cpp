@@ -1,11 +1,12 @@
 #include "metrics.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -52,8 +53,8 @@ constexpr double kEps = 1e-16;
 constexpr int kMaxIter = 100000;
 
 void check_gamma_args(double a, double x, const char* fn) {
-  if (!(a > 0.0) || !std::isfinite(a)) throw std::invalid_argument(std::string(fn) + ": a must be positive");
-  if (!(x >= 0.0)) throw std::invalid_argument(std::string(fn) + ": x must be non-negative");
+  if (!(a > 0.0) || !std::isfinite(a)) throw std::invalid_argument(fmt::format("{}: a must be positive", fn));
+  if (!(x >= 0.0)) throw std::invalid_argument(fmt::format("{}: x must be non-negative", fn));
 }
 
 // P(a, x) by the series e^{-x} x^a / Gamma(a) sum_n x^n / (a (a+1) ... (a+n)); for x < a + 1.
@@ -157,10 +158,8 @@ double chi2_quantile(double p, double dof) {
 
 double mahalanobis_squared(const VecX& v, const MatX& cov) {
   if (cov.rows() != cov.cols() || cov.rows() != v.size()) {
-    std::ostringstream os;
-    os << "mahalanobis_squared: vector of size " << v.size() << " with a " << cov.rows() << "x" << cov.cols()
-       << " covariance";
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(fmt::format("mahalanobis_squared: vector of size {} with a {}x{} covariance", v.size(),
+                                            cov.rows(), cov.cols()));
   }
   Eigen::LLT<MatX> llt(cov);
   if (llt.info() != Eigen::Success)

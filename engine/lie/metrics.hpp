@@ -8,11 +8,11 @@
 namespace keel::lie {
 
 /// eq. 5.56: epsilon = sqrt(tr((S - S_mc)^T (S - S_mc))) = ||S - S_mc||_F.
-double covariance_error(const MatX& Sigma, const MatX& Sigma_mc);
+[[nodiscard]] double covariance_error(const MatX& Sigma, const MatX& Sigma_mc);
 
 /// §5.9.2: both covariances divided by ||S_mc||_F before applying eq. 5.56, i.e.
 /// ||S - S_mc||_F / ||S_mc||_F.  Throws if S_mc is zero.
-double normalized_covariance_error(const MatX& Sigma, const MatX& Sigma_mc);
+[[nodiscard]] double normalized_covariance_error(const MatX& Sigma, const MatX& Sigma_mc);
 
 /// eq. 5.57: (1/M) sum_m xi_m xi_m^T for samples stored as the columns of `samples`.
 MatX sample_covariance_about_zero(const MatX& samples);
@@ -39,7 +39,7 @@ double mahalanobis_squared(const VecX& v, const MatX& cov);
 /// Fraction of samples (columns of `samples`, or a vector of samples) with
 /// mahalanobis_squared(sample, cov) <= chi2_quantile(p, dim): the share that falls inside the
 /// p-probability ellipsoid (e.g. the 99.9% test of Figs. 5.8-5.9).
-double fraction_inside(const MatX& samples, const MatX& cov, double p);
-double fraction_inside(const std::vector<VecX>& samples, const MatX& cov, double p);
+[[nodiscard]] double fraction_inside(const MatX& samples, const MatX& cov, double p);
+[[nodiscard]] double fraction_inside(const std::vector<VecX>& samples, const MatX& cov, double p);
 
 }  // namespace keel::lie

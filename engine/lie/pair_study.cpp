@@ -1,5 +1,7 @@
 #include "lie/pair_study.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 
 #include <algorithm>
@@ -102,14 +104,14 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const s
                                           core::Progress* progress) {
   setup.validate();
   if (pairs.size() != joint_covs.size()) {
-    throw std::invalid_argument("run_pair_study_2d: " + std::to_string(pairs.size()) + " pairs but " +
-                                std::to_string(joint_covs.size()) + " covariances");
+    throw std::invalid_argument(
+        fmt::format("run_pair_study_2d: {} pairs but {} covariances", pairs.size(), joint_covs.size()));
   }
   const int n = static_cast<int>(poses.size());
   for (const auto& [i, j] : pairs) {
     if (i < 0 || j < 0 || i >= n || j >= n) {
-      throw std::invalid_argument("run_pair_study_2d: pair (" + std::to_string(i) + ", " + std::to_string(j) +
-                                  ") refers to a pose outside [0, " + std::to_string(n) + ")");
+      throw std::invalid_argument(
+          fmt::format("run_pair_study_2d: pair ({}, {}) refers to a pose outside [0, {})", i, j, n));
     }
   }
   std::vector<PairRecord> out(pairs.size());
@@ -122,7 +124,7 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const s
           out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)], joint_covs[k],
                              setup.samples, rng);
         } catch (const std::exception& e) {
-          throw std::runtime_error("pair (" + std::to_string(i) + ", " + std::to_string(j) + "): " + e.what());
+          throw std::runtime_error(fmt::format("pair ({}, {}): {}", i, j, e.what()));
         }
         out[k].i = i;
         out[k].j = j;

@@ -50,7 +50,7 @@ Mat3 ssc_jacobian_of_left_perturbation(const SE2& T);
 
 // Runs the study for every pair; `joint_covs[k]` is the 6×6 covariance of (ξ_i, ξ_j) for pairs[k].
 // Deterministic for a seed whatever the thread count; `progress` advances once per pair.
-std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
+[[nodiscard]] std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
                                           const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
                                           keel::core::Progress* progress = nullptr);
 
@@ -59,6 +59,6 @@ struct PairStatistics {
   std::size_t count = 0;
   double mean = 0, std = 0;
 };
-PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::*field, int offset = -1);
+[[nodiscard]] PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::*field, int offset = -1);
 
 }  // namespace keel::lie

@@ -1,5 +1,7 @@
 #include "se2.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -83,8 +85,7 @@ SE2 SE2::from_matrix(const MatrixType& T, double tol) {
   if (!T.allFinite()) throw std::invalid_argument("SE2::from_matrix: matrix has non-finite entries");
   const double bottom = std::abs(T(2, 0)) + std::abs(T(2, 1)) + std::abs(T(2, 2) - 1.0);
   if (!(bottom <= tol))
-    throw std::invalid_argument("SE2::from_matrix: bottom row is not [0 0 1] (deviation " +
-                                std::to_string(bottom) + ")");
+    throw std::invalid_argument(fmt::format("SE2::from_matrix: bottom row is not [0 0 1] (deviation {:f})", bottom));
   return SE2(SO2::from_matrix(T.topLeftCorner<2, 2>(), tol), T.topRightCorner<2, 1>());
 }
 

@@ -1,5 +1,7 @@
 #include "so2.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/LU>
 #include <cmath>
 #include <stdexcept>
@@ -34,8 +36,7 @@ SO2 SO2::from_matrix(const MatrixType& R, double tol) {
   if (!R.allFinite()) throw std::invalid_argument("SO2::from_matrix: matrix has non-finite entries");
   const double err = (R.transpose() * R - Mat2::Identity()).norm();
   if (!(err <= tol))
-    throw std::invalid_argument("SO2::from_matrix: matrix is not orthonormal (||R^T R - I||_F = " +
-                                std::to_string(err) + ")");
+    throw std::invalid_argument(fmt::format("SO2::from_matrix: matrix is not orthonormal (||R^T R - I||_F = {:f})", err));
   if (R.determinant() <= 0.0)
     throw std::invalid_argument("SO2::from_matrix: det(R) <= 0 (reflection, not a rotation)");
   return SO2(std::atan2(R(1, 0) - R(0, 1), R(0, 0) + R(1, 1)));

@@ -1,8 +1,9 @@
 #include "ssc.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "euler.hpp"
@@ -278,15 +279,12 @@ namespace {
 template <int D, class Vec, class Mat, class Est>
 Est chain_impl(const VecX& x, const MatX& joint_cov, const char* fn) {
   if (x.size() == 0 || x.size() % D != 0) {
-    std::ostringstream os;
-    os << fn << ": stacked parameter vector has length " << x.size() << ", expected a positive multiple of " << D;
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(
+        fmt::format("{}: stacked parameter vector has length {}, expected a positive multiple of {}", fn, x.size(), D));
   }
   if (joint_cov.rows() != x.size() || joint_cov.cols() != x.size()) {
-    std::ostringstream os;
-    os << fn << ": joint covariance is " << joint_cov.rows() << "x" << joint_cov.cols() << ", expected "
-       << x.size() << "x" << x.size();
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(fmt::format("{}: joint covariance is {}x{}, expected {}x{}", fn, joint_cov.rows(),
+                                            joint_cov.cols(), x.size(), x.size()));
   }
   validate_covariance(joint_cov, fn);
   const Eigen::Index n = x.size() / D;

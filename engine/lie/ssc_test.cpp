@@ -3,32 +3,37 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <string>
 
+#include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/ssc.hpp"
 
 using namespace keel::lie;
+namespace testkit = keel::testkit;
 
 namespace {
 
-Vec6 random_x6(std::mt19937_64& rng, double max_pitch = 1.3) {
-  std::uniform_real_distribution<double> ang(-kPi, kPi);
-  std::uniform_real_distribution<double> pit(-max_pitch, max_pitch);
-  std::uniform_real_distribution<double> pos(-5.0, 5.0);
+// Euler parameters (x, y, z, roll, pitch, yaw): positions in [-5, 5], angles in [-π, π], |pitch| <= max_pitch.
+Vec6 random_x6(keel::core::Rng& rng, double max_pitch = 1.3) {
   Vec6 x;
-  x << pos(rng), pos(rng), pos(rng), ang(rng), pit(rng), ang(rng);
+  for (int i = 0; i < 3; ++i) x(i) = rng.uniform(-5.0, 5.0);
+  x(3) = rng.uniform(-kPi, kPi);
+  x(4) = rng.uniform(-max_pitch, max_pitch);
+  x(5) = rng.uniform(-kPi, kPi);
   return x;
 }
 
-Vec3 random_x3(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> ang(-kPi, kPi);
-  std::uniform_real_distribution<double> pos(-5.0, 5.0);
-  return Vec3(pos(rng), pos(rng), ang(rng));
+// Planar parameters (x, y, θ).
+Vec3 random_x3(keel::core::Rng& rng) {
+  Vec3 x;
+  x(0) = rng.uniform(-5.0, 5.0);
+  x(1) = rng.uniform(-5.0, 5.0);
+  x(2) = rng.uniform(-kPi, kPi);
+  return x;
 }
 
 // Differences of SSC vectors with angle components wrapped.
@@ -43,33 +48,25 @@ Vec3 diff3(const Vec3& a, const Vec3& b) {
   return d;
 }
 
+// Central-difference Jacobian of f at x (the shared kit's), with differences taken about f(x) and their angles
+// wrapped, so a step that crosses ±π does not produce a 2π jump.
 template <int N, class F>
 Eigen::Matrix<double, N, N> numeric_jac(F f, const Eigen::Matrix<double, N, 1>& x) {
-  const double h = 1e-6;
-  Eigen::Matrix<double, N, N> J;
-  for (int k = 0; k < N; ++k) {
-    Eigen::Matrix<double, N, 1> d = Eigen::Matrix<double, N, 1>::Zero();
-    d(k) = h;
+  using V = Eigen::Matrix<double, N, 1>;
+  const V f0 = f(x);
+  auto wrapped = [&](const VecX& y) -> VecX {
     if constexpr (N == 6)
-      J.col(k) = diff6(f(Vec6(x + d)), f(Vec6(x - d))) / (2 * h);
+      return diff6(f(Vec6(y)), f0);
     else
-      J.col(k) = diff3(f(Vec3(x + d)), f(Vec3(x - d))) / (2 * h);
-  }
-  return J;
-}
-
-MatX random_matrix(std::mt19937_64& rng, int rows, int cols, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
-  MatX A(rows, cols);
-  for (int j = 0; j < cols; ++j)
-    for (int i = 0; i < rows; ++i) A(i, j) = n(rng);
-  return A;
+      return diff3(f(Vec3(y)), f0);
+  };
+  return testkit::numerical_jacobian(wrapped, VecX(x));
 }
 
 }  // namespace
 
 TEST_CASE("SSC 3D operations agree with SE(3) matrix products") {
-  std::mt19937_64 rng(21);
+  keel::core::Rng rng(21);
   for (int i = 0; i < 200; ++i) {
     const Vec6 a = random_x6(rng), b = random_x6(rng);
     const SE3 A = se3_from_ssc(a), B = se3_from_ssc(b);
@@ -82,7 +79,7 @@ TEST_CASE("SSC 3D operations agree with SE(3) matrix products") {
 }
 
 TEST_CASE("SSC 2D operations agree with SE(2) matrix products") {
-  std::mt19937_64 rng(22);
+  keel::core::Rng rng(22);
   for (int i = 0; i < 200; ++i) {
     const Vec3 a = random_x3(rng), b = random_x3(rng);
     const SE2 A = se2_from_ssc(a), B = se2_from_ssc(b);
@@ -96,7 +93,7 @@ TEST_CASE("SSC 2D operations agree with SE(2) matrix products") {
 }
 
 TEST_CASE("SSC 3D analytic Jacobians match central differences") {
-  std::mt19937_64 rng(23);
+  keel::core::Rng rng(23);
   for (int i = 0; i < 100; ++i) {
     const Vec6 a = random_x6(rng), b = random_x6(rng);
     CAPTURE(a.transpose());
@@ -119,7 +116,7 @@ TEST_CASE("SSC 3D analytic Jacobians match central differences") {
 }
 
 TEST_CASE("SSC 2D analytic Jacobians match central differences") {
-  std::mt19937_64 rng(24);
+  keel::core::Rng rng(24);
   for (int i = 0; i < 100; ++i) {
     const Vec3 a = random_x3(rng), b = random_x3(rng);
     Mat3 J1, J2, Ji;
@@ -150,12 +147,12 @@ TEST_CASE("SSC Jacobians throw at gimbal lock") {
 }
 
 TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise") {
-  std::mt19937_64 rng(25);
+  keel::core::Rng rng(25);
   Vec6 a, b;
   a << 1.0, 0.5, -0.2, 0.2, -0.3, 0.8;
   b << 0.7, -1.0, 0.4, -0.5, 0.1, 1.9;
   // Correlated joint covariance (sigma ~ 1e-3).
-  MatX L = random_matrix(rng, 12, 12, 5e-4);
+  MatX L = testkit::random_matrix(rng, 12, 12, 5e-4);
   Mat12 joint = L * L.transpose() + 1e-7 * Mat12::Identity();
   const GaussianSampler sampler(joint);
   const int M = 100000;
@@ -184,9 +181,9 @@ TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise") {
 }
 
 TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise") {
-  std::mt19937_64 rng(26);
+  keel::core::Rng rng(26);
   const Vec3 a(1.0, 2.0, 0.7), b(-0.5, 1.5, -2.2);
-  MatX L = random_matrix(rng, 6, 6, 5e-4);
+  MatX L = testkit::random_matrix(rng, 6, 6, 5e-4);
   Mat6 joint = L * L.transpose() + 1e-7 * Mat6::Identity();
   const GaussianSampler sampler(joint);
   const int M = 100000;
@@ -205,7 +202,7 @@ TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise") {
 }
 
 TEST_CASE("SSC chain uses the full joint covariance") {
-  std::mt19937_64 rng(27);
+  keel::core::Rng rng(27);
   const int N = 5;
   VecX x(6 * N);
   for (int k = 0; k < N; ++k) {
@@ -213,7 +210,7 @@ TEST_CASE("SSC chain uses the full joint covariance") {
     s << 1.0, 0.1 * k, -0.05, 0.1, -0.05 * k, 0.3;
     x.segment<6>(6 * k) = s;
   }
-  MatX L = random_matrix(rng, 6 * N, 6 * N, 2e-4);
+  MatX L = testkit::random_matrix(rng, 6 * N, 6 * N, 2e-4);
   const MatX joint = L * L.transpose() + 1e-8 * MatX::Identity(6 * N, 6 * N);
   const ssc::Estimate3D chain = ssc::head_to_tail_chain_3d(x, joint);
 
@@ -238,7 +235,7 @@ TEST_CASE("SSC chain uses the full joint covariance") {
   // 2D chain.
   VecX x2(3 * N);
   for (int k = 0; k < N; ++k) x2.segment<3>(3 * k) = Vec3(1.0, 0.2, 0.3 - 0.1 * k);
-  MatX L2 = random_matrix(rng, 3 * N, 3 * N, 5e-4);
+  MatX L2 = testkit::random_matrix(rng, 3 * N, 3 * N, 5e-4);
   const MatX joint2 = L2 * L2.transpose();
   const ssc::Estimate2D chain2 = ssc::head_to_tail_chain_2d(x2, joint2);
   const GaussianSampler sampler2(joint2);

@@ -1,5 +1,7 @@
 #include "lie/studies.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
@@ -33,7 +35,7 @@ Vec6 normal6(core::Rng& rng) {
 struct Whitener {
   Eigen::LLT<Mat6> llt;
   explicit Whitener(const Mat6& cov, const std::string& what) : llt(cov) {
-    if (llt.info() != Eigen::Success) throw std::runtime_error(what + ": predicted covariance is not positive definite");
+    if (llt.info() != Eigen::Success) throw std::runtime_error(fmt::format("{}: predicted covariance is not positive definite", what));
   }
   double d2(const Vec6& v) const { return llt.matrixL().solve(v).squaredNorm(); }
 };
@@ -53,7 +55,7 @@ Mat6 composition_step_covariance(double sigma_t, double sigma_r) {
 }
 
 void CompositionSetup::validate() const {
-  if (steps < 1) throw std::invalid_argument("CompositionSetup: steps must be >= 1, got " + std::to_string(steps));
+  if (steps < 1) throw std::invalid_argument(fmt::format("CompositionSetup: steps must be >= 1, got {}", steps));
   if (!(sigma_t > 0) || !(sigma_r > 0)) throw std::invalid_argument("CompositionSetup: sigma_t and sigma_r must be > 0");
   if (!(rho > -1.0 && rho < 1.0)) throw std::invalid_argument("CompositionSetup: rho must lie in (-1, 1)");
   if (trajectories < 2) throw std::invalid_argument("CompositionSetup: trajectories must be >= 2");
@@ -182,8 +184,7 @@ RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g
                                       double alpha) {
   auto vec = [](const std::vector<double>& v, std::size_t n, const char* what) {
     if (v.size() != n) {
-      throw std::invalid_argument(std::string("relative_pose_setup: ") + what + " needs " + std::to_string(n) +
-                                  " numbers, got " + std::to_string(v.size()));
+      throw std::invalid_argument(fmt::format("relative_pose_setup: {} needs {} numbers, got {}", what, n, v.size()));
     }
     return Eigen::Map<const VecX>(v.data(), static_cast<Eigen::Index>(n)).eval();
   };

@@ -61,10 +61,10 @@ struct CompositionOutcome {
 
 // Samples `trajectories` chains and scores every prediction. Deterministic for a given seed and stream_base,
 // whatever the thread count. `progress` (may be null) advances once per trajectory.
-CompositionOutcome run_composition_study(const CompositionSetup& setup, keel::core::Progress* progress = nullptr);
+[[nodiscard]] CompositionOutcome run_composition_study(const CompositionSetup& setup, keel::core::Progress* progress = nullptr);
 
 // The per-step covariance of eq. 5.41 (variances on the diagonal).
-Mat6 composition_step_covariance(double sigma_t, double sigma_r);
+[[nodiscard]] Mat6 composition_step_covariance(double sigma_t, double sigma_r);
 
 // ---------------------------------------------------------------------------------------------------------------
 // Relative pose of two correlated poses (§5.7.2, eqs. 5.52–5.59).
@@ -92,11 +92,11 @@ struct RelativePoseOutcome {
 // The setup of eqs. 5.52–5.55 from plain numbers: both means rotated by `yaw` (radians) about z with translations
 // t_g1, t_g2; Σ_g1 = Σ_g2 = α·diag(marginal_diag); Σ_g1,g2 = α·diag(cross_diag). Throws if the joint covariance is
 // not positive semi-definite.
-RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g1, const std::vector<double>& t_g2,
+[[nodiscard]] RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g1, const std::vector<double>& t_g2,
                                       const std::vector<double>& marginal_diag, const std::vector<double>& cross_diag,
                                       double alpha);
 
-RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& setup, keel::core::Progress* progress = nullptr);
+[[nodiscard]] RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& setup, keel::core::Progress* progress = nullptr);
 
 // Points on the boundary of the p-probability region of a planar-projected Lie-algebra distribution: the (ρx, ρy, φz)
 // marginal ellipsoid at the χ²₃(p) radius, pushed through exp(ξ^) T̄ and projected to (x, y). Deterministic

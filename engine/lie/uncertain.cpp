@@ -1,6 +1,7 @@
 #include "uncertain.hpp"
 
-#include <sstream>
+#include <fmt/format.h>
+
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -28,10 +29,8 @@ std::string group_name() {
 template <LieGroup G>
 void check_index(const JointPoses<G>& poses, std::size_t i, const char* fn) {
   if (i >= poses.size()) {
-    std::ostringstream os;
-    os << fn << ": pose index " << i << " out of range (JointPoses<" << group_name<G>() << "> has "
-       << poses.size() << " poses)";
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(fmt::format("{}: pose index {} out of range (JointPoses<{}> has {} poses)", fn, i,
+                                            group_name<G>(), poses.size()));
   }
 }
 
@@ -66,24 +65,23 @@ std::size_t append_linear(JointPoses<G>& poses, const G& mean,
 
 template <LieGroup G>
 void UncertainPose<G>::validate() const {
-  validate_covariance(cov, "UncertainPose<" + group_name<G>() + ">");
+  validate_covariance(cov, fmt::format("UncertainPose<{}>", group_name<G>()));
 }
 
 template <LieGroup G>
 void JointPoses<G>::check_dimensions() const {
   const Eigen::Index expected = static_cast<Eigen::Index>(G::DoF * means.size());
   if (cov.rows() != expected || cov.cols() != expected) {
-    std::ostringstream os;
-    os << "JointPoses<" << group_name<G>() << ">: joint covariance is " << cov.rows() << "x" << cov.cols()
-       << " but " << means.size() << " poses of " << G::DoF << " DoF need " << expected << "x" << expected;
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(fmt::format("JointPoses<{}>: joint covariance is {}x{} but {} poses of {} DoF need {}x{}",
+                                            group_name<G>(), cov.rows(), cov.cols(), means.size(), G::DoF, expected,
+                                            expected));
   }
 }
 
 template <LieGroup G>
 void JointPoses<G>::validate() const {
   check_dimensions();
-  validate_covariance(cov, "JointPoses<" + group_name<G>() + ">");
+  validate_covariance(cov, fmt::format("JointPoses<{}>", group_name<G>()));
 }
 
 template <LieGroup G>

@@ -3,38 +3,30 @@
 
 #include <cmath>
 #include <functional>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "kit/test_kit.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/uncertain.hpp"
 
 using namespace keel::lie;
+namespace testkit = keel::testkit;
 
 namespace {
 
-MatX random_matrix(std::mt19937_64& rng, int rows, int cols, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
-  MatX A(rows, cols);
-  for (int j = 0; j < cols; ++j)
-    for (int i = 0; i < rows; ++i) A(i, j) = n(rng);
-  return A;
-}
-
 // Random SPD covariance of size d with entries of order scale^2 and strong correlations.
-MatX random_cov(std::mt19937_64& rng, int d, double scale) {
-  const MatX A = random_matrix(rng, d, d, scale);
+MatX random_cov(keel::core::Rng& rng, int d, double scale) {
+  const MatX A = testkit::random_matrix(rng, d, d, scale);
   return A * A.transpose() + 0.1 * scale * scale * MatX::Identity(d, d);
 }
 
 template <class G>
-G random_pose(std::mt19937_64& rng, double scale = 1.5) {
-  std::uniform_real_distribution<double> u(-scale, scale);
+G random_pose(keel::core::Rng& rng, double scale = 1.5) {
   typename G::Tangent xi;
-  for (int i = 0; i < G::DoF; ++i) xi(i) = u(rng);
+  for (int i = 0; i < G::DoF; ++i) xi(i) = rng.uniform(-scale, scale);
   return G::exp(xi);
 }
 
@@ -42,7 +34,7 @@ G random_pose(std::mt19937_64& rng, double scale = 1.5) {
 // T_i = exp(xi_i) mean_i and xi_{1:n} ~ N(0, joint).
 template <class G>
 MatX monte_carlo(const std::vector<G>& means, const MatX& joint, const std::function<G(const std::vector<G>&)>& op,
-                 const G& out_mean, int M, std::mt19937_64& rng) {
+                 const G& out_mean, int M, keel::core::Rng& rng) {
   constexpr int D = G::DoF;
   const GaussianSampler sampler(joint);
   const G out_inv = out_mean.inverse();
@@ -74,7 +66,7 @@ constexpr int kSamples = 100000;
 }  // namespace
 
 TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo", G, SO3, SE2, SE3) {
-  std::mt19937_64 rng(101);
+  keel::core::Rng rng(101);
   constexpr int D = G::DoF;
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng)};
   const MatX joint = random_cov(rng, 2 * D, 1e-3);
@@ -107,7 +99,7 @@ TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo", G
 }
 
 TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise", G, SO3, SE2, SE3) {
-  std::mt19937_64 rng(102);
+  keel::core::Rng rng(102);
   constexpr int D = G::DoF;
   const G mean = random_pose<G>(rng);
   for (const double scale : {1e-3, 0.1}) {
@@ -122,7 +114,7 @@ TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise
 }
 
 TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo", G, SO3, SE2, SE3) {
-  std::mt19937_64 rng(103);
+  keel::core::Rng rng(103);
   constexpr int D = G::DoF;
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng)};
   // Strong positive correlation between the two poses (as in a SLAM solution).
@@ -157,7 +149,7 @@ TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo", G, SO3, SE2
 }
 
 TEST_CASE_TEMPLATE("known poses composed with uncertain ones are exact (large noise)", G, SO3, SE2, SE3) {
-  std::mt19937_64 rng(104);
+  keel::core::Rng rng(104);
   constexpr int D = G::DoF;
   const G K = random_pose<G>(rng, 2.0);
   const G mean = random_pose<G>(rng, 2.0);
@@ -189,7 +181,7 @@ TEST_CASE_TEMPLATE("known poses composed with uncertain ones are exact (large no
 }
 
 TEST_CASE_TEMPLATE("chains of correlated poses: compose_chain and append_composition", G, SE2, SE3) {
-  std::mt19937_64 rng(105);
+  keel::core::Rng rng(105);
   constexpr int D = G::DoF;
   const int N = 6;
   std::vector<G> means;
@@ -242,7 +234,7 @@ TEST_CASE_TEMPLATE("chains of correlated poses: compose_chain and append_composi
 }
 
 TEST_CASE_TEMPLATE("append_inverse / append_relative keep cross-covariances", G, SE2, SE3) {
-  std::mt19937_64 rng(106);
+  keel::core::Rng rng(106);
   constexpr int D = G::DoF;
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng), random_pose<G>(rng)};
   const MatX joint = random_cov(rng, 3 * D, 1e-3);
@@ -260,7 +252,7 @@ TEST_CASE_TEMPLATE("append_inverse / append_relative keep cross-covariances", G,
 }
 
 TEST_CASE("thesis relative-pose example (eqs. 5.52-5.55), alpha = 1") {
-  std::mt19937_64 rng(107);
+  keel::core::Rng rng(107);
   Mat4 M1, M2;
   M1 << 0.707107, -0.707107, 0, 3, 0.707107, 0.707107, 0, 3, -0, 0, 1, 0, 0, 0, 0, 1;
   M2 << 0.707107, -0.707107, 0, 4.5, 0.707107, 0.707107, 0, 4.5, -0, 0, 1, 0, 0, 0, 0, 1;

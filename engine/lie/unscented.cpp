@@ -1,7 +1,8 @@
 #include "unscented.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "euler.hpp"
@@ -13,10 +14,8 @@ SigmaPoints sigma_points(const VecX& mean, const MatX& cov, const UtParams& para
   const Eigen::Index n = mean.size();
   if (n == 0) throw std::invalid_argument("sigma_points: empty mean");
   if (cov.rows() != n || cov.cols() != n) {
-    std::ostringstream os;
-    os << "sigma_points: covariance is " << cov.rows() << "x" << cov.cols() << " but the mean has " << n
-       << " entries";
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(
+        fmt::format("sigma_points: covariance is {}x{} but the mean has {} entries", cov.rows(), cov.cols(), n));
   }
   const double nd = static_cast<double>(n);
   const double lambda = params.alpha * params.alpha * (nd + params.kappa) - nd;
@@ -81,9 +80,8 @@ template <class G>
 JointPoses<G> joint_poses_from_ssc(const VecX& x_hat, const MatX& Sigma_hat, const UtParams& params) {
   constexpr int D = G::DoF;
   if (x_hat.size() == 0 || x_hat.size() % D != 0) {
-    std::ostringstream os;
-    os << "joint_poses_from_ssc: x_hat has length " << x_hat.size() << ", expected a positive multiple of " << D;
-    throw std::invalid_argument(os.str());
+    throw std::invalid_argument(
+        fmt::format("joint_poses_from_ssc: x_hat has length {}, expected a positive multiple of {}", x_hat.size(), D));
   }
   const Eigen::Index n = x_hat.size() / D;
   JointPoses<G> out;

@@ -45,9 +45,9 @@ struct UtResult {
 
 /// Throws std::invalid_argument on a non-symmetric / non-PSD covariance, a size mismatch, or
 /// n + lambda <= 0.
-SigmaPoints sigma_points(const VecX& mean, const MatX& cov, const UtParams& params = {});
+[[nodiscard]] SigmaPoints sigma_points(const VecX& mean, const MatX& cov, const UtParams& params = {});
 
-UtResult unscented_transform(const VecX& mean, const MatX& cov, const std::function<VecX(const VecX&)>& f,
+[[nodiscard]] UtResult unscented_transform(const VecX& mean, const MatX& cov, const std::function<VecX(const VecX&)>& f,
                              const UtParams& params = {});
 
 /// eqs. 5.60-5.62: given stacked SSC vectors x_hat = [x_1; ...; x_n] (6n for SE3 with

@@ -2,48 +2,35 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
+#include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
 #include "lie/unscented.hpp"
 
 using namespace keel::lie;
+namespace testkit = keel::testkit;
 
 namespace {
-
-MatX random_matrix(std::mt19937_64& rng, int rows, int cols, double scale) {
-  std::normal_distribution<double> n(0.0, scale);
-  MatX A(rows, cols);
-  for (int j = 0; j < cols; ++j)
-    for (int i = 0; i < rows; ++i) A(i, j) = n(rng);
-  return A;
-}
 
 // Linearised (first-order) conversion for comparison: Sigma = J Sigma_hat J^T with J the
 // central-difference Jacobian of the stacked l of eq. 5.60 at x_hat.
 template <class G>
 MatX linearized_conversion(const VecX& x_hat, const MatX& Sigma_hat, const std::function<VecX(const VecX&)>& ell) {
-  const double h = 1e-6;
-  MatX J(x_hat.size(), x_hat.size());
-  for (Eigen::Index k = 0; k < x_hat.size(); ++k) {
-    VecX d = VecX::Zero(x_hat.size());
-    d(k) = h;
-    J.col(k) = (ell(x_hat + d) - ell(x_hat - d)) / (2 * h);
-  }
+  const MatX J = testkit::numerical_jacobian(ell, x_hat);
   return J * Sigma_hat * J.transpose();
 }
 
 }  // namespace
 
 TEST_CASE("sigma points reproduce mean and covariance; weights sum to one") {
-  std::mt19937_64 rng(301);
+  keel::core::Rng rng(301);
   const int n = 5;
-  const MatX A = random_matrix(rng, n, n, 1.0);
+  const MatX A = testkit::random_matrix(rng, n, n, 1.0);
   const MatX cov = A * A.transpose();
-  const VecX mu = random_matrix(rng, n, 1, 1.0);
+  const VecX mu = testkit::random_matrix(rng, n, 1, 1.0);
   for (const UtParams p : {UtParams{}, UtParams::julier_uhlmann_heuristic(n), UtParams{1e-3, 2.0, 0.0}}) {
     const SigmaPoints sp = sigma_points(mu, cov, p);
     CHECK(sp.points.cols() == 2 * n + 1);
@@ -58,13 +45,13 @@ TEST_CASE("sigma points reproduce mean and covariance; weights sum to one") {
 }
 
 TEST_CASE("unscented transform is exact for linear maps and for the mean of quadratics") {
-  std::mt19937_64 rng(302);
+  keel::core::Rng rng(302);
   const int n = 4, m = 3;
-  const MatX A = random_matrix(rng, m, n, 1.0);
-  const VecX b = random_matrix(rng, m, 1, 1.0);
-  const MatX L = random_matrix(rng, n, n, 0.5);
+  const MatX A = testkit::random_matrix(rng, m, n, 1.0);
+  const VecX b = testkit::random_matrix(rng, m, 1, 1.0);
+  const MatX L = testkit::random_matrix(rng, n, n, 0.5);
   const MatX cov = L * L.transpose();
-  const VecX mu = random_matrix(rng, n, 1, 1.0);
+  const VecX mu = testkit::random_matrix(rng, n, 1, 1.0);
   const UtResult r = unscented_transform(mu, cov, [&](const VecX& x) { return VecX(A * x + b); });
   CHECK((r.mean - (A * mu + b)).norm() < 1e-12);
   CHECK((r.cov - A * cov * A.transpose()).norm() < 1e-12);
@@ -85,14 +72,14 @@ TEST_CASE("unscented transform is exact for linear maps and for the mean of quad
 }
 
 TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate noise") {
-  std::mt19937_64 rng(303);
+  keel::core::Rng rng(303);
   VecX x_hat(12);
   x_hat << 1.0, 2.0, 0.5, 0.3, -0.4, 1.2, 4.0, -1.0, 0.2, -0.2, 0.3, -2.5;
   // Correlated joint covariance: ~0.2 m translation, ~0.15 rad angles.
   MatX S = MatX::Zero(12, 12);
   Vec6 sd;
   sd << 0.2, 0.2, 0.2, 0.15, 0.15, 0.15;
-  const MatX R = random_matrix(rng, 12, 12, 1.0);
+  const MatX R = testkit::random_matrix(rng, 12, 12, 1.0);
   MatX corr = R * R.transpose();
   const VecX dg = corr.diagonal().cwiseSqrt().cwiseInverse();
   corr = dg.asDiagonal() * corr * dg.asDiagonal();  // random correlation matrix
@@ -121,14 +108,18 @@ TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate 
   const double e_lin = normalized_covariance_error(linearized_conversion<SE3>(x_hat, S, ell), mc);
   MESSAGE("SE3 SSC->Lie conversion: normalized eps UT = " << e_ut << ", linearized = " << e_lin);
   CHECK(e_ut < 0.03);
-  CHECK(e_ut < e_lin);
+  CHECK(e_lin < 0.03);
+  // Which conversion is closer depends on the random correlation matrix at this noise level: over eight instances
+  // (seeds 1-7 and 303, M = 3e5) the UT was closer on five and up to 1.6x farther on the others, e.g. 0.0119 vs 0.0107
+  // for this one at M = 1e6. Reported, not required.
+  WARN(e_ut < e_lin);
 }
 
 TEST_CASE("SSC -> Lie conversion vs Monte Carlo, SE2") {
-  std::mt19937_64 rng(304);
+  keel::core::Rng rng(304);
   VecX x_hat(6);
   x_hat << 1.0, -2.0, 0.8, 3.0, 1.0, -2.9;
-  const MatX R = random_matrix(rng, 6, 6, 0.1);
+  const MatX R = testkit::random_matrix(rng, 6, 6, 0.1);
   const MatX S = R * R.transpose();
   const JointPoses<SE2> jp = joint_poses_from_ssc<SE2>(x_hat, S);
   jp.validate();
@@ -151,11 +142,11 @@ TEST_CASE("SSC -> Lie conversion vs Monte Carlo, SE2") {
 
 TEST_CASE("unscented transform rejects bad input") {
   const VecX mu = VecX::Zero(3);
-  CHECK_THROWS_AS(sigma_points(mu, MatX::Identity(2, 2)), std::invalid_argument);
+  CHECK_THROWS_AS((void)sigma_points(mu, MatX::Identity(2, 2)), std::invalid_argument);
   MatX neg = MatX::Identity(3, 3);
   neg(1, 1) = -1.0;
-  CHECK_THROWS_AS(sigma_points(mu, neg), std::invalid_argument);
-  CHECK_THROWS_AS(sigma_points(mu, MatX::Identity(3, 3), UtParams{1.0, 0.0, -3.0}), std::invalid_argument);
+  CHECK_THROWS_AS((void)sigma_points(mu, neg), std::invalid_argument);
+  CHECK_THROWS_AS((void)sigma_points(mu, MatX::Identity(3, 3), UtParams{1.0, 0.0, -3.0}), std::invalid_argument);
   CHECK_THROWS_AS(joint_poses_from_ssc(VecX::Zero(7), MatX::Identity(7, 7)), std::invalid_argument);
   CHECK_THROWS_AS(joint_poses_from_ssc(VecX::Zero(6), MatX::Identity(5, 5)), std::invalid_argument);
   // A rank-deficient (PSD) covariance is fine.

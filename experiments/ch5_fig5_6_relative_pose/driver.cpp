@@ -2,8 +2,9 @@
 import keel.core;
 import keel.lie;
 
+#include <fmt/format.h>
+
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
     const int region_points = static_cast<int>(p.count("region_points"));
     const auto samples = p.count("samples");
     ex.params_done();
-    if (alphas.empty()) throw core::ConfigError(p.where("alphas") + ": must not be empty");
+    if (alphas.empty()) throw core::ConfigError(fmt::format("{}: must not be empty", p.where("alphas")));
 
     // Each α gets the study's sample set plus an independent second Monte-Carlo set (the noise floor of ε).
     core::Progress progress(ex.id(), 2 * samples * (alphas.size() + 1));
@@ -62,17 +63,15 @@ int main(int argc, char** argv) {
       below = below && err_joint[k] < err_ind[k];
       worst_ratio = std::max(worst_ratio, err_joint[k] / err_ind[k]);
     }
-    char detail[256];
-    std::snprintf(detail, sizeof detail, "largest ε_joint/ε_independent over %zu values of α: %.3g", alphas.size(),
-                  worst_ratio);
-    r.check("ε with cross-covariance is below ε without it at every α", below, detail);
-    std::snprintf(detail, sizeof detail, "α = %g: ε_joint = %.3g, ε_independent = %.3g", example_alpha,
-                  example.error_joint, example.error_independent);
+    r.check("ε with cross-covariance is below ε without it at every α", below,
+            fmt::format("largest ε_joint/ε_independent over {} values of α: {:.3g}", alphas.size(), worst_ratio));
     r.check("at α = 1, including correlation reduces ε by more than 10×",
-            example.error_joint * 10 < example.error_independent, detail);
+            example.error_joint * 10 < example.error_independent,
+            fmt::format("α = {:g}: ε_joint = {:.3g}, ε_independent = {:.3g}", example_alpha, example.error_joint,
+                        example.error_independent));
 
     core::Figure f;
-    f.file = ex.id() + ".png";
+    f.file = fmt::format("{}.png", ex.id());
     f.title = "Figs. 5.5–5.6: relative pose of two correlated poses";
     core::Panel err;
     err.title = "covariance error ε (eq. 5.56) vs α";
@@ -84,9 +83,7 @@ int main(int argc, char** argv) {
     err.layers.push_back(core::line_layer(alphas, err_joint, "joint (proposed)", "tab:green", "o"));
     err.layers.push_back(core::line_layer(alphas, err_floor, "Monte-Carlo noise of Σ_mc", "0.5", "", ":"));
     core::Panel ex_panel;
-    char title[96];
-    std::snprintf(title, sizeof title, "relative pose samples, α = %g (cf. Fig. 5.5)", example_alpha);
-    ex_panel.title = title;
+    ex_panel.title = fmt::format("relative pose samples, α = {:g} (cf. Fig. 5.5)", example_alpha);
     ex_panel.xlabel = "x";
     ex_panel.ylabel = "y";
     ex_panel.aspect = "equal";

@@ -2,8 +2,9 @@
 import keel.core;
 import keel.lie;
 
+#include <fmt/format.h>
+
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,8 @@ int main(int argc, char** argv) {
     base.joint_fourth_order_max_steps = static_cast<int>(p.integer("joint_fourth_order_max_steps"));
     ex.params_done();
     if (n_min < 1 || n_max < n_min || stride < 1) {
-      throw core::ConfigError(p.where("steps_min") + ": need 1 <= steps_min <= steps_max and steps_stride >= 1");
+      throw core::ConfigError(
+          fmt::format("{}: need 1 <= steps_min <= steps_max and steps_stride >= 1", p.where("steps_min")));
     }
     base.seed = ex.seed();
     base.threads = ex.threads();
@@ -51,15 +53,15 @@ int main(int argc, char** argv) {
     progress.finish();
 
     auto& r = ex.results();
-    const std::string tag = "inside" + core::level_tag(level);
+    const std::string tag = fmt::format("inside{}", core::level_tag(level));
     r.series("N", ns);
-    r.series(tag + ".ssc", ssc);
-    r.series(tag + ".ssc_independent", ssc_ind);
-    r.series(tag + ".lie_independent", ind);
-    r.series(tag + ".lie_joint", joint);
-    r.series(tag + ".lie_fourth_order", fourth);
+    r.series(fmt::format("{}.ssc", tag), ssc);
+    r.series(fmt::format("{}.ssc_independent", tag), ssc_ind);
+    r.series(fmt::format("{}.lie_independent", tag), ind);
+    r.series(fmt::format("{}.lie_joint", tag), joint);
+    r.series(fmt::format("{}.lie_fourth_order", tag), fourth);
     r.series("N_joint_fourth_order", n_j4);
-    r.series(tag + ".lie_joint_fourth_order", joint4);
+    r.series(fmt::format("{}.lie_joint_fourth_order", tag), joint4);
 
     // "Closest" allows a tie within two Monte-Carlo standard errors of a fraction at the nominal level.
     const double tie = 2.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(base.trajectories));
@@ -68,18 +70,17 @@ int main(int argc, char** argv) {
       const double ej = std::fabs(joint[k] - level);
       joint_best += (ej <= std::fabs(ssc[k] - level) + tie && ej <= std::fabs(ind[k] - level) + tie) ? 1 : 0;
     }
-    char detail[256];
-    std::snprintf(detail, sizeof detail, "joint closest to %.3f (ties within %.4f) at %d of %zu values of N", level,
-                  tie, joint_best, ns.size());
     r.check("the joint Lie-algebra method is the most accurate of SSC / independent / joint at every N",
-            joint_best == static_cast<int>(ns.size()), detail);
-    std::snprintf(detail, sizeof detail, "inside (joint): N=%g %.4f -> N=%g %.4f; SSC %.4f -> %.4f", ns.front(),
-                  joint.front(), ns.back(), joint.back(), ssc.front(), ssc.back());
+            joint_best == static_cast<int>(ns.size()),
+            fmt::format("joint closest to {:.3f} (ties within {:.4f}) at {} of {} values of N", level, tie, joint_best,
+                        ns.size()));
     r.check("consistency drops as N grows (joint and SSC lower at the longest N than at the shortest)",
-            joint.back() < joint.front() && ssc.back() < ssc.front(), detail);
+            joint.back() < joint.front() && ssc.back() < ssc.front(),
+            fmt::format("inside (joint): N={:g} {:.4f} -> N={:g} {:.4f}; SSC {:.4f} -> {:.4f}", ns.front(), joint.front(),
+                        ns.back(), joint.back(), ssc.front(), ssc.back()));
 
     core::Figure f;
-    f.file = ex.id() + ".png";
+    f.file = fmt::format("{}.png", ex.id());
     f.width = 7.5;
     f.height = 5.5;
     f.title = "Fig. 5.8: fraction inside the 99.9 % ellipsoid vs trajectory length";

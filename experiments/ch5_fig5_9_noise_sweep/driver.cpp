@@ -2,8 +2,9 @@
 import keel.core;
 import keel.lie;
 
+#include <fmt/format.h>
+
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -54,28 +55,26 @@ int main(int argc, char** argv) {
     progress.finish();
 
     for (const auto& [prefix, var, w] : {std::tuple{"rotation", "sigma_r", &rot}, std::tuple{"translation", "sigma_t", &tra}}) {
-      const std::string pre = prefix;
-      const std::string tag = "inside" + core::level_tag(level);
-      r.series(pre + "." + var, sigmas);
-      r.series(pre + "." + tag + ".ssc", w->ssc);
-      r.series(pre + "." + tag + ".ssc_independent", w->ssc_ind);
-      r.series(pre + "." + tag + ".lie_independent", w->ind);
-      r.series(pre + "." + tag + ".lie_joint", w->joint);
-      r.series(pre + "." + tag + ".lie_fourth_order", w->fourth);
-      r.series(pre + "." + tag + ".lie_joint_fourth_order", w->joint4);
+      const std::string pre = fmt::format("{}.inside{}", prefix, core::level_tag(level));
+      r.series(fmt::format("{}.{}", prefix, var), sigmas);
+      r.series(fmt::format("{}.ssc", pre), w->ssc);
+      r.series(fmt::format("{}.ssc_independent", pre), w->ssc_ind);
+      r.series(fmt::format("{}.lie_independent", pre), w->ind);
+      r.series(fmt::format("{}.lie_joint", pre), w->joint);
+      r.series(fmt::format("{}.lie_fourth_order", pre), w->fourth);
+      r.series(fmt::format("{}.lie_joint_fourth_order", pre), w->joint4);
     }
 
     // Claim checks on our numbers. "Closer" allows a tie within two Monte-Carlo standard errors at the level.
     const double tie = 2.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(base.trajectories));
-    char detail[256];
     // Effect of a noise source = how much the joint method's inside fraction falls from the smallest to the largest σ.
     const double rot_effect = rot.joint.front() - rot.joint.back(), tra_effect = tra.joint.front() - tra.joint.back();
     const double rot_effect_ssc = rot.ssc.front() - rot.ssc.back(), tra_effect_ssc = tra.ssc.front() - tra.ssc.back();
-    std::snprintf(detail, sizeof detail,
-                  "drop of inside fraction from σ = %g to %g: joint σr %.4f vs σt %.4f; SSC σr %.4f vs σt %.4f",
-                  sigmas.front(), sigmas.back(), rot_effect, tra_effect, rot_effect_ssc, tra_effect_ssc);
     r.check("rotation noise degrades consistency much more than translation noise",
-            rot_effect > tra_effect + tie && rot_effect_ssc > tra_effect_ssc + tie, detail);
+            rot_effect > tra_effect + tie && rot_effect_ssc > tra_effect_ssc + tie,
+            fmt::format("drop of inside fraction from σ = {:g} to {:g}: joint σr {:.4f} vs σt {:.4f}; SSC σr {:.4f} vs σt "
+                        "{:.4f}",
+                        sigmas.front(), sigmas.back(), rot_effect, tra_effect, rot_effect_ssc, tra_effect_ssc));
     int joint_beats_ind = 0, total = 0, joint_beats_ssc = 0, ind_beats_ssc_ind = 0;
     auto closer = [&](double a, double b) { return std::fabs(a - level) <= std::fabs(b - level) + tie; };
     for (const Sweep* w : {&rot, &tra}) {
@@ -85,20 +84,20 @@ int main(int argc, char** argv) {
         ind_beats_ssc_ind += closer(w->ind[k], w->ssc_ind[k]) ? 1 : 0;
       }
     }
-    std::snprintf(detail, sizeof detail, "joint at least as close to %.3f as independent at %d of %d points (ties within %.4f)",
-                  level, joint_beats_ind, total, tie);
     r.check("the joint method is more accurate than ignoring correlation at every sweep point",
-            joint_beats_ind == total, detail);
-    std::snprintf(detail, sizeof detail,
-                  "joint vs SSC: Lie at least as close at %d of %d points; independent Lie vs independent SSC: %d of %d",
-                  joint_beats_ssc, total, ind_beats_ssc_ind, total);
+            joint_beats_ind == total,
+            fmt::format("joint at least as close to {:.3f} as independent at {} of {} points (ties within {:.4f})", level,
+                        joint_beats_ind, total, tie));
     r.check("the Lie-algebra methods beat SSC like for like at every point of both sweeps (neither sweep has very low "
             "rotation together with very high translation noise, the thesis's exception)",
-            joint_beats_ssc == total && ind_beats_ssc_ind == total, detail);
+            joint_beats_ssc == total && ind_beats_ssc_ind == total,
+            fmt::format("joint vs SSC: Lie at least as close at {} of {} points; independent Lie vs independent SSC: {} "
+                        "of {}",
+                        joint_beats_ssc, total, ind_beats_ssc_ind, total));
 
     core::Figure f;
-    f.file = ex.id() + ".png";
-    f.title = "Fig. 5.9: fraction inside the 99.9 % ellipsoid vs noise (N = " + std::to_string(base.steps) + ")";
+    f.file = fmt::format("{}.png", ex.id());
+    f.title = fmt::format("Fig. 5.9: fraction inside the 99.9 % ellipsoid vs noise (N = {})", base.steps);
     for (const auto& [title, xlabel, w] :
          {std::tuple{"rotation noise (σt = 3)", "σr", &rot}, std::tuple{"translation noise (σr = 3)", "σt", &tra}}) {
       core::Panel panel;

@@ -81,7 +81,8 @@ void GaugeOptions::validate(int num_poses, int pose_dof) const {
     throw std::invalid_argument(fmt::format("GaugeOptions: pose {} is not in [0, {})", pose, num_poses));
   if (kind != Gauge::prior) return;
   if (prior_information.rows() != pose_dof || prior_information.cols() != pose_dof)
-    throw std::invalid_argument(fmt::format("GaugeOptions: prior_information must be {}x{} (got {}x{})", pose_dof, pose_dof, prior_information.rows(), prior_information.cols()));
+    throw std::invalid_argument(fmt::format("GaugeOptions: prior_information must be {}x{} (got {}x{})",
+                                            pose_dof, pose_dof, prior_information.rows(), prior_information.cols()));
   if (!prior_information.allFinite())
     throw std::invalid_argument("GaugeOptions: prior_information has non-finite entries");
   const double asym = (prior_information - prior_information.transpose()).cwiseAbs().maxCoeff();
@@ -98,7 +99,8 @@ void GaugeOptions::validate(int num_poses, int pose_dof) const {
 
 void SparseInformation::check_variable(int v) const {
   if (v < 0 || v >= num_variables())
-    throw std::out_of_range(fmt::format("cov: variable {} is not in [0, {}) ({} poses, {} landmarks)", v, num_variables(), num_poses, num_landmarks));
+    throw std::out_of_range(fmt::format("cov: variable {} is not in [0, {}) ({} poses, {} landmarks)",
+                                        v, num_variables(), num_poses, num_landmarks));
 }
 
 int SparseInformation::variable_of_row(int r) const {
@@ -233,7 +235,8 @@ void layout(SparseInformation& H, int num_poses, int num_landmarks, int pose_dof
 
 void check_pose(int id, int num_poses, const char* what, std::size_t k, int line) {
   if (id < 0 || id >= num_poses)
-    throw std::invalid_argument(fmt::format("information_matrix: {} {}{} refers to pose {}, but there are {} poses", what, k, where(line), id, num_poses));
+    throw std::invalid_argument(fmt::format("information_matrix: {} {}{} refers to pose {}, but there are {} poses",
+                                            what, k, where(line), id, num_poses));
 }
 
 }  // namespace
@@ -265,13 +268,16 @@ SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2
   const int n = static_cast<int>(poses.size());
   if (n == 0) throw std::invalid_argument("information_matrix: no poses");
   if (!g.poses.empty() && g.poses.size() != poses.size())
-    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given", g.poses.size(), poses.size()));
+    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given",
+                                            g.poses.size(), poses.size()));
   int m = static_cast<int>(landmarks.size());
   for (std::size_t k = 0; k < g.landmark_measurements.size(); ++k) {
     const auto& lm = g.landmark_measurements[k];
     check_pose(lm.pose, n, "landmark measurement", k, lm.line);
     if (lm.landmark < 0 || lm.landmark >= m)
-      throw std::invalid_argument(fmt::format("information_matrix: landmark measurement {}{} refers to landmark {}, but {} landmark positions were given", k, where(lm.line), lm.landmark, m));
+      throw std::invalid_argument(fmt::format("information_matrix: landmark measurement {}{} refers to landmark {}, "
+                                              "but {} landmark positions were given",
+                                              k, where(lm.line), lm.landmark, m));
   }
   SparseInformation H;
   layout(H, n, m, 3, gauge);
@@ -295,7 +301,8 @@ SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3
   const int n = static_cast<int>(poses.size());
   if (n == 0) throw std::invalid_argument("information_matrix: no poses");
   if (!g.poses.empty() && g.poses.size() != poses.size())
-    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given", g.poses.size(), poses.size()));
+    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given",
+                                            g.poses.size(), poses.size()));
   SparseInformation H;
   layout(H, n, 0, 6, gauge);
   Assembler A(H);

@@ -159,7 +159,8 @@ struct MarginalCovariance::Impl {
   int nsrow(int s) const { return pi[s + 1] - pi[s]; }
   void check(int v) const {
     if (v < 0 || v >= num_variables())
-      throw std::out_of_range(fmt::format("MarginalCovariance: variable {} is not in [0, {}) ({} poses, {} landmarks)", v, num_variables(), num_poses, num_landmarks));
+      throw std::out_of_range(fmt::format("MarginalCovariance: variable {} is not in [0, {}) ({} poses, {} landmarks)",
+                                          v, num_variables(), num_poses, num_landmarks));
   }
   int variable_of_row(int r) const {  // error messages only
     int best = -1;

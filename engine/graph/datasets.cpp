@@ -50,7 +50,8 @@ DatasetManifest parse_manifest(const fs::path& file) {
   m.file = file;
   const core::ConfigTable root = core::load_toml(file);
   if (root.integer("version") != 1) {
-    throw DatasetError(fmt::format("{}: unsupported manifest version (this build reads version 1)", root.where("version")));
+    throw DatasetError(fmt::format("{}: unsupported manifest version (this build reads version 1)",
+                                   root.where("version")));
   }
   const core::ConfigTable all = root.table("datasets");
   for (const auto& name : all.keys()) {
@@ -66,7 +67,8 @@ DatasetManifest parse_manifest(const fs::path& file) {
       df.dataset = name;
       df.path = path;
       if (!is_safe_relative(path)) {
-        throw DatasetError(fmt::format("{}: a file path must be relative, without '.', '..' or backslashes", files.where(path)));
+        throw DatasetError(fmt::format("{}: a file path must be relative, without '.', '..' or backslashes",
+                                       files.where(path)));
       }
       df.sha256 = f.string("sha256");
       if (!is_sha256(df.sha256))
@@ -98,7 +100,8 @@ DatasetManifest parse_manifest(const fs::path& file) {
         const bool known = std::any_of(info.files.begin(), info.files.end(),
                                        [&](const DatasetFile& g) { return g.path == src && !g.derived; });
         if (!known) {
-          throw DatasetError(fmt::format("{}: [datasets.{}.files.\"{}\"] derived_from names '{}', which is not a downloadable file of this dataset", file.string(), name, f.path, src));
+          throw DatasetError(fmt::format("{}: [datasets.{}.files.\"{}\"] derived_from names '{}', which is not a "
+                                         "downloadable file of this dataset", file.string(), name, f.path, src));
         }
       }
     }
@@ -172,7 +175,8 @@ fs::path find_repo_root(const fs::path& start) {
     if (!dir.has_parent_path() || dir.parent_path() == dir) break;
     dir = dir.parent_path();
   }
-  throw DatasetError(fmt::format("no datasets/manifest.toml in {} or any parent folder: run from inside the keel checkout, or pass its root explicitly", first.string()));
+  throw DatasetError(fmt::format("no datasets/manifest.toml in {} or any parent folder: run from inside the keel "
+                                 "checkout, or pass its root explicitly", first.string()));
 }
 
 std::vector<fs::path> dataset_search_paths(const std::string& name, const std::string& relative_path,
@@ -195,7 +199,8 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
     std::string known;
     if (const DatasetInfo* d = manifest->find_dataset(name)) {
       for (const auto& f : d->files) known += fmt::format("\n  {}", f.path);
-      throw DatasetError(fmt::format("{}: dataset '{}' has no file '{}'; its files are:{}", manifest->file.string(), name, relative_path, known));
+      throw DatasetError(fmt::format("{}: dataset '{}' has no file '{}'; its files are:{}",
+                                     manifest->file.string(), name, relative_path, known));
     }
     for (const auto& d : manifest->datasets) known += fmt::format("{}{}", known.empty() ? "" : ", ", d.name);
     throw DatasetError(fmt::format("{}: no dataset named '{}' (known: {})", manifest->file.string(), name, known));
@@ -232,14 +237,18 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
     }
     return p;
   }
-  std::string how = fmt::format("\nFetch it with: scripts/fetch-datasets {} (downloads into datasets/cache/; --from DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS to a folder holding <name>/<path>.", name);
+  std::string how = fmt::format("\nFetch it with: scripts/fetch-datasets {} (downloads into datasets/cache/; --from "
+                                "DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS "
+                                "to a folder holding <name>/<path>.", name);
   if (entry->derived) {
-    how += fmt::format("\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ", name);
+    how += fmt::format("\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ",
+                       name);
     for (std::size_t k = 0; k < entry->derived_from.size(); ++k)
       how += fmt::format("{}{}", k ? ", " : "", entry->derived_from[k]);
     how += " and checks its sha256.";
   }
-  throw DatasetError(fmt::format("dataset file {}/{} (sha256 {}...) has no verified copy; looked in:{}{}", name, relative_path, entry->sha256.substr(0, 12), report, how));
+  throw DatasetError(fmt::format("dataset file {}/{} (sha256 {}...) has no verified copy; looked in:{}{}",
+                                 name, relative_path, entry->sha256.substr(0, 12), report, how));
 }
 
 }  // namespace keel::graph

@@ -58,7 +58,8 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
       std::size_t missing = 0;
       while (seen.count(static_cast<int>(missing))) ++missing;
       detail::fail_at(name, r.line,
-                      fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, this one has id {})", kind, missing, n, r.id));
+                      fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
+                                  "this one has id {})", kind, missing, n, r.id));
     }
   }
   std::vector<T> out(n);

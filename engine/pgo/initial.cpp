@@ -56,7 +56,8 @@ std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) 
   poses[0] = g.poses.empty() ? Pose() : g.poses[0];
   for (int k = 1; k < n; ++k) {
     if (!step[k - 1])
-      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}", name_of(g.source), k - 1, k));
+      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}",
+                       name_of(g.source), k - 1, k));
     poses[k] = poses[k - 1] * *step[k - 1];
   }
   return poses;

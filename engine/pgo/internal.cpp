@@ -15,7 +15,9 @@ namespace {
 
 [[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
 
-std::string source_of(const std::string& s) { return s.empty() ? std::string("<unnamed graph>") : fmt::format("'{}'", s); }
+std::string source_of(const std::string& s) {
+  return s.empty() ? std::string("<unnamed graph>") : fmt::format("'{}'", s);
+}
 
 template <int N>
 Eigen::Matrix<double, N, N> sqrt_info_impl(const Eigen::Matrix<double, N, N>& omega, const std::string& what) {
@@ -86,7 +88,8 @@ void validate_graph(const RobotsView<D>& view) {
     const std::string label = edge_label("inter-robot edge", k, e.line, "");
     if (e.robot_a < 0 || e.robot_a >= robots || e.robot_b < 0 || e.robot_b >= robots)
       fail(fmt::format("{}: robot index out of range ({} robots)", label, robots));
-    if (e.robot_a == e.robot_b) fail(fmt::format("{}: robot_a == robot_b (use an edge of that robot's own graph)", label));
+    if (e.robot_a == e.robot_b) fail(fmt::format("{}: robot_a == robot_b (use an edge of that robot's own graph)",
+                                                 label));
     if (e.pose_a < 0 || e.pose_a >= pose_count(*view.robots[e.robot_a]) || e.pose_b < 0 ||
         e.pose_b >= pose_count(*view.robots[e.robot_b]))
       fail(fmt::format("{}: pose index out of range of its robot's graph", label));

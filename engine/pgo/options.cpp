@@ -85,8 +85,8 @@ void Options::validate() const {
   if (initial_guess == InitialGuess::random && !(random_extent > 0.0 && std::isfinite(random_extent)))
     fail(fmt::format("random_extent must be finite and > 0 for initial_guess = random (got {})", random_extent));
   if (robust_kernel != RobustKernel::none && !(robust_parameter > 0.0 && std::isfinite(robust_parameter)))
-    fail(fmt::format("robust_parameter must be finite and > 0 for robust_kernel = {} (got {})", to_string(robust_kernel),
-                     robust_parameter));
+    fail(fmt::format("robust_parameter must be finite and > 0 for robust_kernel = {} (got {})",
+                     to_string(robust_kernel), robust_parameter));
   for (int k : constant_poses)
     if (k < 0) fail(fmt::format("constant_poses must hold pose indices >= 0 (got {})", k));
   if (method == Method::dogleg && (linear_solver == LinearSolver::cgnr || linear_solver == LinearSolver::iterative_schur))

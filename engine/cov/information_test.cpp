@@ -59,14 +59,10 @@ TEST_CASE("2D edge Jacobians differ from the coordinate Jacobians away from the 
   const SE2 Ti(40.0, -25.0, 0.7), Tj(43.0, -21.0, 1.1);
   const SE2 z = Ti.inverse() * Tj;
   const auto lin = linearize_edge(z, Ti, Tj);
-  MatX Jc(3, 3);  // central differences in coordinates of T_j
-  for (int k = 0; k < 3; ++k) {
-    Vec3 c(Tj.translation().x(), Tj.translation().y(), Tj.angle()), p = c, m = c;
-    p(k) += kStep;
-    m(k) -= kStep;
-    Jc.col(k) = (edge_residual(z, Ti, SE2(p(0), p(1), p(2))) - edge_residual(z, Ti, SE2(m(0), m(1), m(2)))) /
-                (2.0 * kStep);
-  }
+  // Central differences in the coordinates (x, y, θ) of T_j.
+  const MatX Jc = testkit::numerical_jacobian(
+      [&](const VecX& c) -> VecX { return edge_residual(z, Ti, SE2(c(0), c(1), c(2))); },
+      VecX(Vec3(Tj.translation().x(), Tj.translation().y(), Tj.angle())), kStep);
   CHECK(rel_err(lin.J_r_xi_j, Jc) > 0.5);
   // ... and they are related by ξ = G δc, G = [I, (t_y, −t_x)ᵀ; 0, 1]: J_coord = J_ξ G.
   Mat3 G = Mat3::Identity();
@@ -120,12 +116,9 @@ TEST_CASE("2D landmark Jacobians match central differences") {
     const MatX Jx =
         numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return landmark_residual(z, D * T, l); });
     CHECK(rel_err(lin.J_r_xi, Jx) < 1e-7);
-    MatX Jl(2, 2);
-    for (int k = 0; k < 2; ++k) {
-      Vec2 d = Vec2::Zero();
-      d(k) = kStep;
-      Jl.col(k) = (landmark_residual(z, T, l + d) - landmark_residual(z, T, l - d)) / (2.0 * kStep);
-    }
+    const MatX Jl =
+        testkit::numerical_jacobian([&](const VecX& x) -> VecX { return landmark_residual(z, T, Vec2(x)); }, VecX(l),
+                                    kStep);
     CHECK(rel_err(lin.J_r_l, Jl) < 1e-7);
   }
 }

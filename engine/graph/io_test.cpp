@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -549,8 +550,8 @@ TEST_CASE("ground truth of a synthetic grid: snapping makes the chain exact") {
   const std::string noise = " 50 0 0 50 0 100\n";
   std::string text;
   for (int k = 0; k < 3; ++k)
-    text += "EDGE2 " + std::to_string(k) + " " + std::to_string(k + 1) + " 1 0 1.5708" + noise;
-  text += "EDGE2 3 0 1 -0 1.5708" + noise + "LANDMARK 2 0 0.5 -0.5 10 0 10\n";
+    text += fmt::format("EDGE2 {} {} 1 0 1.5708{}", k, k + 1, noise);
+  text += fmt::format("EDGE2 3 0 1 -0 1.5708{}LANDMARK 2 0 0.5 -0.5 10 0 10\n", noise);
   std::istringstream raw(text);
   const GroundTruth2D loose = read_isam_ground_truth_2d(raw, "gt.txt");
   CHECK(loose.max_edge_rotation_error > 1e-6);

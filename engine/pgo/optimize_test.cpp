@@ -4,9 +4,11 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
@@ -429,7 +431,7 @@ TEST_CASE("Options enums round-trip through their names; an unknown name is an e
   // Every enumerator back through <enum>_from_string, then a bad name whose error names the type and every name.
   auto round_trip = [](auto parse, const char* type, const char* valid, auto... values) {
     for (auto v : {values...}) CHECK(parse(to_string(v)) == v);
-    const std::string expected = std::string("unknown ") + type + " 'bogus' (valid: " + valid + ")";
+    const std::string expected = fmt::format("unknown {} 'bogus' (valid: {})", type, valid);
     CHECK(testkit::throws_with<std::invalid_argument>([&] { (void)parse("bogus"); }, expected));
   };
   round_trip(method_from_string, "pgo::Method", "levenberg_marquardt, dogleg", Method::levenberg_marquardt,

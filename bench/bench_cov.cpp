@@ -5,7 +5,7 @@
 //   marginals, on a
 //                           factor made once; config 0 = defaults (CHOLMOD's ordering, forward extraction),
 //                           1 = METIS ordering + forward, 2 = CHOLMOD's ordering + multi-column solves
-//                           (kSolve)
+//                           (solve)
 //   BM_JointSingle          one joint() query of three poses
 //   BM_Subset{Keel,Ceres}   200 of those pairs, keel.cov vs ceres::Covariance on the same residuals with the
 //   poses on a
@@ -20,6 +20,7 @@ import keel.cov;
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -57,8 +58,8 @@ const Manhattan& manhattan() {
       const cov::SparseInformation H = cov::information_matrix(m.graph, m.truth);
       m.marginals = std::make_unique<cov::MarginalCovariance>(H);
       cov::CovarianceOptions metis, solve;
-      metis.ordering = cov::Ordering::kMetis;
-      solve.extraction = cov::Extraction::kSolve;
+      metis.ordering = cov::Ordering::metis;
+      solve.extraction = cov::Extraction::solve;
       for (const auto& o : {cov::CovarianceOptions{}, metis, solve})
         m.configs.push_back(std::make_unique<cov::MarginalCovariance>(H, o));
     } catch (const std::exception& e) {
@@ -87,7 +88,7 @@ void BM_Factorize(benchmark::State& state) {
     benchmark::DoNotOptimize(mc.summary().nnz_l);
   }
   const auto& s = m.marginals->summary();
-  state.SetLabel("ordering " + s.ordering + (s.supernodal ? ", supernodal" : ", simplicial"));
+  state.SetLabel(fmt::format("ordering {}, {}", s.ordering, s.supernodal ? "supernodal" : "simplicial"));
   state.counters["size"] = s.size;
   state.counters["nnz_H"] = static_cast<double>(s.nnz_h);
   state.counters["nnz_L"] = s.nnz_l;
@@ -101,7 +102,7 @@ void BM_AllPairMarginals(benchmark::State& state) {
   const auto& mc = *m.configs[static_cast<std::size_t>(state.range(0))];
   const unsigned threads = static_cast<unsigned>(state.range(1));
   for (auto _ : state) benchmark::DoNotOptimize(cov::pair_marginals_2d(mc, m.pairs, threads).data());
-  state.SetLabel("ordering " + mc.summary().ordering + ", extraction " + mc.summary().extraction);
+  state.SetLabel(fmt::format("ordering {}, extraction {}", mc.summary().ordering, mc.summary().extraction));
   state.counters["pairs"] = static_cast<double>(m.pairs.size());
   state.counters["pairs_per_s"] =
       benchmark::Counter(static_cast<double>(m.pairs.size()), benchmark::Counter::kIsIterationInvariantRate);

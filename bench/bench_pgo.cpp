@@ -35,7 +35,7 @@ template <class Graph>
 void solve(benchmark::State& state, const Graph& g) {
   pgo::Options o;
   o.initial_guess = pgo::InitialGuess::odometry;
-  o.threads = static_cast<int>(state.range(0));
+  o.threads = static_cast<unsigned>(state.range(0));
   pgo::Summary last;
   for (auto _ : state) {
     auto r = pgo::optimize(g, o);

@@ -1,5 +1,6 @@
 #include "cov/information.hpp"
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/names.hpp"
 #include "lie/so3.hpp"
 
 namespace keel::cov {
@@ -14,7 +16,7 @@ namespace keel::cov {
 namespace {
 
 std::string where(int line) {
-  return line > 0 ? " (source line " + std::to_string(line) + ")" : std::string();
+  return line > 0 ? fmt::format(" (source line {})", line) : std::string();
 }
 
 }  // namespace
@@ -64,32 +66,23 @@ LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec
 // Gauge
 // ---------------------------------------------------------------------------------------------------------------------
 
-std::string_view to_string(Gauge g) {
-  switch (g) {
-    case Gauge::kFixPose:
-      return "fix_pose";
-    case Gauge::kPrior:
-      return "prior";
-  }
-  return "?";
-}
+namespace {
 
-std::optional<Gauge> gauge_from_string(std::string_view s) {
-  if (s == "fix_pose") return Gauge::kFixPose;
-  if (s == "prior") return Gauge::kPrior;
-  return std::nullopt;
-}
+constexpr core::NameTable<Gauge, 2> kGauge{"cov::Gauge", {{{Gauge::fix_pose, "fix_pose"}, {Gauge::prior, "prior"}}}};
+
+}  // namespace
+
+std::string_view to_string(Gauge g) { return kGauge.name(g); }
+
+Gauge gauge_from_string(std::string_view s) { return kGauge.parse(s); }
 
 void GaugeOptions::validate(int num_poses, int pose_dof) const {
   if (pose < 0 || pose >= num_poses)
-    throw std::invalid_argument("GaugeOptions: pose " + std::to_string(pose) + " is not in [0, " +
-                                std::to_string(num_poses) + ")");
-  if (kind != Gauge::kPrior) return;
+    throw std::invalid_argument(fmt::format("GaugeOptions: pose {} is not in [0, {})", pose, num_poses));
+  if (kind != Gauge::prior) return;
   if (prior_information.rows() != pose_dof || prior_information.cols() != pose_dof)
-    throw std::invalid_argument("GaugeOptions: prior_information must be " + std::to_string(pose_dof) + "x" +
-                                std::to_string(pose_dof) + " (got " +
-                                std::to_string(prior_information.rows()) + "x" +
-                                std::to_string(prior_information.cols()) + ")");
+    throw std::invalid_argument(fmt::format("GaugeOptions: prior_information must be {}x{} (got {}x{})",
+                                            pose_dof, pose_dof, prior_information.rows(), prior_information.cols()));
   if (!prior_information.allFinite())
     throw std::invalid_argument("GaugeOptions: prior_information has non-finite entries");
   const double asym = (prior_information - prior_information.transpose()).cwiseAbs().maxCoeff();
@@ -106,13 +99,12 @@ void GaugeOptions::validate(int num_poses, int pose_dof) const {
 
 void SparseInformation::check_variable(int v) const {
   if (v < 0 || v >= num_variables())
-    throw std::out_of_range("cov: variable " + std::to_string(v) + " is not in [0, " +
-                            std::to_string(num_variables()) + ") (" + std::to_string(num_poses) + " poses, " +
-                            std::to_string(num_landmarks) + " landmarks)");
+    throw std::out_of_range(fmt::format("cov: variable {} is not in [0, {}) ({} poses, {} landmarks)",
+                                        v, num_variables(), num_poses, num_landmarks));
 }
 
 int SparseInformation::variable_of_row(int r) const {
-  if (r < 0 || r >= size) throw std::out_of_range("cov: row " + std::to_string(r) + " is outside H");
+  if (r < 0 || r >= size) throw std::out_of_range(fmt::format("cov: row {} is outside H", r));
   // Offsets increase with the variable id; the one variable a fixed gauge removes (offset −1) is given the
   // offset of the next variable, so the last variable whose offset is ≤ r is never the removed one.
   auto eff = [&](int v) {
@@ -141,7 +133,7 @@ MatX SparseInformation::dense() const {
 }
 
 void SparseInformation::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("SparseInformation: " + what); };
+  auto fail = [](const std::string& what) { throw std::invalid_argument(fmt::format("SparseInformation: {}", what)); };
   if (num_poses < 1) fail("no poses");
   if (static_cast<int>(offset.size()) != num_variables()) fail("offset must have one entry per variable");
   if (static_cast<int>(col_start.size()) != size + 1) fail("col_start must have size + 1 entries");
@@ -160,9 +152,9 @@ void SparseInformation::validate() const {
     if (e < b) fail("col_start must be non-decreasing");
     for (int k = b; k < e; ++k) {
       const int r = row_index[static_cast<std::size_t>(k)];
-      if (r < 0 || r > c) fail("row index outside the upper triangle in column " + std::to_string(c));
+      if (r < 0 || r > c) fail(fmt::format("row index outside the upper triangle in column {}", c));
       if (k > b && r <= row_index[static_cast<std::size_t>(k) - 1])
-        fail("row indices not strictly increasing in column " + std::to_string(c));
+        fail(fmt::format("row indices not strictly increasing in column {}", c));
     }
   }
 }
@@ -234,7 +226,7 @@ void layout(SparseInformation& H, int num_poses, int num_landmarks, int pose_dof
   H.offset.assign(static_cast<std::size_t>(H.num_variables()), -1);
   int next = 0;
   for (int v = 0; v < H.num_variables(); ++v) {
-    if (v == gauge.pose && gauge.kind == Gauge::kFixPose) continue;
+    if (v == gauge.pose && gauge.kind == Gauge::fix_pose) continue;
     H.offset[static_cast<std::size_t>(v)] = next;
     next += H.variable_dim(v);
   }
@@ -243,9 +235,8 @@ void layout(SparseInformation& H, int num_poses, int num_landmarks, int pose_dof
 
 void check_pose(int id, int num_poses, const char* what, std::size_t k, int line) {
   if (id < 0 || id >= num_poses)
-    throw std::invalid_argument(std::string("information_matrix: ") + what + " " + std::to_string(k) +
-                                where(line) + " refers to pose " + std::to_string(id) + ", but there are " +
-                                std::to_string(num_poses) + " poses");
+    throw std::invalid_argument(fmt::format("information_matrix: {} {}{} refers to pose {}, but there are {} poses",
+                                            what, k, where(line), id, num_poses));
 }
 
 }  // namespace
@@ -277,16 +268,16 @@ SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2
   const int n = static_cast<int>(poses.size());
   if (n == 0) throw std::invalid_argument("information_matrix: no poses");
   if (!g.poses.empty() && g.poses.size() != poses.size())
-    throw std::invalid_argument("information_matrix: the graph has " + std::to_string(g.poses.size()) +
-                                " poses but " + std::to_string(poses.size()) + " were given");
+    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given",
+                                            g.poses.size(), poses.size()));
   int m = static_cast<int>(landmarks.size());
   for (std::size_t k = 0; k < g.landmark_measurements.size(); ++k) {
     const auto& lm = g.landmark_measurements[k];
     check_pose(lm.pose, n, "landmark measurement", k, lm.line);
     if (lm.landmark < 0 || lm.landmark >= m)
-      throw std::invalid_argument("information_matrix: landmark measurement " + std::to_string(k) +
-                                  where(lm.line) + " refers to landmark " + std::to_string(lm.landmark) +
-                                  ", but " + std::to_string(m) + " landmark positions were given");
+      throw std::invalid_argument(fmt::format("information_matrix: landmark measurement {}{} refers to landmark {}, "
+                                              "but {} landmark positions were given",
+                                              k, where(lm.line), lm.landmark, m));
   }
   SparseInformation H;
   layout(H, n, m, 3, gauge);
@@ -300,7 +291,7 @@ SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2
     A.add(lm.pose, lv, lin.J_r_xi.transpose() * lm.information * lin.J_r_l);
     A.add(lv, lv, lin.J_r_l.transpose() * lm.information * lin.J_r_l);
   }
-  if (gauge.kind == Gauge::kPrior) A.add(gauge.pose, gauge.pose, gauge.prior_information);
+  if (gauge.kind == Gauge::prior) A.add(gauge.pose, gauge.pose, gauge.prior_information);
   A.compress();
   return H;
 }
@@ -310,13 +301,13 @@ SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3
   const int n = static_cast<int>(poses.size());
   if (n == 0) throw std::invalid_argument("information_matrix: no poses");
   if (!g.poses.empty() && g.poses.size() != poses.size())
-    throw std::invalid_argument("information_matrix: the graph has " + std::to_string(g.poses.size()) +
-                                " poses but " + std::to_string(poses.size()) + " were given");
+    throw std::invalid_argument(fmt::format("information_matrix: the graph has {} poses but {} were given",
+                                            g.poses.size(), poses.size()));
   SparseInformation H;
   layout(H, n, 0, 6, gauge);
   Assembler A(H);
   add_pose_edges(g, poses, A);
-  if (gauge.kind == Gauge::kPrior) A.add(gauge.pose, gauge.pose, gauge.prior_information);
+  if (gauge.kind == Gauge::prior) A.add(gauge.pose, gauge.pose, gauge.prior_information);
   A.compress();
   return H;
 }

@@ -30,7 +30,6 @@
 #pragma once
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -82,27 +81,28 @@ struct LandmarkLinearization2 {
 };
 
 /// Residual and Jacobians of one edge: A_j = D(E) Ad(T_j⁻¹), A_i = −A_j (see the derivation above).
-EdgeLinearization2 linearize_edge(const SE2& z, const SE2& T_i, const SE2& T_j);
-EdgeLinearization3 linearize_edge(const SE3& z, const SE3& T_i, const SE3& T_j);
-LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec2& l);
+[[nodiscard]] EdgeLinearization2 linearize_edge(const SE2& z, const SE2& T_i, const SE2& T_j);
+[[nodiscard]] EdgeLinearization3 linearize_edge(const SE3& z, const SE3& T_i, const SE3& T_j);
+[[nodiscard]] LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec2& l);
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Gauge
 // ---------------------------------------------------------------------------------------------------------------------
 
 enum class Gauge {
-  kFixPose,  // the pose `GaugeOptions::pose` is held fixed: its rows/columns are removed, its covariance is
+  fix_pose,  // the pose `GaugeOptions::pose` is held fixed: its rows/columns are removed, its covariance is
              // zero
-  kPrior,    // a prior with information `GaugeOptions::prior_information` on the Lie-algebra perturbation of
+  prior,     // a prior with information `GaugeOptions::prior_information` on the Lie-algebra perturbation of
              // that pose
 };
-std::string_view to_string(Gauge g);
-std::optional<Gauge> gauge_from_string(std::string_view s);
+std::string_view to_string(Gauge g);  // "fix_pose", "prior"
+// The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.
+[[nodiscard]] Gauge gauge_from_string(std::string_view s);
 
 struct GaugeOptions {
-  Gauge kind = Gauge::kFixPose;  // how the gauge freedom of relative measurements is removed
+  Gauge kind = Gauge::fix_pose;  // how the gauge freedom of relative measurements is removed
   int pose = 0;                  // the pose that is fixed or receives the prior
-  MatX prior_information;  // kPrior only: DoF×DoF (3 for SE(2), 6 for SE(3)) symmetric positive definite
+  MatX prior_information;  // Gauge::prior only: DoF×DoF (3 for SE(2), 6 for SE(3)) symmetric positive definite
   /// Throws std::invalid_argument naming the violated constraint.
   void validate(int num_poses, int pose_dof) const;
 };
@@ -121,7 +121,7 @@ struct SparseInformation {
   int num_landmarks = 0;
   int pose_dof = 3;      // 3 (SE(2)) or 6 (SE(3))
   int landmark_dof = 2;  // 2D landmarks
-  Gauge gauge = Gauge::kFixPose;
+  Gauge gauge = Gauge::fix_pose;
   int gauge_pose = 0;
   std::vector<int> offset;     // per variable, −1 when removed by the gauge
   int size = 0;                // rows (= columns) of H
@@ -151,9 +151,9 @@ struct SparseInformation {
 /// g.poses for the graph's own estimate); `landmarks` must cover every landmark id that is measured (it may
 /// be empty when none is). Throws std::invalid_argument naming the offending edge (and its source line) on an
 /// out-of-range index.
-SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2>& poses,
+[[nodiscard]] SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2>& poses,
                                      const std::vector<Vec2>& landmarks = {}, const GaugeOptions& gauge = {});
-SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3>& poses,
+[[nodiscard]] SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3>& poses,
                                      const GaugeOptions& gauge = {});
 
 }  // namespace keel::cov

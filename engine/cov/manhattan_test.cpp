@@ -57,8 +57,8 @@ TEST_CASE("Manhattan3500 at ground truth: factorization, pair marginals SPD and 
   }
   // The other extraction method (full multi-column solves) and another ordering give the same numbers.
   CovarianceOptions solve, metis;
-  solve.extraction = Extraction::kSolve;
-  metis.ordering = Ordering::kMetis;
+  solve.extraction = Extraction::solve;
+  metis.ordering = Ordering::metis;
   const auto Ps = pair_marginals_2d(MarginalCovariance(H, solve), pairs, 1);
   const auto Pm = pair_marginals_2d(MarginalCovariance(H, metis), pairs, 1);
   for (std::size_t k = 0; k < pairs.size(); ++k) {

@@ -1,6 +1,6 @@
 // Marginal covariances from a CHOLMOD factorization of H (L Lᵀ = P H Pᵀ, supernodal by default).
 //
-// Extraction methods — why forward substitutions along the elimination tree (Extraction::kForward):
+// Extraction methods — why forward substitutions along the elimination tree (Extraction::forward):
 //   The target batches — e.g. every pose pair (i, i+k) for k up to 500 on Manhattan3500 — ask for blocks Σ_ab
 //   that lie far outside the pattern of L, so selected inversion (Takahashi recurrences, which give Σ on the
 //   pattern of L only) would still need a solve for almost every block. Instead, with W = L⁻¹ P E (E: the
@@ -10,19 +10,19 @@
 //   supernode, on a block of many right-hand sides at a time: `block_columns` variables adjacent in the
 //   factor's order, whose paths largely coincide), and stored sparse. A block Σ_ab is then one small product
 //   over the supernodes common to both paths. On Manhattan3500 the path of a column holds 12 % of L with AMD
-//   and 4 % with METIS, so this costs a fraction of the full solves of Extraction::kSolve (which needs no
+//   and 4 % with METIS, so this costs a fraction of the full solves of Extraction::solve (which needs no
 //   supernodal structure: cholmod_solve2 of H X = E on dense n×k blocks for the distinct variables, keeping
 //   only the rows needed; it is the fallback for simplicial factors and the cross-check in the tests).
 //   Neither method ever forms the dense inverse, and each distinct variable is solved for once per batch,
-//   shared by every query that names it. Memory of kForward: Σ over the distinct variables of dim × (rows on
+//   shared by every query that names it. Memory of forward: Σ over the distinct variables of dim × (rows on
 //   its path) doubles.
 //
 // Threads: workers take whole column blocks (then whole queries), each with its own workspace (and, for
-//   kSolve, its own cholmod_common and dense B/X/Y/E). Both methods only read the factor: the workers need no
+//   solve, its own cholmod_common and dense B/X/Y/E). Both methods only read the factor: the workers need no
 //   locks. Measured on this 2-core machine, Manhattan3500, all 44 425 pairs (bench/bench_cov.cpp, quiet
 //   machine):
-//     kForward, AMD (CHOLMOD's choice)  138 ms on 1 thread, 72 ms on 2;  kForward, METIS  55 ms / 23 ms;
-//     kSolve, AMD  1.80 s on 1 thread, 0.83 s on 2 — and 2.1 s on 2 threads when the cholmod_solve2 calls
+//     forward, AMD (CHOLMOD's choice)  138 ms on 1 thread, 72 ms on 2;  forward, METIS  55 ms / 23 ms;
+//     solve, AMD  1.80 s on 1 thread, 0.83 s on 2 — and 2.1 s on 2 threads when the cholmod_solve2 calls
 //     were serialized behind one mutex (tried once): parallel solves with per-thread commons win.
 //   Results do not depend on the number of threads (the column blocks are fixed before the workers start).
 #include "cov/marginal_covariance.hpp"
@@ -30,12 +30,14 @@
 #include <cholmod.h>
 
 #include <Eigen/Core>
+#include <fmt/format.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <string>
 
+#include "core/names.hpp"
 #include "core/parallel.hpp"
 
 namespace keel::cov {
@@ -44,52 +46,33 @@ namespace keel::cov {
 // Options
 // ---------------------------------------------------------------------------------------------------------------------
 
-std::string_view to_string(Ordering o) {
-  switch (o) {
-    case Ordering::kAuto:
-      return "auto";
-    case Ordering::kAmd:
-      return "amd";
-    case Ordering::kMetis:
-      return "metis";
-    case Ordering::kNesdis:
-      return "nesdis";
-    case Ordering::kNatural:
-      return "natural";
-  }
-  return "?";
-}
+namespace {
 
-std::optional<Ordering> ordering_from_string(std::string_view s) {
-  for (Ordering o :
-       {Ordering::kAuto, Ordering::kAmd, Ordering::kMetis, Ordering::kNesdis, Ordering::kNatural})
-    if (s == to_string(o)) return o;
-  return std::nullopt;
-}
+constexpr core::NameTable<Ordering, 5> kOrdering{"cov::Ordering",
+                                                 {{{Ordering::automatic, "auto"},
+                                                   {Ordering::amd, "amd"},
+                                                   {Ordering::metis, "metis"},
+                                                   {Ordering::nesdis, "nesdis"},
+                                                   {Ordering::natural, "natural"}}}};
+constexpr core::NameTable<Extraction, 3> kExtraction{"cov::Extraction",
+                                                     {{{Extraction::automatic, "auto"},
+                                                       {Extraction::forward, "forward"},
+                                                       {Extraction::solve, "solve"}}}};
 
-std::string_view to_string(Extraction e) {
-  switch (e) {
-    case Extraction::kAuto:
-      return "auto";
-    case Extraction::kForward:
-      return "forward";
-    case Extraction::kSolve:
-      return "solve";
-  }
-  return "?";
-}
+}  // namespace
 
-std::optional<Extraction> extraction_from_string(std::string_view s) {
-  for (Extraction e : {Extraction::kAuto, Extraction::kForward, Extraction::kSolve})
-    if (s == to_string(e)) return e;
-  return std::nullopt;
-}
+std::string_view to_string(Ordering o) { return kOrdering.name(o); }
+
+Ordering ordering_from_string(std::string_view s) { return kOrdering.parse(s); }
+
+std::string_view to_string(Extraction e) { return kExtraction.name(e); }
+
+Extraction extraction_from_string(std::string_view s) { return kExtraction.parse(s); }
 
 void CovarianceOptions::validate() const {
   if (block_columns < 1)
-    throw std::invalid_argument("CovarianceOptions: block_columns must be >= 1 (got " +
-                                std::to_string(block_columns) + ")");
-  if (extraction == Extraction::kForward && !supernodal)
+    throw std::invalid_argument(fmt::format("CovarianceOptions: block_columns must be >= 1 (got {})", block_columns));
+  if (extraction == Extraction::forward && !supernodal)
     throw std::invalid_argument(
         "CovarianceOptions: extraction 'forward' needs a supernodal factorization "
         "(supernodal = true)");
@@ -150,11 +133,11 @@ struct MarginalCovariance::Impl {
   int size = 0;
   std::vector<int> offset;
   CovarianceOptions options;
-  Extraction extraction = Extraction::kSolve;  // resolved (never kAuto)
+  Extraction extraction = Extraction::solve;  // resolved (never automatic)
   FactorSummary summary;
   Common common;  // analysis / factorization; owns L
   cholmod_factor* L = nullptr;
-  // Supernodal structure (Extraction::kForward): the factor's arrays and the supernodal elimination tree.
+  // Supernodal structure (Extraction::forward): the factor's arrays and the supernodal elimination tree.
   int nsuper = 0;
   const int* super = nullptr;  // columns super[s] … super[s+1]−1 of supernode s
   const int* pi = nullptr;     // row indices of s: ls[pi[s] … pi[s+1])
@@ -176,9 +159,8 @@ struct MarginalCovariance::Impl {
   int nsrow(int s) const { return pi[s + 1] - pi[s]; }
   void check(int v) const {
     if (v < 0 || v >= num_variables())
-      throw std::out_of_range("MarginalCovariance: variable " + std::to_string(v) + " is not in [0, " +
-                              std::to_string(num_variables()) + ") (" + std::to_string(num_poses) +
-                              " poses, " + std::to_string(num_landmarks) + " landmarks)");
+      throw std::out_of_range(fmt::format("MarginalCovariance: variable {} is not in [0, {}) ({} poses, {} landmarks)",
+                                          v, num_variables(), num_poses, num_landmarks));
   }
   int variable_of_row(int r) const {  // error messages only
     int best = -1;
@@ -187,7 +169,7 @@ struct MarginalCovariance::Impl {
     return best;
   }
   std::string variable_name(int v) const {
-    return v < num_poses ? "pose " + std::to_string(v) : "landmark " + std::to_string(v - num_poses);
+    return v < num_poses ? fmt::format("pose {}", v) : fmt::format("landmark {}", v - num_poses);
   }
 };
 
@@ -212,30 +194,29 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
       cholmod_allocate_sparse(static_cast<std::size_t>(H.size), static_cast<std::size_t>(H.size),
                               H.nonzeros(), /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, c);
   if (!A)
-    throw std::runtime_error("MarginalCovariance: CHOLMOD could not allocate H (status " +
-                             std::to_string(c->status) + ")");
+    throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD could not allocate H (status {})", c->status));
   std::copy(H.col_start.begin(), H.col_start.end(), static_cast<int*>(A->p));
   std::copy(H.row_index.begin(), H.row_index.end(), static_cast<int*>(A->i));
   std::copy(H.value.begin(), H.value.end(), static_cast<double*>(A->x));
 
   c->supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   switch (options.ordering) {
-    case Ordering::kAuto:
+    case Ordering::automatic:
       c->nmethods = 0;
       break;  // CHOLMOD default: AMD, METIS too if AMD fills badly
-    case Ordering::kAmd:
+    case Ordering::amd:
       c->nmethods = 1;
       c->method[0].ordering = CHOLMOD_AMD;
       break;
-    case Ordering::kMetis:
+    case Ordering::metis:
       c->nmethods = 1;
       c->method[0].ordering = CHOLMOD_METIS;
       break;
-    case Ordering::kNesdis:
+    case Ordering::nesdis:
       c->nmethods = 1;
       c->method[0].ordering = CHOLMOD_NESDIS;
       break;
-    case Ordering::kNatural:
+    case Ordering::natural:
       c->nmethods = 1;
       c->method[0].ordering = CHOLMOD_NATURAL;
       c->postorder = 0;
@@ -244,25 +225,24 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
 
   auto t0 = std::chrono::steady_clock::now();
   I.L = cholmod_analyze(A, c);
-  I.summary.analyze_seconds = seconds_since(t0);
+  I.summary.analyze_time_s = seconds_since(t0);
   if (!I.L) {
     cholmod_free_sparse(&A, c);
-    throw std::runtime_error("MarginalCovariance: CHOLMOD analysis failed (status " +
-                             std::to_string(c->status) + ")");
+    throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD analysis failed (status {})", c->status));
   }
   t0 = std::chrono::steady_clock::now();
   const int ok = cholmod_factorize(A, I.L, c);
-  I.summary.factorize_seconds = seconds_since(t0);
+  I.summary.factorize_time_s = seconds_since(t0);
   cholmod_free_sparse(&A, c);
   if (!ok || c->status == CHOLMOD_NOT_POSDEF || I.L->minor < I.L->n) {
     std::string msg = "MarginalCovariance: the information matrix is not positive definite";
     if (I.L->minor < I.L->n) {
       const int row = static_cast<int*>(I.L->Perm)[I.L->minor];
-      msg += " (the factorization broke down at row " + std::to_string(row) + ", " +
-             I.variable_name(I.variable_of_row(row)) +
-             "): is every variable constrained and the graph connected to the gauge pose?";
+      msg += fmt::format(" (the factorization broke down at row {}, {}): is every variable constrained and the graph "
+                         "connected to the gauge pose?",
+                         row, I.variable_name(I.variable_of_row(row)));
     } else {
-      msg += " (CHOLMOD status " + std::to_string(c->status) + ")";
+      msg += fmt::format(" (CHOLMOD status {})", c->status);
     }
     throw std::runtime_error(msg);
   }
@@ -277,10 +257,10 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
   s.num_supernodes = s.supernodal ? I.L->nsuper : 0;
   s.l_storage = s.supernodal ? I.L->xsize : I.L->nzmax;
 
-  I.extraction = options.extraction == Extraction::kAuto
-                     ? (s.supernodal ? Extraction::kForward : Extraction::kSolve)
+  I.extraction = options.extraction == Extraction::automatic
+                     ? (s.supernodal ? Extraction::forward : Extraction::solve)
                      : options.extraction;
-  if (I.extraction == Extraction::kForward && !s.supernodal)
+  if (I.extraction == Extraction::forward && !s.supernodal)
     throw std::runtime_error(
         "MarginalCovariance: CHOLMOD returned a simplicial factor; extraction 'forward' needs a "
         "supernodal one");
@@ -379,7 +359,7 @@ std::vector<std::size_t> chunk_starts(std::size_t count, int limit, const Width&
   return starts;
 }
 
-// Extraction::kForward — W_v = L⁻¹ P E_v on the supernodes of v's path(s) to the root; Σ_ab = W_aᵀ W_b.
+// Extraction::forward — W_v = L⁻¹ P E_v on the supernodes of v's path(s) to the root; Σ_ab = W_aᵀ W_b.
 class ForwardBlocks {
  public:
   explicit ForwardBlocks(const Impl& I) : I_(I), slot_(static_cast<std::size_t>(I.num_variables()), -1) {}
@@ -581,7 +561,7 @@ class ForwardBlocks {
   std::vector<double> diag_;
 };
 
-// Extraction::kSolve — H X = E for the columns of the distinct variables (cholmod_solve2, dense multi-column
+// Extraction::solve — H X = E for the columns of the distinct variables (cholmod_solve2, dense multi-column
 // blocks), keeping for each column variable c the rows of the variables r ≤ c paired with it.
 class SolveBlocks {
  public:
@@ -679,8 +659,7 @@ class SolveBlocks {
         b[static_cast<std::size_t>(col) * n + static_cast<std::size_t>(o + d)] = 1.0;
     }
     if (!cholmod_solve2(CHOLMOD_A, I_.L, w.B, nullptr, &w.X, nullptr, &w.Y, &w.E, c))
-      throw std::runtime_error("MarginalCovariance: CHOLMOD solve failed (status " +
-                               std::to_string(c->status) + ")");
+      throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD solve failed (status {})", c->status));
     const CMapX X(static_cast<const double*>(w.X->x), static_cast<Eigen::Index>(n), ncols,
                   Eigen::OuterStride<>(static_cast<Eigen::Index>(w.X->d)));
     col = 0;
@@ -770,7 +749,7 @@ std::vector<MatX> MarginalCovariance::joint_many(const std::vector<std::vector<i
   const Impl& I = *impl_;
   for (const auto& q : queries)
     for (int v : q) I.check(v);
-  return I.extraction == Extraction::kForward ? joint_many_with<ForwardBlocks>(I, queries, threads)
+  return I.extraction == Extraction::forward ? joint_many_with<ForwardBlocks>(I, queries, threads)
                                               : joint_many_with<SolveBlocks>(I, queries, threads);
 }
 
@@ -782,14 +761,12 @@ std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
                                     const std::vector<std::pair<int, int>>& pairs, unsigned threads) {
   const Impl& I = *cov.impl_;
   if (I.pose_dof != 3)
-    throw std::invalid_argument("pair_marginals_2d: the poses are not SE(2) (pose DoF " +
-                                std::to_string(I.pose_dof) + ")");
+    throw std::invalid_argument(fmt::format("pair_marginals_2d: the poses are not SE(2) (pose DoF {})", I.pose_dof));
   for (const auto& [i, j] : pairs)
     for (int v : {i, j})
       if (v < 0 || v >= I.num_poses)
-        throw std::invalid_argument("pair_marginals_2d: " + std::to_string(v) + " is not a pose id (0 … " +
-                                    std::to_string(I.num_poses - 1) + ")");
-  return I.extraction == Extraction::kForward ? pairs_with<ForwardBlocks>(I, pairs, threads)
+        throw std::invalid_argument(fmt::format("pair_marginals_2d: {} is not a pose id (0 … {})", v, I.num_poses - 1));
+  return I.extraction == Extraction::forward ? pairs_with<ForwardBlocks>(I, pairs, threads)
                                               : pairs_with<SolveBlocks>(I, pairs, threads);
 }
 

@@ -9,14 +9,13 @@
 //
 // Thread-safety: a MarginalCovariance is immutable after construction. joint(), joint_many(), marginal() and
 // pair_marginals_2d() may be called concurrently from several threads on the same object: every call
-// allocates its own workspace (and, for Extraction::kSolve, its own cholmod_common), and the factor is only
+// allocates its own workspace (and, for Extraction::solve, its own cholmod_common), and the factor is only
 // read. joint_many(…, threads) itself spreads its column blocks and its queries over `threads` workers in the
 // same way.
 #pragma once
 
 #include <cstddef>
 #include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -29,30 +28,32 @@ namespace keel::cov {
 
 /// Fill-reducing ordering of the Cholesky factorization.
 enum class Ordering {
-  kAuto,     // CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is used
-  kAmd,      // approximate minimum degree
-  kMetis,    // METIS nested dissection
-  kNesdis,   // CHOLMOD's own nested dissection (METIS-based, with constrained minimum degree)
-  kNatural,  // no reordering (for tests; fill can be catastrophic)
+  automatic,  // "auto": CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is used
+  amd,        // approximate minimum degree
+  metis,      // METIS nested dissection
+  nesdis,     // CHOLMOD's own nested dissection (METIS-based, with constrained minimum degree)
+  natural,    // no reordering (for tests; fill can be catastrophic)
 };
-std::string_view to_string(Ordering o);
-std::optional<Ordering> ordering_from_string(std::string_view s);
+std::string_view to_string(Ordering o);  // "auto", "amd", "metis", "nesdis", "natural"
+// The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.
+[[nodiscard]] Ordering ordering_from_string(std::string_view s);
 
 /// How the blocks of Σ = H⁻¹ are computed (see marginal_covariance.cpp for the reasoning and the
 /// measurements).
 enum class Extraction {
-  kAuto,     // kForward for a supernodal factor, kSolve for a simplicial one
-  kForward,  // Σ_ab = W_aᵀ W_b, W = L⁻¹ P E: sparse forward substitutions along the elimination tree
+  automatic,  // "auto": forward for a supernodal factor, solve for a simplicial one
+  forward,    // Σ_ab = W_aᵀ W_b, W = L⁻¹ P E: sparse forward substitutions along the elimination tree
              // (supernodal only)
-  kSolve,    // multi-column cholmod_solve2 of H X = E for the distinct variables, keeping the rows needed
+  solve,      // multi-column cholmod_solve2 of H X = E for the distinct variables, keeping the rows needed
 };
-std::string_view to_string(Extraction e);
-std::optional<Extraction> extraction_from_string(std::string_view s);
+std::string_view to_string(Extraction e);  // "auto", "forward", "solve"
+// The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.
+[[nodiscard]] Extraction extraction_from_string(std::string_view s);
 
 struct CovarianceOptions {
-  Ordering ordering = Ordering::kAuto;  // fill-reducing ordering handed to CHOLMOD
-  bool supernodal = true;               // supernodal factorization (needed by Extraction::kForward)
-  Extraction extraction = Extraction::kAuto;
+  Ordering ordering = Ordering::automatic;  // fill-reducing ordering handed to CHOLMOD
+  bool supernodal = true;               // supernodal factorization (needed by Extraction::forward)
+  Extraction extraction = Extraction::automatic;
   int block_columns = 64;  // right-hand-side columns processed together (≥ 1)
   /// Throws std::invalid_argument naming the violated constraint.
   void validate() const;
@@ -71,8 +72,8 @@ struct FactorSummary {
   std::size_t l_storage = 0;  // doubles stored for L (with supernodal padding)
   double mean_path_fraction =
       0.0;  // supernodal: mean over the columns of the share of L on their path to the root
-  double analyze_seconds = 0.0;  // symbolic analysis (ordering) wall time
-  double factorize_seconds = 0.0;
+  double analyze_time_s = 0.0;    // symbolic analysis (ordering) wall time in seconds
+  double factorize_time_s = 0.0;  // numeric factorization wall time in seconds
 };
 
 class MarginalCovariance;
@@ -80,12 +81,12 @@ class MarginalCovariance;
 /// For SE(2) pose graphs: the 6×6 joint covariance [Σ_ii Σ_ij; Σ_ji Σ_jj] of (ξ_i, ξ_j) for every pair,
 /// computed like joint_many (the work per distinct pose is shared by all pairs that name it). Throws
 /// std::invalid_argument if the poses are not SE(2) or a pair names a landmark.
-std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
+[[nodiscard]] std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
                                     const std::vector<std::pair<int, int>>& pairs, unsigned threads = 1);
 
 /// Marginal covariances of the variables of a SparseInformation (poses first, then landmarks; see
 /// information.hpp), in the Lie algebra of the left perturbation T = exp(ξ^) T̄ (eq. 5.14) for poses and in
-/// world coordinates (additive) for landmarks. The pose fixed by a Gauge::kFixPose gauge has zero covariance
+/// world coordinates (additive) for landmarks. The pose fixed by a Gauge::fix_pose gauge has zero covariance
 /// (and zero cross-covariance).
 class MarginalCovariance {
  public:
@@ -101,13 +102,13 @@ class MarginalCovariance {
 
   /// The joint marginal covariance of `vars` (variable ids, repeats allowed): a (Σ dim) square matrix whose
   /// blocks follow the order asked, block (a, b) = E[ξ_a ξ_bᵀ]. Throws std::out_of_range on an unknown id.
-  MatX joint(const std::vector<int>& vars) const;
+  [[nodiscard]] MatX joint(const std::vector<int>& vars) const;
   /// Marginal covariance of one variable.
-  MatX marginal(int var) const;
+  [[nodiscard]] MatX marginal(int var) const;
   /// joint() of many queries at once, sharing the work: the columns of H⁻¹ of every distinct variable are
   /// computed once, in multi-column solves spread over `threads` threads (0 = keel::core::default_threads()).
   /// The result does not depend on `threads`.
-  std::vector<MatX> joint_many(const std::vector<std::vector<int>>& queries, unsigned threads = 1) const;
+  [[nodiscard]] std::vector<MatX> joint_many(const std::vector<std::vector<int>>& queries, unsigned threads = 1) const;
 
   const FactorSummary& summary() const;
   int num_poses() const;

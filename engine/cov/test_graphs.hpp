@@ -1,9 +1,11 @@
-// Small random pose graphs for the unit tests of engine/cov (test helper: not part of the keel.cov facade).
+// Small random pose graphs for the unit tests of engine/cov (test helper: not part of the keel.cov facade). Random
+// numbers come from keel::core::Rng (identical on every standard library), drawn one per statement so that the
+// graphs do not depend on the compiler's order of evaluating function arguments.
 #pragma once
 
-#include <random>
 #include <vector>
 
+#include "core/random.hpp"
 #include "graph/pose_graph.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
@@ -24,13 +26,12 @@ struct TestGraph3D {
 
 // Random SPD information (correlated) with standard deviations around `sigma`.
 template <int D>
-Eigen::Matrix<double, D, D> random_information(std::mt19937_64& rng, double sigma) {
-  std::uniform_real_distribution<double> u(-0.3, 0.3), s(0.5, 1.5);
+Eigen::Matrix<double, D, D> random_information(core::Rng& rng, double sigma) {
   Eigen::Matrix<double, D, D> C = Eigen::Matrix<double, D, D>::Identity();
   for (int r = 0; r < D; ++r)
-    for (int c = 0; c < r; ++c) C(r, c) = u(rng);
+    for (int c = 0; c < r; ++c) C(r, c) = rng.uniform(-0.3, 0.3);
   Eigen::Matrix<double, D, D> S = Eigen::Matrix<double, D, D>::Zero();
-  for (int k = 0; k < D; ++k) S(k, k) = sigma * s(rng);
+  for (int k = 0; k < D; ++k) S(k, k) = sigma * rng.uniform(0.5, 1.5);
   const Eigen::Matrix<double, D, D> L = S * C;  // covariance L Lᵀ
   const Eigen::Matrix<double, D, D> Li =
       L.template triangularView<Eigen::Lower>().solve(Eigen::Matrix<double, D, D>::Identity());
@@ -42,15 +43,16 @@ Eigen::Matrix<double, D, D> random_information(std::mt19937_64& rng, double sigm
 // the truth perturbed by `noise`.
 inline TestGraph2D small_graph_2d(int n, int m, unsigned seed, double noise,
                                   const lie::SE2& start = lie::SE2(60.0, 40.0, 0.3)) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> N(0.0, 1.0);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  core::Rng rng(seed);
+  auto U = [&rng] { return rng.uniform(-1.0, 1.0); };
+  auto N = [&rng] { return rng.normal(); };
   TestGraph2D tg;
   std::vector<lie::SE2> truth;
   lie::SE2 T = start;
   for (int i = 0; i < n; ++i) {
     truth.push_back(T);
-    T = T * lie::SE2(2.0 + U(rng), U(rng), 0.6 * U(rng));
+    const double dx = 2.0 + U(), dy = U(), dth = 0.6 * U();
+    T = T * lie::SE2(dx, dy, dth);
   }
   auto add_edge = [&](int i, int j) {
     graph::Edge2 e;
@@ -66,7 +68,8 @@ inline TestGraph2D small_graph_2d(int n, int m, unsigned seed, double noise,
   std::vector<lie::Vec2> lm_truth;
   for (int k = 0; k < m; ++k) {
     const int p = (k * 5) % n;
-    const lie::Vec2 l = truth[static_cast<std::size_t>(p)] * lie::Vec2(3.0 * U(rng), 3.0 * U(rng));
+    const double lx = 3.0 * U(), ly = 3.0 * U();
+    const lie::Vec2 l = truth[static_cast<std::size_t>(p)] * lie::Vec2(lx, ly);
     lm_truth.push_back(l);
     for (int s = 0; s < 3; ++s) {
       graph::LandmarkMeasurement2 lm;
@@ -77,18 +80,24 @@ inline TestGraph2D small_graph_2d(int n, int m, unsigned seed, double noise,
       tg.graph.landmark_measurements.push_back(lm);
     }
   }
-  for (const auto& t : truth)
-    tg.estimate.push_back(lie::SE2::exp(noise * lie::Vec3(N(rng), N(rng), N(rng))) * t);
-  for (const auto& l : lm_truth) tg.landmarks.push_back(l + noise * lie::Vec2(N(rng), N(rng)));
+  for (const auto& t : truth) {
+    lie::Vec3 d;
+    for (int k = 0; k < 3; ++k) d(k) = noise * N();
+    tg.estimate.push_back(lie::SE2::exp(d) * t);
+  }
+  for (const auto& l : lm_truth) {
+    lie::Vec2 d;
+    for (int k = 0; k < 2; ++k) d(k) = noise * N();
+    tg.landmarks.push_back(l + d);
+  }
   tg.graph.poses = truth;
   tg.graph.landmarks = lm_truth;
   return tg;
 }
 
 inline TestGraph3D small_graph_3d(int n, unsigned seed, double noise) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> N(0.0, 1.0);
-  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  core::Rng rng(seed);
+  auto U = [&rng] { return rng.uniform(-1.0, 1.0); };
   TestGraph3D tg;
   std::vector<lie::SE3> truth;
   lie::Vec6 x0;
@@ -97,7 +106,9 @@ inline TestGraph3D small_graph_3d(int n, unsigned seed, double noise) {
   for (int i = 0; i < n; ++i) {
     truth.push_back(T);
     lie::Vec6 step;
-    step << 2.0 + U(rng), U(rng), 0.5 * U(rng), 0.4 * U(rng), 0.4 * U(rng), 0.6 * U(rng);
+    const double scale[6] = {1.0, 1.0, 0.5, 0.4, 0.4, 0.6};
+    for (int k = 0; k < 6; ++k) step(k) = scale[k] * U();
+    step(0) += 2.0;
     T = T * lie::SE3::exp(step);
   }
   auto add_edge = [&](int i, int j) {
@@ -112,7 +123,7 @@ inline TestGraph3D small_graph_3d(int n, unsigned seed, double noise) {
   for (int i = 0; i + 3 < n; i += 2) add_edge(i + 3, i);
   lie::Vec6 d;
   for (const auto& t : truth) {
-    for (int k = 0; k < 6; ++k) d(k) = noise * N(rng);
+    for (int k = 0; k < 6; ++k) d(k) = noise * rng.normal();
     tg.estimate.push_back(lie::SE3::exp(d) * t);
   }
   tg.graph.poses = truth;

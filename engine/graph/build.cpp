@@ -2,8 +2,10 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -15,15 +17,12 @@ namespace {
 
 template <int N>
 std::string information_problem_n(const Eigen::Matrix<double, N, N>& W) {
-  char buf[160];
   if (!W.allFinite()) return "has a non-finite entry (overflow)";
   Eigen::Matrix<double, N, 1> d;
   for (int k = 0; k < N; ++k) {
     if (!(W(k, k) > 0.0)) {
-      std::snprintf(buf, sizeof buf,
-                    "is not positive definite: diagonal entry (%d,%d) = %.6g is not positive", k + 1, k + 1,
-                    W(k, k));
-      return buf;
+      return fmt::format("is not positive definite: diagonal entry ({},{}) = {:.6g} is not positive", k + 1, k + 1,
+                         W(k, k));
     }
     d(k) = 1.0 / std::sqrt(W(k, k));
   }
@@ -32,10 +31,7 @@ std::string information_problem_n(const Eigen::Matrix<double, N, N>& W) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(S, Eigen::EigenvaluesOnly);
   const double lo = es.eigenvalues()(0);
   if (es.info() != Eigen::Success || !(lo > 1e-10)) {
-    std::snprintf(buf, sizeof buf,
-                  "is not positive definite (smallest eigenvalue of the unit-diagonal scaled matrix: %.3g)",
-                  lo);
-    return buf;
+    return fmt::format("is not positive definite (smallest eigenvalue of the unit-diagonal scaled matrix: {:.3g})", lo);
   }
   return {};
 }
@@ -76,8 +72,8 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
       auto [it, fresh] = seen.emplace(v.id, v.line);
       if (!fresh) {
         fail_at(name, v.line,
-                vertex_tag + " field 1 (id): duplicate vertex id " + std::to_string(v.id) +
-                    " (first defined on line " + std::to_string(it->second) + ")");
+                fmt::format("{} field 1 (id): duplicate vertex id {} (first defined on line {})", vertex_tag, v.id,
+                            it->second));
       }
     }
     const std::size_t n = vertices.size();
@@ -89,20 +85,20 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
         std::size_t missing = 0;
         while (missing < n && have[missing]) ++missing;
         fail_at(name, v.line,
-                vertex_tag + " field 1 (id): vertex ids must be contiguous from 0, but id " +
-                    std::to_string(missing) + " is missing (" + std::to_string(n) + " " + vertex_tag +
-                    " lines, this one has id " + std::to_string(v.id) + ")");
+                fmt::format("{} field 1 (id): vertex ids must be contiguous from 0, but id {} is missing ({} {} "
+                            "lines, this one has id {})",
+                            vertex_tag, missing, n, vertex_tag, v.id));
       }
     }
     std::vector<char> used(n, 0);
     for (const auto& e : g.edges) {
       if (static_cast<std::size_t>(e.i) >= n || !seen.count(e.i)) {
         fail_at(name, e.line,
-                edge_tag + " field 1 (i): pose " + std::to_string(e.i) + " has no " + vertex_tag + " line");
+                fmt::format("{} field 1 (i): pose {} has no {} line", edge_tag, e.i, vertex_tag));
       }
       if (static_cast<std::size_t>(e.j) >= n || !seen.count(e.j)) {
         fail_at(name, e.line,
-                edge_tag + " field 2 (j): pose " + std::to_string(e.j) + " has no " + vertex_tag + " line");
+                fmt::format("{} field 2 (j): pose {} has no {} line", edge_tag, e.j, vertex_tag));
       }
       used[static_cast<std::size_t>(e.i)] = used[static_cast<std::size_t>(e.j)] = 1;
     }
@@ -110,7 +106,7 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
       for (const auto& m : g.landmark_measurements) {
         if (static_cast<std::size_t>(m.pose) >= n) {
           fail_at(name, m.line,
-                  "LANDMARK field 1 (i): pose " + std::to_string(m.pose) + " has no " + vertex_tag + " line");
+                  fmt::format("LANDMARK field 1 (i): pose {} has no {} line", m.pose, vertex_tag));
         }
         used[static_cast<std::size_t>(m.pose)] = 1;
       }
@@ -119,8 +115,9 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
       for (const auto& v : vertices) {
         if (!used[static_cast<std::size_t>(v.id)]) {
           fail_at(name, v.line,
-                  vertex_tag + " field 1 (id): vertex " + std::to_string(v.id) +
-                      " is used by no edge (a dangling vertex leaves the graph disconnected)");
+                  fmt::format("{} field 1 (id): vertex {} is used by no edge (a dangling vertex leaves the graph "
+                              "disconnected)",
+                              vertex_tag, v.id));
         }
       }
     }
@@ -136,7 +133,7 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
   if constexpr (requires { g.landmark_measurements; }) {
     for (const auto& m : g.landmark_measurements) max_id = std::max(max_id, m.pose);
   }
-  if (max_id < 0) fail_at(name, 0, "no " + vertex_tag + " or edge records (empty file?)");
+  if (max_id < 0) fail_at(name, 0, fmt::format("no {} or edge records (empty file?)", vertex_tag));
   std::unordered_map<int, std::size_t> odometry;  // i -> index of the first edge (i, i+1)
   for (std::size_t k = 0; k < g.edges.size(); ++k) {
     const auto& e = g.edges[k];
@@ -146,18 +143,18 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
   // make us allocate or loop more than the file's size allows.
   for (int k = 0; k < max_id; ++k) {
     if (!odometry.count(k)) {
-      const std::string head = "no odometry edge (" + std::to_string(k) + ", " + std::to_string(k + 1) +
-                               "): the file has no " + vertex_tag +
-                               " lines, so the initial estimate chains the edges (i, i+1), and pose " +
-                               std::to_string(k + 1);
+      const std::string head = fmt::format(
+          "no odometry edge ({}, {}): the file has no {} lines, so the initial estimate chains the edges (i, i+1), and "
+          "pose {}",
+          k, k + 1, vertex_tag, k + 1);
       const Appearance a = first_appearance(g, k + 1, edge_tag);
       if (a.line > 0)
-        fail_at(name, 0, head + " first appears on line " + std::to_string(a.line) + " (" + a.what + ")");
+        fail_at(name, 0, fmt::format("{} first appears on line {} ({})", head, a.line, a.what));
       const Appearance top = first_appearance(g, max_id, edge_tag);
       fail_at(name, 0,
-              head + " is named by no record, though pose ids must be contiguous from 0 (the largest, " +
-                  std::to_string(max_id) + ", is on line " + std::to_string(top.line) + " (" + top.what +
-                  "))");
+              fmt::format("{} is named by no record, though pose ids must be contiguous from 0 (the largest, {}, is "
+                          "on line {} ({}))",
+                          head, max_id, top.line, top.what));
     }
   }
   const std::size_t n = static_cast<std::size_t>(max_id) + 1;
@@ -167,8 +164,7 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
     g.poses[k + 1] = g.poses[k] * e.measurement;
     if (!g.poses[k + 1].matrix().allFinite()) {
       fail_at(name, e.line,
-              edge_tag + ": chaining the odometry overflows at pose " + std::to_string(k + 1) +
-                  " (measurement too large)");
+              fmt::format("{}: chaining the odometry overflows at pose {} (measurement too large)", edge_tag, k + 1));
     }
   }
   g.has_initial_poses = false;
@@ -183,9 +179,7 @@ std::string information_problem(const Mat6& W) { return information_problem_n<6>
 bool rotation_from_quaternion(const double* q, Mat3& R, std::string& why) {
   const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-3) {
-    char buf[120];
-    std::snprintf(buf, sizeof buf, "quaternion norm %.6g is not 1 (tolerance 1e-3)", n);
-    why = buf;
+    why = fmt::format("quaternion norm {:.6g} is not 1 (tolerance 1e-3)", n);
     return false;
   }
   const Eigen::Quaterniond quat(q[3] / n, q[0] / n, q[1] / n, q[2] / n);
@@ -220,9 +214,9 @@ void assemble(PoseGraph2D& g, const std::vector<Vertex2>& vertices, const std::s
       std::size_t missing = 0;
       while (first.count(static_cast<int>(missing))) ++missing;
       fail_at(g.source, m.line,
-              "LANDMARK field 2 (l): landmark ids must be contiguous from 0, but landmark " +
-                  std::to_string(missing) + " is never observed (" + std::to_string(count) +
-                  " distinct landmarks, this one has id " + std::to_string(m.landmark) + ")");
+              fmt::format("LANDMARK field 2 (l): landmark ids must be contiguous from 0, but landmark {} is never "
+                          "observed ({} distinct landmarks, this one has id {})",
+                          missing, count, m.landmark));
     }
   }
   g.landmarks.assign(count, Vec2::Zero());
@@ -243,17 +237,15 @@ void check_indices(const PoseGraph2D& g, const char* writer) {
   const auto n = static_cast<int>(g.poses.size());
   for (const auto& e : g.edges) {
     if (e.i < 0 || e.j < 0 || e.i >= n || e.j >= n) {
-      throw std::invalid_argument(std::string(writer) + ": edge (" + std::to_string(e.i) + ", " +
-                                  std::to_string(e.j) + ") names a pose outside the graph (" +
-                                  std::to_string(n) + " poses)");
+      throw std::invalid_argument(
+          fmt::format("{}: edge ({}, {}) names a pose outside the graph ({} poses)", writer, e.i, e.j, n));
     }
   }
   const auto l = static_cast<int>(g.landmarks.size());
   for (const auto& m : g.landmark_measurements) {
     if (m.pose < 0 || m.pose >= n || m.landmark < 0 || m.landmark >= l) {
-      throw std::invalid_argument(std::string(writer) + ": landmark measurement (" + std::to_string(m.pose) +
-                                  ", " + std::to_string(m.landmark) +
-                                  ") names a pose or landmark outside the graph");
+      throw std::invalid_argument(fmt::format(
+          "{}: landmark measurement ({}, {}) names a pose or landmark outside the graph", writer, m.pose, m.landmark));
     }
   }
 }
@@ -262,9 +254,8 @@ void check_indices(const PoseGraph3D& g, const char* writer) {
   const auto n = static_cast<int>(g.poses.size());
   for (const auto& e : g.edges) {
     if (e.i < 0 || e.j < 0 || e.i >= n || e.j >= n) {
-      throw std::invalid_argument(std::string(writer) + ": edge (" + std::to_string(e.i) + ", " +
-                                  std::to_string(e.j) + ") names a pose outside the graph (" +
-                                  std::to_string(n) + " poses)");
+      throw std::invalid_argument(
+          fmt::format("{}: edge ({}, {}) names a pose outside the graph ({} poses)", writer, e.i, e.j, n));
     }
   }
 }

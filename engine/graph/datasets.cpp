@@ -1,5 +1,6 @@
 #include "graph/datasets.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cstdlib>
 #include <map>
@@ -49,7 +50,8 @@ DatasetManifest parse_manifest(const fs::path& file) {
   m.file = file;
   const core::ConfigTable root = core::load_toml(file);
   if (root.integer("version") != 1) {
-    throw DatasetError(root.where("version") + ": unsupported manifest version (this build reads version 1)");
+    throw DatasetError(fmt::format("{}: unsupported manifest version (this build reads version 1)",
+                                   root.where("version")));
   }
   const core::ConfigTable all = root.table("datasets");
   for (const auto& name : all.keys()) {
@@ -65,14 +67,14 @@ DatasetManifest parse_manifest(const fs::path& file) {
       df.dataset = name;
       df.path = path;
       if (!is_safe_relative(path)) {
-        throw DatasetError(files.where(path) +
-                           ": a file path must be relative, without '.', '..' or backslashes");
+        throw DatasetError(fmt::format("{}: a file path must be relative, without '.', '..' or backslashes",
+                                       files.where(path)));
       }
       df.sha256 = f.string("sha256");
       if (!is_sha256(df.sha256))
-        throw DatasetError(f.where("sha256") + ": expected 64 lower-case hex digits");
+        throw DatasetError(fmt::format("{}: expected 64 lower-case hex digits", f.where("sha256")));
       df.bytes = f.integer("bytes");
-      if (df.bytes < 0) throw DatasetError(f.where("bytes") + ": must be >= 0");
+      if (df.bytes < 0) throw DatasetError(fmt::format("{}: must be >= 0", f.where("bytes")));
       df.derived = f.has("derived") && f.boolean("derived");
       if (df.derived) {
         df.derived_from = f.strings("derived_from");
@@ -80,7 +82,7 @@ DatasetManifest parse_manifest(const fs::path& file) {
         df.recipe = f.string("recipe");
         for (const auto& src : df.derived_from) {
           if (!is_safe_relative(src))
-            throw DatasetError(f.where("derived_from") + ": '" + src + "' is not a safe path");
+            throw DatasetError(fmt::format("{}: '{}' is not a safe path", f.where("derived_from"), src));
         }
       } else {
         df.repository = f.string("repository");
@@ -91,16 +93,15 @@ DatasetManifest parse_manifest(const fs::path& file) {
       }
       info.files.push_back(std::move(df));
     }
-    if (info.files.empty()) throw DatasetError(d.where("files") + ": a dataset lists at least one file");
+    if (info.files.empty()) throw DatasetError(fmt::format("{}: a dataset lists at least one file", d.where("files")));
     // Every derived file's inputs are files of the same dataset.
     for (const auto& f : info.files) {
       for (const auto& src : f.derived_from) {
         const bool known = std::any_of(info.files.begin(), info.files.end(),
                                        [&](const DatasetFile& g) { return g.path == src && !g.derived; });
         if (!known) {
-          throw DatasetError(file.string() + ": [datasets." + name + ".files.\"" + f.path +
-                             "\"] derived_from names '" + src +
-                             "', which is not a downloadable file of this dataset");
+          throw DatasetError(fmt::format("{}: [datasets.{}.files.\"{}\"] derived_from names '{}', which is not a "
+                                         "downloadable file of this dataset", file.string(), name, f.path, src));
         }
       }
     }
@@ -167,15 +168,15 @@ DatasetManifest load_dataset_manifest(const fs::path& manifest_toml) {
 fs::path find_repo_root(const fs::path& start) {
   std::error_code ec;
   fs::path dir = start.empty() ? fs::current_path(ec) : fs::absolute(start, ec);
-  if (ec) throw DatasetError("cannot determine the current directory: " + ec.message());
+  if (ec) throw DatasetError(fmt::format("cannot determine the current directory: {}", ec.message()));
   const fs::path first = dir;
   for (;;) {
     if (fs::is_regular_file(dir / "datasets" / "manifest.toml", ec)) return dir;
     if (!dir.has_parent_path() || dir.parent_path() == dir) break;
     dir = dir.parent_path();
   }
-  throw DatasetError("no datasets/manifest.toml in " + first.string() +
-                     " or any parent folder: run from inside the keel checkout, or pass its root explicitly");
+  throw DatasetError(fmt::format("no datasets/manifest.toml in {} or any parent folder: run from inside the keel "
+                                 "checkout, or pass its root explicitly", first.string()));
 }
 
 std::vector<fs::path> dataset_search_paths(const std::string& name, const std::string& relative_path,
@@ -197,58 +198,57 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
   if (!entry) {
     std::string known;
     if (const DatasetInfo* d = manifest->find_dataset(name)) {
-      for (const auto& f : d->files) known += "\n  " + f.path;
-      throw DatasetError(manifest->file.string() + ": dataset '" + name + "' has no file '" + relative_path +
-                         "'; its files are:" + known);
+      for (const auto& f : d->files) known += fmt::format("\n  {}", f.path);
+      throw DatasetError(fmt::format("{}: dataset '{}' has no file '{}'; its files are:{}",
+                                     manifest->file.string(), name, relative_path, known));
     }
-    for (const auto& d : manifest->datasets) known += (known.empty() ? "" : ", ") + d.name;
-    throw DatasetError(manifest->file.string() + ": no dataset named '" + name + "' (known: " + known + ")");
+    for (const auto& d : manifest->datasets) known += fmt::format("{}{}", known.empty() ? "" : ", ", d.name);
+    throw DatasetError(fmt::format("{}: no dataset named '{}' (known: {})", manifest->file.string(), name, known));
   }
   std::string report;
   if (const char* env = std::getenv("KEEL_DATASETS"); !env || !*env) {
-    report += "\n  $KEEL_DATASETS/" + name + "/" + relative_path + ": KEEL_DATASETS is not set";
+    report += fmt::format("\n  $KEEL_DATASETS/{}/{}: KEEL_DATASETS is not set", name, relative_path);
   }
   for (const fs::path& p : dataset_search_paths(name, relative_path, r)) {
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) {
-      report += "\n  " + p.string() + ": not found";
+      report += fmt::format("\n  {}: not found", p.string());
       continue;
     }
     const std::uintmax_t size = fs::file_size(p, ec);
     if (ec) {
-      report += "\n  " + p.string() + ": cannot read its size (" + ec.message() + ")";
+      report += fmt::format("\n  {}: cannot read its size ({})", p.string(), ec.message());
       continue;
     }
     if (static_cast<std::int64_t>(size) != entry->bytes) {
-      report += "\n  " + p.string() + ": " + std::to_string(size) + " bytes, the manifest says " +
-                std::to_string(entry->bytes);
+      report += fmt::format("\n  {}: {} bytes, the manifest says {}", p.string(), size, entry->bytes);
       continue;
     }
     std::string got;
     try {
       got = cached_sha256(p, size);
     } catch (const std::exception& e) {
-      report += "\n  " + p.string() + ": " + e.what();
+      report += fmt::format("\n  {}: {}", p.string(), e.what());
       continue;
     }
     if (got != entry->sha256) {
-      report += "\n  " + p.string() + ": sha256 " + got + " differs from the manifest's " + entry->sha256;
+      report += fmt::format("\n  {}: sha256 {} differs from the manifest's {}", p.string(), got, entry->sha256);
       continue;
     }
     return p;
   }
-  std::string how = "\nFetch it with: scripts/fetch-datasets " + name +
-                    " (downloads into datasets/cache/; --from DIR copies from a local mirror laid out like "
-                    "shared/datasets), or set KEEL_DATASETS to a folder holding <name>/<path>.";
+  std::string how = fmt::format("\nFetch it with: scripts/fetch-datasets {} (downloads into datasets/cache/; --from "
+                                "DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS "
+                                "to a folder holding <name>/<path>.", name);
   if (entry->derived) {
-    how += "\nThis file is derived here (not downloadable): scripts/fetch-datasets " + name +
-           " regenerates it from ";
+    how += fmt::format("\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ",
+                       name);
     for (std::size_t k = 0; k < entry->derived_from.size(); ++k)
-      how += (k ? ", " : "") + entry->derived_from[k];
+      how += fmt::format("{}{}", k ? ", " : "", entry->derived_from[k]);
     how += " and checks its sha256.";
   }
-  throw DatasetError("dataset file " + name + "/" + relative_path + " (sha256 " +
-                     entry->sha256.substr(0, 12) + "...) has no verified copy; looked in:" + report + how);
+  throw DatasetError(fmt::format("dataset file {}/{} (sha256 {}...) has no verified copy; looked in:{}{}",
+                                 name, relative_path, entry->sha256.substr(0, 12), report, how));
 }
 
 }  // namespace keel::graph

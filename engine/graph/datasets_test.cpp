@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
+#include <fmt/format.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -124,16 +125,16 @@ NoiseCheck edge_noise(const Graph& noisy, const Graph& truth) {
 
 void check_unit(const std::vector<double>& s, double tol) {
   if (std::getenv("KEEL_GRAPH_TEST_VERBOSE")) {
-    for (double v : s) std::fprintf(stderr, " %.4f", v);
-    std::fprintf(stderr, "\n");
+    for (double v : s) fmt::print(stderr, " {:.4f}", v);
+    fmt::print(stderr, "\n");
   }
   for (std::size_t k = 0; k < s.size(); ++k)
     CHECK_MESSAGE(std::abs(s[k] - 1.0) < tol, "component ", k, ": ", s[k]);
 }
 void check_far(const std::vector<double>& s) {
   if (std::getenv("KEEL_GRAPH_TEST_VERBOSE")) {
-    for (double v : s) std::fprintf(stderr, " (%.4f)", v);
-    std::fprintf(stderr, "\n");
+    for (double v : s) fmt::print(stderr, " ({:.4f})", v);
+    fmt::print(stderr, "\n");
   }
   bool any_far = false;
   for (double v : s) any_far = any_far || std::abs(v - 1.0) > 0.5;

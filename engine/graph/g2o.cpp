@@ -1,5 +1,6 @@
 #include "graph/g2o.hpp"
 
+#include <fmt/format.h>
 #include <array>
 #include <sstream>
 #include <stdexcept>
@@ -30,7 +31,7 @@ bool is_2d_tag(std::string_view t) {
 }
 
 void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
-  if (i == j) sc.fail_field(2, "the edge connects pose " + std::to_string(i) + " to itself");
+  if (i == j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", i));
 }
 
 PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
@@ -57,17 +58,16 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
       e.measurement = SE2(v[0], v[1], v[2]);
       e.information = detail::symmetric_from_upper<3>(v + 3);
       if (auto why = detail::information_problem(e.information); !why.empty()) {
-        sc.fail_fields(6, 11, "the information matrix " + why);
+        sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
       }
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_3d_tag(tag)) {
-      sc.fail(detail::quote_token(tag) +
-              " is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or "
-              "read_pose_graph_3d)");
+      sc.fail(fmt::format("{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
+                          detail::quote_token(tag)));
     } else {
-      sc.fail("unknown tag " + detail::quote_token(tag) +
-              " (the 2D g2o reader knows VERTEX_SE2 and EDGE_SE2)");
+      sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2 and EDGE_SE2)",
+                          detail::quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE2", "EDGE_SE2");
@@ -103,25 +103,24 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
       e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
       const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
       if (auto p = detail::information_problem(w_g2o); !p.empty())
-        sc.fail_fields(10, 30, "the information matrix " + p);
+        sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
       // (t, q_vec) -> (t, φ): q_vec ≈ φ/2, J = diag(I, ½I), Ω = Jᵀ Ω_g2o J.
       Mat6 W = w_g2o;
       W.block<3, 3>(0, 3) *= 0.5;
       W.block<3, 3>(3, 0) *= 0.5;
       W.block<3, 3>(3, 3) *= 0.25;
       if (auto p = detail::information_problem(W); !p.empty()) {
-        sc.fail_fields(10, 30, "the information matrix in (t, φ) " + p);
+        sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
       }
       e.information = W;
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_2d_tag(tag)) {
-      sc.fail(detail::quote_token(tag) +
-              " is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or "
-              "read_pose_graph_2d)");
+      sc.fail(fmt::format("{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
+                          detail::quote_token(tag)));
     } else {
-      sc.fail("unknown tag " + detail::quote_token(tag) +
-              " (the 3D g2o reader knows VERTEX_SE3:QUAT and EDGE_SE3:QUAT)");
+      sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT and EDGE_SE3:QUAT)",
+                          detail::quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE3:QUAT", "EDGE_SE3:QUAT");
@@ -145,7 +144,7 @@ std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
   if (o.write_vertices) {
     for (std::size_t k = 0; k < g.poses.size(); ++k) {
       const SE2& T = g.poses[k];
-      s += "VERTEX_SE2 " + std::to_string(k);
+      s += fmt::format("VERTEX_SE2 {}", k);
       put(s, T.translation().x());
       put(s, T.translation().y());
       put(s, T.angle());
@@ -153,7 +152,7 @@ std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
     }
   }
   for (const auto& e : g.edges) {
-    s += "EDGE_SE2 " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    s += fmt::format("EDGE_SE2 {} {}", e.i, e.j);
     put(s, e.measurement.translation().x());
     put(s, e.measurement.translation().y());
     put(s, e.measurement.angle());
@@ -172,7 +171,7 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
   if (o.write_vertices) {
     for (std::size_t k = 0; k < g.poses.size(); ++k) {
       const SE3& T = g.poses[k];
-      s += "VERTEX_SE3:QUAT " + std::to_string(k);
+      s += fmt::format("VERTEX_SE3:QUAT {}", k);
       for (int a = 0; a < 3; ++a) put(s, T.translation()(a));
       detail::quaternion_from_rotation(T.rotation(), q);
       for (double x : q) put(s, x);
@@ -180,7 +179,7 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
     }
   }
   for (const auto& e : g.edges) {
-    s += "EDGE_SE3:QUAT " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    s += fmt::format("EDGE_SE3:QUAT {} {}", e.i, e.j);
     for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
     detail::quaternion_from_rotation(e.measurement.rotation(), q);
     for (double x : q) put(s, x);

@@ -1,10 +1,13 @@
 #include "graph/io.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/names.hpp"
 #include "graph/g2o.hpp"
 #include "graph/isam.hpp"
 #include "graph/parse_error.hpp"
@@ -12,34 +15,29 @@
 
 namespace keel::graph {
 
-std::string to_string(GraphFormat format) {
-  switch (format) {
-    case GraphFormat::G2o:
-      return "g2o";
-    case GraphFormat::Isam:
-      return "isam";
-  }
-  return "?";
-}
+namespace {
 
-std::optional<GraphFormat> graph_format_from_string(std::string_view s) {
-  if (s == "g2o") return GraphFormat::G2o;
-  if (s == "isam") return GraphFormat::Isam;
-  return std::nullopt;
-}
+constexpr core::NameTable<GraphFormat, 2> kGraphFormat{"graph::GraphFormat",
+                                                       {{{GraphFormat::g2o, "g2o"}, {GraphFormat::isam, "isam"}}}};
+
+}  // namespace
+
+std::string_view to_string(GraphFormat format) { return kGraphFormat.name(format); }
+
+GraphFormat graph_format_from_string(std::string_view s) { return kGraphFormat.parse(s); }
 
 std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name) {
   detail::RecordScanner sc(text, name.string());
   if (sc.next()) {
     const std::string_view t = sc.tag();
     if (t == "VERTEX_SE2" || t == "EDGE_SE2" || t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT")
-      return GraphFormat::G2o;
+      return GraphFormat::g2o;
     if (t == "ODOMETRY" || t == "EDGE2" || t == "Constraint2" || t == "LANDMARK" || t == "EDGE3") {
-      return GraphFormat::Isam;
+      return GraphFormat::isam;
     }
     return std::nullopt;
   }
-  return name.extension() == ".g2o" ? GraphFormat::G2o : GraphFormat::Isam;
+  return name.extension() == ".g2o" ? GraphFormat::g2o : GraphFormat::isam;
 }
 
 namespace {
@@ -48,27 +46,26 @@ GraphFormat format_or_throw(std::string_view text, const std::string& name) {
   if (auto f = detect_graph_format(text, name)) return *f;
   detail::RecordScanner sc(text, name);
   sc.next();
-  sc.fail("unknown tag " + detail::quote_token(sc.tag()) +
-          " in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT) nor iSAM "
-          "text "
-          "(ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)");
+  sc.fail(fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
+                      "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",
+                      detail::quote_token(sc.tag())));
 }
 
 PoseGraph2D read_2d(const std::string& text, const std::string& name) {
   std::istringstream in(text);
-  return format_or_throw(text, name) == GraphFormat::G2o ? read_g2o_2d(in, name) : read_isam_2d(in, name);
+  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_2d(in, name) : read_isam_2d(in, name);
 }
 
 PoseGraph3D read_3d(const std::string& text, const std::string& name) {
   std::istringstream in(text);
-  return format_or_throw(text, name) == GraphFormat::G2o ? read_g2o_3d(in, name) : read_isam_3d(in, name);
+  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_3d(in, name) : read_isam_3d(in, name);
 }
 
 GraphFormat format_for_writing(const std::filesystem::path& file) {
-  if (file.extension() == ".g2o") return GraphFormat::G2o;
-  if (file.extension() == ".txt") return GraphFormat::Isam;
-  throw std::invalid_argument("write_pose_graph: " + file.string() +
-                              ": unknown extension (use .g2o for g2o or .txt for iSAM text)");
+  if (file.extension() == ".g2o") return GraphFormat::g2o;
+  if (file.extension() == ".txt") return GraphFormat::isam;
+  throw std::invalid_argument(
+      fmt::format("write_pose_graph: {}: unknown extension (use .g2o for g2o or .txt for iSAM text)", file.string()));
 }
 
 // |a - b| <= tol * max(1, |a|, |b|)
@@ -84,24 +81,22 @@ bool close_matrix(const M& a, const M& b, double tol) {
   return true;
 }
 
-std::string num(std::size_t k) { return std::to_string(k); }
-
 template <class Graph>
 std::string difference_common(const Graph& a, const Graph& b, double tol) {
   if (a.poses.size() != b.poses.size())
-    return "pose count " + num(a.poses.size()) + " vs " + num(b.poses.size());
+    return fmt::format("pose count {} vs {}", a.poses.size(), b.poses.size());
   if (a.edges.size() != b.edges.size())
-    return "edge count " + num(a.edges.size()) + " vs " + num(b.edges.size());
+    return fmt::format("edge count {} vs {}", a.edges.size(), b.edges.size());
   for (std::size_t k = 0; k < a.poses.size(); ++k) {
-    if (!close_matrix(a.poses[k].matrix(), b.poses[k].matrix(), tol)) return "pose " + num(k) + " differs";
+    if (!close_matrix(a.poses[k].matrix(), b.poses[k].matrix(), tol)) return fmt::format("pose {} differs", k);
   }
   for (std::size_t k = 0; k < a.edges.size(); ++k) {
     const auto& x = a.edges[k];
     const auto& y = b.edges[k];
-    if (x.i != y.i || x.j != y.j) return "edge " + num(k) + " connects different poses";
+    if (x.i != y.i || x.j != y.j) return fmt::format("edge {} connects different poses", k);
     if (!close_matrix(x.measurement.matrix(), y.measurement.matrix(), tol))
-      return "edge " + num(k) + " measurement differs";
-    if (!close_matrix(x.information, y.information, tol)) return "edge " + num(k) + " information differs";
+      return fmt::format("edge {} measurement differs", k);
+    if (!close_matrix(x.information, y.information, tol)) return fmt::format("edge {} information differs", k);
   }
   return {};
 }
@@ -122,14 +117,14 @@ PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name) {
 }
 
 void write_pose_graph(const PoseGraph2D& graph, const std::filesystem::path& file) {
-  if (format_for_writing(file) == GraphFormat::G2o) {
+  if (format_for_writing(file) == GraphFormat::g2o) {
     write_g2o(graph, file);
   } else {
     write_isam(graph, file);
   }
 }
 void write_pose_graph(const PoseGraph3D& graph, const std::filesystem::path& file) {
-  if (format_for_writing(file) == GraphFormat::G2o) {
+  if (format_for_writing(file) == GraphFormat::g2o) {
     write_g2o(graph, file);
   } else {
     write_isam(graph, file);
@@ -139,24 +134,24 @@ void write_pose_graph(const PoseGraph3D& graph, const std::filesystem::path& fil
 std::string graph_difference(const PoseGraph2D& a, const PoseGraph2D& b, double tol) {
   if (auto d = difference_common(a, b, tol); !d.empty()) return d;
   if (a.landmarks.size() != b.landmarks.size()) {
-    return "landmark count " + num(a.landmarks.size()) + " vs " + num(b.landmarks.size());
+    return fmt::format("landmark count {} vs {}", a.landmarks.size(), b.landmarks.size());
   }
   if (a.landmark_measurements.size() != b.landmark_measurements.size()) {
-    return "landmark measurement count " + num(a.landmark_measurements.size()) + " vs " +
-           num(b.landmark_measurements.size());
+    return fmt::format("landmark measurement count {} vs {}", a.landmark_measurements.size(),
+                       b.landmark_measurements.size());
   }
   for (std::size_t k = 0; k < a.landmarks.size(); ++k) {
-    if (!close_matrix(a.landmarks[k], b.landmarks[k], tol)) return "landmark " + num(k) + " differs";
+    if (!close_matrix(a.landmarks[k], b.landmarks[k], tol)) return fmt::format("landmark {} differs", k);
   }
   for (std::size_t k = 0; k < a.landmark_measurements.size(); ++k) {
     const auto& x = a.landmark_measurements[k];
     const auto& y = b.landmark_measurements[k];
     if (x.pose != y.pose || x.landmark != y.landmark)
-      return "landmark measurement " + num(k) + " has different ids";
+      return fmt::format("landmark measurement {} has different ids", k);
     if (!close_matrix(x.position, y.position, tol))
-      return "landmark measurement " + num(k) + " position differs";
+      return fmt::format("landmark measurement {} position differs", k);
     if (!close_matrix(x.information, y.information, tol)) {
-      return "landmark measurement " + num(k) + " information differs";
+      return fmt::format("landmark measurement {} information differs", k);
     }
   }
   return {};

@@ -17,13 +17,17 @@
 
 namespace keel::graph {
 
-enum class GraphFormat { G2o, Isam };
+enum class GraphFormat {
+  g2o,   // g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT)
+  isam,  // iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)
+};
 
-std::string to_string(GraphFormat format);  // "g2o", "isam"
-std::optional<GraphFormat> graph_format_from_string(std::string_view s);
+std::string_view to_string(GraphFormat format);  // "g2o", "isam"
+// The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.
+[[nodiscard]] GraphFormat graph_format_from_string(std::string_view s);
 
 /// By first tag, then by extension (see above); nullopt when neither decides (unknown first tag).
-std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name);
+[[nodiscard]] std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name);
 
 PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file);
 PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name);
@@ -37,7 +41,7 @@ void write_pose_graph(const PoseGraph3D& graph, const std::filesystem::path& fil
 /// Empty when a and b hold the same poses, edges (i, j, measurement, information), landmarks and landmark
 /// measurements within `tol` (relative to each number's magnitude, at least absolute `tol`); otherwise the
 /// first difference in words. `source`, `line` and has_initial_poses are not compared.
-std::string graph_difference(const PoseGraph2D& a, const PoseGraph2D& b, double tol = 1e-12);
-std::string graph_difference(const PoseGraph3D& a, const PoseGraph3D& b, double tol = 1e-12);
+[[nodiscard]] std::string graph_difference(const PoseGraph2D& a, const PoseGraph2D& b, double tol = 1e-12);
+[[nodiscard]] std::string graph_difference(const PoseGraph3D& a, const PoseGraph3D& b, double tol = 1e-12);
 
 }  // namespace keel::graph

@@ -4,9 +4,11 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
+#include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
-#include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "graph/isam.hpp"
 #include "graph/parse_error.hpp"
 #include "graph/trajectory.hpp"
+#include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
 
 using namespace keel::graph;
@@ -26,41 +29,46 @@ using keel::lie::Vec6;
 namespace {
 
 template <int N>
-Eigen::Matrix<double, N, N> random_information(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::uniform_real_distribution<double> scale(-2.0, 4.0);
-  Eigen::Matrix<double, N, N> A;
-  for (int r = 0; r < N; ++r)
-    for (int c = 0; c < N; ++c) A(r, c) = u(rng);
+Eigen::Matrix<double, N, N> random_information(keel::core::Rng& rng) {
+  // D (S) D with S symmetric positive definite (smallest eigenvalue ≥ ½) and D diagonal with entries 10^[−2, 4):
+  // information matrices over six orders of magnitude.
+  const Eigen::Matrix<double, N, N> S = keel::testkit::random_spd(rng, N, 1.0, 0.5);
   Eigen::Matrix<double, N, 1> d;
-  for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, scale(rng));
-  return d.asDiagonal() * (A * A.transpose() + 0.5 * Eigen::Matrix<double, N, N>::Identity()) *
-         d.asDiagonal();
+  for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, rng.uniform(-2.0, 4.0));
+  return d.asDiagonal() * S * d.asDiagonal();
+}
+
+// Uniform on {0, …, n − 1}.
+int pick(keel::core::Rng& rng, int n) { return std::min(n - 1, static_cast<int>(rng.uniform() * n)); }
+
+SE2 random_pose_2d(keel::core::Rng& rng) {
+  const double x = rng.uniform(-20.0, 20.0), y = rng.uniform(-20.0, 20.0), th = rng.uniform(-kPi, kPi);
+  return SE2(x, y, th);
 }
 
 // Random 2D graph: odometry chain (so poses = chained odometry), loop closures, optional landmarks seen from
 // random poses (landmarks = first observation), measurements of every size and angle.
-PoseGraph2D random_graph_2d(std::mt19937_64& rng, int n, int loops, int landmarks) {
-  std::uniform_real_distribution<double> pos(-20.0, 20.0), ang(-kPi, kPi);
-  std::uniform_int_distribution<int> pick(0, n - 1);
+PoseGraph2D random_graph_2d(keel::core::Rng& rng, int n, int loops, int landmarks) {
   PoseGraph2D g;
   g.poses.assign(static_cast<std::size_t>(n), SE2());
   for (int k = 0; k + 1 < n; ++k) {
-    Edge2 e{k, k + 1, SE2(pos(rng), pos(rng), ang(rng)), random_information<3>(rng), 0};
+    Edge2 e{k, k + 1, random_pose_2d(rng), random_information<3>(rng), 0};
     g.poses[static_cast<std::size_t>(k + 1)] = g.poses[static_cast<std::size_t>(k)] * e.measurement;
     g.edges.push_back(e);
   }
   for (int k = 0; k < loops; ++k) {
-    int i = pick(rng), j = pick(rng);
+    int i = pick(rng, n), j = pick(rng, n);
     if (i == j) j = (i + 2) % n;
-    g.edges.push_back({i, j, SE2(pos(rng), pos(rng), ang(rng)), random_information<3>(rng), 0});
+    const SE2 z = random_pose_2d(rng);
+    g.edges.push_back({i, j, z, random_information<3>(rng), 0});
   }
   for (int l = 0; l < landmarks; ++l) {
     for (int rep = 0; rep < 3; ++rep) {
       LandmarkMeasurement2 m;
-      m.pose = pick(rng);
+      m.pose = pick(rng, n);
       m.landmark = l;
-      m.position = Vec2(pos(rng), pos(rng));
+      m.position.x() = rng.uniform(-20.0, 20.0);
+      m.position.y() = rng.uniform(-20.0, 20.0);
       m.information = random_information<2>(rng);
       g.landmark_measurements.push_back(m);
     }
@@ -79,15 +87,14 @@ PoseGraph2D random_graph_2d(std::mt19937_64& rng, int n, int loops, int landmark
   return g;
 }
 
-SE3 random_pose_3d(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> pos(-20.0, 20.0), rot(-3.0, 3.0);
+SE3 random_pose_3d(keel::core::Rng& rng) {
   Vec6 xi;
-  xi << pos(rng), pos(rng), pos(rng), rot(rng), rot(rng), rot(rng);
+  for (int k = 0; k < 3; ++k) xi(k) = rng.uniform(-20.0, 20.0);
+  for (int k = 3; k < 6; ++k) xi(k) = rng.uniform(-3.0, 3.0);
   return SE3::exp(xi);
 }
 
-PoseGraph3D random_graph_3d(std::mt19937_64& rng, int n, int loops) {
-  std::uniform_int_distribution<int> pick(0, n - 1);
+PoseGraph3D random_graph_3d(keel::core::Rng& rng, int n, int loops) {
   PoseGraph3D g;
   g.poses.assign(static_cast<std::size_t>(n), SE3());
   for (int k = 0; k + 1 < n; ++k) {
@@ -96,9 +103,10 @@ PoseGraph3D random_graph_3d(std::mt19937_64& rng, int n, int loops) {
     g.edges.push_back(e);
   }
   for (int k = 0; k < loops; ++k) {
-    int i = pick(rng), j = pick(rng);
+    int i = pick(rng, n), j = pick(rng, n);
     if (i == j) j = (i + 2) % n;
-    g.edges.push_back({i, j, random_pose_3d(rng), random_information<6>(rng), 0});
+    const SE3 z = random_pose_3d(rng);
+    g.edges.push_back({i, j, z, random_information<6>(rng), 0});
   }
   return g;
 }
@@ -156,7 +164,7 @@ const std::string kEdge3Tail = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1";  //
 }  // namespace
 
 TEST_CASE("g2o 2D round trip of random graphs is exact") {
-  std::mt19937_64 rng(1);
+  keel::core::Rng rng(1);
   for (int t = 0; t < 20; ++t) {
     PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, 0);
     std::istringstream in(g2o_string(g));
@@ -174,7 +182,7 @@ TEST_CASE("g2o 2D round trip of random graphs is exact") {
 }
 
 TEST_CASE("iSAM 2D round trip of random graphs with landmarks") {
-  std::mt19937_64 rng(2);
+  keel::core::Rng rng(2);
   for (int t = 0; t < 20; ++t) {
     const PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, t % 4 * 3);
     std::ostringstream s;
@@ -192,7 +200,7 @@ TEST_CASE("iSAM 2D round trip of random graphs with landmarks") {
 }
 
 TEST_CASE("g2o and iSAM 3D round trips of random graphs") {
-  std::mt19937_64 rng(3);
+  keel::core::Rng rng(3);
   for (int t = 0; t < 20; ++t) {
     const PoseGraph3D g = random_graph_3d(rng, 2 + t * 4, t * 2);
     std::ostringstream a;
@@ -249,12 +257,12 @@ TEST_CASE("iSAM square-root information: Ω = RᵀR, upper triangle row by row")
 }
 
 TEST_CASE("rpy_for_writing reproduces rotations next to gimbal lock") {
-  std::mt19937_64 rng(4);
-  std::uniform_real_distribution<double> ang(-kPi, kPi);
+  keel::core::Rng rng(4);
   for (double eps : {0.0, 1e-15, 1e-12, 1e-9, 1e-6, 1e-3, 0.5}) {
     for (double sign : {1.0, -1.0}) {
       for (int t = 0; t < 50; ++t) {
-        const Mat3 R = keel::lie::rotation_from_rpy(ang(rng), sign * (0.5 * kPi - eps), ang(rng));
+        const double roll = rng.uniform(-kPi, kPi), yaw = rng.uniform(-kPi, kPi);
+        const Mat3 R = keel::lie::rotation_from_rpy(roll, sign * (0.5 * kPi - eps), yaw);
         const Vec3 rpy = rpy_for_writing(R);
         CHECK((keel::lie::rotation_from_rpy(rpy(0), rpy(1), rpy(2)) - R).norm() < 1e-14);
       }
@@ -263,7 +271,7 @@ TEST_CASE("rpy_for_writing reproduces rotations next to gimbal lock") {
 }
 
 TEST_CASE("derived pose lists, landmarks and TUM round trip") {
-  std::mt19937_64 rng(5);
+  keel::core::Rng rng(5);
   const PoseGraph2D g = random_graph_2d(rng, 30, 0, 4);
   std::ostringstream a, b, c, d;
   write_poses_2d(g.poses, a);
@@ -321,13 +329,15 @@ TEST_CASE("TUM output format: timestamp = index, 2D poses in the plane z = 0") {
 }
 
 TEST_CASE("format dispatch by first tag, extension as fallback") {
-  CHECK(detect_graph_format("# c\n\nVERTEX_SE2 0 0 0 0\n", "x.txt") == GraphFormat::G2o);
-  CHECK(detect_graph_format("EDGE3 0 1", "x.g2o") == GraphFormat::Isam);
-  CHECK(detect_graph_format("", "x.g2o") == GraphFormat::G2o);
-  CHECK(detect_graph_format("# only a comment\n", "x.txt") == GraphFormat::Isam);
+  CHECK(detect_graph_format("# c\n\nVERTEX_SE2 0 0 0 0\n", "x.txt") == GraphFormat::g2o);
+  CHECK(detect_graph_format("EDGE3 0 1", "x.g2o") == GraphFormat::isam);
+  CHECK(detect_graph_format("", "x.g2o") == GraphFormat::g2o);
+  CHECK(detect_graph_format("# only a comment\n", "x.txt") == GraphFormat::isam);
   CHECK_FALSE(detect_graph_format("FOO 1 2\n", "x.g2o").has_value());
-  CHECK(graph_format_from_string(to_string(GraphFormat::Isam)) == GraphFormat::Isam);
-  CHECK(graph_format_from_string(to_string(GraphFormat::G2o)) == GraphFormat::G2o);
+  for (GraphFormat f : {GraphFormat::g2o, GraphFormat::isam}) CHECK(graph_format_from_string(to_string(f)) == f);
+  CHECK(to_string(GraphFormat::g2o) == "g2o");
+  CHECK(keel::testkit::throws_with<std::invalid_argument>([] { (void)graph_format_from_string("G2O"); },
+                                                          "unknown graph::GraphFormat 'G2O' (valid: g2o, isam)"));
   std::istringstream a(kV2 + kE01);
   CHECK(read_pose_graph_2d(a, "a.txt").edges.size() == 1);
   std::istringstream b("EDGE2 0 1 1 0 0" + kSqrt2 + "\n");
@@ -512,7 +522,7 @@ TEST_CASE("malformed pose lists and TUM files") {
 }
 
 TEST_CASE("writers reject what their format cannot hold") {
-  std::mt19937_64 rng(6);
+  keel::core::Rng rng(6);
   PoseGraph2D g = random_graph_2d(rng, 5, 2, 2);
   std::ostringstream s;
   CHECK_THROWS_AS(write_g2o(g, s), std::invalid_argument);
@@ -540,8 +550,8 @@ TEST_CASE("ground truth of a synthetic grid: snapping makes the chain exact") {
   const std::string noise = " 50 0 0 50 0 100\n";
   std::string text;
   for (int k = 0; k < 3; ++k)
-    text += "EDGE2 " + std::to_string(k) + " " + std::to_string(k + 1) + " 1 0 1.5708" + noise;
-  text += "EDGE2 3 0 1 -0 1.5708" + noise + "LANDMARK 2 0 0.5 -0.5 10 0 10\n";
+    text += fmt::format("EDGE2 {} {} 1 0 1.5708{}", k, k + 1, noise);
+  text += fmt::format("EDGE2 3 0 1 -0 1.5708{}LANDMARK 2 0 0.5 -0.5 10 0 10\n", noise);
   std::istringstream raw(text);
   const GroundTruth2D loose = read_isam_ground_truth_2d(raw, "gt.txt");
   CHECK(loose.max_edge_rotation_error > 1e-6);

@@ -1,5 +1,6 @@
 #include "graph/isam.hpp"
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
@@ -43,14 +44,14 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
       Edge2 e;
       e.i = sc.id(1);
       e.j = sc.id(2);
-      if (e.i == e.j) sc.fail_field(2, "the edge connects pose " + std::to_string(e.i) + " to itself");
+      if (e.i == e.j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", e.i));
       double v[9];
       sc.numbers(3, 11, v);
       e.measurement = SE2(v[0], v[1], v[2]);
       e.information = detail::information_from_sqrt_upper<3>(v + 3);
       if (check_information) {
         if (auto why = detail::information_problem(e.information); !why.empty()) {
-          sc.fail_fields(6, 11, "the information RᵀR of the square-root numbers " + why);
+          sc.fail_fields(6, 11, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
       e.line = sc.line();
@@ -66,18 +67,17 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
       m.information = detail::information_from_sqrt_upper<2>(v + 2);
       if (check_information) {
         if (auto why = detail::information_problem(m.information); !why.empty()) {
-          sc.fail_fields(5, 7, "the information RᵀR of the square-root numbers " + why);
+          sc.fail_fields(5, 7, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
       m.line = sc.line();
       g.landmark_measurements.push_back(m);
     } else if (tag == "EDGE3" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT") {
-      sc.fail(detail::quote_token(tag) +
-              " is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or "
-              "read_pose_graph_3d)");
+      sc.fail(fmt::format("{} is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or read_pose_graph_3d)",
+                          detail::quote_token(tag)));
     } else {
-      sc.fail("unknown tag " + detail::quote_token(tag) +
-              " (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)");
+      sc.fail(fmt::format("unknown tag {} (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)",
+                          detail::quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "edge");
@@ -95,7 +95,7 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
       Edge3 e;
       e.i = sc.id(1);
       e.j = sc.id(2);
-      if (e.i == e.j) sc.fail_field(2, "the edge connects pose " + std::to_string(e.i) + " to itself");
+      if (e.i == e.j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", e.i));
       double v[27];
       sc.numbers(3, 29, v);
       e.measurement =
@@ -104,17 +104,16 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
       e.information = detail::information_from_sqrt_upper<6>(v + 6);
       if (check_information) {
         if (auto why = detail::information_problem(e.information); !why.empty()) {
-          sc.fail_fields(9, 29, "the information RᵀR of the square-root numbers " + why);
+          sc.fail_fields(9, 29, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_2d_edge_tag(tag) || tag == "LANDMARK" || tag == "VERTEX_SE2" || tag == "EDGE_SE2") {
-      sc.fail(detail::quote_token(tag) +
-              " is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or "
-              "read_pose_graph_2d)");
+      sc.fail(fmt::format("{} is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or read_pose_graph_2d)",
+                          detail::quote_token(tag)));
     } else {
-      sc.fail("unknown tag " + detail::quote_token(tag) + " (the 3D iSAM reader knows EDGE3)");
+      sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", detail::quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "EDGE3");
@@ -143,8 +142,8 @@ void check_chainable(const Graph& g) {
   for (std::size_t k = 0; k + 1 < g.poses.size(); ++k) {
     if (!odometry[k]) {
       throw std::invalid_argument(
-          "write_isam: no odometry edge (" + std::to_string(k) + ", " + std::to_string(k + 1) +
-          "): iSAM text has no vertex records, and its readers chain the edges (i, i+1)");
+          fmt::format("write_isam: no odometry edge ({}, {}): iSAM text has no vertex records, and its readers chain "
+                      "the edges (i, i+1)", k, k + 1));
     }
   }
   int max_id = -1;
@@ -153,8 +152,8 @@ void check_chainable(const Graph& g) {
     for (const auto& m : g.landmark_measurements) max_id = std::max(max_id, m.pose);
   }
   if (static_cast<std::size_t>(max_id) + 1 != g.poses.size()) {
-    throw std::invalid_argument("write_isam: pose " + std::to_string(g.poses.size() - 1) +
-                                " is named by no record (iSAM text has no vertex records)");
+    throw std::invalid_argument(fmt::format("write_isam: pose {} is named by no record (iSAM text has no vertex "
+                                            "records)", g.poses.size() - 1));
   }
 }
 
@@ -163,8 +162,7 @@ template <int N>
 Eigen::Matrix<double, N, N> sqrt_information(const Eigen::Matrix<double, N, N>& W, const char* what) {
   Eigen::LLT<Eigen::Matrix<double, N, N>> llt(W);
   if (llt.info() != Eigen::Success || !W.allFinite()) {
-    throw std::invalid_argument(std::string("write_isam: the information of ") + what +
-                                " is not positive definite");
+    throw std::invalid_argument(fmt::format("write_isam: the information of {} is not positive definite", what));
   }
   return llt.matrixU();
 }
@@ -176,7 +174,7 @@ std::string isam_text(const PoseGraph2D& g) {
   s.reserve(96 * (g.edges.size() + g.landmark_measurements.size()));
   auto landmark_line = [&](const LandmarkMeasurement2& m) {
     const Mat2 R = sqrt_information<2>(m.information, "a landmark measurement");
-    s += "LANDMARK " + std::to_string(m.pose) + ' ' + std::to_string(m.landmark);
+    s += fmt::format("LANDMARK {} {}", m.pose, m.landmark);
     put(s, m.position.x());
     put(s, m.position.y());
     put(s, R(0, 0));
@@ -197,7 +195,7 @@ std::string isam_text(const PoseGraph2D& g) {
   flush();
   for (const auto& e : g.edges) {
     const Mat3 R = sqrt_information<3>(e.information, "an edge");
-    s += "EDGE2 " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    s += fmt::format("EDGE2 {} {}", e.i, e.j);
     put(s, e.measurement.translation().x());
     put(s, e.measurement.translation().y());
     put(s, e.measurement.angle());
@@ -219,7 +217,7 @@ std::string isam_text(const PoseGraph3D& g) {
   s.reserve(256 * g.edges.size());
   for (const auto& e : g.edges) {
     const Mat6 R = sqrt_information<6>(e.information, "an edge");
-    s += "EDGE3 " + std::to_string(e.i) + ' ' + std::to_string(e.j);
+    s += fmt::format("EDGE3 {} {}", e.i, e.j);
     for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
     const Vec3 rpy = rpy_for_writing(e.measurement.rotation());
     for (int a = 0; a < 3; ++a) put(s, rpy(a));

@@ -1,7 +1,8 @@
 #include "graph/sha256.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
-#include <cstdio>
+#include <iterator>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -113,11 +114,7 @@ std::string Sha256::hex_digest() {
   const auto d = digest();
   std::string s;
   s.reserve(64);
-  char buf[3];
-  for (std::uint8_t b : d) {
-    std::snprintf(buf, sizeof buf, "%02x", b);
-    s += buf;
-  }
+  for (std::uint8_t b : d) fmt::format_to(std::back_inserter(s), "{:02x}", b);
   return s;
 }
 
@@ -129,7 +126,7 @@ std::string sha256_hex(std::string_view bytes) {
 
 std::string sha256_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open file");
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open file", file.string()));
   Sha256 h;
   std::vector<char> buf(1 << 16);
   while (in) {
@@ -137,7 +134,7 @@ std::string sha256_file(const std::filesystem::path& file) {
     const auto got = in.gcount();
     if (got > 0) h.update(buf.data(), static_cast<std::size_t>(got));
   }
-  if (in.bad()) throw std::runtime_error(file.string() + ": read error");
+  if (in.bad()) throw std::runtime_error(fmt::format("{}: read error", file.string()));
   return h.hex_digest();
 }
 

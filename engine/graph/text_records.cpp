@@ -1,9 +1,10 @@
 #include "graph/text_records.hpp"
 
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -16,7 +17,8 @@
 namespace keel::graph {
 
 ParseError::ParseError(std::string file, int line, const std::string& message)
-    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message),
+    : std::runtime_error(line > 0 ? fmt::format("{}:{}: {}", file, line, message)
+                                  : fmt::format("{}: {}", file, message)),
       file_(std::move(file)),
       line_(line) {}
 
@@ -26,7 +28,7 @@ std::string read_file_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     const int e = errno;
-    throw ParseError(file.string(), 0, std::string("cannot open file (") + std::strerror(e) + ")");
+    throw ParseError(file.string(), 0, fmt::format("cannot open file ({})", std::strerror(e)));
   }
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw ParseError(file.string(), 0, "read error");
@@ -44,21 +46,21 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
   tmp += ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot open for writing");
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", tmp.string()));
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     out.flush();
     if (!out) {
       out.close();
       std::error_code ec;
       std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(tmp.string() + ": write failed");
+      throw std::runtime_error(fmt::format("{}: write failed", tmp.string()));
     }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, file, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(file.string() + ": cannot rename the temporary file into place");
+    throw std::runtime_error(fmt::format("{}: cannot rename the temporary file into place", file.string()));
   }
 }
 
@@ -74,20 +76,14 @@ std::string quote_token(std::string_view token) {
     if (c >= 0x20 && c < 0x7f && c != '\\' && c != '\'') {
       out += ch;
     } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
+      fmt::format_to(std::back_inserter(out), "\\x{:02x}", c);
     }
   }
   out += "'";
   return out;
 }
 
-std::string fmt17(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+std::string fmt17(double v) { return fmt::format("{:.17g}", v); }
 
 void fail_at(const std::string& name, int line, const std::string& msg) { throw ParseError(name, line, msg); }
 
@@ -129,33 +125,30 @@ void RecordScanner::expect(std::span<const char* const> names) {
   const std::size_t n = size();
   const char* after = kind_.empty() ? " fields after the tag, found " : " fields, found ";
   if (n < names.size()) {
-    fail(std::string(tag()) + ": expected " + std::to_string(names.size()) + after + std::to_string(n) +
-         " (truncated line?): field " + std::to_string(n + 1) + " (" + names[n] + ") is missing");
+    fail(fmt::format("{}: expected {}{}{} (truncated line?): field {} ({}) is missing", tag(), names.size(), after, n,
+                     n + 1, names[n]));
   }
   if (n > names.size()) {
-    fail(std::string(tag()) + ": expected " + std::to_string(names.size()) + after + std::to_string(n) +
-         ": field " + std::to_string(names.size() + 1) + " " + quote_token(fields_[names.size() + 1]) +
-         " is one too many");
+    fail(fmt::format("{}: expected {}{}{}: field {} {} is one too many", tag(), names.size(), after, n,
+                     names.size() + 1, quote_token(fields_[names.size() + 1])));
   }
 }
 
 std::string RecordScanner::describe_field(std::size_t k) const {
-  std::string s = std::string(tag()) + " field " + std::to_string(k);
-  if (k >= 1 && k <= names_.size()) s += std::string(" (") + names_[k - 1] + ")";
-  return s;
+  if (k >= 1 && k <= names_.size()) return fmt::format("{} field {} ({})", tag(), k, names_[k - 1]);
+  return fmt::format("{} field {}", tag(), k);
 }
 
 void RecordScanner::fail(const std::string& msg) const { throw ParseError(name_, line_, msg); }
 
 void RecordScanner::fail_field(std::size_t k, const std::string& msg) const {
-  fail(describe_field(k) + ": " + msg);
+  fail(fmt::format("{}: {}", describe_field(k), msg));
 }
 
 void RecordScanner::fail_fields(std::size_t first, std::size_t last, const std::string& msg) const {
-  std::string s = std::string(tag()) + " fields " + std::to_string(first) + "-" + std::to_string(last);
   if (first >= 1 && last <= names_.size())
-    s += std::string(" (") + names_[first - 1] + ".." + names_[last - 1] + ")";
-  fail(s + ": " + msg);
+    fail(fmt::format("{} fields {}-{} ({}..{}): {}", tag(), first, last, names_[first - 1], names_[last - 1], msg));
+  fail(fmt::format("{} fields {}-{}: {}", tag(), first, last, msg));
 }
 
 double RecordScanner::number(std::size_t k) const {
@@ -165,9 +158,9 @@ double RecordScanner::number(std::size_t k) const {
   double v = 0.0;
   const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
   if (ec == std::errc::result_out_of_range)
-    fail_field(k, quote_token(t) + " is out of the range of a double");
-  if (ec != std::errc() || p != s.data() + s.size()) fail_field(k, quote_token(t) + " is not a number");
-  if (!std::isfinite(v)) fail_field(k, quote_token(t) + " is not finite");
+    fail_field(k, fmt::format("{} is out of the range of a double", quote_token(t)));
+  if (ec != std::errc() || p != s.data() + s.size()) fail_field(k, fmt::format("{} is not a number", quote_token(t)));
+  if (!std::isfinite(v)) fail_field(k, fmt::format("{} is not finite", quote_token(t)));
   return v;
 }
 
@@ -182,12 +175,12 @@ int RecordScanner::id(std::size_t k) const {
   long long v = 0;
   const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec == std::errc() && p == s.data() + s.size()) {
-    if (v < 0) fail_field(k, quote_token(t) + " is negative (ids must be >= 0)");
-    if (v >= std::numeric_limits<int>::max()) fail_field(k, quote_token(t) + " is too large for an id");
+    if (v < 0) fail_field(k, fmt::format("{} is negative (ids must be >= 0)", quote_token(t)));
+    if (v >= std::numeric_limits<int>::max()) fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
     return static_cast<int>(v);
   }
-  if (ec == std::errc::result_out_of_range) fail_field(k, quote_token(t) + " is too large for an id");
-  fail_field(k, quote_token(t) + " is not an integer id");
+  if (ec == std::errc::result_out_of_range) fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
+  fail_field(k, fmt::format("{} is not an integer id", quote_token(t)));
 }
 
 }  // namespace detail

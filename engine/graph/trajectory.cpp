@@ -1,5 +1,6 @@
 #include "graph/trajectory.hpp"
 
+#include <fmt/format.h>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -42,15 +43,14 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
     make(sc, v, value);
     recs.push_back({id, value, sc.line()});
   }
-  if (recs.empty()) detail::fail_at(name, 0, std::string("no ") + kind + " records (empty file?)");
+  if (recs.empty()) detail::fail_at(name, 0, fmt::format("no {} records (empty file?)", kind));
   const std::size_t n = recs.size();
   std::unordered_map<int, int> seen;
   for (const auto& r : recs) {
     auto [it, fresh] = seen.emplace(r.id, r.line);
     if (!fresh) {
       detail::fail_at(name, r.line,
-                      std::string(kind) + " field 1 (id): duplicate id " + std::to_string(r.id) +
-                          " (first on line " + std::to_string(it->second) + ")");
+                      fmt::format("{} field 1 (id): duplicate id {} (first on line {})", kind, r.id, it->second));
     }
   }
   for (const auto& r : recs) {
@@ -58,9 +58,8 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
       std::size_t missing = 0;
       while (seen.count(static_cast<int>(missing))) ++missing;
       detail::fail_at(name, r.line,
-                      std::string(kind) + " field 1 (id): ids must be contiguous from 0, but id " +
-                          std::to_string(missing) + " is missing (" + std::to_string(n) +
-                          " records, this one has id " + std::to_string(r.id) + ")");
+                      fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
+                                  "this one has id {})", kind, missing, n, r.id));
     }
   }
   std::vector<T> out(n);
@@ -118,7 +117,7 @@ void put(std::string& s, double v) {
 std::string poses_2d_text(const std::vector<SE2>& poses) {
   std::string s;
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    s += std::to_string(k);
+    s += fmt::format("{}", k);
     put(s, poses[k].translation().x());
     put(s, poses[k].translation().y());
     put(s, poses[k].angle());
@@ -130,7 +129,7 @@ std::string poses_2d_text(const std::vector<SE2>& poses) {
 std::string landmarks_2d_text(const std::vector<Vec2>& landmarks) {
   std::string s;
   for (std::size_t k = 0; k < landmarks.size(); ++k) {
-    s += std::to_string(k);
+    s += fmt::format("{}", k);
     put(s, landmarks[k].x());
     put(s, landmarks[k].y());
     s += '\n';
@@ -142,7 +141,7 @@ std::string poses_3d_text(const std::vector<SE3>& poses) {
   std::string s;
   double q[4];
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    s += std::to_string(k);
+    s += fmt::format("{}", k);
     for (int a = 0; a < 3; ++a) put(s, poses[k].translation()(a));
     detail::quaternion_from_rotation(poses[k].rotation(), q);
     for (double x : q) put(s, x);
@@ -158,7 +157,7 @@ std::string tum_text(const std::vector<SE2>& poses) {
   std::string s;
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const double half = 0.5 * poses[k].angle();  // angle in (−π, π] → w = cos(θ/2) ≥ 0
-    s += std::to_string(k);
+    s += fmt::format("{}", k);
     put(s, poses[k].translation().x());
     put(s, poses[k].translation().y());
     s += " 0 0 0";

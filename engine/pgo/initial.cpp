@@ -1,5 +1,6 @@
 // Initial estimates (Options::initial_guess, anchor_guess) and the global-pose helpers.
 #include <Eigen/Geometry>
+#include <fmt/format.h>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -15,9 +16,11 @@ namespace detail {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pgo: " + what); }
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
 
-std::string name_of(const std::string& source) { return source.empty() ? "<unnamed graph>" : "'" + source + "'"; }
+std::string name_of(const std::string& source) {
+  return source.empty() ? std::string("<unnamed graph>") : fmt::format("'{}'", source);
+}
 
 lie::SE2 random_pose(core::Rng& rng, double extent, const lie::SE2*) {
   const double x = rng.uniform(-extent, extent);
@@ -53,8 +56,8 @@ std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) 
   poses[0] = g.poses.empty() ? Pose() : g.poses[0];
   for (int k = 1; k < n; ++k) {
     if (!step[k - 1])
-      fail("initial_guess = odometry: " + name_of(g.source) + " has no edge between poses " + std::to_string(k - 1) +
-           " and " + std::to_string(k));
+      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}",
+                       name_of(g.source), k - 1, k));
     poses[k] = poses[k - 1] * *step[k - 1];
   }
   return poses;
@@ -69,8 +72,9 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
   switch (o.initial_guess) {
     case InitialGuess::as_read:
       if (static_cast<int>(g.poses.size()) != n)
-        fail("initial_guess = as_read: " + name_of(g.source) + " stores " + std::to_string(g.poses.size()) +
-             " poses but its measurements use " + std::to_string(n) + " (choose initial_guess = odometry?)");
+        fail(fmt::format("initial_guess = as_read: {} stores {} poses but its measurements use {} (choose "
+                         "initial_guess = odometry?)",
+                         name_of(g.source), g.poses.size(), n));
       est.poses = g.poses;
       break;
     case InitialGuess::odometry:
@@ -79,8 +83,8 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
     case InitialGuess::supplied:
       if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
       if (static_cast<int>(supplied->poses.size()) != n)
-        fail("initial_guess = supplied: the estimate of robot " + std::to_string(robot) + " has " +
-             std::to_string(supplied->poses.size()) + " poses, the graph " + std::to_string(n));
+        fail(fmt::format("initial_guess = supplied: the estimate of robot {} has {} poses, the graph {}", robot,
+                         supplied->poses.size(), n));
       est.poses = supplied->poses;
       break;
     case InitialGuess::random: {
@@ -123,8 +127,8 @@ typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vec
   if (o.initial_guess == InitialGuess::supplied) {
     if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
     if (static_cast<int>(supplied->robots.size()) != robots)
-      fail("initial_guess = supplied: the estimate has " + std::to_string(supplied->robots.size()) + " robots, the graph " +
-           std::to_string(robots));
+      fail(fmt::format("initial_guess = supplied: the estimate has {} robots, the graph {}", supplied->robots.size(),
+                       robots));
   }
   typename D::MultiEstimate est;
   for (int r = 0; r < robots; ++r)
@@ -139,8 +143,8 @@ typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vec
     return est;
   }
   if (!given_anchors.empty() && static_cast<int>(given_anchors.size()) != robots)
-    fail("the graph has " + std::to_string(given_anchors.size()) + " anchors for " + std::to_string(robots) +
-         " robots (give one per robot, or none)");
+    fail(fmt::format("the graph has {} anchors for {} robots (give one per robot, or none)", given_anchors.size(),
+                     robots));
   est.anchors = given_anchors.empty() ? std::vector<Pose>(robots) : given_anchors;
   if (o.anchor_guess == AnchorGuess::inter_robot_edges && view.inter) {
     std::vector<char> placed(robots, 0);
@@ -209,8 +213,8 @@ template <class E>
 auto global_poses_impl(const E& estimate, int robot) {
   if (robot < 0 || robot >= static_cast<int>(estimate.robots.size()) ||
       estimate.anchors.size() != estimate.robots.size())
-    throw std::invalid_argument("pgo::global_poses: robot " + std::to_string(robot) + " out of range, or anchors and "
-                                "robots differ in number");
+    throw std::invalid_argument(
+        fmt::format("pgo::global_poses: robot {} out of range, or anchors and robots differ in number", robot));
   auto poses = estimate.robots[robot].poses;
   for (auto& T : poses) T = estimate.anchors[robot] * T;
   return poses;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <fmt/format.h>
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -12,14 +13,16 @@ namespace keel::pgo::detail {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pgo: " + what); }
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
 
-std::string source_of(const std::string& s) { return s.empty() ? std::string("<unnamed graph>") : "'" + s + "'"; }
+std::string source_of(const std::string& s) {
+  return s.empty() ? std::string("<unnamed graph>") : fmt::format("'{}'", s);
+}
 
 template <int N>
 Eigen::Matrix<double, N, N> sqrt_info_impl(const Eigen::Matrix<double, N, N>& omega, const std::string& what) {
   using M = Eigen::Matrix<double, N, N>;
-  if (!omega.allFinite()) fail(what + ": information matrix has a non-finite entry");
+  if (!omega.allFinite()) fail(fmt::format("{}: information matrix has a non-finite entry", what));
   const M sym = 0.5 * (omega + omega.transpose());
   Eigen::LLT<M> llt(sym);
   if (llt.info() == Eigen::Success) return llt.matrixU();
@@ -28,8 +31,8 @@ Eigen::Matrix<double, N, N> sqrt_info_impl(const Eigen::Matrix<double, N, N>& om
   const auto& lambda = es.eigenvalues();
   const double scale = std::max(1.0, lambda.cwiseAbs().maxCoeff());
   if (lambda.minCoeff() < -1e-9 * scale)
-    fail(what + ": information matrix is not positive semi-definite (smallest eigenvalue " +
-         std::to_string(lambda.minCoeff()) + ")");
+    fail(fmt::format("{}: information matrix is not positive semi-definite (smallest eigenvalue {})", what,
+                     lambda.minCoeff()));
   const Eigen::Matrix<double, N, 1> root = lambda.cwiseMax(0.0).cwiseSqrt();
   return root.asDiagonal() * es.eigenvectors().transpose();  // UᵀU = V Λ Vᵀ
 }
@@ -54,10 +57,9 @@ int landmark_count(const graph::PoseGraph2D& g) {
 }
 
 std::string edge_label(const char* kind, std::size_t index, int line, const std::string& source) {
-  std::string s = std::string(kind) + " " + std::to_string(index);
-  if (line > 0) s += " (line " + std::to_string(line) + " of " + source_of(source) + ")";
-  else if (!source.empty()) s += " of " + source_of(source);
-  return s;
+  if (line > 0) return fmt::format("{} {} (line {} of {})", kind, index, line, source_of(source));
+  if (!source.empty()) return fmt::format("{} {} of {}", kind, index, source_of(source));
+  return fmt::format("{} {}", kind, index);
 }
 
 template <class D>
@@ -67,14 +69,16 @@ void validate_graph(const RobotsView<D>& view) {
     const auto& g = *view.robots[r];
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
       const auto& e = g.edges[k];
-      if (e.i < 0 || e.j < 0) fail(edge_label("edge", k, e.line, g.source) + ": negative pose index");
-      if (e.i == e.j) fail(edge_label("edge", k, e.line, g.source) + ": connects pose " + std::to_string(e.i) + " to itself");
+      if (e.i < 0 || e.j < 0) fail(fmt::format("{}: negative pose index", edge_label("edge", k, e.line, g.source)));
+      if (e.i == e.j)
+        fail(fmt::format("{}: connects pose {} to itself", edge_label("edge", k, e.line, g.source), e.i));
     }
     if constexpr (D::kLandmarks) {
       for (std::size_t k = 0; k < g.landmark_measurements.size(); ++k) {
         const auto& m = g.landmark_measurements[k];
         if (m.pose < 0 || m.landmark < 0)
-          fail(edge_label("landmark measurement", k, m.line, g.source) + ": negative pose or landmark index");
+          fail(fmt::format("{}: negative pose or landmark index",
+                           edge_label("landmark measurement", k, m.line, g.source)));
       }
     }
   }
@@ -83,11 +87,12 @@ void validate_graph(const RobotsView<D>& view) {
     const auto& e = (*view.inter)[k];
     const std::string label = edge_label("inter-robot edge", k, e.line, "");
     if (e.robot_a < 0 || e.robot_a >= robots || e.robot_b < 0 || e.robot_b >= robots)
-      fail(label + ": robot index out of range (" + std::to_string(robots) + " robots)");
-    if (e.robot_a == e.robot_b) fail(label + ": robot_a == robot_b (use an edge of that robot's own graph)");
+      fail(fmt::format("{}: robot index out of range ({} robots)", label, robots));
+    if (e.robot_a == e.robot_b) fail(fmt::format("{}: robot_a == robot_b (use an edge of that robot's own graph)",
+                                                 label));
     if (e.pose_a < 0 || e.pose_a >= pose_count(*view.robots[e.robot_a]) || e.pose_b < 0 ||
         e.pose_b >= pose_count(*view.robots[e.robot_b]))
-      fail(label + ": pose index out of range of its robot's graph");
+      fail(fmt::format("{}: pose index out of range of its robot's graph", label));
   }
 }
 
@@ -137,8 +142,8 @@ double half_rho(const Options& o, bool robust, double chi2) {
 void check_constant_poses(const Options& o, int robot, int n, const std::string& source) {
   for (int k : o.constant_poses)
     if (k < 0 || k >= n)
-      fail("constant_poses: pose " + std::to_string(k) + " is out of range (robot " + std::to_string(robot) + ", " +
-           source_of(source) + ", has " + std::to_string(n) + " poses)");
+      fail(fmt::format("constant_poses: pose {} is out of range (robot {}, {}, has {} poses)", k, robot,
+                       source_of(source), n));
 }
 
 }  // namespace
@@ -150,11 +155,9 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
   validate_graph(view);
   const int robots = static_cast<int>(view.robots.size());
   if (static_cast<int>(at.robots.size()) != robots)
-    fail("evaluate: the estimate has " + std::to_string(at.robots.size()) + " robots, the graph " +
-         std::to_string(robots));
+    fail(fmt::format("evaluate: the estimate has {} robots, the graph {}", at.robots.size(), robots));
   if (view.with_anchors && static_cast<int>(at.anchors.size()) != robots)
-    fail("evaluate: the estimate has " + std::to_string(at.anchors.size()) + " anchors for " + std::to_string(robots) +
-         " robots");
+    fail(fmt::format("evaluate: the estimate has {} anchors for {} robots", at.anchors.size(), robots));
 
   typename D::MultiEvaluation out;
   out.robots.resize(robots);
@@ -165,8 +168,8 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
     auto& ev = out.robots[r];
     const int n = pose_count(g);
     if (static_cast<int>(est.poses.size()) < n)
-      fail("evaluate: robot " + std::to_string(r) + " (" + source_of(g.source) + ") has " + std::to_string(n) +
-           " poses but the estimate " + std::to_string(est.poses.size()));
+      fail(fmt::format("evaluate: robot {} ({}) has {} poses but the estimate {}", r, source_of(g.source), n,
+                       est.poses.size()));
     check_constant_poses(o, r, n, g.source);
     pose_used[r].assign(n, 0);
     ev.residuals.resize(g.edges.size());
@@ -187,8 +190,8 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
     if constexpr (D::kLandmarks) {
       const int m = landmark_count(g);
       if (static_cast<int>(est.landmarks.size()) < m)
-        fail("evaluate: robot " + std::to_string(r) + " (" + source_of(g.source) + ") has " + std::to_string(m) +
-             " landmarks but the estimate " + std::to_string(est.landmarks.size()));
+        fail(fmt::format("evaluate: robot {} ({}) has {} landmarks but the estimate {}", r, source_of(g.source), m,
+                         est.landmarks.size()));
       std::vector<char> lm_used(m, 0);
       ev.landmark_residuals.resize(g.landmark_measurements.size());
       ev.landmark_edges.resize(g.landmark_measurements.size());

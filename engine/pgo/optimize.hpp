@@ -49,9 +49,9 @@ struct MultiRobotEstimate3D {
 };
 
 // Global poses Δ_r T^r_i of robot r (landmarks: Δ_r l).
-std::vector<lie::SE2> global_poses(const MultiRobotEstimate2D& estimate, int robot);
-std::vector<lie::SE3> global_poses(const MultiRobotEstimate3D& estimate, int robot);
-std::vector<lie::Vec2> global_landmarks(const MultiRobotEstimate2D& estimate, int robot);
+[[nodiscard]] std::vector<lie::SE2> global_poses(const MultiRobotEstimate2D& estimate, int robot);
+[[nodiscard]] std::vector<lie::SE3> global_poses(const MultiRobotEstimate3D& estimate, int robot);
+[[nodiscard]] std::vector<lie::Vec2> global_landmarks(const MultiRobotEstimate2D& estimate, int robot);
 
 // ---------------------------------------------------------------------------------------------------------------
 // What a robust layer needs per measurement (DESIGN convention 5).
@@ -137,23 +137,23 @@ struct MultiRobotResult3D {
 // The number of poses is max(graph.poses.size(), 1 + the largest pose index used); landmarks likewise. Landmarks
 // come from graph.landmarks (as_read) or supplied->landmarks (supplied) when those have the right size, otherwise
 // from their first measurement at the initial pose (l = T_i z). `supplied` is required for InitialGuess::supplied.
-Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options,
+[[nodiscard]] Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options,
                             const Estimate2D* supplied = nullptr);
-Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options,
+[[nodiscard]] Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options,
                             const Estimate3D* supplied = nullptr);
 // Multi-robot: robot r's local estimate as above (random: stream r); anchors by Options::anchor_guess, or
 // supplied->anchors under InitialGuess::supplied.
-MultiRobotEstimate2D initial_estimate(const MultiRobotGraph2D& graph, const Options& options,
+[[nodiscard]] MultiRobotEstimate2D initial_estimate(const MultiRobotGraph2D& graph, const Options& options,
                                       const MultiRobotEstimate2D* supplied = nullptr);
-MultiRobotEstimate3D initial_estimate(const MultiRobotGraph3D& graph, const Options& options,
+[[nodiscard]] MultiRobotEstimate3D initial_estimate(const MultiRobotGraph3D& graph, const Options& options,
                                       const MultiRobotEstimate3D* supplied = nullptr);
 
 // One batch solve. Throws std::invalid_argument for invalid options or graphs (see above).
-Result2D optimize(const graph::PoseGraph2D& graph, const Options& options = {}, const Estimate2D* supplied = nullptr);
-Result3D optimize(const graph::PoseGraph3D& graph, const Options& options = {}, const Estimate3D* supplied = nullptr);
-MultiRobotResult2D optimize(const MultiRobotGraph2D& graph, const Options& options = {},
+[[nodiscard]] Result2D optimize(const graph::PoseGraph2D& graph, const Options& options = {}, const Estimate2D* supplied = nullptr);
+[[nodiscard]] Result3D optimize(const graph::PoseGraph3D& graph, const Options& options = {}, const Estimate3D* supplied = nullptr);
+[[nodiscard]] MultiRobotResult2D optimize(const MultiRobotGraph2D& graph, const Options& options = {},
                             const MultiRobotEstimate2D* supplied = nullptr);
-MultiRobotResult3D optimize(const MultiRobotGraph3D& graph, const Options& options = {},
+[[nodiscard]] MultiRobotResult3D optimize(const MultiRobotGraph3D& graph, const Options& options = {},
                             const MultiRobotEstimate3D* supplied = nullptr);
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -191,11 +191,11 @@ struct MultiRobotEvaluation3D : Evaluation {
   std::vector<EdgeReport> inter_robot_edges;
 };
 
-Evaluation2D evaluate(const graph::PoseGraph2D& graph, const Estimate2D& at, const Options& options = {});
-Evaluation3D evaluate(const graph::PoseGraph3D& graph, const Estimate3D& at, const Options& options = {});
-MultiRobotEvaluation2D evaluate(const MultiRobotGraph2D& graph, const MultiRobotEstimate2D& at,
+[[nodiscard]] Evaluation2D evaluate(const graph::PoseGraph2D& graph, const Estimate2D& at, const Options& options = {});
+[[nodiscard]] Evaluation3D evaluate(const graph::PoseGraph3D& graph, const Estimate3D& at, const Options& options = {});
+[[nodiscard]] MultiRobotEvaluation2D evaluate(const MultiRobotGraph2D& graph, const MultiRobotEstimate2D& at,
                                 const Options& options = {});
-MultiRobotEvaluation3D evaluate(const MultiRobotGraph3D& graph, const MultiRobotEstimate3D& at,
+[[nodiscard]] MultiRobotEvaluation3D evaluate(const MultiRobotGraph3D& graph, const MultiRobotEstimate3D& at,
                                 const Options& options = {});
 
 }  // namespace keel::pgo

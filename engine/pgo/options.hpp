@@ -1,7 +1,7 @@
 // keel::pgo — options of the batch pose-graph optimizer (DESIGN conventions 1 and 2).
 //
-// Every choice is an enum class with to_string / from_string so that experiment configs round-trip; Options has
-// in-class defaults, one comment per field, and validate() names the violated constraint.
+// Every choice is an enum class with to_string / <enum>_from_string so that experiment configs round-trip; Options has
+// in-class defaults, one comment per field, and validate() names the struct, the violated constraint and the value.
 #pragma once
 
 #include <cstdint>
@@ -82,15 +82,16 @@ std::string_view to_string(RobustScope v);
 std::string_view to_string(AnchorGuess v);
 std::string_view to_string(Termination v);
 
-// Parse the exact names printed by to_string; return false (and leave `out` unchanged) for anything else.
-bool from_string(std::string_view text, Method& out);
-bool from_string(std::string_view text, LinearSolver& out);
-bool from_string(std::string_view text, SparseLibrary& out);
-bool from_string(std::string_view text, InitialGuess& out);
-bool from_string(std::string_view text, RobustKernel& out);
-bool from_string(std::string_view text, RobustScope& out);
-bool from_string(std::string_view text, AnchorGuess& out);
-bool from_string(std::string_view text, Termination& out);
+// Parse the exact names printed by to_string; anything else throws std::invalid_argument naming the type, the text
+// and every valid name ("unknown pgo::Method 'lm' (valid: levenberg_marquardt, dogleg)").
+[[nodiscard]] Method method_from_string(std::string_view text);
+[[nodiscard]] LinearSolver linear_solver_from_string(std::string_view text);
+[[nodiscard]] SparseLibrary sparse_library_from_string(std::string_view text);
+[[nodiscard]] InitialGuess initial_guess_from_string(std::string_view text);
+[[nodiscard]] RobustKernel robust_kernel_from_string(std::string_view text);
+[[nodiscard]] RobustScope robust_scope_from_string(std::string_view text);
+[[nodiscard]] AnchorGuess anchor_guess_from_string(std::string_view text);
+[[nodiscard]] Termination termination_from_string(std::string_view text);
 
 struct Options {
   Method method = Method::levenberg_marquardt;                // trust-region strategy
@@ -101,10 +102,11 @@ struct Options {
   double function_tolerance = 1e-6;    // stop when |Δcost| / cost < this (≥ 0)
   double gradient_tolerance = 1e-10;   // stop when max|projected gradient| < this (≥ 0)
   double parameter_tolerance = 1e-8;   // stop when |Δx| < this · (|x| + this) (≥ 0)
-  int threads = 1;                     // threads for residual/Jacobian evaluation (≥ 1). Results are bitwise
-                                       // reproducible for a fixed value; 1 and 2 threads differ in the last bits
-                                       // (Ceres reduces cost and gradient per thread), so keep it fixed where
-                                       // result files are compared across thread counts
+  unsigned threads = 1;                // threads for residual/Jacobian evaluation; 0 = keel::core::default_threads().
+                                       // The result depends on the thread count: Ceres reduces cost and gradient
+                                       // per thread, so 1 and 2 threads differ in the last bits. Results are
+                                       // bitwise reproducible for a fixed count; keep it fixed (default 1) where
+                                       // result files are compared across machines or thread counts
   InitialGuess initial_guess = InitialGuess::as_read;  // source of the initial estimate
   std::uint64_t seed = 0;              // seed of InitialGuess::random (robot r draws from Rng::stream(seed, r))
   double random_extent = 10.0;         // InitialGuess::random: translations uniform in [−extent, extent] (> 0);
@@ -117,7 +119,8 @@ struct Options {
   AnchorGuess anchor_guess = AnchorGuess::as_given;  // initial anchors of a multi-robot graph
   bool verbose = false;                // print the solver's per-iteration progress and its report to stdout
 
-  // Throws std::invalid_argument naming the violated constraint (e.g. "pgo::Options: threads must be >= 1 (got 0)").
+  // Throws std::invalid_argument naming the violated constraint (e.g. "pgo::Options: max_iterations must be >= 0
+  // (got -1)").
   // Constraints that depend on the graph (constant pose indices in range, supplied estimate sizes) are checked by
   // optimize().
   void validate() const;

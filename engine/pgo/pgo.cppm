@@ -12,17 +12,24 @@ module;
 export module keel.pgo;
 
 export namespace keel::pgo {
-// options and their enums (to_string / from_string)
+// options and their enums (to_string / <enum>_from_string)
+using keel::pgo::anchor_guess_from_string;
 using keel::pgo::AnchorGuess;
-using keel::pgo::from_string;
+using keel::pgo::initial_guess_from_string;
 using keel::pgo::InitialGuess;
+using keel::pgo::linear_solver_from_string;
 using keel::pgo::LinearSolver;
 using keel::pgo::Method;
+using keel::pgo::method_from_string;
 using keel::pgo::Options;
+using keel::pgo::robust_kernel_from_string;
+using keel::pgo::robust_scope_from_string;
 using keel::pgo::RobustKernel;
 using keel::pgo::RobustScope;
+using keel::pgo::sparse_library_from_string;
 using keel::pgo::SparseLibrary;
 using keel::pgo::Termination;
+using keel::pgo::termination_from_string;
 using keel::pgo::to_string;
 // robust kernels
 using keel::pgo::dcs_scale;

@@ -41,9 +41,9 @@ struct Rho {
 //   huber:  ρ = χ² for χ² ≤ a², 2a√χ² − a² beyond (ρ' = a/√χ²)
 //   cauchy: ρ = a² log(1 + χ²/a²) (ρ' = 1/(1 + χ²/a²))
 //   dcs:    as derived above with φ = parameter
-Rho robust_rho(RobustKernel kernel, double parameter, double chi2);
+[[nodiscard]] Rho robust_rho(RobustKernel kernel, double parameter, double chi2);
 
 // The DCS scaling s = min(1, 2φ/(φ + χ²)) of Agarwal et al. (2013).
-double dcs_scale(double chi2, double phi);
+[[nodiscard]] double dcs_scale(double chi2, double phi);
 
 }  // namespace keel::pgo

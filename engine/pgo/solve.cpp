@@ -2,13 +2,15 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "pgo/ceres_factors.hpp"
 #include "pgo/internal.hpp"
 
@@ -18,7 +20,7 @@ namespace detail {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("pgo: " + what); }
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
 
 template <class D>
 struct ResultOf;
@@ -75,7 +77,7 @@ ceres::Solver::Options solver_options(const Options& o) {
   s.function_tolerance = o.function_tolerance;
   s.gradient_tolerance = o.gradient_tolerance;
   s.parameter_tolerance = o.parameter_tolerance;
-  s.num_threads = o.threads;
+  s.num_threads = static_cast<int>(o.threads == 0 ? core::default_threads() : o.threads);
   s.minimizer_progress_to_stdout = o.verbose;
   s.logging_type = o.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
   return s;
@@ -125,8 +127,7 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
     const int n = static_cast<int>(init.robots[r].poses.size());
     for (int k : o.constant_poses)
       if (k >= n)
-        fail("constant_poses: pose " + std::to_string(k) + " is out of range (robot " + std::to_string(r) + " has " +
-             std::to_string(n) + " poses)");
+        fail(fmt::format("constant_poses: pose {} is out of range (robot {} has {} poses)", k, r, n));
   }
 
   // Parameter storage (stable addresses: sized once, never resized).
@@ -196,7 +197,7 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
 
   ceres::Solver::Summary cs;
   ceres::Solve(solver_options(o), &problem, &cs);
-  if (o.verbose) std::printf("%s\n", cs.FullReport().c_str());
+  if (o.verbose) fmt::print("{}\n", cs.FullReport());
 
   typename ResultOf<D>::type result;
   result.summary = summary_of(cs);

@@ -6,7 +6,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <string>
 
 #include "common/solved_pairs.hpp"
@@ -25,22 +26,21 @@ int main(int argc, char** argv) {
 
     std::size_t joint_lower = 0;
     for (const auto& rec : s.records) joint_lower += rec.error_joint < rec.error_independent ? 1 : 0;
-    char detail[256];
-    std::snprintf(detail, sizeof detail, "mean ε: joint %.4g, ignoring correlation %.4g (ratio %.0f; thesis 305)",
-                  joint.mean, ind.mean, ind.mean / joint.mean);
     r.check("ignoring correlation raises the mean covariance error by more than two orders of magnitude",
-            ind.mean > 100.0 * joint.mean, detail);
-    std::snprintf(detail, sizeof detail, "%zu of %zu pairs", joint_lower, s.records.size());
+            ind.mean > 100.0 * joint.mean,
+            fmt::format("mean ε: joint {:.4g}, ignoring correlation {:.4g} (ratio {:.0f}; thesis 305)", joint.mean,
+                        ind.mean, ind.mean / joint.mean));
     r.check("the joint prediction has the lower error for (almost) every pair (≥ 99 %)",
-            joint_lower >= 0.99 * static_cast<double>(s.records.size()), detail);
+            joint_lower >= 0.99 * static_cast<double>(s.records.size()),
+            fmt::format("{} of {} pairs", joint_lower, s.records.size()));
 
     for (int k : s.figure_offsets) {
       const auto ik = lie::pair_statistics(s.records, &lie::PairRecord::error_independent, k);
       if (ik.count == 0) continue;
       const double vmax = ik.mean + 2.0 * ik.std;  // thesis: dark red = 2 std above the mean (correlation ignored)
       core::Figure f;
-      f.file = ex.id() + "_offset" + std::to_string(k) + ".png";
-      f.title = "Manhattan3500, pose pairs at offset " + std::to_string(k) + " (cf. Figs. 5.10–5.14 a–e)";
+      f.file = fmt::format("{}_offset{}.png", ex.id(), k);
+      f.title = fmt::format("Manhattan3500, pose pairs at offset {} (cf. Figs. 5.10–5.14 a–e)", k);
       f.rows = 2;
       f.cols = 3;
       f.width = 16.0;

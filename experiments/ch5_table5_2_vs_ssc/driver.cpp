@@ -6,7 +6,8 @@ import keel.graph;
 import keel.pgo;
 import keel.cov;
 
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <string>
 
 #include "common/solved_pairs.hpp"
@@ -24,33 +25,31 @@ int main(int argc, char** argv) {
     const auto ssc_st =
         keel::experiments::record_statistics(r, s, &lie::PairRecord::normalized_error_ssc, "norm_cov_error.ssc");
 
-    char detail[256];
     const auto raw = keel::experiments::record_statistics(r, s, &lie::PairRecord::normalized_error_ssc_raw_angles,
                                                           "norm_cov_error.ssc_raw_angles");
     const auto floor = keel::experiments::record_statistics(r, s, &lie::PairRecord::normalized_mc_floor,
                                                             "norm_cov_error.mc_floor");
     (void)raw;
-    std::snprintf(detail, sizeof detail, "mean normalized ε: proposed %.4g, SSC %.4g, sampling floor %.4g",
-                  lie_st.mean, ssc_st.mean, floor.mean);
     r.check("the proposed relative pose is within 1.5× of the Monte-Carlo sampling floor (first order is adequate)",
-            lie_st.mean < 1.5 * floor.mean, detail);
+            lie_st.mean < 1.5 * floor.mean,
+            fmt::format("mean normalized ε: proposed {:.4g}, SSC {:.4g}, sampling floor {:.4g}", lie_st.mean,
+                        ssc_st.mean, floor.mean));
     std::size_t lie_lower = 0;
     for (const auto& rec : s.records) lie_lower += rec.normalized_error_lie < rec.normalized_error_ssc ? 1 : 0;
-    std::snprintf(detail, sizeof detail, "mean normalized ε: proposed %.4g, SSC %.4g (ratio %.2f; thesis 5.8)",
-                  lie_st.mean, ssc_st.mean, ssc_st.mean / lie_st.mean);
     r.check("the proposed relative pose has a several-fold lower normalized covariance error than SSC (≥ 3×)",
-            ssc_st.mean > 3.0 * lie_st.mean, detail);
-    std::snprintf(detail, sizeof detail, "%zu of %zu pairs", lie_lower, s.records.size());
-    r.check("the proposed method is better than SSC for most pairs (> 50 %)",
-            2 * lie_lower > s.records.size(), detail);
+            ssc_st.mean > 3.0 * lie_st.mean,
+            fmt::format("mean normalized ε: proposed {:.4g}, SSC {:.4g} (ratio {:.2f}; thesis 5.8)", lie_st.mean,
+                        ssc_st.mean, ssc_st.mean / lie_st.mean));
+    r.check("the proposed method is better than SSC for most pairs (> 50 %)", 2 * lie_lower > s.records.size(),
+            fmt::format("{} of {} pairs", lie_lower, s.records.size()));
 
     for (int k : s.figure_offsets) {
       const auto sk = lie::pair_statistics(s.records, &lie::PairRecord::normalized_error_ssc, k);
       if (sk.count == 0) continue;
       const double vmax = sk.mean + 2.0 * sk.std;  // thesis: dark orange = 2 std above the mean (SSC)
       core::Figure f;
-      f.file = ex.id() + "_offset" + std::to_string(k) + ".png";
-      f.title = "Manhattan3500, pose pairs at offset " + std::to_string(k) + " (cf. Figs. 5.10–5.14 f–g)";
+      f.file = fmt::format("{}_offset{}.png", ex.id(), k);
+      f.title = fmt::format("Manhattan3500, pose pairs at offset {} (cf. Figs. 5.10–5.14 f–g)", k);
       f.width = 12.0;
       f.height = 5.5;
       f.panels.push_back(pair_panel(s, k, &lie::PairRecord::normalized_error_lie, "(f) normalized ε, proposed",

@@ -4,9 +4,11 @@
 // import keel.cov;` (DESIGN rule 4). Drivers call engine functions only; no linear algebra here.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
-#include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,16 +30,14 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
 inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   namespace core = keel::core;
   const auto& p = ex.params();
-  const std::string dataset = p.string("dataset"), file = p.string("file"), guess = p.string("initial_guess");
+  const std::string dataset = p.string("dataset"), file = p.string("file");
+  keel::pgo::Options options;
+  options.initial_guess = p.parse("initial_guess", keel::pgo::initial_guess_from_string);
   const auto offsets_in = p.numbers("offsets"), figure_offsets_in = p.numbers("figure_offsets");
   const auto stride = static_cast<int>(p.count("pair_stride"));
   keel::lie::PairStudySetup setup;
   setup.samples = p.count("samples");
   ex.params_done();
-  keel::pgo::Options options;
-  if (!keel::pgo::from_string(guess, options.initial_guess)) {
-    throw core::ConfigError(p.where("initial_guess") + ": unknown initial guess '" + guess + "'");
-  }
   // One solver thread: Ceres sums cost and gradient per thread, so 1 and 2 threads differ in the last bits and the
   // result files would depend on the thread count. The solve takes well under a second either way.
   options.threads = 1;
@@ -54,7 +54,7 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   r.timing("solve", seconds_since(t0));
   const auto& sum = solved.summary;
   if (sum.termination != keel::pgo::Termination::converged) {
-    throw std::runtime_error("the solver did not converge: " + sum.message);
+    throw std::runtime_error(fmt::format("the solver did not converge: {}", sum.message));
   }
   r.metric("solver.final_cost", sum.final_cost);
   r.metric("solver.normalized_chi2", sum.normalized_chi2);
@@ -67,7 +67,7 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   const keel::cov::MarginalCovariance marginals(info);
   const int n = static_cast<int>(out.poses.size());
   for (int k : out.offsets) {
-    if (k < 1 || k >= n) throw core::ConfigError(p.where("offsets") + ": offset " + std::to_string(k) + " out of range");
+    if (k < 1 || k >= n) throw core::ConfigError(fmt::format("{}: offset {} out of range", p.where("offsets"), k));
     for (int i = 0; i + k < n; i += stride) out.pairs.emplace_back(i, i + k);
   }
   const auto covs = keel::cov::pair_marginals_2d(marginals, out.pairs, ex.threads());
@@ -88,12 +88,12 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
 inline keel::lie::PairStatistics record_statistics(keel::core::Results& r, const SolvedPairs& s,
                                                    double keel::lie::PairRecord::*field, const std::string& name) {
   const auto all = keel::lie::pair_statistics(s.records, field);
-  r.metric(name + ".mean", all.mean);
-  r.metric(name + ".std", all.std);
+  r.metric(fmt::format("{}.mean", name), all.mean);
+  r.metric(fmt::format("{}.std", name), all.std);
   for (int k : s.offsets) {
     const auto st = keel::lie::pair_statistics(s.records, field, k);
-    r.metric("offset" + std::to_string(k) + "." + name + ".mean", st.mean);
-    r.metric("offset" + std::to_string(k) + "." + name + ".std", st.std);
+    r.metric(fmt::format("offset{}.{}.mean", k, name), st.mean);
+    r.metric(fmt::format("offset{}.{}.std", k, name), st.std);
   }
   return all;
 }

@@ -3,6 +3,8 @@
 // hang or a sanitizer report is a bug. When a graph reader succeeds, its writer must write the graph back so
 // that the reader gives the same graph again (the round-trip property of engine/graph): a violation aborts
 // with the difference.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -22,7 +24,7 @@ using namespace keel::graph;
 namespace {
 
 [[noreturn]] void fail(const char* what, const std::string& detail) {
-  std::fprintf(stderr, "fuzz_readers: %s: %s\n", what, detail.c_str());
+  fmt::print(stderr, "fuzz_readers: {}: {}\n", what, detail);
   std::abort();
 }
 
@@ -32,7 +34,7 @@ void expect_parse_error_only(const char* what, F&& f) {
     f();
   } catch (const ParseError&) {
   } catch (const std::exception& e) {
-    fail(what, std::string("unexpected exception: ") + e.what());
+    fail(what, fmt::format("unexpected exception: {}", e.what()));
   } catch (...) {
     fail(what, "unexpected non-std exception");
   }
@@ -75,14 +77,14 @@ void round_trip(const char* what, const Graph& g, Write write, Read read, bool p
     if (cross) return;
     fail(what, "the writer refused a graph its reader accepted");
   } catch (const std::exception& e) {
-    fail(what, std::string("the writer refused a graph its reader accepted: ") + e.what());
+    fail(what, fmt::format("the writer refused a graph its reader accepted: {}", e.what()));
   }
   std::istringstream in(out.str());
   Graph back;
   try {
     back = read(in);
   } catch (const std::exception& e) {
-    fail(what, std::string("the reader rejected the writer's output: ") + e.what() + "\n" + out.str());
+    fail(what, fmt::format("the reader rejected the writer's output: {}\n{}", e.what(), out.str()));
   }
   compare(what, g, back, poses);
 }

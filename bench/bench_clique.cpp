@@ -1,6 +1,6 @@
-// Google Benchmark for keel.pcm (thesis §2.5, §2.7): exact and heuristic maximum clique on random graphs G(n, p) and
-// on consistency graphs of the 1D world of §2.7.1, plus the other selection methods on the same 1D matrices Q.
-// Run: build/release/bench/bench_clique [--benchmark_filter=1D]
+// Google Benchmark for keel.pcm (thesis §2.5, §2.7): exact and heuristic maximum clique on random graphs G(n,
+// p) and on consistency graphs of the 1D world of §2.7.1, plus the other selection methods on the same 1D
+// matrices Q. Run: build/release/bench/bench_clique [--benchmark_filter=1D]
 import keel.pcm;
 import keel.sim;
 import keel.eval;
@@ -14,7 +14,8 @@ namespace eval = keel::eval;
 
 namespace {
 
-// --- random graphs G(n, p): args = vertices, density in percent ------------------------------------------------
+// --- random graphs G(n, p): args = vertices, density in percent
+// ------------------------------------------------
 
 void BM_Exact(benchmark::State& state) {
   const auto g = sim::random_graph(static_cast<int>(state.range(0)), 0.01 * state.range(1), 2015);
@@ -47,9 +48,11 @@ void sizes(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond);
 }
 
-// --- 1D worlds (§2.7.1): args = measurements m (half inliers, a quarter aliased, a quarter random) ----------------
+// --- 1D worlds (§2.7.1): args = measurements m (half inliers, a quarter aliased, a quarter random)
+// ----------------
 
-// Q of world 0 of a fixed seed with m measurements; γ at p = 0.11 (dof 1), as in ch2_fig2_2_1d_vs_combinatorial.
+// Q of world 0 of a fixed seed with m measurements; γ at p = 0.11 (dof 1), as in
+// ch2_fig2_2_1d_vs_combinatorial.
 pcm::ConsistencyMatrix world_q(int m) {
   const auto o = sim::world1d_options_with_total(sim::World1DOptions{}, m, 0.5, 0.25);
   return sim::world1d_consistency_matrix(sim::generate_world1d(o, 2018, 0));
@@ -68,7 +71,8 @@ void BM_Exact1D(benchmark::State& state) {
   }
   state.counters["clique"] = static_cast<double>(size);
   state.counters["nodes"] = static_cast<double>(nodes);
-  state.counters["density"] = 2.0 * static_cast<double>(g.num_edges()) / (static_cast<double>(Q.n) * (Q.n - 1));
+  state.counters["density"] =
+      2.0 * static_cast<double>(g.num_edges()) / (static_cast<double>(Q.n) * (Q.n - 1));
 }
 
 void BM_Heuristic1D(benchmark::State& state) {
@@ -102,13 +106,15 @@ void BM_Ransac1D(benchmark::State& state) {
 void BM_CombinatorialPruned1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
-    benchmark::DoNotOptimize(eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::pruned));
+    benchmark::DoNotOptimize(
+        eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::pruned));
 }
 
 void BM_CombinatorialExhaustive1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
-    benchmark::DoNotOptimize(eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::exhaustive));
+    benchmark::DoNotOptimize(
+        eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::exhaustive));
 }
 
 void world_sizes(benchmark::internal::Benchmark* b) {

@@ -1,6 +1,7 @@
-// Google Benchmark: the consistency matrix Q of eq. 2.4 (thesis §2.6: "the bottleneck in processing"; the thesis
-// reports 70.8 s per City dataset without analytic Jacobians and parallelism). Synthetic local maps with a random
-// SPD joint marginal over the touched poses; n candidates → n(n−1) loop errors. Arguments: n, threads.
+// Google Benchmark: the consistency matrix Q of eq. 2.4 (thesis §2.6: "the bottleneck in processing"; the
+// thesis reports 70.8 s per City dataset without analytic Jacobians and parallelism). Synthetic local maps
+// with a random SPD joint marginal over the touched poses; n candidates → n(n−1) loop errors. Arguments: n,
+// threads.
 import keel.core;
 import keel.lie;
 import keel.pcm;
@@ -58,8 +59,8 @@ void BM_ConsistencyMatrix(benchmark::State& state) {
   }
   state.counters["pairs"] = static_cast<double>(n) * (n - 1);
   state.counters["ns_per_pair"] =
-      benchmark::Counter(static_cast<double>(n) * (n - 1), benchmark::Counter::kIsIterationInvariantRate |
-                                                               benchmark::Counter::kInvert);
+      benchmark::Counter(static_cast<double>(n) * (n - 1),
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 }  // namespace

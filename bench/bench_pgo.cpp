@@ -1,9 +1,10 @@
-// Google Benchmark for keel.pgo: batch solve (Levenberg–Marquardt, sparse normal Cholesky / CHOLMOD) of the iSAM
-// benchmark graphs from the odometry initial guess, on 1 and 2 threads. Wall-clock time per solve; the counters give
-// the solver's iterations and costs (Ceres' convention: cost = ½ Σ χ²).
-// Run from the repository root (datasets are found through datasets/manifest.toml, or $KEEL_DATASETS):
+// Google Benchmark for keel.pgo: batch solve (Levenberg–Marquardt, sparse normal Cholesky / CHOLMOD) of the
+// iSAM benchmark graphs from the odometry initial guess, on 1 and 2 threads. Wall-clock time per solve; the
+// counters give the solver's iterations and costs (Ceres' convention: cost = ½ Σ χ²). Run from the repository
+// root (datasets are found through datasets/manifest.toml, or $KEEL_DATASETS):
 //   build/release/bench/bench_pgo
-// Note: Debian's libbenchmark prints "Library was built as DEBUG"; that concerns the library's own timing loop only.
+// Note: Debian's libbenchmark prints "Library was built as DEBUG"; that concerns the library's own timing
+// loop only.
 import keel.graph;
 import keel.pgo;
 
@@ -17,7 +18,8 @@ namespace pgo = keel::pgo;
 namespace {
 
 const graph::PoseGraph2D& manhattan() {
-  static const auto g = graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+  static const auto g =
+      graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
   return g;
 }
 

@@ -1,10 +1,10 @@
 // keel — the command-line front of the reproduction machinery (a thin consumer of keel.core):
 //   keel list                                  experiment ids
-//   keel diff   --profile P [ids...]           latest.json vs committed baseline.<P>.json under experiment.toml tolerances
-//   keel bless  --profile P ids...             latest.json -> baseline.<P>.json (numbers only), on purpose
-//   keel report --profile P [ids...]           paper/REPRODUCTION.md
-//   keel eta    --profile P ids...             baseline wall time per id (seconds), for progress estimates
-//   keel same   A.json B.json                  exit 0 when two result files agree except for provenance
+//   keel diff   --profile P [ids...]           latest.json vs committed baseline.<P>.json under
+//   experiment.toml tolerances keel bless  --profile P ids...             latest.json -> baseline.<P>.json
+//   (numbers only), on purpose keel report --profile P [ids...]           paper/REPRODUCTION.md keel eta
+//   --profile P ids...             baseline wall time per id (seconds), for progress estimates keel same
+//   A.json B.json                  exit 0 when two result files agree except for provenance
 // Options: --experiments DIR (experiments), --results DIR (results), --paper DIR (paper).
 import keel.core;
 
@@ -71,14 +71,19 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     try {
-      if (s == "--profile") a.profile = next();
-      else if (s == "--experiments") a.experiments = next();
-      else if (s == "--results") a.results = next();
-      else if (s == "--paper") a.paper = next();
+      if (s == "--profile")
+        a.profile = next();
+      else if (s == "--experiments")
+        a.experiments = next();
+      else if (s == "--results")
+        a.results = next();
+      else if (s == "--paper")
+        a.paper = next();
       else if (s.rfind("--", 0) == 0) {
         fmt::print(stderr, "keel: unknown option '{}'\n", s);
         return usage();
-      } else a.ids.push_back(s);
+      } else
+        a.ids.push_back(s);
     } catch (const std::exception& e) {
       fmt::print(stderr, "keel: {}\n", e.what());
       return 2;
@@ -107,7 +112,8 @@ int main(int argc, char** argv) {
       return failed ? 1 : 0;
     }
     if (a.command == "bless") {
-      if (a.ids.empty()) throw std::runtime_error("bless needs explicit experiment ids (baselines change only on purpose)");
+      if (a.ids.empty())
+        throw std::runtime_error("bless needs explicit experiment ids (baselines change only on purpose)");
       for (const auto& id : resolve_ids(a)) {
         keel::core::bless(load(a, id), a.results);
         fmt::print("blessed {}\n", keel::core::baseline_path(a.results, id, a.profile).string());

@@ -62,11 +62,12 @@ std::filesystem::path baseline_path(const std::filesystem::path& results_dir, co
 DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir) {
   const auto lp = latest_path(results_dir, config.id);
   const auto bp = baseline_path(results_dir, config.id, config.profile);
-  const json latest =
-      read_json(lp, fmt::format("run the experiment first: scripts/reproduce --profile {} {}", config.profile, config.id));
+  const json latest = read_json(lp, fmt::format("run the experiment first: scripts/reproduce --profile {} {}",
+                                                config.profile, config.id));
   const json base = read_json(
-      bp, fmt::format("no committed baseline; create one on purpose with scripts/reproduce --profile {} --bless {}",
-                      config.profile, config.id));
+      bp, fmt::format(
+              "no committed baseline; create one on purpose with scripts/reproduce --profile {} --bless {}",
+              config.profile, config.id));
   DiffResult d;
   d.id = config.id;
   d.profile = config.profile;
@@ -77,7 +78,8 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   const auto lh = latest["provenance"].value("config_hash", "");
   const auto bh = base["provenance"].value("config_hash", "");
   if (lh != bh) {
-    d.warnings.push_back(fmt::format("experiment.toml changed since the baseline was blessed (hash {} -> {})", bh, lh));
+    d.warnings.push_back(
+        fmt::format("experiment.toml changed since the baseline was blessed (hash {} -> {})", bh, lh));
   }
 
   auto tol_of = [&](const std::string& name) { return config.tolerance_for(name).value_or(Tolerance{}); };
@@ -101,7 +103,8 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   }
   for (auto it = lm.begin(); it != lm.end(); ++it) {
     if (!bm.contains(it.key())) {
-      d.rows.push_back({it.key(), "-", number_text(as_number(it.value())), "", false, "new metric: bless to accept"});
+      d.rows.push_back(
+          {it.key(), "-", number_text(as_number(it.value())), "", false, "new metric: bless to accept"});
     }
   }
   const json& bs = base.at("series");
@@ -157,7 +160,8 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
                                    [&](const json& c) { return c.value("name", "") == name; });
       const std::string bstate = bc.value("passed", false) ? "holds" : "fails";
       if (lc == latest.at("checks").end()) {
-        d.rows.push_back({fmt::format("check: {}", name), bstate, "-", "", false, "claim check missing from latest"});
+        d.rows.push_back(
+            {fmt::format("check: {}", name), bstate, "-", "", false, "claim check missing from latest"});
         continue;
       }
       const std::string lstate = lc->value("passed", false) ? "holds" : "fails";
@@ -168,8 +172,9 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
       const std::string name = lc.value("name", "");
       const bool known = std::any_of(base.at("checks").begin(), base.at("checks").end(),
                                      [&](const json& c) { return c.value("name", "") == name; });
-      if (!known) d.rows.push_back({fmt::format("check: {}", name), "-", lc.value("passed", false) ? "holds" : "fails", "", false,
-                                    "new claim check: bless to accept"});
+      if (!known)
+        d.rows.push_back({fmt::format("check: {}", name), "-", lc.value("passed", false) ? "holds" : "fails",
+                          "", false, "new claim check: bless to accept"});
     }
   }
   return d;
@@ -214,8 +219,8 @@ std::string format_diff(const DiffResult& d) {
   for (const auto& warn : d.warnings) fmt::format_to(out, "  warning: {}\n", warn);
   fmt::format_to(out, "  {:<{}} {:>14} {:>14}  {:<16} \n", "metric", w, "baseline", "latest", "tolerance");
   for (const auto& r : d.rows) {
-    fmt::format_to(out, "  {:<{}} {:>14} {:>14}  {:<16} {}{}{}\n", r.name.substr(0, 60), w, r.baseline, r.latest,
-                   r.tolerance, r.ok ? "ok" : "FAIL", r.note.empty() ? "" : "  ", r.note);
+    fmt::format_to(out, "  {:<{}} {:>14} {:>14}  {:<16} {}{}{}\n", r.name.substr(0, 60), w, r.baseline,
+                   r.latest, r.tolerance, r.ok ? "ok" : "FAIL", r.note.empty() ? "" : "  ", r.note);
   }
   return text;
 }

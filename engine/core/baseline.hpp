@@ -1,5 +1,6 @@
-// Comparing a run (results/<id>/latest.json) with its committed baseline (results/<id>/baseline.<profile>.json)
-// under the per-metric tolerances of experiment.toml, and blessing a run into a new baseline on purpose.
+// Comparing a run (results/<id>/latest.json) with its committed baseline
+// (results/<id>/baseline.<profile>.json) under the per-metric tolerances of experiment.toml, and blessing a
+// run into a new baseline on purpose.
 #pragma once
 
 #include <filesystem>
@@ -16,12 +17,12 @@ struct DiffRow {
   std::string latest;     // formatted
   std::string tolerance;  // "abs 0.01", "exact", ...
   bool ok = true;
-  std::string note;       // why not ok
+  std::string note;  // why not ok
 };
 
 struct DiffResult {
   std::string id, profile;
-  std::vector<DiffRow> rows;   // one per metric and per series (its worst element), plus problems
+  std::vector<DiffRow> rows;          // one per metric and per series (its worst element), plus problems
   std::vector<std::string> warnings;  // e.g. the config changed since the baseline was blessed
   bool ok() const;
   int failures() const;
@@ -33,14 +34,16 @@ std::filesystem::path baseline_path(const std::filesystem::path& results_dir, co
                                     const std::string& profile);
 
 // Throws std::runtime_error with a message naming the missing file (and the command that creates it).
-[[nodiscard]] DiffResult diff_against_baseline(const ExperimentConfig& config, const std::filesystem::path& results_dir);
+[[nodiscard]] DiffResult diff_against_baseline(const ExperimentConfig& config,
+                                               const std::filesystem::path& results_dir);
 
 // Copies latest.json to baseline.<profile>.json without the figure data (baselines hold numbers only).
 void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir);
 
-// True when the two result files agree in everything but provenance and timings (wall time, threads). `why` gets the first
-// difference. Used by the determinism test (1 thread vs 2 threads).
-[[nodiscard]] bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why);
+// True when the two result files agree in everything but provenance and timings (wall time, threads). `why`
+// gets the first difference. Used by the determinism test (1 thread vs 2 threads).
+[[nodiscard]] bool same_results(const std::filesystem::path& a, const std::filesystem::path& b,
+                                std::string* why);
 
 // Renders a DiffResult as an aligned text table.
 [[nodiscard]] std::string format_diff(const DiffResult& d);

@@ -20,13 +20,20 @@ std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
 
 std::string config_type_name(const ConfigValue& v) {
   switch (v.data.index()) {
-    case 0: return "nothing";
-    case 1: return "integer";
-    case 2: return "float";
-    case 3: return "boolean";
-    case 4: return "string";
-    case 5: return "array";
-    default: return "table";
+    case 0:
+      return "nothing";
+    case 1:
+      return "integer";
+    case 2:
+      return "float";
+    case 3:
+      return "boolean";
+    case 4:
+      return "string";
+    case 5:
+      return "array";
+    default:
+      return "table";
   }
 }
 
@@ -81,7 +88,8 @@ ConfigTable::ConfigTable(std::string file, std::string name, std::shared_ptr<con
     : file_(std::move(file)), name_(std::move(name)), data_(std::move(data)) {}
 
 std::string ConfigTable::where(std::string_view key) const {
-  std::string s = fmt::format("{}: [{}] key '{}'", file_, name_.empty() ? std::string_view("top level") : name_, key);
+  std::string s =
+      fmt::format("{}: [{}] key '{}'", file_, name_.empty() ? std::string_view("top level") : name_, key);
   if (data_) {
     if (auto it = data_->find(key); it != data_->end()) {
       if (it->second.table != name_) s = fmt::format("{}: [{}] key '{}'", file_, it->second.table, key);
@@ -155,7 +163,8 @@ std::vector<double> ConfigTable::numbers(std::string_view key) const {
     } else if (auto d = std::get_if<double>(&e.data)) {
       out.push_back(*d);
     } else {
-      throw ConfigError(fmt::format("{}: element {} must be a number, got {}", where(key), i, config_type_name(e)));
+      throw ConfigError(
+          fmt::format("{}: element {} must be a number, got {}", where(key), i, config_type_name(e)));
     }
   }
   return out;
@@ -211,13 +220,15 @@ void ConfigTable::finish() const {
       std::string msg = fmt::format("{}: unknown key", where(unknown.front()));
       if (unknown.size() > 1) {
         msg += " (also unknown:";
-        for (std::size_t i = 1; i < unknown.size(); ++i) fmt::format_to(std::back_inserter(msg), " '{}'", unknown[i]);
+        for (std::size_t i = 1; i < unknown.size(); ++i)
+          fmt::format_to(std::back_inserter(msg), " '{}'", unknown[i]);
         msg += ")";
       }
       std::vector<std::string_view> names;
       for (const auto& [k, v] : *data_)
         if (used_->count(k)) names.push_back(k);
-      if (!names.empty()) fmt::format_to(std::back_inserter(msg), "; known keys here: {}", fmt::join(names, ", "));
+      if (!names.empty())
+        fmt::format_to(std::back_inserter(msg), "; known keys here: {}", fmt::join(names, ", "));
       throw ConfigError(msg);
     }
   }
@@ -264,13 +275,18 @@ namespace {
 
 std::string canonical_value(const ConfigValue& v) {
   switch (v.data.index()) {
-    case 1: return fmt::format("{}", std::get<std::int64_t>(v.data));
-    case 2: return fmt::format("{:.17g}", std::get<double>(v.data));
-    case 3: return std::get<bool>(v.data) ? "true" : "false";
-    case 4: return fmt::format("\"{}\"", std::get<std::string>(v.data));
+    case 1:
+      return fmt::format("{}", std::get<std::int64_t>(v.data));
+    case 2:
+      return fmt::format("{:.17g}", std::get<double>(v.data));
+    case 3:
+      return std::get<bool>(v.data) ? "true" : "false";
+    case 4:
+      return fmt::format("\"{}\"", std::get<std::string>(v.data));
     case 5: {
       std::string s = "[";
-      for (const auto& e : std::get<std::vector<ConfigValue>>(v.data)) fmt::format_to(std::back_inserter(s), "{},", canonical_value(e));
+      for (const auto& e : std::get<std::vector<ConfigValue>>(v.data))
+        fmt::format_to(std::back_inserter(s), "{},", canonical_value(e));
       return s + "]";
     }
     case 6: {
@@ -279,7 +295,8 @@ std::string canonical_value(const ConfigValue& v) {
         fmt::format_to(std::back_inserter(s), "{}={},", k, canonical_value(e));
       return s + "}";
     }
-    default: return "";
+    default:
+      return "";
   }
 }
 
@@ -331,9 +348,9 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
     throw ConfigError(fmt::format("{}: [profiles] has no profile '{}' (defined: {})", file.string(), profile,
                                   fmt::join(c.profiles, ", ")));
   }
-  // Only the selected profile is laid over [params]; the driver's reads check its keys. The other profiles must
-  // not hide typos until their own run: every profile key must either override a [params] key or be set by every
-  // profile (then the driver reads it whichever profile runs).
+  // Only the selected profile is laid over [params]; the driver's reads check its keys. The other profiles
+  // must not hide typos until their own run: every profile key must either override a [params] key or be set
+  // by every profile (then the driver reads it whichever profile runs).
   const auto& pv = root.value("params");
   const auto& base = *std::get<std::shared_ptr<ConfigTableData>>(pv.data);
   std::shared_ptr<const ConfigTableData> selected;
@@ -348,9 +365,10 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
       if (base.count(k)) continue;
       for (const auto& other : profile_tables) {
         if (!other.has(k)) {
-          throw ConfigError(fmt::format(
-              "{}: set in [{}] but neither in [params] nor in [{}] (a typo? every profile must set the same keys)",
-              pt.where(k), pt.name(), other.name()));
+          throw ConfigError(
+              fmt::format("{}: set in [{}] but neither in [params] nor in [{}] (a typo? every profile must "
+                          "set the same keys)",
+                          pt.where(k), pt.name(), other.name()));
         }
       }
     }
@@ -365,7 +383,8 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
     ConfigTable tol = root.table("tolerance");
     for (const auto& k : tol.keys()) c.tolerances[k] = parse_tolerance(tol.table(k));
   }
-  // Report-only tables are read by the report; mark them here so finish() only catches typos at the top level.
+  // Report-only tables are read by the report; mark them here so finish() only catches typos at the top
+  // level.
   if (root.has("thesis")) {
     for (const auto& k : c.thesis.keys()) (void)c.thesis.value(k);
   }
@@ -375,7 +394,8 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   // The hash covers what the run depends on — id, seed, profile and the resolved parameters — not the prose
   // (description, discussion, thesis values), so editing the report text does not make results stale.
   std::string canon = fmt::format("{}\n{}\n{}\n", c.id, c.seed, profile);
-  for (const auto& [k, v] : *merged) fmt::format_to(std::back_inserter(canon), "{}={}\n", k, canonical_value(v));
+  for (const auto& [k, v] : *merged)
+    fmt::format_to(std::back_inserter(canon), "{}={}\n", k, canonical_value(v));
   c.hash = fnv1a64(canon);
   // A fresh, untracked view of [thesis] for the report (so its reads are checked there, not here).
   if (root.has("thesis")) {

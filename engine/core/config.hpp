@@ -1,6 +1,7 @@
-// Strict TOML configuration. A config is read into a small tree that remembers, for every key, the file, table and
-// line it came from; every read marks the key, and finish() rejects keys nobody read ("unknown key"). Wrong types and
-// missing keys are errors that name file, table and key. toml++ stays inside config.cpp.
+// Strict TOML configuration. A config is read into a small tree that remembers, for every key, the file,
+// table and line it came from; every read marks the key, and finish() rejects keys nobody read ("unknown
+// key"). Wrong types and missing keys are errors that name file, table and key. toml++ stays inside
+// config.cpp.
 #pragma once
 
 #include <cstdint>
@@ -58,9 +59,10 @@ class ConfigTable {
   std::int64_t integer_or(std::string_view key, std::int64_t fallback) const;
   std::string string_or(std::string_view key, std::string fallback) const;
 
-  // The string at `key` turned into an enum by `from_string` (an area's `<e>_from_string`, docs/DESIGN.md "Naming and
-  // errors"); its std::invalid_argument comes back as a ConfigError located at the key, e.g.
-  // "x/experiment.toml: [params] key 'method' (line 7): unknown pgo::Method 'lm' (valid: levenberg_marquardt, ...)".
+  // The string at `key` turned into an enum by `from_string` (an area's `<e>_from_string`, docs/DESIGN.md
+  // "Naming and errors"); its std::invalid_argument comes back as a ConfigError located at the key, e.g.
+  // "x/experiment.toml: [params] key 'method' (line 7): unknown pgo::Method 'lm' (valid: levenberg_marquardt,
+  // ...)".
   template <class F>
   auto parse(std::string_view key, F&& from_string) const {
     const std::string text = string(key);
@@ -79,7 +81,8 @@ class ConfigTable {
   // Raw access for generic consumers (the report reads thesis values that may be numbers or strings).
   const ConfigValue& value(std::string_view key) const;
 
-  // Throws ConfigError naming every key of this table (and of sub-tables obtained through table()) never read.
+  // Throws ConfigError naming every key of this table (and of sub-tables obtained through table()) never
+  // read.
   void finish() const;
 
   const std::string& file() const { return file_; }
@@ -94,7 +97,8 @@ class ConfigTable {
   std::string file_;
   std::string name_;
   std::shared_ptr<const ConfigTableData> data_;
-  std::shared_ptr<std::set<std::string, std::less<>>> used_ = std::make_shared<std::set<std::string, std::less<>>>();
+  std::shared_ptr<std::set<std::string, std::less<>>> used_ =
+      std::make_shared<std::set<std::string, std::less<>>>();
   std::shared_ptr<std::vector<ConfigTable>> children_ = std::make_shared<std::vector<ConfigTable>>();
 };
 
@@ -120,14 +124,14 @@ struct ExperimentConfig {
   std::string profile;
   std::vector<std::string> profiles;  // every profile the file defines
   std::uint64_t seed = 0;
-  std::uint64_t hash = 0;   // FNV-1a of the file bytes and the profile name
-  ConfigTable params;       // [params] with [profiles.<profile>] laid over it
-  ConfigTable thesis;       // [thesis]: source, claim, values, agreement
+  std::uint64_t hash = 0;  // FNV-1a of the file bytes and the profile name
+  ConfigTable params;      // [params] with [profiles.<profile>] laid over it
+  ConfigTable thesis;      // [thesis]: source, claim, values, agreement
   std::map<std::string, Tolerance, std::less<>> tolerances;  // [tolerance]; key "default" applies to the rest
   std::optional<Tolerance> tolerance_for(std::string_view metric) const;
 
-  // Loads and validates: unknown top-level keys, a missing profile, an id that differs from the folder name, and
-  // malformed tolerances are errors naming the file and key.
+  // Loads and validates: unknown top-level keys, a missing profile, an id that differs from the folder name,
+  // and malformed tolerances are errors naming the file and key.
   static ExperimentConfig load(const std::filesystem::path& file, const std::string& profile);
 };
 

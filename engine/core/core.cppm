@@ -1,6 +1,7 @@
-// keel.core — the curated facade of engine/core (DESIGN.md, facade rules 1–3): the global module fragment includes the
-// area's ordinary headers, and the export block re-exports names with using-declarations. Nothing here imports another
-// facade. Consumers: `import keel.core;` before any #include that reaches Eigen or Ceres.
+// keel.core — the curated facade of engine/core (DESIGN.md, facade rules 1–3): the global module fragment
+// includes the area's ordinary headers, and the export block re-exports names with using-declarations.
+// Nothing here imports another facade. Consumers: `import keel.core;` before any #include that reaches Eigen
+// or Ceres.
 module;
 #include "core/baseline.hpp"
 #include "core/config.hpp"
@@ -39,20 +40,20 @@ using keel::core::load_toml;
 using keel::core::Tolerance;
 // results, figures, experiment main
 using keel::core::Check;
+using keel::core::code_changed_since;
 using keel::core::Experiment;
 using keel::core::experiment_main;
 using keel::core::ExperimentBody;
 using keel::core::Figure;
-using keel::core::code_changed_since;
 using keel::core::git_describe;
 using keel::core::hline_layer;
 using keel::core::Layer;
-using keel::core::line_layer;
-using keel::core::scatter_layer;
 using keel::core::level_tag;
+using keel::core::line_layer;
 using keel::core::Panel;
 using keel::core::Results;
 using keel::core::round_significant;
+using keel::core::scatter_layer;
 using keel::core::write_file_atomic;
 // baselines and report
 using keel::core::baseline_path;

@@ -107,20 +107,27 @@ TEST_CASE("config: wrong type names file, table, key and line") {
 TEST_CASE("config: bad files give clear errors") {
   Scratch s("bad");
   std::string text = kGood;
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", text), "nope"); })
-            .find("no profile 'nope'") != std::string::npos);
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("other/experiment.toml", text), "quick"); })
-            .find("must equal the experiment folder name 'other'") != std::string::npos);
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", fmt::format("colour = 3\n{}", text)), "quick"); })
-            .find("[top level] key 'colour'") != std::string::npos);
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", "id = \n"), "quick"); })
-            .find("TOML syntax error") != std::string::npos);
-  CHECK(error_of([&] { ExperimentConfig::load(s.root / "missing/experiment.toml", "quick"); })
-            .find("cannot open") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.write("demo/experiment.toml", text), "nope");
+        }).find("no profile 'nope'") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.write("other/experiment.toml", text), "quick");
+        }).find("must equal the experiment folder name 'other'") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.write("demo/experiment.toml", fmt::format("colour = 3\n{}", text)),
+                                 "quick");
+        }).find("[top level] key 'colour'") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.write("demo/experiment.toml", "id = \n"), "quick");
+        }).find("TOML syntax error") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.root / "missing/experiment.toml", "quick");
+        }).find("cannot open") != std::string::npos);
   std::string bad_tol = kGood;
   bad_tol += "\"x\" = { absolute = 1 }\n";
-  CHECK(error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", bad_tol), "quick"); })
-            .find("'absolute'") != std::string::npos);
+  CHECK(error_of([&] {
+          ExperimentConfig::load(s.write("demo/experiment.toml", bad_tol), "quick");
+        }).find("'absolute'") != std::string::npos);
 }
 
 TEST_CASE("config: a key set by one profile only is a typo") {
@@ -128,7 +135,8 @@ TEST_CASE("config: a key set by one profile only is a typo") {
   std::string text = kGood;
   const auto pos = text.find("trials = 10000");
   text.replace(pos, 14, "trails = 10000");
-  const std::string e = error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", text), "quick"); });
+  const std::string e =
+      error_of([&] { ExperimentConfig::load(s.write("demo/experiment.toml", text), "quick"); });
   CHECK(e.find("[profiles.full] key 'trails'") != std::string::npos);
   CHECK(e.find("every profile must set the same keys") != std::string::npos);
 }
@@ -177,7 +185,12 @@ TEST_CASE("parallel_for: each index once, results independent of threads, except
   std::atomic<int> count{0};
   parallel_for(n, [&](std::size_t) { count++; }, 3);
   CHECK(count == static_cast<int>(n));
-  CHECK_THROWS_WITH(parallel_for(100, [](std::size_t i) { if (i == 57) throw std::runtime_error("trial 57"); }, 2),
+  CHECK_THROWS_WITH(parallel_for(
+                        100,
+                        [](std::size_t i) {
+                          if (i == 57) throw std::runtime_error("trial 57");
+                        },
+                        2),
                     "trial 57");
 }
 
@@ -219,10 +232,11 @@ TEST_CASE("durations and rounding") {
 
 namespace {
 enum class Colour { light_red, dark_blue };
-constexpr NameTable<Colour, 2> kColourNames{"test::Colour", {{
-    {Colour::light_red, "light_red"},
-    {Colour::dark_blue, "dark_blue"},
-}}};
+constexpr NameTable<Colour, 2> kColourNames{"test::Colour",
+                                            {{
+                                                {Colour::light_red, "light_red"},
+                                                {Colour::dark_blue, "dark_blue"},
+                                            }}};
 Colour colour_from_string(std::string_view s) { return kColourNames.parse(s); }
 }  // namespace
 
@@ -233,8 +247,10 @@ TEST_CASE("name tables: round trip, exact matches, errors naming the type and ev
   }
   CHECK(error_of([] { (void)colour_from_string("Light_Red"); }) ==
         "unknown test::Colour 'Light_Red' (valid: light_red, dark_blue)");
-  CHECK(error_of([] { (void)colour_from_string(""); }) == "unknown test::Colour '' (valid: light_red, dark_blue)");
-  CHECK(error_of([] { (void)kColourNames.name(static_cast<Colour>(7)); }) == "test::Colour: value 7 has no name");
+  CHECK(error_of([] { (void)colour_from_string(""); }) ==
+        "unknown test::Colour '' (valid: light_red, dark_blue)");
+  CHECK(error_of([] { (void)kColourNames.name(static_cast<Colour>(7)); }) ==
+        "test::Colour: value 7 has no name");
   CHECK_THROWS_AS((void)colour_from_string("dark"), std::invalid_argument);
 
   // A config reader turns the parse error into a ConfigError located at file, table, key and line.
@@ -244,8 +260,9 @@ TEST_CASE("name tables: round trip, exact matches, errors naming the type and ev
   CHECK(root.parse("good", colour_from_string) == Colour::dark_blue);
   CHECK(root.parse_or("absent", colour_from_string, Colour::light_red) == Colour::light_red);
   const std::string e = error_of([&] { (void)root.table("style").parse("bad", colour_from_string); });
-  CHECK(e == fmt::format("{}: [style] key 'bad' (line 3): unknown test::Colour 'green' (valid: light_red, dark_blue)",
-                         file.string()));
+  CHECK(e == fmt::format(
+                 "{}: [style] key 'bad' (line 3): unknown test::Colour 'green' (valid: light_red, dark_blue)",
+                 file.string()));
 }
 
 TEST_CASE("results round trip through baseline diff and bless") {
@@ -284,9 +301,11 @@ TEST_CASE("results round trip through baseline diff and bless") {
   std::ifstream in(baseline_path(results, "demo", "quick"));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   CHECK(text.find("figures") == std::string::npos);
-  // A tolerance key that names no metric or series is reported (a typo would silently fall back to the default).
+  // A tolerance key that names no metric or series is reported (a typo would silently fall back to the
+  // default).
   auto c2 = ExperimentConfig::load(
-      s.write("experiments/demo/experiment.toml", fmt::format("{}\"a.bb\" = {{ abs = 1 }}\n", kGood)), "quick");
+      s.write("experiments/demo/experiment.toml", fmt::format("{}\"a.bb\" = {{ abs = 1 }}\n", kGood)),
+      "quick");
   r.write(latest_path(results, "demo"), p);
   d = diff_against_baseline(c2, results);
   CHECK(d.failures() == 1);

@@ -54,10 +54,11 @@ std::string git_describe(const std::string& path) {
   if (sha.empty()) return "unknown";
   // Pathspecs from the repository root (":/"), untracked sources included: any change to the engine or the
   // experiments since HEAD makes the result "-dirty".
-  const std::string dirty = run_capture(fmt::format(
-      "git -C {} status --porcelain --untracked-files=normal -- ':/engine' ':/experiments' ':/CMakeLists.txt' "
-      "':/cmake' 2>/dev/null",
-      dir));
+  const std::string dirty =
+      run_capture(fmt::format("git -C {} status --porcelain --untracked-files=normal -- ':/engine' "
+                              "':/experiments' ':/CMakeLists.txt' "
+                              "':/cmake' 2>/dev/null",
+                              dir));
   return dirty.empty() ? sha : fmt::format("{}-dirty", sha);
 }
 
@@ -65,14 +66,16 @@ bool code_changed_since(const std::string& sha, const std::string& id) {
   if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return true;
   for (char c : sha)
     if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
-  // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code too.
+  // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code
+  // too.
   const std::string folder = shell_quote(fmt::format(":/experiments/{}", id));
   const std::string out = run_capture(fmt::format(
       "git diff --name-only {} -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' {} 2>&1; "
       "echo \"rc=$?\"",
       sha, folder));
   const std::string untracked = run_capture(fmt::format(
-      "git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' {} 2>/dev/null", folder));
+      "git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' {} 2>/dev/null",
+      folder));
   return out != "rc=0" || !untracked.empty();
 }
 
@@ -166,9 +169,9 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   }
   int failed = 0;
   for (const auto& c : ex->results().checks()) failed += c.passed ? 0 : 1;
-  fmt::print(stderr, "{} [{}]: {} metrics, {} series, {} checks ({} not met) in {} -> {}\n", ex->id(), profile,
-             ex->results().metrics().size(), ex->results().all_series().size(), ex->results().checks().size(), failed,
-             format_duration(wall), out_path);
+  fmt::print(stderr, "{} [{}]: {} metrics, {} series, {} checks ({} not met) in {} -> {}\n", ex->id(),
+             profile, ex->results().metrics().size(), ex->results().all_series().size(),
+             ex->results().checks().size(), failed, format_duration(wall), out_path);
   return 0;
 }
 

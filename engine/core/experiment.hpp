@@ -3,13 +3,14 @@
 //   import keel.core;
 //   int main(int argc, char** argv) {
 //     return keel::core::experiment_main(argc, argv, [](keel::core::Experiment& ex) {
-//       const auto n = ex.params().integer("steps");   // strict: missing/wrong type -> error naming file and key
-//       ex.params_done();                               // unknown keys -> error before any long work
+//       const auto n = ex.params().integer("steps");   // strict: missing/wrong type -> error naming file and
+//       key ex.params_done();                               // unknown keys -> error before any long work
 //       ex.results().metric("x", compute(n, ex.seed(), ex.threads()));
 //     });
 //   }
 //
-// Command line: --config experiments/<id>/experiment.toml [--profile quick|full] [--out results/<id>/latest.json]
+// Command line: --config experiments/<id>/experiment.toml [--profile quick|full] [--out
+// results/<id>/latest.json]
 //               [--threads N]. Exit codes: 0 ok, 1 the run failed, 2 bad command line or configuration.
 #pragma once
 
@@ -49,9 +50,9 @@ using ExperimentBody = std::function<void(Experiment&)>;
 // "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
 std::string git_describe(const std::string& path);
 
-// Whether the engine, the build files, experiments/common (glue drivers include) or experiments/<id> differ between
-// commit `sha` (as git_describe wrote it) and the working tree now. A "-dirty" or unknown sha counts as changed: such
-// a result cannot be tied to committed code.
+// Whether the engine, the build files, experiments/common (glue drivers include) or experiments/<id> differ
+// between commit `sha` (as git_describe wrote it) and the working tree now. A "-dirty" or unknown sha counts
+// as changed: such a result cannot be tied to committed code.
 bool code_changed_since(const std::string& sha, const std::string& id);
 
 }  // namespace keel::core

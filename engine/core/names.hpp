@@ -9,10 +9,10 @@
 //     std::string_view to_string(Method v) { return kMethodNames.name(v); }
 //     Method method_from_string(std::string_view s) { return kMethodNames.parse(s); }
 //
-// so the header declares `std::string_view to_string(E)` and `E <e>_from_string(std::string_view)`; the parse throws
-// std::invalid_argument naming the type, the text and every valid name. Config readers add the location
-// (ConfigTable::parse). Free of third-party includes, so any area's header may include it; the messages are built
-// in names.cpp.
+// so the header declares `std::string_view to_string(E)` and `E <e>_from_string(std::string_view)`; the parse
+// throws std::invalid_argument naming the type, the text and every valid name. Config readers add the
+// location (ConfigTable::parse). Free of third-party includes, so any area's header may include it; the
+// messages are built in names.cpp.
 #pragma once
 
 #include <array>
@@ -23,8 +23,8 @@
 namespace keel::core {
 
 // std::invalid_argument "unknown <type> '<text>' (valid: a, b, c)".
-[[noreturn]] void throw_unknown_name(std::string_view type, std::string_view text, const std::string_view* valid,
-                                     std::size_t count);
+[[noreturn]] void throw_unknown_name(std::string_view type, std::string_view text,
+                                     const std::string_view* valid, std::size_t count);
 // std::invalid_argument "<type>: value <value> has no name".
 [[noreturn]] void throw_unnamed_value(std::string_view type, long long value);
 

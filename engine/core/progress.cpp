@@ -66,12 +66,13 @@ void Progress::draw(bool final_line) {
   if (final_line) {
     tail = fmt::format("done in {}", format_duration(elapsed));
   } else if (done > 0) {
-    tail = fmt::format("elapsed {}, left ~{}", format_duration(elapsed), format_duration(elapsed * (1.0 - frac) / frac));
+    tail = fmt::format("elapsed {}, left ~{}", format_duration(elapsed),
+                       format_duration(elapsed * (1.0 - frac) / frac));
   } else {
     tail = fmt::format("elapsed {}", format_duration(elapsed));
   }
-  fmt::print(stderr, "\r\033[K{} [{}] {:3}% {}/{} {}{}", label_, bar, static_cast<int>(frac * 100.0), done, total_, tail,
-             final_line ? "\n" : "");
+  fmt::print(stderr, "\r\033[K{} [{}] {:3}% {}/{} {}{}", label_, bar, static_cast<int>(frac * 100.0), done,
+             total_, tail, final_line ? "\n" : "");
   std::fflush(stderr);
 }
 

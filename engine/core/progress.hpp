@@ -1,5 +1,5 @@
-// A progress bar on stderr for long runs: percentage, count, elapsed and estimated time left. Quiet when stderr is
-// not a terminal (CI logs stay clean). Thread-safe: workers call advance() concurrently.
+// A progress bar on stderr for long runs: percentage, count, elapsed and estimated time left. Quiet when
+// stderr is not a terminal (CI logs stay clean). Thread-safe: workers call advance() concurrently.
 #pragma once
 
 #include <atomic>
@@ -12,14 +12,16 @@ namespace keel::core {
 
 class Progress {
  public:
-  // `enabled` = -1: decide from isatty(stderr) and the KEEL_PROGRESS environment variable (0 = off, 1 = force on).
+  // `enabled` = -1: decide from isatty(stderr) and the KEEL_PROGRESS environment variable (0 = off, 1 = force
+  // on).
   Progress(std::string label, std::size_t total, int enabled = -1);
   ~Progress();
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
   void advance(std::size_t n = 1);
-  // Prints the final line (100 %, total time) and stops drawing. Called by the destructor if not called before.
+  // Prints the final line (100 %, total time) and stops drawing. Called by the destructor if not called
+  // before.
   void finish();
   bool enabled() const { return enabled_; }
   std::size_t done() const { return done_.load(); }

@@ -1,7 +1,8 @@
-// Deterministic random streams (DESIGN convention 9): one seed per experiment, one independent stream per trial,
-// so results never depend on the number of threads. The generator is xoshiro256** (Blackman & Vigna, 2018) seeded
-// through splitmix64; the normal deviates come from the Marsaglia polar method, implemented here so the numbers are
-// identical across standard libraries (std::normal_distribution is implementation-defined).
+// Deterministic random streams (DESIGN convention 9): one seed per experiment, one independent stream per
+// trial, so results never depend on the number of threads. The generator is xoshiro256** (Blackman & Vigna,
+// 2018) seeded through splitmix64; the normal deviates come from the Marsaglia polar method, implemented here
+// so the numbers are identical across standard libraries (std::normal_distribution is
+// implementation-defined).
 #pragma once
 
 #include <cmath>
@@ -24,8 +25,8 @@ class Rng {
     for (auto& w : s_) w = splitmix64(sm);
   }
 
-  // Independent stream `index` of experiment seed `seed` (trial i uses stream(seed, i)). The pair is hashed through
-  // two splitmix rounds so neighbouring indices give unrelated states.
+  // Independent stream `index` of experiment seed `seed` (trial i uses stream(seed, i)). The pair is hashed
+  // through two splitmix rounds so neighbouring indices give unrelated states.
   static Rng stream(std::uint64_t seed, std::uint64_t index) {
     std::uint64_t a = seed;
     std::uint64_t h = splitmix64(a);

@@ -1,5 +1,5 @@
-// paper/REPRODUCTION.md: one section per thesis table/figure with the thesis's published values or claim (from each
-// experiment.toml's [thesis]), our values (results/<id>/latest.json), a verdict and the figures.
+// paper/REPRODUCTION.md: one section per thesis table/figure with the thesis's published values or claim
+// (from each experiment.toml's [thesis]), our values (results/<id>/latest.json), a verdict and the figures.
 #pragma once
 
 #include <filesystem>

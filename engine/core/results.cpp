@@ -31,8 +31,8 @@ Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label
   return l;
 }
 
-Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color, double size,
-                    double alpha, std::string marker) {
+Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
+                    double size, double alpha, std::string marker) {
   Layer l;
   l.type = "scatter";
   l.x = std::move(x);
@@ -161,7 +161,8 @@ void Results::check(const std::string& name, bool passed, const std::string& det
 }
 void Results::figure(Figure f) {
   if (f.file.empty() || f.file.find('/') != std::string::npos || f.file.find("..") != std::string::npos) {
-    throw std::invalid_argument(fmt::format("Results::figure: file must be a plain file name, got '{}'", f.file));
+    throw std::invalid_argument(
+        fmt::format("Results::figure: file must be a plain file name, got '{}'", f.file));
   }
   figures_.push_back(std::move(f));
 }
@@ -201,7 +202,8 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
   for (const auto& [k, v] : series_) s[k] = numbers(v);
   doc["series"] = s;
   json c = json::array();
-  for (const auto& ch : checks_) c.push_back({{"name", ch.name}, {"passed", ch.passed}, {"detail", ch.detail}});
+  for (const auto& ch : checks_)
+    c.push_back({{"name", ch.name}, {"passed", ch.passed}, {"detail", ch.detail}});
   doc["checks"] = c;
   json f = json::array();
   for (const auto& fig : figures_) f.push_back(figure_json(fig));
@@ -213,9 +215,12 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
     doc["timings_s"] = t;
   }
   const std::string hash = fmt::format("{:016x}", prov.config_hash);
-  doc["provenance"] = {{"git_sha", prov.git_sha},     {"config_hash", hash},
-                       {"config_file", prov.config_file}, {"compiler", prov.compiler},
-                       {"seed", prov.seed},           {"profile", prov.profile},
+  doc["provenance"] = {{"git_sha", prov.git_sha},
+                       {"config_hash", hash},
+                       {"config_file", prov.config_file},
+                       {"compiler", prov.compiler},
+                       {"seed", prov.seed},
+                       {"profile", prov.profile},
                        {"wall_time_s", round_significant(prov.wall_time_s, 4)},
                        {"threads", prov.threads}};
   write_file_atomic(path, doc.dump(1) + "\n");

@@ -1,6 +1,6 @@
-// What an experiment run produces: scalar metrics, named series, claim checks, declarative figures (rendered by
-// scripts/plot.py, whose header documents the figure contract) and provenance. Written as JSON with sorted keys to a
-// temporary name and renamed (DESIGN convention 8). nlohmann::json stays inside results.cpp.
+// What an experiment run produces: scalar metrics, named series, claim checks, declarative figures (rendered
+// by scripts/plot.py, whose header documents the figure contract) and provenance. Written as JSON with sorted
+// keys to a temporary name and renamed (DESIGN convention 8). nlohmann::json stays inside results.cpp.
 #pragma once
 
 #include <cstdint>
@@ -12,17 +12,18 @@
 
 namespace keel::core {
 
-// One drawable layer of a panel; which fields matter depends on `type` ("line", "scatter", "segments", "hline",
-// "vline"). Unset optional fields are omitted from the JSON.
+// One drawable layer of a panel; which fields matter depends on `type` ("line", "scatter", "segments",
+// "hline", "vline"). Unset optional fields are omitted from the JSON.
 struct Layer {
   std::string type = "line";
-  std::vector<double> x, y;              // line, scatter
-  std::vector<std::string> y_timings;    // line, scatter: instead of y, names of this run's timings (Results::timing)
-                                         // to plot; wall times stay out of the figure data, so result files remain
-                                         // identical across thread counts and timings are never diffed
-  std::vector<double> x0, y0, x1, y1;    // segments
-  std::vector<double> c;                 // scatter/segments colour values
-  std::optional<double> value;           // hline: y; vline: x
+  std::vector<double> x, y;  // line, scatter
+  std::vector<std::string>
+      y_timings;  // line, scatter: instead of y, names of this run's timings (Results::timing)
+                  // to plot; wall times stay out of the figure data, so result files remain
+                  // identical across thread counts and timings are never diffed
+  std::vector<double> x0, y0, x1, y1;  // segments
+  std::vector<double> c;               // scatter/segments colour values
+  std::optional<double> value;         // hline: y; vline: x
   std::string label, color, marker, linestyle, cmap;
   std::optional<double> size, alpha, linewidth, vmin, vmax;
 };
@@ -30,8 +31,8 @@ struct Layer {
 // Layer builders for the common cases (drivers stay short).
 Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
                  std::string marker = "", std::string linestyle = "");
-Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color, double size,
-                    double alpha = 1.0, std::string marker = ".");
+Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
+                    double size, double alpha = 1.0, std::string marker = ".");
 Layer hline_layer(double y, std::string label, std::string color, std::string linestyle = "--");
 
 struct Panel {
@@ -44,13 +45,13 @@ struct Panel {
 struct Figure {
   std::string file;  // file name under paper/figures/
   std::string title;
-  int rows = 0, cols = 0;  // 0: one row of panels
+  int rows = 0, cols = 0;        // 0: one row of panels
   double width = 0, height = 0;  // inches; 0: the renderer's default (5.5 x 4.5 per panel)
   std::vector<Panel> panels;
 };
 
 struct Check {
-  std::string name;    // the claim, in words
+  std::string name;  // the claim, in words
   bool passed = false;
   std::string detail;  // the measured numbers behind the verdict
 };
@@ -93,7 +94,8 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& tex
 // Metric-name tag of a probability level: 0.95 -> "95", 0.999 -> "999", 0.5 -> "5".
 std::string level_tag(double p);
 
-// Rounds to 12 significant digits so committed baselines do not churn in the last bits (and prints compactly).
+// Rounds to 12 significant digits so committed baselines do not churn in the last bits (and prints
+// compactly).
 double round_significant(double v, int digits = 12);
 
 }  // namespace keel::core

@@ -1,9 +1,10 @@
-// keel.cov — the curated facade of engine/cov (thesis §5.8.2): the information matrix of a pose graph at a solution,
-// linearized in the Lie algebra (left perturbation T = exp(ξ^) T̄, eq. 5.14), and the joint marginal covariances of
-// any sets of poses / landmarks from its sparse Cholesky factorization (CHOLMOD, inside the .cpp files only).
-// Facade rules (docs/DESIGN.md): includes in the global module fragment (public headers only: graph/lie headers and
-// the standard library, never CHOLMOD), using-declarations in the export block, no import of another facade.
-// Consumers also import keel.lie (SE2, Mat6, ...) and keel.graph (PoseGraph2D, readers) themselves.
+// keel.cov — the curated facade of engine/cov (thesis §5.8.2): the information matrix of a pose graph at a
+// solution, linearized in the Lie algebra (left perturbation T = exp(ξ^) T̄, eq. 5.14), and the joint marginal
+// covariances of any sets of poses / landmarks from its sparse Cholesky factorization (CHOLMOD, inside the
+// .cpp files only). Facade rules (docs/DESIGN.md): includes in the global module fragment (public headers
+// only: graph/lie headers and the standard library, never CHOLMOD), using-declarations in the export block,
+// no import of another facade. Consumers also import keel.lie (SE2, Mat6, ...) and keel.graph (PoseGraph2D,
+// readers) themselves.
 module;
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"

@@ -15,9 +15,7 @@ namespace keel::cov {
 
 namespace {
 
-std::string where(int line) {
-  return line > 0 ? fmt::format(" (source line {})", line) : std::string();
-}
+std::string where(int line) { return line > 0 ? fmt::format(" (source line {})", line) : std::string(); }
 
 }  // namespace
 
@@ -68,7 +66,8 @@ LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec
 
 namespace {
 
-constexpr core::NameTable<Gauge, 2> kGauge{"cov::Gauge", {{{Gauge::fix_pose, "fix_pose"}, {Gauge::prior, "prior"}}}};
+constexpr core::NameTable<Gauge, 2> kGauge{"cov::Gauge",
+                                           {{{Gauge::fix_pose, "fix_pose"}, {Gauge::prior, "prior"}}}};
 
 }  // namespace
 
@@ -82,7 +81,8 @@ void GaugeOptions::validate(int num_poses, int pose_dof) const {
   if (kind != Gauge::prior) return;
   if (prior_information.rows() != pose_dof || prior_information.cols() != pose_dof)
     throw std::invalid_argument(fmt::format("GaugeOptions: prior_information must be {}x{} (got {}x{})",
-                                            pose_dof, pose_dof, prior_information.rows(), prior_information.cols()));
+                                            pose_dof, pose_dof, prior_information.rows(),
+                                            prior_information.cols()));
   if (!prior_information.allFinite())
     throw std::invalid_argument("GaugeOptions: prior_information has non-finite entries");
   const double asym = (prior_information - prior_information.transpose()).cwiseAbs().maxCoeff();
@@ -99,8 +99,8 @@ void GaugeOptions::validate(int num_poses, int pose_dof) const {
 
 void SparseInformation::check_variable(int v) const {
   if (v < 0 || v >= num_variables())
-    throw std::out_of_range(fmt::format("cov: variable {} is not in [0, {}) ({} poses, {} landmarks)",
-                                        v, num_variables(), num_poses, num_landmarks));
+    throw std::out_of_range(fmt::format("cov: variable {} is not in [0, {}) ({} poses, {} landmarks)", v,
+                                        num_variables(), num_poses, num_landmarks));
 }
 
 int SparseInformation::variable_of_row(int r) const {
@@ -133,7 +133,9 @@ MatX SparseInformation::dense() const {
 }
 
 void SparseInformation::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument(fmt::format("SparseInformation: {}", what)); };
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument(fmt::format("SparseInformation: {}", what));
+  };
   if (num_poses < 1) fail("no poses");
   if (static_cast<int>(offset.size()) != num_variables()) fail("offset must have one entry per variable");
   if (static_cast<int>(col_start.size()) != size + 1) fail("col_start must have size + 1 entries");
@@ -235,8 +237,9 @@ void layout(SparseInformation& H, int num_poses, int num_landmarks, int pose_dof
 
 void check_pose(int id, int num_poses, const char* what, std::size_t k, int line) {
   if (id < 0 || id >= num_poses)
-    throw std::invalid_argument(fmt::format("information_matrix: {} {}{} refers to pose {}, but there are {} poses",
-                                            what, k, where(line), id, num_poses));
+    throw std::invalid_argument(
+        fmt::format("information_matrix: {} {}{} refers to pose {}, but there are {} poses", what, k,
+                    where(line), id, num_poses));
 }
 
 }  // namespace
@@ -275,9 +278,10 @@ SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2
     const auto& lm = g.landmark_measurements[k];
     check_pose(lm.pose, n, "landmark measurement", k, lm.line);
     if (lm.landmark < 0 || lm.landmark >= m)
-      throw std::invalid_argument(fmt::format("information_matrix: landmark measurement {}{} refers to landmark {}, "
-                                              "but {} landmark positions were given",
-                                              k, where(lm.line), lm.landmark, m));
+      throw std::invalid_argument(
+          fmt::format("information_matrix: landmark measurement {}{} refers to landmark {}, "
+                      "but {} landmark positions were given",
+                      k, where(lm.line), lm.landmark, m));
   }
   SparseInformation H;
   layout(H, n, m, 3, gauge);

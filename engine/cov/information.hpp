@@ -102,7 +102,8 @@ std::string_view to_string(Gauge g);  // "fix_pose", "prior"
 struct GaugeOptions {
   Gauge kind = Gauge::fix_pose;  // how the gauge freedom of relative measurements is removed
   int pose = 0;                  // the pose that is fixed or receives the prior
-  MatX prior_information;  // Gauge::prior only: DoF×DoF (3 for SE(2), 6 for SE(3)) symmetric positive definite
+  MatX
+      prior_information;  // Gauge::prior only: DoF×DoF (3 for SE(2), 6 for SE(3)) symmetric positive definite
   /// Throws std::invalid_argument naming the violated constraint.
   void validate(int num_poses, int pose_dof) const;
 };
@@ -152,8 +153,9 @@ struct SparseInformation {
 /// be empty when none is). Throws std::invalid_argument naming the offending edge (and its source line) on an
 /// out-of-range index.
 [[nodiscard]] SparseInformation information_matrix(const PoseGraph2D& g, const std::vector<SE2>& poses,
-                                     const std::vector<Vec2>& landmarks = {}, const GaugeOptions& gauge = {});
+                                                   const std::vector<Vec2>& landmarks = {},
+                                                   const GaugeOptions& gauge = {});
 [[nodiscard]] SparseInformation information_matrix(const PoseGraph3D& g, const std::vector<SE3>& poses,
-                                     const GaugeOptions& gauge = {});
+                                                   const GaugeOptions& gauge = {});
 
 }  // namespace keel::cov

@@ -27,8 +27,8 @@ G random_group(core::Rng& rng, double t_scale, double r_scale) {
 // Central difference of f(D) with respect to the left perturbation D = exp(δ^) of one argument.
 template <class G, class F>
 MatX numeric_jacobian(const F& f) {
-  return testkit::numerical_jacobian_tangent<G>([&](const typename G::Tangent& d) -> VecX { return f(G::exp(d)); },
-                                                kStep);
+  return testkit::numerical_jacobian_tangent<G>(
+      [&](const typename G::Tangent& d) -> VecX { return f(G::exp(d)); }, kStep);
 }
 
 double rel_err(const MatX& a, const MatX& b) { return (a - b).norm() / std::max(1.0, b.norm()); }
@@ -45,10 +45,8 @@ TEST_CASE("2D edge Jacobians match central differences of the residual (large E)
     if (std::abs(lin.residual(2)) > 3.0) continue;  // keep the wrap of θ_E away from the differences
     ++tested;
     CHECK((lin.residual - edge_residual(z, Ti, Tj)).norm() == doctest::Approx(0.0));
-    const MatX Ji =
-        numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return edge_residual(z, D * Ti, Tj); });
-    const MatX Jj =
-        numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
+    const MatX Ji = numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return edge_residual(z, D * Ti, Tj); });
+    const MatX Jj = numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
     CHECK(rel_err(lin.J_r_xi_i, Ji) < 1e-7);
     CHECK(rel_err(lin.J_r_xi_j, Jj) < 1e-7);
   }
@@ -81,10 +79,8 @@ TEST_CASE("3D edge Jacobians match central differences of the residual (large E)
     if (lin.residual.tail<3>().norm() > 2.9) continue;  // Log is not differentiable at |φ| = π
     ++tested;
     CHECK((lin.residual - edge_residual(z, Ti, Tj)).norm() == doctest::Approx(0.0));
-    const MatX Ji =
-        numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, D * Ti, Tj); });
-    const MatX Jj =
-        numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
+    const MatX Ji = numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, D * Ti, Tj); });
+    const MatX Jj = numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
     CHECK(rel_err(lin.J_r_xi_i, Ji) < 1e-6);
     CHECK(rel_err(lin.J_r_xi_j, Jj) < 1e-6);
   }
@@ -98,8 +94,7 @@ TEST_CASE("3D edge Jacobians at the identity and at a consistent measurement") {
     const auto lin = linearize_edge(z, Ti, Tj);
     CHECK(lin.residual.norm() < 1e-9);
     CHECK(rel_err(lin.J_r_xi_j, Tj.inverse().adjoint()) < 1e-9);
-    const MatX Jj =
-        numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
+    const MatX Jj = numeric_jacobian<SE3>([&](const SE3& D) -> VecX { return edge_residual(z, Ti, D * Tj); });
     CHECK(rel_err(lin.J_r_xi_j, Jj) < 1e-6);
   }
 }
@@ -116,9 +111,8 @@ TEST_CASE("2D landmark Jacobians match central differences") {
     const MatX Jx =
         numeric_jacobian<SE2>([&](const SE2& D) -> VecX { return landmark_residual(z, D * T, l); });
     CHECK(rel_err(lin.J_r_xi, Jx) < 1e-7);
-    const MatX Jl =
-        testkit::numerical_jacobian([&](const VecX& x) -> VecX { return landmark_residual(z, T, Vec2(x)); }, VecX(l),
-                                    kStep);
+    const MatX Jl = testkit::numerical_jacobian(
+        [&](const VecX& x) -> VecX { return landmark_residual(z, T, Vec2(x)); }, VecX(l), kStep);
     CHECK(rel_err(lin.J_r_l, Jl) < 1e-7);
   }
 }

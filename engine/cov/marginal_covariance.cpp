@@ -54,10 +54,9 @@ constexpr core::NameTable<Ordering, 5> kOrdering{"cov::Ordering",
                                                    {Ordering::metis, "metis"},
                                                    {Ordering::nesdis, "nesdis"},
                                                    {Ordering::natural, "natural"}}}};
-constexpr core::NameTable<Extraction, 3> kExtraction{"cov::Extraction",
-                                                     {{{Extraction::automatic, "auto"},
-                                                       {Extraction::forward, "forward"},
-                                                       {Extraction::solve, "solve"}}}};
+constexpr core::NameTable<Extraction, 3> kExtraction{
+    "cov::Extraction",
+    {{{Extraction::automatic, "auto"}, {Extraction::forward, "forward"}, {Extraction::solve, "solve"}}}};
 
 }  // namespace
 
@@ -71,7 +70,8 @@ Extraction extraction_from_string(std::string_view s) { return kExtraction.parse
 
 void CovarianceOptions::validate() const {
   if (block_columns < 1)
-    throw std::invalid_argument(fmt::format("CovarianceOptions: block_columns must be >= 1 (got {})", block_columns));
+    throw std::invalid_argument(
+        fmt::format("CovarianceOptions: block_columns must be >= 1 (got {})", block_columns));
   if (extraction == Extraction::forward && !supernodal)
     throw std::invalid_argument(
         "CovarianceOptions: extraction 'forward' needs a supernodal factorization "
@@ -159,8 +159,9 @@ struct MarginalCovariance::Impl {
   int nsrow(int s) const { return pi[s + 1] - pi[s]; }
   void check(int v) const {
     if (v < 0 || v >= num_variables())
-      throw std::out_of_range(fmt::format("MarginalCovariance: variable {} is not in [0, {}) ({} poses, {} landmarks)",
-                                          v, num_variables(), num_poses, num_landmarks));
+      throw std::out_of_range(
+          fmt::format("MarginalCovariance: variable {} is not in [0, {}) ({} poses, {} landmarks)", v,
+                      num_variables(), num_poses, num_landmarks));
   }
   int variable_of_row(int r) const {  // error messages only
     int best = -1;
@@ -194,7 +195,8 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
       cholmod_allocate_sparse(static_cast<std::size_t>(H.size), static_cast<std::size_t>(H.size),
                               H.nonzeros(), /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, c);
   if (!A)
-    throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD could not allocate H (status {})", c->status));
+    throw std::runtime_error(
+        fmt::format("MarginalCovariance: CHOLMOD could not allocate H (status {})", c->status));
   std::copy(H.col_start.begin(), H.col_start.end(), static_cast<int*>(A->p));
   std::copy(H.row_index.begin(), H.row_index.end(), static_cast<int*>(A->i));
   std::copy(H.value.begin(), H.value.end(), static_cast<double*>(A->x));
@@ -228,7 +230,8 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
   I.summary.analyze_time_s = seconds_since(t0);
   if (!I.L) {
     cholmod_free_sparse(&A, c);
-    throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD analysis failed (status {})", c->status));
+    throw std::runtime_error(
+        fmt::format("MarginalCovariance: CHOLMOD analysis failed (status {})", c->status));
   }
   t0 = std::chrono::steady_clock::now();
   const int ok = cholmod_factorize(A, I.L, c);
@@ -238,9 +241,10 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
     std::string msg = "MarginalCovariance: the information matrix is not positive definite";
     if (I.L->minor < I.L->n) {
       const int row = static_cast<int*>(I.L->Perm)[I.L->minor];
-      msg += fmt::format(" (the factorization broke down at row {}, {}): is every variable constrained and the graph "
-                         "connected to the gauge pose?",
-                         row, I.variable_name(I.variable_of_row(row)));
+      msg += fmt::format(
+          " (the factorization broke down at row {}, {}): is every variable constrained and the graph "
+          "connected to the gauge pose?",
+          row, I.variable_name(I.variable_of_row(row)));
     } else {
       msg += fmt::format(" (CHOLMOD status {})", c->status);
     }
@@ -659,7 +663,8 @@ class SolveBlocks {
         b[static_cast<std::size_t>(col) * n + static_cast<std::size_t>(o + d)] = 1.0;
     }
     if (!cholmod_solve2(CHOLMOD_A, I_.L, w.B, nullptr, &w.X, nullptr, &w.Y, &w.E, c))
-      throw std::runtime_error(fmt::format("MarginalCovariance: CHOLMOD solve failed (status {})", c->status));
+      throw std::runtime_error(
+          fmt::format("MarginalCovariance: CHOLMOD solve failed (status {})", c->status));
     const CMapX X(static_cast<const double*>(w.X->x), static_cast<Eigen::Index>(n), ncols,
                   Eigen::OuterStride<>(static_cast<Eigen::Index>(w.X->d)));
     col = 0;
@@ -750,7 +755,7 @@ std::vector<MatX> MarginalCovariance::joint_many(const std::vector<std::vector<i
   for (const auto& q : queries)
     for (int v : q) I.check(v);
   return I.extraction == Extraction::forward ? joint_many_with<ForwardBlocks>(I, queries, threads)
-                                              : joint_many_with<SolveBlocks>(I, queries, threads);
+                                             : joint_many_with<SolveBlocks>(I, queries, threads);
 }
 
 MatX MarginalCovariance::joint(const std::vector<int>& vars) const { return joint_many({vars}, 1).front(); }
@@ -761,13 +766,15 @@ std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
                                     const std::vector<std::pair<int, int>>& pairs, unsigned threads) {
   const Impl& I = *cov.impl_;
   if (I.pose_dof != 3)
-    throw std::invalid_argument(fmt::format("pair_marginals_2d: the poses are not SE(2) (pose DoF {})", I.pose_dof));
+    throw std::invalid_argument(
+        fmt::format("pair_marginals_2d: the poses are not SE(2) (pose DoF {})", I.pose_dof));
   for (const auto& [i, j] : pairs)
     for (int v : {i, j})
       if (v < 0 || v >= I.num_poses)
-        throw std::invalid_argument(fmt::format("pair_marginals_2d: {} is not a pose id (0 … {})", v, I.num_poses - 1));
+        throw std::invalid_argument(
+            fmt::format("pair_marginals_2d: {} is not a pose id (0 … {})", v, I.num_poses - 1));
   return I.extraction == Extraction::forward ? pairs_with<ForwardBlocks>(I, pairs, threads)
-                                              : pairs_with<SolveBlocks>(I, pairs, threads);
+                                             : pairs_with<SolveBlocks>(I, pairs, threads);
 }
 
 }  // namespace keel::cov

@@ -28,7 +28,8 @@ namespace keel::cov {
 
 /// Fill-reducing ordering of the Cholesky factorization.
 enum class Ordering {
-  automatic,  // "auto": CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is used
+  automatic,  // "auto": CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is
+              // used
   amd,        // approximate minimum degree
   metis,      // METIS nested dissection
   nesdis,     // CHOLMOD's own nested dissection (METIS-based, with constrained minimum degree)
@@ -43,7 +44,7 @@ std::string_view to_string(Ordering o);  // "auto", "amd", "metis", "nesdis", "n
 enum class Extraction {
   automatic,  // "auto": forward for a supernodal factor, solve for a simplicial one
   forward,    // Σ_ab = W_aᵀ W_b, W = L⁻¹ P E: sparse forward substitutions along the elimination tree
-             // (supernodal only)
+              // (supernodal only)
   solve,      // multi-column cholmod_solve2 of H X = E for the distinct variables, keeping the rows needed
 };
 std::string_view to_string(Extraction e);  // "auto", "forward", "solve"
@@ -52,7 +53,7 @@ std::string_view to_string(Extraction e);  // "auto", "forward", "solve"
 
 struct CovarianceOptions {
   Ordering ordering = Ordering::automatic;  // fill-reducing ordering handed to CHOLMOD
-  bool supernodal = true;               // supernodal factorization (needed by Extraction::forward)
+  bool supernodal = true;                   // supernodal factorization (needed by Extraction::forward)
   Extraction extraction = Extraction::automatic;
   int block_columns = 64;  // right-hand-side columns processed together (≥ 1)
   /// Throws std::invalid_argument naming the violated constraint.
@@ -82,7 +83,8 @@ class MarginalCovariance;
 /// computed like joint_many (the work per distinct pose is shared by all pairs that name it). Throws
 /// std::invalid_argument if the poses are not SE(2) or a pair names a landmark.
 [[nodiscard]] std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
-                                    const std::vector<std::pair<int, int>>& pairs, unsigned threads = 1);
+                                                  const std::vector<std::pair<int, int>>& pairs,
+                                                  unsigned threads = 1);
 
 /// Marginal covariances of the variables of a SparseInformation (poses first, then landmarks; see
 /// information.hpp), in the Lie algebra of the left perturbation T = exp(ξ^) T̄ (eq. 5.14) for poses and in
@@ -108,7 +110,8 @@ class MarginalCovariance {
   /// joint() of many queries at once, sharing the work: the columns of H⁻¹ of every distinct variable are
   /// computed once, in multi-column solves spread over `threads` threads (0 = keel::core::default_threads()).
   /// The result does not depend on `threads`.
-  [[nodiscard]] std::vector<MatX> joint_many(const std::vector<std::vector<int>>& queries, unsigned threads = 1) const;
+  [[nodiscard]] std::vector<MatX> joint_many(const std::vector<std::vector<int>>& queries,
+                                             unsigned threads = 1) const;
 
   const FactorSummary& summary() const;
   int num_poses() const;

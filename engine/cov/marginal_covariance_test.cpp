@@ -84,8 +84,9 @@ TEST_CASE("joint marginals equal the dense inverse of H (2D with landmarks, ever
           opt.block_columns = 4;  // several chunks even on a small graph
           const MarginalCovariance mc(H, opt);
           CHECK(mc.summary().supernodal == supernodal);
-          CHECK(mc.summary().extraction ==
-                (x == Extraction::solve || (x == Extraction::automatic && !supernodal) ? "solve" : "forward"));
+          CHECK(
+              mc.summary().extraction ==
+              (x == Extraction::solve || (x == Extraction::automatic && !supernodal) ? "solve" : "forward"));
           if (o != Ordering::automatic)
             CHECK(mc.summary().ordering == (o == Ordering::natural ? "natural" : to_string(o)));
           for (const auto& q : queries) {
@@ -164,7 +165,8 @@ TEST_CASE("a variable without information is reported by name") {
   tg.graph.poses.push_back(lie::SE2(1.0, 2.0, 0.0));
   tg.estimate.push_back(lie::SE2(1.0, 2.0, 0.0));  // pose 6: no edge touches it
   const auto H = information_matrix(tg.graph, tg.estimate);
-  CHECK(testkit::throws_with<std::runtime_error>([&] { const MarginalCovariance mc(H); }, "not positive definite"));
+  CHECK(testkit::throws_with<std::runtime_error>([&] { const MarginalCovariance mc(H); },
+                                                 "not positive definite"));
   CHECK(testkit::throws_with<std::runtime_error>([&] { const MarginalCovariance mc(H); }, "pose 6"));
   CovarianceOptions bad;
   bad.block_columns = 0;
@@ -177,7 +179,8 @@ TEST_CASE("a variable without information is reported by name") {
 }
 
 TEST_CASE("Ordering and Extraction names round-trip; an unknown name is an error naming the valid ones") {
-  for (Ordering o : {Ordering::automatic, Ordering::amd, Ordering::metis, Ordering::nesdis, Ordering::natural})
+  for (Ordering o :
+       {Ordering::automatic, Ordering::amd, Ordering::metis, Ordering::nesdis, Ordering::natural})
     CHECK(ordering_from_string(to_string(o)) == o);
   for (Extraction x : {Extraction::automatic, Extraction::forward, Extraction::solve})
     CHECK(extraction_from_string(to_string(x)) == x);
@@ -186,6 +189,7 @@ TEST_CASE("Ordering and Extraction names round-trip; an unknown name is an error
   CHECK(testkit::throws_with<std::invalid_argument>(
       [] { (void)ordering_from_string("colamd"); },
       "unknown cov::Ordering 'colamd' (valid: auto, amd, metis, nesdis, natural)"));
-  CHECK(testkit::throws_with<std::invalid_argument>([] { (void)extraction_from_string("automatic"); },
-                                                    "unknown cov::Extraction 'automatic' (valid: auto, forward, solve)"));
+  CHECK(testkit::throws_with<std::invalid_argument>(
+      [] { (void)extraction_from_string("automatic"); },
+      "unknown cov::Extraction 'automatic' (valid: auto, forward, solve)"));
 }

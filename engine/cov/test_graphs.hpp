@@ -1,6 +1,6 @@
-// Small random pose graphs for the unit tests of engine/cov (test helper: not part of the keel.cov facade). Random
-// numbers come from keel::core::Rng (identical on every standard library), drawn one per statement so that the
-// graphs do not depend on the compiler's order of evaluating function arguments.
+// Small random pose graphs for the unit tests of engine/cov (test helper: not part of the keel.cov facade).
+// Random numbers come from keel::core::Rng (identical on every standard library), drawn one per statement so
+// that the graphs do not depend on the compiler's order of evaluating function arguments.
 #pragma once
 
 #include <vector>

@@ -47,7 +47,8 @@ sim::CandidateOptions read_candidate_options(const core::ConfigTable& t) {
   c.aliased_groups = read_int(t, "aliased_groups");
   c.aliased_group_size = read_int(t, "aliased_group_size");
   c.random_outliers = read_int(t, "random_outliers");
-  std::tie(c.random_sigma_translation_min, c.random_sigma_translation_max) = read_range(t, "random_sigma_translation");
+  std::tie(c.random_sigma_translation_min, c.random_sigma_translation_max) =
+      read_range(t, "random_sigma_translation");
   std::tie(c.random_sigma_rotation_min, c.random_sigma_rotation_max) = read_range(t, "random_sigma_rotation");
   validate_at(c, t);
   return c;
@@ -117,7 +118,8 @@ MeasurementRegime read_regime(const core::ConfigTable& t, std::string name) {
     if (seed < 0) throw core::ConfigError(fmt::format("{}: must be >= 0", t.where("resample_seed")));
     g.resample_seed = static_cast<std::uint64_t>(seed);
   } else if (measurements != "dataset") {
-    throw core::ConfigError(fmt::format("{}: expected \"dataset\" or \"resampled\"", t.where("measurements")));
+    throw core::ConfigError(
+        fmt::format("{}: expected \"dataset\" or \"resampled\"", t.where("measurements")));
   }
   validate_at(g, t);
   return g;
@@ -138,14 +140,16 @@ std::vector<MeasurementRegime> read_regimes(const core::ConfigTable& p, std::str
 sim::TwoRobotScenario2 load_scenario_2d(const core::ConfigTable& t) {
   const std::string dataset = t.string("dataset");
   const auto graph = graph::read_pose_graph_2d(graph::resolve_dataset_file(dataset, t.string("graph_file")));
-  const auto truth = graph::read_poses_2d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
+  const auto truth =
+      graph::read_poses_2d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
   return sim::split_two_robots(graph, truth, read_split(t));
 }
 
 sim::TwoRobotScenario3 load_scenario_3d(const core::ConfigTable& t) {
   const std::string dataset = t.string("dataset");
   const auto graph = graph::read_pose_graph_3d(graph::resolve_dataset_file(dataset, t.string("graph_file")));
-  const auto truth = graph::read_poses_3d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
+  const auto truth =
+      graph::read_poses_3d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
   return sim::split_two_robots(graph, truth, read_split(t));
 }
 

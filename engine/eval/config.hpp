@@ -1,6 +1,7 @@
-// Readers of the chapter-2 options structs from an experiment's [params] (one reader per struct, written once).
-// Each reads its keys strictly (core::ConfigTable: unknown or missing keys are errors naming file, table, key and
-// line), validates the struct, and turns a std::invalid_argument from validate() into a located core::ConfigError.
+// Readers of the chapter-2 options structs from an experiment's [params] (one reader per struct, written
+// once). Each reads its keys strictly (core::ConfigTable: unknown or missing keys are errors naming file,
+// table, key and line), validates the struct, and turns a std::invalid_argument from validate() into a
+// located core::ConfigError.
 #pragma once
 
 #include <string>
@@ -34,12 +35,12 @@ std::vector<StudyMethod> read_methods(const core::ConfigTable& t);
 // `scgp_affinity_scale`, `scgp_discretization`, `scgp_min_eigen_ratio` (the 1D-world studies).
 pcm::ScgpOptions read_scgp_options(const core::ConfigTable& t);
 
-// The world's noise model: `x`, `sigma_inlier`, `outlier_mean_range`, `outlier_sigma_min`, `outlier_sigma_max`, and
-// with `with_counts` also `inliers_min/_max`, `aliased_min/_max`, `random_min/_max`.
+// The world's noise model: `x`, `sigma_inlier`, `outlier_mean_range`, `outlier_sigma_min`,
+// `outlier_sigma_max`, and with `with_counts` also `inliers_min/_max`, `aliased_min/_max`, `random_min/_max`.
 sim::World1DOptions read_world1d_options(const core::ConfigTable& t, bool with_counts);
 
-// A measurement regime table: `label`, `measurements` ("dataset" or "resampled"; resampled needs `noise_scale` and
-// `resample_seed`).
+// A measurement regime table: `label`, `measurements` ("dataset" or "resampled"; resampled needs
+// `noise_scale` and `resample_seed`).
 MeasurementRegime read_regime(const core::ConfigTable& t, std::string name);
 
 // Every name of `names` as a regime from [params.<table>.<name>].

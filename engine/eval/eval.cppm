@@ -1,7 +1,7 @@
-// keel.eval — the curated facade of engine/eval: evaluation of outlier-rejection methods (thesis §2.6–2.7). The
-// map-merging pipeline of §2.6 (local solves and marginals, selection, merged solve), its metrics (TPR/FPR, trajectory
-// errors, normalized χ²), the combinatorial reference of eq. 2.5, and the chapter-2 studies the experiments run.
-// Facade rules (docs/DESIGN.md) as every area.
+// keel.eval — the curated facade of engine/eval: evaluation of outlier-rejection methods (thesis §2.6–2.7).
+// The map-merging pipeline of §2.6 (local solves and marginals, selection, merged solve), its metrics
+// (TPR/FPR, trajectory errors, normalized χ²), the combinatorial reference of eq. 2.5, and the chapter-2
+// studies the experiments run. Facade rules (docs/DESIGN.md) as every area.
 module;
 #include "eval/config.hpp"
 #include "eval/merge.hpp"
@@ -48,22 +48,22 @@ using keel::eval::rotation_error;
 using keel::eval::TrajectoryError;
 // 1D world study (Figs. 2.2–2.3) and the combinatorial reference of eq. 2.5
 using keel::eval::combinatorial_method_from_string;
-using keel::eval::compare_to_combinatorial;
 using keel::eval::CombinatorialComparison;
-using keel::eval::SelectorComparison;
 using keel::eval::CombinatorialMethod;
 using keel::eval::CombinatorialResult;
+using keel::eval::compare_to_combinatorial;
 using keel::eval::count_inconsistent_pairs;
 using keel::eval::kCombinatorialExhaustiveMax;
 using keel::eval::kCombinatorialPrunedMax;
 using keel::eval::max_consistent_set_combinatorial;
 using keel::eval::run_timing_sweep;
 using keel::eval::run_world1d_study;
+using keel::eval::Selector1D;
+using keel::eval::selector1d_from_string;
+using keel::eval::SelectorComparison;
 using keel::eval::TimingCurve;
 using keel::eval::TimingSweep;
 using keel::eval::TimingSweepOptions;
-using keel::eval::selector1d_from_string;
-using keel::eval::Selector1D;
 using keel::eval::World1DOutcome;
 using keel::eval::World1DStudy;
 using keel::eval::World1DStudyOptions;

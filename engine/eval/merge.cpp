@@ -20,7 +20,6 @@ namespace keel::eval {
 using namespace keel::pcm;  // consistency metric and selection methods
 using namespace keel::sim;  // scenarios and candidates
 
-
 namespace {
 
 using core::Clock;
@@ -115,8 +114,7 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
   typename T::Multi g;
   g.robots = {a.graph, b.graph};
   for (int k : selected) {
-    if (k < 0 || k >= n)
-      fail("merge_maps: selected candidate {} out of range ({} candidates)", k, n);
+    if (k < 0 || k >= n) fail("merge_maps: selected candidate {} out of range ({} candidates)", k, n);
     if (seen[k]) fail("merge_maps: candidate {} is selected twice", k);
     seen[k] = 1;
     check_candidate(candidates, k, na, nb, "merge_maps");
@@ -322,7 +320,8 @@ pgo::Options LocalSolveOptions::default_solver() {
 }
 
 void LocalSolveOptions::validate() const {
-  if (solver.initial_guess != pgo::InitialGuess::as_read && solver.initial_guess != pgo::InitialGuess::odometry)
+  if (solver.initial_guess != pgo::InitialGuess::as_read &&
+      solver.initial_guess != pgo::InitialGuess::odometry)
     fail("LocalSolveOptions: solver.initial_guess must be as_read or odometry (got {})",
          pgo::to_string(solver.initial_guess));
   solver.validate();
@@ -345,9 +344,9 @@ LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
 }
 
 namespace {
-constexpr core::NameTable<AnchorInit, 2> kAnchorInitNames{"eval::AnchorInit", {{
-      {AnchorInit::selected_edges, "selected_edges"},
-      {AnchorInit::identity, "identity"}}}};
+constexpr core::NameTable<AnchorInit, 2> kAnchorInitNames{
+    "eval::AnchorInit",
+    {{{AnchorInit::selected_edges, "selected_edges"}, {AnchorInit::identity, "identity"}}}};
 }  // namespace
 
 std::string_view to_string(AnchorInit v) { return kAnchorInitNames.name(v); }
@@ -411,8 +410,7 @@ Classification classify(const std::vector<int>& selected, const std::vector<Cand
   const int n = static_cast<int>(labels.size());
   std::vector<char> chosen(static_cast<std::size_t>(n), 0);
   for (int k : selected) {
-    if (k < 0 || k >= n)
-      fail("classify: selected index {} out of range ({} labels)", k, n);
+    if (k < 0 || k >= n) fail("classify: selected index {} out of range ({} labels)", k, n);
     if (chosen[k]) fail("classify: index {} is selected twice", k);
     chosen[k] = 1;
   }
@@ -439,8 +437,9 @@ MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& refe
 }
 
 namespace {
-constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{"eval::MergeMethodKind", {{
-      {MergeMethodKind::no_outliers, "no_outliers"},
+constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{
+    "eval::MergeMethodKind",
+    {{{MergeMethodKind::no_outliers, "no_outliers"},
       {MergeMethodKind::dcs, "dcs"},
       {MergeMethodKind::scgp, "scgp"},
       {MergeMethodKind::ransac, "ransac"},
@@ -451,7 +450,8 @@ constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{"eval::Merge
 std::string_view to_string(MergeMethodKind v) { return kMergeMethodKindNames.name(v); }
 MergeMethodKind merge_method_kind_from_string(std::string_view s) { return kMergeMethodKindNames.parse(s); }
 
-MergeMethod MergeMethod::make(std::string name, MergeMethodKind kind, double p, pcm::Composition composition) {
+MergeMethod MergeMethod::make(std::string name, MergeMethodKind kind, double p,
+                              pcm::Composition composition) {
   MergeMethod m;
   m.name = std::move(name);
   m.kind = kind;

@@ -47,8 +47,9 @@
 namespace keel::eval {
 
 struct LocalSolveOptions {
-  // The local solve: pgo's defaults with initial_guess = odometry (as_read is the other valid choice; supplied and
-  // random are not) and one solver thread (keep 1 where result files are compared across thread counts).
+  // The local solve: pgo's defaults with initial_guess = odometry (as_read is the other valid choice;
+  // supplied and random are not) and one solver thread (keep 1 where result files are compared across thread
+  // counts).
   pgo::Options solver = default_solver();
   static pgo::Options default_solver();
   // Throws std::invalid_argument naming the violated constraint (including solver.validate()'s).
@@ -60,8 +61,8 @@ struct LocalSolveOptions {
 template <class G>
 struct LocalSolution {
   sim::PoseGraphOf<G> graph;  // the local graph as given
-  std::vector<G> poses;  // the maximum-likelihood solution in the robot's frame (pose 0 fixed)
-  pgo::Summary summary;  // of the local solve
+  std::vector<G> poses;       // the maximum-likelihood solution in the robot's frame (pose 0 fixed)
+  pgo::Summary summary;       // of the local solve
   std::shared_ptr<const cov::MarginalCovariance> covariance;  // immutable, safe to query from several threads
   double solve_time_s = 0.0;                                  // local solve
   double factorization_time_s = 0.0;                          // information matrix + CHOLMOD factorization
@@ -72,8 +73,10 @@ using LocalSolution3 = LocalSolution<lie::SE3>;
 // Solves the graph and factorizes its information at the solution (gauge: pose 0 fixed). Throws
 // std::invalid_argument for invalid options or graphs, std::runtime_error when the solver fails or the
 // information matrix is not positive definite (a graph that is not connected).
-[[nodiscard]] LocalSolution2 solve_local(const graph::PoseGraph2D& graph, const LocalSolveOptions& options = {});
-[[nodiscard]] LocalSolution3 solve_local(const graph::PoseGraph3D& graph, const LocalSolveOptions& options = {});
+[[nodiscard]] LocalSolution2 solve_local(const graph::PoseGraph2D& graph,
+                                         const LocalSolveOptions& options = {});
+[[nodiscard]] LocalSolution3 solve_local(const graph::PoseGraph3D& graph,
+                                         const LocalSolveOptions& options = {});
 
 // LocalMap (consistency.hpp) of both robots for one candidate set: ids = the distinct poses the candidates
 // touch (ascending), joint = their joint marginal covariance. Throws std::invalid_argument naming the
@@ -86,23 +89,23 @@ struct LocalMaps {
 using LocalMaps2 = LocalMaps<lie::SE2>;
 using LocalMaps3 = LocalMaps<lie::SE3>;
 [[nodiscard]] LocalMaps2 local_maps(const LocalSolution2& a, const LocalSolution2& b,
-                      const std::vector<pcm::InterRobotMeasurement2>& candidates);
+                                    const std::vector<pcm::InterRobotMeasurement2>& candidates);
 [[nodiscard]] LocalMaps3 local_maps(const LocalSolution3& a, const LocalSolution3& b,
-                      const std::vector<pcm::InterRobotMeasurement3>& candidates);
+                                    const std::vector<pcm::InterRobotMeasurement3>& candidates);
 
 // Initial value of b's anchor T_ab in the merged solve.
 enum class AnchorInit {
   selected_edges,  // from the first selected edge and the local solutions
                    // (pgo::AnchorGuess::inter_robot_edges); identity when nothing is selected
-  identity,  // no initial alignment (the thesis's DCS)
+  identity,        // no initial alignment (the thesis's DCS)
 };
 std::string_view to_string(AnchorInit a);
 AnchorInit anchor_init_from_string(std::string_view s);  // "selected_edges" | "identity"; else throws
 
 struct MergeOptions {
-  // The merged solve: kernel (none, or dcs for the DCS baseline with robust_parameter = φ), scope (loop closures,
-  // inter-robot edges included), iterations and threads. merge_maps sets initial_guess (supplied: the local
-  // solutions) and anchor_guess (from anchor_init) itself.
+  // The merged solve: kernel (none, or dcs for the DCS baseline with robust_parameter = φ), scope (loop
+  // closures, inter-robot edges included), iterations and threads. merge_maps sets initial_guess (supplied:
+  // the local solutions) and anchor_guess (from anchor_init) itself.
   pgo::Options solver;
   AnchorInit anchor_init = AnchorInit::selected_edges;
   // The DCS baseline of §2.7: DCS with φ = dcs_phi on the loop closures, anchor at the identity.
@@ -132,11 +135,11 @@ using MergeResult3 = MergeResult<lie::SE3>;
 // range or repeated, a candidate touching a missing pose, or invalid options; std::runtime_error when the
 // solver fails.
 [[nodiscard]] MergeResult2 merge_maps(const LocalSolution2& a, const LocalSolution2& b,
-                        const std::vector<pcm::InterRobotMeasurement2>& candidates,
-                        const std::vector<int>& selected, const MergeOptions& options = {});
+                                      const std::vector<pcm::InterRobotMeasurement2>& candidates,
+                                      const std::vector<int>& selected, const MergeOptions& options = {});
 [[nodiscard]] MergeResult3 merge_maps(const LocalSolution3& a, const LocalSolution3& b,
-                        const std::vector<pcm::InterRobotMeasurement3>& candidates,
-                        const std::vector<int>& selected, const MergeOptions& options = {});
+                                      const std::vector<pcm::InterRobotMeasurement3>& candidates,
+                                      const std::vector<int>& selected, const MergeOptions& options = {});
 
 // The candidates a robust solve kept: selected[k] with inter_robot[k].scale ≥ min_scale (every selected
 // candidate when no kernel applied). For DCS, scale is s = min(1, 2φ/(φ + χ²)); 0.5 means χ² ≤ 3φ.
@@ -153,29 +156,38 @@ using MergeResult3 = MergeResult<lie::SE3>;
 
 struct TrajectoryError {
   double translation_mse = 0.0;  // (1/n) Σ ‖t − t_ref‖²  (m²)
-  double rotation = 0.0;  // ε_rot = (1/n) Σ ‖log(R_refᵀ R)‖_F  (§2.7.2: a mean norm, not squared)
-  int count = 0;          // n
+  double rotation = 0.0;         // ε_rot = (1/n) Σ ‖log(R_refᵀ R)‖_F  (§2.7.2: a mean norm, not squared)
+  int count = 0;                 // n
 };
 
 // Absolute error of corresponding poses (Table 2.1: the merged map against the NO-OUT solution, both in a's
 // frame). Throws std::invalid_argument on a size mismatch or empty input.
-[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
-[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE2>& estimate,
+                                             const std::vector<lie::SE2>& reference);
+[[nodiscard]] TrajectoryError absolute_error(const std::vector<lie::SE3>& estimate,
+                                             const std::vector<lie::SE3>& reference);
 // Error of consecutive relative poses T_i⁻¹ T_{i+1} (Table 2.2 "Traj. MSE": graph correctness, independent of
 // the alignment). Needs ≥ 2 poses.
-[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE2>& estimate, const std::vector<lie::SE2>& reference);
-[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE3>& estimate, const std::vector<lie::SE3>& reference);
+[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE2>& estimate,
+                                             const std::vector<lie::SE2>& reference);
+[[nodiscard]] TrajectoryError relative_error(const std::vector<lie::SE3>& estimate,
+                                             const std::vector<lie::SE3>& reference);
 
 // Inlier/outlier classification of a selection against the labels: TPR = TP/(TP+FN), FPR = FP/(FP+TN)
 // (Fig. 2.4).
 struct Classification {
   int tp = 0, fp = 0, fn = 0, tn = 0;
   // NaN when undefined (no inliers / no outliers among the labels): a rate of 0 would read as a result.
-  double tpr() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : std::numeric_limits<double>::quiet_NaN(); }
-  double fpr() const { return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : std::numeric_limits<double>::quiet_NaN(); }
+  double tpr() const {
+    return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : std::numeric_limits<double>::quiet_NaN();
+  }
+  double fpr() const {
+    return fp + tn > 0 ? static_cast<double>(fp) / (fp + tn) : std::numeric_limits<double>::quiet_NaN();
+  }
 };
 // Throws std::invalid_argument for an index out of range or repeated.
-[[nodiscard]] Classification classify(const std::vector<int>& selected, const std::vector<sim::CandidateLabel>& labels);
+[[nodiscard]] Classification classify(const std::vector<int>& selected,
+                                      const std::vector<sim::CandidateLabel>& labels);
 
 // Every metric of Tables 2.1 and 2.2 for one merged solve.
 struct MergeMetrics {
@@ -190,11 +202,13 @@ struct MergeMetrics {
 };
 // `selection` is what the method chose (for DCS: accepted_candidates), `labels` those of the candidate set.
 [[nodiscard]] MergeMetrics evaluate_merge(const MergeResult2& result, const MergeResult2& reference,
-                            const sim::TwoRobotScenario2& scenario, const std::vector<int>& selection,
-                            const std::vector<sim::CandidateLabel>& labels);
+                                          const sim::TwoRobotScenario2& scenario,
+                                          const std::vector<int>& selection,
+                                          const std::vector<sim::CandidateLabel>& labels);
 [[nodiscard]] MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& reference,
-                            const sim::TwoRobotScenario3& scenario, const std::vector<int>& selection,
-                            const std::vector<sim::CandidateLabel>& labels);
+                                          const sim::TwoRobotScenario3& scenario,
+                                          const std::vector<int>& selection,
+                                          const std::vector<sim::CandidateLabel>& labels);
 
 // ---------------------------------------------------------------------------------------------------------------
 // One data set of Tables 2.1/2.2 with every method (§2.7): generate the candidates, extract the local
@@ -217,9 +231,10 @@ struct MergeMethod {
   std::string name;  // key of the method's metrics (e.g. "pcm_exact_11"), non-empty
   MergeMethodKind kind = MergeMethodKind::pcm_exact;
   double p = 0.11;  // ransac, pcm: γ = consistency_threshold(p, dof), p in (0, 1)
-  pcm::Composition composition = pcm::Composition::joint;  // scgp, ransac, pcm: the relative-pose covariance used in Q
-  pcm::ScgpOptions scgp;                              // scgp
-  double dcs_phi = 5.0;                          // dcs: φ (> 0)
+  pcm::Composition composition =
+      pcm::Composition::joint;    // scgp, ransac, pcm: the relative-pose covariance used in Q
+  pcm::ScgpOptions scgp;          // scgp
+  double dcs_phi = 5.0;           // dcs: φ (> 0)
   double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
                                   // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
   // A method with its name, kind, p and composition, other fields at their defaults.
@@ -231,8 +246,8 @@ struct MergeMethod {
 
 template <class G>
 struct MethodOutcome {
-  // The candidates the method chose, ascending (DCS: accepted_candidates), with the select_* wall time (threshold +
-  // clique for PCM; 0 for NO-OUT and DCS) and, for PCM, the clique search (bound, status).
+  // The candidates the method chose, ascending (DCS: accepted_candidates), with the select_* wall time
+  // (threshold + clique for PCM; 0 for NO-OUT and DCS) and, for PCM, the clique search (bound, status).
   pcm::Selection selection;
   MergeMetrics metrics;       // against the NO-OUT solve of the same data set
   double solve_time_s = 0.0;  // merged solve
@@ -255,12 +270,14 @@ using MergeDataset3 = MergeDataset<lie::SE3>;
 // it. Everything is single-threaded and deterministic (Ceres with one thread), so data sets can run in
 // parallel. Throws what the steps throw (std::invalid_argument for invalid methods or options).
 [[nodiscard]] MergeDataset2 run_merge_dataset(const sim::TwoRobotScenario2& scenario, const LocalSolution2& a,
-                                const LocalSolution2& b, const sim::CandidateOptions& candidates,
-                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
-                                std::uint64_t index, bool keep_solutions = false);
+                                              const LocalSolution2& b,
+                                              const sim::CandidateOptions& candidates,
+                                              const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                              std::uint64_t index, bool keep_solutions = false);
 [[nodiscard]] MergeDataset3 run_merge_dataset(const sim::TwoRobotScenario3& scenario, const LocalSolution3& a,
-                                const LocalSolution3& b, const sim::CandidateOptions& candidates,
-                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
-                                std::uint64_t index, bool keep_solutions = false);
+                                              const LocalSolution3& b,
+                                              const sim::CandidateOptions& candidates,
+                                              const std::vector<MergeMethod>& methods, std::uint64_t seed,
+                                              std::uint64_t index, bool keep_solutions = false);
 
 }  // namespace keel::eval

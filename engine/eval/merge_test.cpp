@@ -271,8 +271,9 @@ TEST_CASE("merge_maps: empty selection, DCS, and the accepted candidates") {
   CHECK(accepted_candidates(plain, 0.5) == std::vector<int>{1, 3});
   CHECK(to_string(AnchorInit::identity) == "identity");
   CHECK(anchor_init_from_string("selected_edges") == AnchorInit::selected_edges);
-  CHECK(message_of([] { (void)anchor_init_from_string("truth"); }).find("unknown eval::AnchorInit 'truth' (valid: selected_edges, identity)") !=
-        std::string::npos);
+  CHECK(message_of([] {
+          (void)anchor_init_from_string("truth");
+        }).find("unknown eval::AnchorInit 'truth' (valid: selected_edges, identity)") != std::string::npos);
 }
 
 TEST_CASE("merge: bad inputs give clear errors") {
@@ -289,8 +290,9 @@ TEST_CASE("merge: bad inputs give clear errors") {
   CHECK(message_of([&] {
           (void)local_maps(p.a, p.b, bad);
         }).find("candidate 4 touches pose 60 of robot b, which has 60 poses") != std::string::npos);
-  CHECK(message_of([&] { (void)merge_maps(p.a, p.b, bad, {4}); }).find("candidate 4 touches pose 60 of robot b") !=
-        std::string::npos);
+  CHECK(message_of([&] {
+          (void)merge_maps(p.a, p.b, bad, {4});
+        }).find("candidate 4 touches pose 60 of robot b") != std::string::npos);
   bad = c.candidates;
   bad[7].pose_a = -1;
   CHECK(message_of([&] { (void)local_maps(p.a, p.b, bad); }).find("candidate 7 touches pose -1 of robot a") !=
@@ -301,8 +303,9 @@ TEST_CASE("merge: bad inputs give clear errors") {
         std::string::npos);
   mo = {};
   mo.solver.max_time_s = 0.0;
-  CHECK(message_of([&] { (void)merge_maps(p.a, p.b, c.candidates, {0}, mo); }).find("max_time_s must be > 0") !=
-        std::string::npos);
+  CHECK(message_of([&] {
+          (void)merge_maps(p.a, p.b, c.candidates, {0}, mo);
+        }).find("max_time_s must be > 0") != std::string::npos);
   LocalSolveOptions lo;
   CHECK(lo.solver.initial_guess == pgo::InitialGuess::odometry);
   lo.solver.initial_guess = pgo::InitialGuess::random;
@@ -355,7 +358,8 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
       for (std::size_t v = u + 1; v < sel.size(); ++v) CHECK(Q.at(sel[u], sel[v]) <= gamma);
   }
   CHECK(d.methods[4].selection.proven_optimal());
-  CHECK(d.methods[4].selection.search->upper_bound == static_cast<int>(d.methods[4].selection.selected.size()));
+  CHECK(d.methods[4].selection.search->upper_bound ==
+        static_cast<int>(d.methods[4].selection.selected.size()));
   // PCM-Exact on this easy data set: no outlier accepted, most inliers kept, map close to the reference.
   CHECK(d.methods[4].metrics.classification.fp == 0);
   CHECK(d.methods[4].metrics.classification.tp >= 7);
@@ -375,8 +379,9 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
 
   CHECK(to_string(MergeMethodKind::pcm_heuristic) == "pcm_heuristic");
   CHECK(merge_method_kind_from_string("ransac") == MergeMethodKind::ransac);
-  CHECK(message_of([] { (void)merge_method_kind_from_string("jcbb"); }).find("unknown eval::MergeMethodKind 'jcbb' (valid: no_outliers, dcs,") !=
-        std::string::npos);
+  CHECK(message_of([] {
+          (void)merge_method_kind_from_string("jcbb");
+        }).find("unknown eval::MergeMethodKind 'jcbb' (valid: no_outliers, dcs,") != std::string::npos);
   auto bad = methods;
   bad[3].p = 1.0;
   CHECK(message_of([&] {

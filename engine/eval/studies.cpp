@@ -22,7 +22,8 @@ std::vector<MergeMethod> methods_of(const std::vector<StudyMethod>& methods) {
   return out;
 }
 
-std::size_t method_index(const std::vector<StudyMethod>& methods, std::string_view name, std::string_view who) {
+std::size_t method_index(const std::vector<StudyMethod>& methods, std::string_view name,
+                         std::string_view who) {
   for (std::size_t k = 0; k < methods.size(); ++k)
     if (methods[k].method.name == name) return k;
   throw std::invalid_argument(fmt::format("{} names method '{}', not in `methods`", who, name));
@@ -30,11 +31,12 @@ std::size_t method_index(const std::vector<StudyMethod>& methods, std::string_vi
 
 void MeasurementRegime::validate() const {
   if (!(std::isfinite(noise_scale) && noise_scale > 0.0))
-    throw std::invalid_argument(
-        fmt::format("MeasurementRegime '{}': noise_scale must be finite and > 0 (got {:g})", name, noise_scale));
-  if (!resampled && noise_scale != 1.0)
     throw std::invalid_argument(fmt::format(
-        "MeasurementRegime '{}': the dataset's own measurements have noise_scale 1 (got {:g})", name, noise_scale));
+        "MeasurementRegime '{}': noise_scale must be finite and > 0 (got {:g})", name, noise_scale));
+  if (!resampled && noise_scale != 1.0)
+    throw std::invalid_argument(
+        fmt::format("MeasurementRegime '{}': the dataset's own measurements have noise_scale 1 (got {:g})",
+                    name, noise_scale));
 }
 
 template <class G>
@@ -58,7 +60,8 @@ LocalPair<G> solve_local_pair(const sim::TwoRobotScenario<G>& scenario, const Lo
 }
 
 template <class G>
-void record_local_pair(core::Results& r, const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local) {
+void record_local_pair(core::Results& r, const sim::TwoRobotScenario<G>& scenario,
+                       const LocalPair<G>& local) {
   r.timing("local.a.solve", local.a.solve_time_s);
   r.timing("local.b.solve", local.b.solve_time_s);
   r.timing("local.a.factorization", local.a.factorization_time_s);
@@ -76,7 +79,8 @@ void record_local_pair(core::Results& r, const sim::TwoRobotScenario<G>& scenari
 }
 
 template <class G>
-std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local,
+std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& scenario,
+                                                const LocalPair<G>& local,
                                                 const sim::CandidateOptions& candidates,
                                                 const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                                 std::size_t count, unsigned threads, std::size_t keep,
@@ -92,7 +96,8 @@ std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& 
 }
 
 template <class G>
-std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local,
+std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& scenario,
+                                              const LocalPair<G>& local,
                                               const sim::CandidateOptions& candidates,
                                               const std::vector<std::vector<MergeMethod>>& method_sets,
                                               std::uint64_t seed, std::size_t index, unsigned threads,
@@ -157,9 +162,10 @@ void record_dataset_timings(core::Results& r, const std::vector<MergeDataset<G>>
     t_q.push_back(d.matrix_time_s);
     t_qi.push_back(d.matrix_independent_time_s);
   }
-  for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
-                                {"dataset.matrix", &t_q},
-                                {"dataset.matrix_independent", &t_qi}}) {
+  for (const auto& [name, v] :
+       {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
+        {"dataset.matrix", &t_q},
+        {"dataset.matrix_independent", &t_qi}}) {
     const auto s = core::mean_std(*v);
     r.timing(fmt::format("{}.mean", name), s.mean);
     r.timing(fmt::format("{}.max", name), s.max);
@@ -219,20 +225,20 @@ PoolCalibration pool_calibration(const LocalPair<lie::SE2>& local, const sim::Tw
 }
 
 // Explicit instantiations: planar (SE(2)) and 3D (SE(3)) scenarios.
-#define KEEL_EVAL_STUDIES(G)                                                                                       \
-  template sim::TwoRobotScenario<G> apply_regime(const sim::TwoRobotScenario<G>&, const MeasurementRegime&);      \
-  template LocalPair<G> solve_local_pair(const sim::TwoRobotScenario<G>&, const LocalSolveOptions&);              \
-  template void record_local_pair(core::Results&, const sim::TwoRobotScenario<G>&, const LocalPair<G>&);          \
-  template std::vector<MergeDataset<G>> run_merge_datasets(                                                       \
-      const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                         \
-      const std::vector<MergeMethod>&, std::uint64_t, std::size_t, unsigned, std::size_t, core::Progress*);       \
-  template std::vector<MergeDataset<G>> run_method_sweep(                                                         \
-      const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                         \
-      const std::vector<std::vector<MergeMethod>>&, std::uint64_t, std::size_t, unsigned, core::Progress*);        \
-  template MethodSummary summarize_method(const std::vector<MergeDataset<G>>&, std::size_t);                      \
-  template void record_dataset_timings(core::Results&, const std::vector<MergeDataset<G>>&);                      \
-  template std::size_t same_selections(const std::vector<MergeDataset<G>>&, std::size_t, std::size_t);            \
-  template std::size_t proven_optimal(const std::vector<MergeDataset<G>>&, std::size_t);                          \
+#define KEEL_EVAL_STUDIES(G)                                                                                 \
+  template sim::TwoRobotScenario<G> apply_regime(const sim::TwoRobotScenario<G>&, const MeasurementRegime&); \
+  template LocalPair<G> solve_local_pair(const sim::TwoRobotScenario<G>&, const LocalSolveOptions&);         \
+  template void record_local_pair(core::Results&, const sim::TwoRobotScenario<G>&, const LocalPair<G>&);     \
+  template std::vector<MergeDataset<G>> run_merge_datasets(                                                  \
+      const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
+      const std::vector<MergeMethod>&, std::uint64_t, std::size_t, unsigned, std::size_t, core::Progress*);  \
+  template std::vector<MergeDataset<G>> run_method_sweep(                                                    \
+      const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
+      const std::vector<std::vector<MergeMethod>>&, std::uint64_t, std::size_t, unsigned, core::Progress*);  \
+  template MethodSummary summarize_method(const std::vector<MergeDataset<G>>&, std::size_t);                 \
+  template void record_dataset_timings(core::Results&, const std::vector<MergeDataset<G>>&);                 \
+  template std::size_t same_selections(const std::vector<MergeDataset<G>>&, std::size_t, std::size_t);       \
+  template std::size_t proven_optimal(const std::vector<MergeDataset<G>>&, std::size_t);                     \
   template double pool_chi2_at_truth(const sim::TwoRobotScenario<G>&);
 KEEL_EVAL_STUDIES(lie::SE2)
 KEEL_EVAL_STUDIES(lie::SE3)

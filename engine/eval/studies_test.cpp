@@ -1,6 +1,6 @@
-// The chapter-2 study layer: measurement regimes, data sets in parallel against one by one, per-method summaries,
-// the pool's χ² at the truth and the calibration of Q (Monte-Carlo agreement with the stated noise), and the 1D
-// studies behind Figs. 2.2–2.3 against their definitions.
+// The chapter-2 study layer: measurement regimes, data sets in parallel against one by one, per-method
+// summaries, the pool's χ² at the truth and the calibration of Q (Monte-Carlo agreement with the stated
+// noise), and the 1D studies behind Figs. 2.2–2.3 against their definitions.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -87,7 +87,8 @@ TEST_CASE("the pool's χ² at the truth is s² and Q's calibration follows χ²(
     CHECK(apply_regime(small_candidates(), g).aliased_noise_scale == s);
   }
   const auto local = solve_local_pair(base);
-  const std::vector<double> gammas = {pcm::consistency_threshold(0.5, 3), pcm::consistency_threshold(0.01, 3)};
+  const std::vector<double> gammas = {pcm::consistency_threshold(0.5, 3),
+                                      pcm::consistency_threshold(0.01, 3)};
   const auto cal = pool_calibration(local, base, pcm::Composition::joint, gammas);
   REQUIRE(cal.fail.size() == 2);
   CHECK(cal.fail[0] >= cal.fail[1]);  // a larger γ fails fewer pairs
@@ -96,7 +97,8 @@ TEST_CASE("the pool's χ² at the truth is s² and Q's calibration follows χ²(
   CHECK(contains(message_of([&] { bad.validate(); }), "own measurements have noise_scale 1"));
 }
 
-TEST_CASE("the 1D comparison of Fig. 2.2 follows its definition; the timing sweep of Fig. 2.3 runs what it says") {
+TEST_CASE(
+    "the 1D comparison of Fig. 2.2 follows its definition; the timing sweep of Fig. 2.3 runs what it says") {
   World1DStudyOptions o;
   o.pcm_gamma = pcm::consistency_threshold(0.11, 1);
   o.ransac_gamma = o.pcm_gamma;
@@ -110,7 +112,8 @@ TEST_CASE("the 1D comparison of Fig. 2.2 follows its definition; the timing swee
   for (const auto& row : cmp.rows) {
     CHECK(row.match_rate + row.larger_rate + row.smaller_rate == doctest::Approx(1.0));
     CHECK(std::accumulate(row.size_diff_hist.begin(), row.size_diff_hist.end(), 0.0) == doctest::Approx(1.0));
-    CHECK(std::accumulate(row.inconsistent_hist.begin(), row.inconsistent_hist.end(), 0.0) == doctest::Approx(1.0));
+    CHECK(std::accumulate(row.inconsistent_hist.begin(), row.inconsistent_hist.end(), 0.0) ==
+          doctest::Approx(1.0));
   }
   CHECK(cmp.heuristic_above_exact == 0);
 

@@ -35,13 +35,15 @@ void check_gamma(double gamma, const char* who) {
 // Combinatorial solution of eq. 2.5
 
 namespace {
-constexpr core::NameTable<CombinatorialMethod, 2> kCombinatorialMethodNames{"eval::CombinatorialMethod", {{
-      {CombinatorialMethod::exhaustive, "exhaustive"},
-      {CombinatorialMethod::pruned, "pruned"}}}};
+constexpr core::NameTable<CombinatorialMethod, 2> kCombinatorialMethodNames{
+    "eval::CombinatorialMethod",
+    {{{CombinatorialMethod::exhaustive, "exhaustive"}, {CombinatorialMethod::pruned, "pruned"}}}};
 }  // namespace
 
 std::string_view to_string(CombinatorialMethod v) { return kCombinatorialMethodNames.name(v); }
-CombinatorialMethod combinatorial_method_from_string(std::string_view s) { return kCombinatorialMethodNames.parse(s); }
+CombinatorialMethod combinatorial_method_from_string(std::string_view s) {
+  return kCombinatorialMethodNames.parse(s);
+}
 
 namespace {
 
@@ -68,8 +70,9 @@ struct PrunedSearch {
     }
     const int j = std::countr_zero(cand);
     const std::uint64_t bit = std::uint64_t{1} << j;
-    run(cur | bit, size + 1, cand & ok[j]);  // include j (ok[j] excludes j and every candidate inconsistent with it)
-    run(cur, size, cand & ~bit);             // exclude j
+    run(cur | bit, size + 1,
+        cand & ok[j]);            // include j (ok[j] excludes j and every candidate inconsistent with it)
+    run(cur, size, cand & ~bit);  // exclude j
   }
 };
 
@@ -80,13 +83,16 @@ CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q,
   validate_consistency_matrix(Q, "max_consistent_set_combinatorial");
   check_gamma(gamma, "max_consistent_set_combinatorial");
   const int m = Q.n;
-  const int limit = method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
+  const int limit =
+      method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
   if (m > limit) {
-    throw std::invalid_argument(fmt::format("max_consistent_set_combinatorial ({}): m = {} measurements exceeds the limit {}",
-                                            to_string(method), m, limit));
+    throw std::invalid_argument(
+        fmt::format("max_consistent_set_combinatorial ({}): m = {} measurements exceeds the limit {}",
+                    to_string(method), m, limit));
   }
   const auto t0 = Clock::now();
-  // ok[u]: bitmask of v ≠ u with q_uv <= γ and q_vu <= γ (the pairwise constraint of eq. 2.5 for s_u = s_v = 1).
+  // ok[u]: bitmask of v ≠ u with q_uv <= γ and q_vu <= γ (the pairwise constraint of eq. 2.5 for s_u = s_v =
+  // 1).
   std::vector<std::uint64_t> ok(m, 0);
   for (int u = 0; u < m; ++u)
     for (int v = 0; v < m; ++v)
@@ -136,12 +142,12 @@ CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q,
 // Monte-Carlo study
 
 namespace {
-constexpr core::NameTable<Selector1D, 5> kSelector1DNames{"eval::Selector1D", {{
-      {Selector1D::combinatorial, "combinatorial"},
-      {Selector1D::pcm_exact, "pcm_exact"},
-      {Selector1D::pcm_heuristic, "pcm_heuristic"},
-      {Selector1D::scgp, "scgp"},
-      {Selector1D::ransac, "ransac"}}}};
+constexpr core::NameTable<Selector1D, 5> kSelector1DNames{"eval::Selector1D",
+                                                          {{{Selector1D::combinatorial, "combinatorial"},
+                                                            {Selector1D::pcm_exact, "pcm_exact"},
+                                                            {Selector1D::pcm_heuristic, "pcm_heuristic"},
+                                                            {Selector1D::scgp, "scgp"},
+                                                            {Selector1D::ransac, "ransac"}}}};
 }  // namespace
 
 std::string_view to_string(Selector1D v) { return kSelector1DNames.name(v); }
@@ -159,14 +165,15 @@ void World1DStudyOptions::validate() const {
       if (selectors[i] == selectors[j])
         throw std::invalid_argument(
             fmt::format("World1DStudyOptions::selectors lists '{}' twice", to_string(selectors[i])));
-  const bool comb = std::find(selectors.begin(), selectors.end(), Selector1D::combinatorial) != selectors.end();
+  const bool comb =
+      std::find(selectors.begin(), selectors.end(), Selector1D::combinatorial) != selectors.end();
   const int max_m = world.inliers_max + world.aliased_max + world.random_max;
   const int limit = combinatorial == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax
                                                                      : kCombinatorialPrunedMax;
   if (comb && max_m > limit) {
-    throw std::invalid_argument(
-        fmt::format("World1DStudyOptions: worlds of up to {} measurements exceed the {} combinatorial limit of {}",
-                    max_m, to_string(combinatorial), limit));
+    throw std::invalid_argument(fmt::format(
+        "World1DStudyOptions: worlds of up to {} measurements exceed the {} combinatorial limit of {}", max_m,
+        to_string(combinatorial), limit));
   }
 }
 
@@ -234,7 +241,8 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
   return study;
 }
 
-CombinatorialComparison compare_to_combinatorial(const World1DStudy& study, const std::vector<Selector1D>& selectors) {
+CombinatorialComparison compare_to_combinatorial(const World1DStudy& study,
+                                                 const std::vector<Selector1D>& selectors) {
   const auto& comb = study.of(Selector1D::combinatorial);
   const std::size_t n = comb.size();
   CombinatorialComparison out;
@@ -337,8 +345,10 @@ TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* 
   for (std::size_t k = 0; k < options.sizes.size(); ++k) {
     const int m = options.sizes[k];
     World1DStudyOptions o = options.base;
-    o.world = world1d_options_with_total(options.base.world, m, options.inlier_fraction, options.aliased_fraction);
-    o.stream_base = static_cast<std::uint64_t>(k) << 32;  // independent worlds per size, the same for every curve
+    o.world =
+        world1d_options_with_total(options.base.world, m, options.inlier_fraction, options.aliased_fraction);
+    o.stream_base = static_cast<std::uint64_t>(k)
+                    << 32;  // independent worlds per size, the same for every curve
     o.selectors = {S::pcm_exact, S::pcm_heuristic, S::scgp, S::ransac};
     o.combinatorial = CombinatorialMethod::exhaustive;
     if (runs_at(curves[0], m)) o.selectors.push_back(S::combinatorial);
@@ -382,7 +392,8 @@ int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>&
   std::vector<char> seen(Q.n, 0);
   for (int u : set) {
     if (u < 0 || u >= Q.n) {
-      throw std::invalid_argument(fmt::format("count_inconsistent_pairs: index {} is out of range [0, {})", u, Q.n));
+      throw std::invalid_argument(
+          fmt::format("count_inconsistent_pairs: index {} is out of range [0, {})", u, Q.n));
     }
     if (seen[u]) throw std::invalid_argument(fmt::format("count_inconsistent_pairs: index {} repeated", u));
     seen[u] = 1;

@@ -1,5 +1,6 @@
-// The combinatorial solution of eq. 2.5 on 1D worlds (exhaustive = pruned = brute-force / exact maximum clique on
-// random worlds), inconsistent-pair counts, SCGP's discretizations, and the Monte-Carlo study of Figs. 2.2–2.3.
+// The combinatorial solution of eq. 2.5 on 1D worlds (exhaustive = pruned = brute-force / exact maximum
+// clique on random worlds), inconsistent-pair counts, SCGP's discretizations, and the Monte-Carlo study of
+// Figs. 2.2–2.3.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -66,13 +67,15 @@ TEST_CASE("combinatorial: small hand cases and limits") {
     CHECK(r.optimal_sets == 2);
     CHECK(combinatorial_method_from_string(to_string(m)) == m);
   }
-  CHECK(max_consistent_set_combinatorial(Q, 2.0, CombinatorialMethod::exhaustive).selected == std::vector<int>{0, 1});
+  CHECK(max_consistent_set_combinatorial(Q, 2.0, CombinatorialMethod::exhaustive).selected ==
+        std::vector<int>{0, 1});
 
   ConsistencyMatrix big;
   big.n = kCombinatorialExhaustiveMax + 1;
   big.q.assign(static_cast<std::size_t>(big.n) * big.n, 0.0);
-  CHECK(contains(message_of([&] { (void)max_consistent_set_combinatorial(big, 1.0, CombinatorialMethod::exhaustive); }),
-                 "exceeds the limit 30"));
+  CHECK(contains(
+      message_of([&] { (void)max_consistent_set_combinatorial(big, 1.0, CombinatorialMethod::exhaustive); }),
+      "exceeds the limit 30"));
   // The pruned search handles it (all consistent: one set of everything).
   const auto all = max_consistent_set_combinatorial(big, 1.0, CombinatorialMethod::pruned);
   CHECK(all.selected.size() == static_cast<std::size_t>(big.n));
@@ -84,9 +87,9 @@ TEST_CASE("combinatorial: small hand cases and limits") {
 TEST_CASE("count_inconsistent_pairs") {
   ConsistencyMatrix Q;
   Q.n = 4;
-  Q.q = {0, 1, 5, 1,  //
-         1, 0, 1, 1,  //
-         5, 1, 0, 7,  //
+  Q.q = {0, 1, 5, 1,   //
+         1, 0, 1, 1,   //
+         5, 1, 0, 7,   //
          1, 1, 2, 0};  // asymmetric (2, 3): 7 vs 2
   CHECK(count_inconsistent_pairs(Q, {}, 3.0) == 0);
   CHECK(count_inconsistent_pairs(Q, {1}, 3.0) == 0);
@@ -132,7 +135,8 @@ TEST_CASE("the Monte-Carlo study is independent of the thread count and consiste
     CHECK(heur[i].inconsistent_pairs == 0);
     CHECK(comb[i].inconsistent_pairs == 0);
     const auto Q = world1d_consistency_matrix(w);
-    CHECK(a.of(Selector1D::ransac)[i].size == static_cast<int>(select_ransac(Q, o.ransac_gamma).selected.size()));
+    CHECK(a.of(Selector1D::ransac)[i].size ==
+          static_cast<int>(select_ransac(Q, o.ransac_gamma).selected.size()));
   }
   CHECK(contains(message_of([&] { (void)a.of(Selector1D::scgp); }), "<no throw>"));
   o.selectors = {Selector1D::ransac};
@@ -171,11 +175,11 @@ TEST_CASE("SCGP: one candidate, affinity scale, and the two discretizations on 1
     REQUIRE_FALSE(a.selection.selected.empty());
     REQUIRE_FALSE(b.selection.selected.empty());
     CHECK(a.lambda1 == doctest::Approx(b.lambda1));
-    // The Rayleigh rule maximises λ(w) over the threshold sets, so it is never below the dot-product rule's λ(w).
+    // The Rayleigh rule maximises λ(w) over the threshold sets, so it is never below the dot-product rule's
+    // λ(w).
     CHECK(b.objective >= a.objective - 1e-12);
     CHECK(a.lambda1 >= b.objective - 1e-9);  // no indicator beats the relaxation
     differ += a.selection.selected != b.selection.selected;
   }
   MESSAGE("dot-product and Rayleigh discretizations differ on " << differ << " of 300 worlds");
 }
-

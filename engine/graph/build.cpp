@@ -21,8 +21,8 @@ std::string information_problem_n(const Eigen::Matrix<double, N, N>& W) {
   Eigen::Matrix<double, N, 1> d;
   for (int k = 0; k < N; ++k) {
     if (!(W(k, k) > 0.0)) {
-      return fmt::format("is not positive definite: diagonal entry ({},{}) = {:.6g} is not positive", k + 1, k + 1,
-                         W(k, k));
+      return fmt::format("is not positive definite: diagonal entry ({},{}) = {:.6g} is not positive", k + 1,
+                         k + 1, W(k, k));
     }
     d(k) = 1.0 / std::sqrt(W(k, k));
   }
@@ -31,7 +31,8 @@ std::string information_problem_n(const Eigen::Matrix<double, N, N>& W) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(S, Eigen::EigenvaluesOnly);
   const double lo = es.eigenvalues()(0);
   if (es.info() != Eigen::Success || !(lo > 1e-10)) {
-    return fmt::format("is not positive definite (smallest eigenvalue of the unit-diagonal scaled matrix: {:.3g})", lo);
+    return fmt::format(
+        "is not positive definite (smallest eigenvalue of the unit-diagonal scaled matrix: {:.3g})", lo);
   }
   return {};
 }
@@ -72,8 +73,8 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
       auto [it, fresh] = seen.emplace(v.id, v.line);
       if (!fresh) {
         fail_at(name, v.line,
-                fmt::format("{} field 1 (id): duplicate vertex id {} (first defined on line {})", vertex_tag, v.id,
-                            it->second));
+                fmt::format("{} field 1 (id): duplicate vertex id {} (first defined on line {})", vertex_tag,
+                            v.id, it->second));
       }
     }
     const std::size_t n = vertices.size();
@@ -84,10 +85,11 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
           if (static_cast<std::size_t>(w.id) < n) have[static_cast<std::size_t>(w.id)] = 1;
         std::size_t missing = 0;
         while (missing < n && have[missing]) ++missing;
-        fail_at(name, v.line,
-                fmt::format("{} field 1 (id): vertex ids must be contiguous from 0, but id {} is missing ({} {} "
-                            "lines, this one has id {})",
-                            vertex_tag, missing, n, vertex_tag, v.id));
+        fail_at(
+            name, v.line,
+            fmt::format("{} field 1 (id): vertex ids must be contiguous from 0, but id {} is missing ({} {} "
+                        "lines, this one has id {})",
+                        vertex_tag, missing, n, vertex_tag, v.id));
       }
     }
     std::vector<char> used(n, 0);
@@ -114,10 +116,11 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
     if (n > 1) {
       for (const auto& v : vertices) {
         if (!used[static_cast<std::size_t>(v.id)]) {
-          fail_at(name, v.line,
-                  fmt::format("{} field 1 (id): vertex {} is used by no edge (a dangling vertex leaves the graph "
-                              "disconnected)",
-                              vertex_tag, v.id));
+          fail_at(
+              name, v.line,
+              fmt::format("{} field 1 (id): vertex {} is used by no edge (a dangling vertex leaves the graph "
+                          "disconnected)",
+                          vertex_tag, v.id));
         }
       }
     }
@@ -144,17 +147,18 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
   for (int k = 0; k < max_id; ++k) {
     if (!odometry.count(k)) {
       const std::string head = fmt::format(
-          "no odometry edge ({}, {}): the file has no {} lines, so the initial estimate chains the edges (i, i+1), and "
+          "no odometry edge ({}, {}): the file has no {} lines, so the initial estimate chains the edges (i, "
+          "i+1), and "
           "pose {}",
           k, k + 1, vertex_tag, k + 1);
       const Appearance a = first_appearance(g, k + 1, edge_tag);
-      if (a.line > 0)
-        fail_at(name, 0, fmt::format("{} first appears on line {} ({})", head, a.line, a.what));
+      if (a.line > 0) fail_at(name, 0, fmt::format("{} first appears on line {} ({})", head, a.line, a.what));
       const Appearance top = first_appearance(g, max_id, edge_tag);
       fail_at(name, 0,
-              fmt::format("{} is named by no record, though pose ids must be contiguous from 0 (the largest, {}, is "
-                          "on line {} ({}))",
-                          head, max_id, top.line, top.what));
+              fmt::format(
+                  "{} is named by no record, though pose ids must be contiguous from 0 (the largest, {}, is "
+                  "on line {} ({}))",
+                  head, max_id, top.line, top.what));
     }
   }
   const std::size_t n = static_cast<std::size_t>(max_id) + 1;
@@ -164,7 +168,8 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
     g.poses[k + 1] = g.poses[k] * e.measurement;
     if (!g.poses[k + 1].matrix().allFinite()) {
       fail_at(name, e.line,
-              fmt::format("{}: chaining the odometry overflows at pose {} (measurement too large)", edge_tag, k + 1));
+              fmt::format("{}: chaining the odometry overflows at pose {} (measurement too large)", edge_tag,
+                          k + 1));
     }
   }
   g.has_initial_poses = false;
@@ -214,9 +219,10 @@ void assemble(PoseGraph2D& g, const std::vector<Vertex2>& vertices, const std::s
       std::size_t missing = 0;
       while (first.count(static_cast<int>(missing))) ++missing;
       fail_at(g.source, m.line,
-              fmt::format("LANDMARK field 2 (l): landmark ids must be contiguous from 0, but landmark {} is never "
-                          "observed ({} distinct landmarks, this one has id {})",
-                          missing, count, m.landmark));
+              fmt::format(
+                  "LANDMARK field 2 (l): landmark ids must be contiguous from 0, but landmark {} is never "
+                  "observed ({} distinct landmarks, this one has id {})",
+                  missing, count, m.landmark));
     }
   }
   g.landmarks.assign(count, Vec2::Zero());
@@ -244,8 +250,9 @@ void check_indices(const PoseGraph2D& g, const char* writer) {
   const auto l = static_cast<int>(g.landmarks.size());
   for (const auto& m : g.landmark_measurements) {
     if (m.pose < 0 || m.pose >= n || m.landmark < 0 || m.landmark >= l) {
-      throw std::invalid_argument(fmt::format(
-          "{}: landmark measurement ({}, {}) names a pose or landmark outside the graph", writer, m.pose, m.landmark));
+      throw std::invalid_argument(
+          fmt::format("{}: landmark measurement ({}, {}) names a pose or landmark outside the graph", writer,
+                      m.pose, m.landmark));
     }
   }
 }

@@ -50,8 +50,8 @@ DatasetManifest parse_manifest(const fs::path& file) {
   m.file = file;
   const core::ConfigTable root = core::load_toml(file);
   if (root.integer("version") != 1) {
-    throw DatasetError(fmt::format("{}: unsupported manifest version (this build reads version 1)",
-                                   root.where("version")));
+    throw DatasetError(
+        fmt::format("{}: unsupported manifest version (this build reads version 1)", root.where("version")));
   }
   const core::ConfigTable all = root.table("datasets");
   for (const auto& name : all.keys()) {
@@ -93,15 +93,18 @@ DatasetManifest parse_manifest(const fs::path& file) {
       }
       info.files.push_back(std::move(df));
     }
-    if (info.files.empty()) throw DatasetError(fmt::format("{}: a dataset lists at least one file", d.where("files")));
+    if (info.files.empty())
+      throw DatasetError(fmt::format("{}: a dataset lists at least one file", d.where("files")));
     // Every derived file's inputs are files of the same dataset.
     for (const auto& f : info.files) {
       for (const auto& src : f.derived_from) {
         const bool known = std::any_of(info.files.begin(), info.files.end(),
                                        [&](const DatasetFile& g) { return g.path == src && !g.derived; });
         if (!known) {
-          throw DatasetError(fmt::format("{}: [datasets.{}.files.\"{}\"] derived_from names '{}', which is not a "
-                                         "downloadable file of this dataset", file.string(), name, f.path, src));
+          throw DatasetError(
+              fmt::format("{}: [datasets.{}.files.\"{}\"] derived_from names '{}', which is not a "
+                          "downloadable file of this dataset",
+                          file.string(), name, f.path, src));
         }
       }
     }
@@ -175,8 +178,10 @@ fs::path find_repo_root(const fs::path& start) {
     if (!dir.has_parent_path() || dir.parent_path() == dir) break;
     dir = dir.parent_path();
   }
-  throw DatasetError(fmt::format("no datasets/manifest.toml in {} or any parent folder: run from inside the keel "
-                                 "checkout, or pass its root explicitly", first.string()));
+  throw DatasetError(
+      fmt::format("no datasets/manifest.toml in {} or any parent folder: run from inside the keel "
+                  "checkout, or pass its root explicitly",
+                  first.string()));
 }
 
 std::vector<fs::path> dataset_search_paths(const std::string& name, const std::string& relative_path,
@@ -203,7 +208,8 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
                                      manifest->file.string(), name, relative_path, known));
     }
     for (const auto& d : manifest->datasets) known += fmt::format("{}{}", known.empty() ? "" : ", ", d.name);
-    throw DatasetError(fmt::format("{}: no dataset named '{}' (known: {})", manifest->file.string(), name, known));
+    throw DatasetError(
+        fmt::format("{}: no dataset named '{}' (known: {})", manifest->file.string(), name, known));
   }
   std::string report;
   if (const char* env = std::getenv("KEEL_DATASETS"); !env || !*env) {
@@ -232,17 +238,21 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
       continue;
     }
     if (got != entry->sha256) {
-      report += fmt::format("\n  {}: sha256 {} differs from the manifest's {}", p.string(), got, entry->sha256);
+      report +=
+          fmt::format("\n  {}: sha256 {} differs from the manifest's {}", p.string(), got, entry->sha256);
       continue;
     }
     return p;
   }
-  std::string how = fmt::format("\nFetch it with: scripts/fetch-datasets {} (downloads into datasets/cache/; --from "
-                                "DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS "
-                                "to a folder holding <name>/<path>.", name);
+  std::string how = fmt::format(
+      "\nFetch it with: scripts/fetch-datasets {} (downloads into datasets/cache/; --from "
+      "DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS "
+      "to a folder holding <name>/<path>.",
+      name);
   if (entry->derived) {
-    how += fmt::format("\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ",
-                       name);
+    how += fmt::format(
+        "\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ",
+        name);
     for (std::size_t k = 0; k < entry->derived_from.size(); ++k)
       how += fmt::format("{}{}", k ? ", " : "", entry->derived_from[k]);
     how += " and checks its sha256.";

@@ -63,8 +63,9 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_3d_tag(tag)) {
-      sc.fail(fmt::format("{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
-                          detail::quote_token(tag)));
+      sc.fail(fmt::format(
+          "{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
+          detail::quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2 and EDGE_SE2)",
                           detail::quote_token(tag)));
@@ -116,8 +117,9 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_2d_tag(tag)) {
-      sc.fail(fmt::format("{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
-                          detail::quote_token(tag)));
+      sc.fail(fmt::format(
+          "{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
+          detail::quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT and EDGE_SE3:QUAT)",
                           detail::quote_token(tag)));

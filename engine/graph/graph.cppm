@@ -1,9 +1,9 @@
-// keel.graph — the curated facade of engine/graph: the pose-graph data model (measurement z_ij ≈ T_i⁻¹ T_j, information
-// over ρ(z_ij⁻¹ T_i⁻¹ T_j)), readers and writers for g2o, iSAM text (square-root information), iSAM ground truth,
-// derived pose lists and TUM trajectories, the format-dispatching entry points, and the dataset manifest resolver
-// (sha256-verified copies of the benchmark files).
-// Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in the export block,
-// no import of another facade. The Lie-group types (SE2, SE3, Vec2, ...) are keel.lie's: import keel.lie to name them.
+// keel.graph — the curated facade of engine/graph: the pose-graph data model (measurement z_ij ≈ T_i⁻¹ T_j,
+// information over ρ(z_ij⁻¹ T_i⁻¹ T_j)), readers and writers for g2o, iSAM text (square-root information),
+// iSAM ground truth, derived pose lists and TUM trajectories, the format-dispatching entry points, and the
+// dataset manifest resolver (sha256-verified copies of the benchmark files). Facade rules (docs/DESIGN.md):
+// includes in the global module fragment, using-declarations in the export block, no import of another
+// facade. The Lie-group types (SE2, SE3, Vec2, ...) are keel.lie's: import keel.lie to name them.
 module;
 #include "graph/datasets.hpp"
 #include "graph/g2o.hpp"

@@ -17,8 +17,8 @@ namespace keel::graph {
 
 namespace {
 
-constexpr core::NameTable<GraphFormat, 2> kGraphFormat{"graph::GraphFormat",
-                                                       {{{GraphFormat::g2o, "g2o"}, {GraphFormat::isam, "isam"}}}};
+constexpr core::NameTable<GraphFormat, 2> kGraphFormat{
+    "graph::GraphFormat", {{{GraphFormat::g2o, "g2o"}, {GraphFormat::isam, "isam"}}}};
 
 }  // namespace
 
@@ -46,9 +46,10 @@ GraphFormat format_or_throw(std::string_view text, const std::string& name) {
   if (auto f = detect_graph_format(text, name)) return *f;
   detail::RecordScanner sc(text, name);
   sc.next();
-  sc.fail(fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
-                      "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",
-                      detail::quote_token(sc.tag())));
+  sc.fail(
+      fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
+                  "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",
+                  detail::quote_token(sc.tag())));
 }
 
 PoseGraph2D read_2d(const std::string& text, const std::string& name) {
@@ -64,8 +65,8 @@ PoseGraph3D read_3d(const std::string& text, const std::string& name) {
 GraphFormat format_for_writing(const std::filesystem::path& file) {
   if (file.extension() == ".g2o") return GraphFormat::g2o;
   if (file.extension() == ".txt") return GraphFormat::isam;
-  throw std::invalid_argument(
-      fmt::format("write_pose_graph: {}: unknown extension (use .g2o for g2o or .txt for iSAM text)", file.string()));
+  throw std::invalid_argument(fmt::format(
+      "write_pose_graph: {}: unknown extension (use .g2o for g2o or .txt for iSAM text)", file.string()));
 }
 
 // |a - b| <= tol * max(1, |a|, |b|)
@@ -88,7 +89,8 @@ std::string difference_common(const Graph& a, const Graph& b, double tol) {
   if (a.edges.size() != b.edges.size())
     return fmt::format("edge count {} vs {}", a.edges.size(), b.edges.size());
   for (std::size_t k = 0; k < a.poses.size(); ++k) {
-    if (!close_matrix(a.poses[k].matrix(), b.poses[k].matrix(), tol)) return fmt::format("pose {} differs", k);
+    if (!close_matrix(a.poses[k].matrix(), b.poses[k].matrix(), tol))
+      return fmt::format("pose {} differs", k);
   }
   for (std::size_t k = 0; k < a.edges.size(); ++k) {
     const auto& x = a.edges[k];
@@ -96,7 +98,8 @@ std::string difference_common(const Graph& a, const Graph& b, double tol) {
     if (x.i != y.i || x.j != y.j) return fmt::format("edge {} connects different poses", k);
     if (!close_matrix(x.measurement.matrix(), y.measurement.matrix(), tol))
       return fmt::format("edge {} measurement differs", k);
-    if (!close_matrix(x.information, y.information, tol)) return fmt::format("edge {} information differs", k);
+    if (!close_matrix(x.information, y.information, tol))
+      return fmt::format("edge {} information differs", k);
   }
   return {};
 }

@@ -27,7 +27,8 @@ std::string_view to_string(GraphFormat format);  // "g2o", "isam"
 [[nodiscard]] GraphFormat graph_format_from_string(std::string_view s);
 
 /// By first tag, then by extension (see above); nullopt when neither decides (unknown first tag).
-[[nodiscard]] std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name);
+[[nodiscard]] std::optional<GraphFormat> detect_graph_format(std::string_view text,
+                                                             const std::filesystem::path& name);
 
 PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file);
 PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name);

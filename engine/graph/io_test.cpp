@@ -30,8 +30,8 @@ namespace {
 
 template <int N>
 Eigen::Matrix<double, N, N> random_information(keel::core::Rng& rng) {
-  // D (S) D with S symmetric positive definite (smallest eigenvalue ≥ ½) and D diagonal with entries 10^[−2, 4):
-  // information matrices over six orders of magnitude.
+  // D (S) D with S symmetric positive definite (smallest eigenvalue ≥ ½) and D diagonal with entries 10^[−2,
+  // 4): information matrices over six orders of magnitude.
   const Eigen::Matrix<double, N, N> S = keel::testkit::random_spd(rng, N, 1.0, 0.5);
   Eigen::Matrix<double, N, 1> d;
   for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, rng.uniform(-2.0, 4.0));
@@ -334,10 +334,11 @@ TEST_CASE("format dispatch by first tag, extension as fallback") {
   CHECK(detect_graph_format("", "x.g2o") == GraphFormat::g2o);
   CHECK(detect_graph_format("# only a comment\n", "x.txt") == GraphFormat::isam);
   CHECK_FALSE(detect_graph_format("FOO 1 2\n", "x.g2o").has_value());
-  for (GraphFormat f : {GraphFormat::g2o, GraphFormat::isam}) CHECK(graph_format_from_string(to_string(f)) == f);
+  for (GraphFormat f : {GraphFormat::g2o, GraphFormat::isam})
+    CHECK(graph_format_from_string(to_string(f)) == f);
   CHECK(to_string(GraphFormat::g2o) == "g2o");
-  CHECK(keel::testkit::throws_with<std::invalid_argument>([] { (void)graph_format_from_string("G2O"); },
-                                                          "unknown graph::GraphFormat 'G2O' (valid: g2o, isam)"));
+  CHECK(keel::testkit::throws_with<std::invalid_argument>(
+      [] { (void)graph_format_from_string("G2O"); }, "unknown graph::GraphFormat 'G2O' (valid: g2o, isam)"));
   std::istringstream a(kV2 + kE01);
   CHECK(read_pose_graph_2d(a, "a.txt").edges.size() == 1);
   std::istringstream b("EDGE2 0 1 1 0 0" + kSqrt2 + "\n");
@@ -549,8 +550,7 @@ TEST_CASE("ground truth of a synthetic grid: snapping makes the chain exact") {
   // A square loop printed with 6 digits: 4 steps of (1, 0, π/2) and the closing edge (3 -> 0).
   const std::string noise = " 50 0 0 50 0 100\n";
   std::string text;
-  for (int k = 0; k < 3; ++k)
-    text += fmt::format("EDGE2 {} {} 1 0 1.5708{}", k, k + 1, noise);
+  for (int k = 0; k < 3; ++k) text += fmt::format("EDGE2 {} {} 1 0 1.5708{}", k, k + 1, noise);
   text += fmt::format("EDGE2 3 0 1 -0 1.5708{}LANDMARK 2 0 0.5 -0.5 10 0 10\n", noise);
   std::istringstream raw(text);
   const GroundTruth2D loose = read_isam_ground_truth_2d(raw, "gt.txt");

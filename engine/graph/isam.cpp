@@ -73,11 +73,13 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
       m.line = sc.line();
       g.landmark_measurements.push_back(m);
     } else if (tag == "EDGE3" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT") {
-      sc.fail(fmt::format("{} is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or read_pose_graph_3d)",
-                          detail::quote_token(tag)));
+      sc.fail(fmt::format(
+          "{} is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or read_pose_graph_3d)",
+          detail::quote_token(tag)));
     } else {
-      sc.fail(fmt::format("unknown tag {} (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)",
-                          detail::quote_token(tag)));
+      sc.fail(
+          fmt::format("unknown tag {} (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)",
+                      detail::quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "edge");
@@ -110,8 +112,9 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
       e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_2d_edge_tag(tag) || tag == "LANDMARK" || tag == "VERTEX_SE2" || tag == "EDGE_SE2") {
-      sc.fail(fmt::format("{} is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or read_pose_graph_2d)",
-                          detail::quote_token(tag)));
+      sc.fail(fmt::format(
+          "{} is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or read_pose_graph_2d)",
+          detail::quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", detail::quote_token(tag)));
     }
@@ -141,9 +144,10 @@ void check_chainable(const Graph& g) {
     if (e.j == e.i + 1) odometry[static_cast<std::size_t>(e.i)] = 1;
   for (std::size_t k = 0; k + 1 < g.poses.size(); ++k) {
     if (!odometry[k]) {
-      throw std::invalid_argument(
-          fmt::format("write_isam: no odometry edge ({}, {}): iSAM text has no vertex records, and its readers chain "
-                      "the edges (i, i+1)", k, k + 1));
+      throw std::invalid_argument(fmt::format(
+          "write_isam: no odometry edge ({}, {}): iSAM text has no vertex records, and its readers chain "
+          "the edges (i, i+1)",
+          k, k + 1));
     }
   }
   int max_id = -1;
@@ -152,8 +156,10 @@ void check_chainable(const Graph& g) {
     for (const auto& m : g.landmark_measurements) max_id = std::max(max_id, m.pose);
   }
   if (static_cast<std::size_t>(max_id) + 1 != g.poses.size()) {
-    throw std::invalid_argument(fmt::format("write_isam: pose {} is named by no record (iSAM text has no vertex "
-                                            "records)", g.poses.size() - 1));
+    throw std::invalid_argument(
+        fmt::format("write_isam: pose {} is named by no record (iSAM text has no vertex "
+                    "records)",
+                    g.poses.size() - 1));
   }
 }
 
@@ -162,7 +168,8 @@ template <int N>
 Eigen::Matrix<double, N, N> sqrt_information(const Eigen::Matrix<double, N, N>& W, const char* what) {
   Eigen::LLT<Eigen::Matrix<double, N, N>> llt(W);
   if (llt.info() != Eigen::Success || !W.allFinite()) {
-    throw std::invalid_argument(fmt::format("write_isam: the information of {} is not positive definite", what));
+    throw std::invalid_argument(
+        fmt::format("write_isam: the information of {} is not positive definite", what));
   }
   return llt.matrixU();
 }

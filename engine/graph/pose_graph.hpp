@@ -5,9 +5,10 @@
 //   its residual at poses T_i, T_j is r = ρ(E) with E = z_ij⁻¹ T_i⁻¹ T_j and
 //     2D: ρ(E) = (x_E, y_E, θ_E)            (θ wrapped to (−π, π]) — the iSAM and g2o convention;
 //     3D: ρ(E) = (t_E, Log(R_E))            (translation, then rotation vector);
-//   `information` Ω is the inverse covariance of r (Ω = RᵀR for the iSAM files, which store the square-root R).
-//   g2o's EDGE_SE3:QUAT information is over (t, q_vec) with q_vec ≈ φ/2, so it is converted with
-//   J = diag(I₃, ½ I₃): Ω = Jᵀ Ω_g2o J; iSAM's EDGE3 (x, y, z, roll, pitch, yaw) is taken as (t, φ) to first order.
+//   `information` Ω is the inverse covariance of r (Ω = RᵀR for the iSAM files, which store the square-root
+//   R). g2o's EDGE_SE3:QUAT information is over (t, q_vec) with q_vec ≈ φ/2, so it is converted with J =
+//   diag(I₃, ½ I₃): Ω = Jᵀ Ω_g2o J; iSAM's EDGE3 (x, y, z, roll, pitch, yaw) is taken as (t, φ) to first
+//   order.
 // Landmark measurements (2D) measure the landmark position in the frame of the pose: r = R_iᵀ (l − t_i) − z.
 #pragma once
 
@@ -29,9 +30,9 @@ using lie::Vec2;
 
 struct Edge2 {
   int i = 0, j = 0;
-  SE2 measurement;              // z_ij
+  SE2 measurement;  // z_ij
   Mat3 information = Mat3::Identity();
-  int line = 0;                 // 1-based source line (0 if generated)
+  int line = 0;  // 1-based source line (0 if generated)
 };
 
 struct Edge3 {
@@ -42,18 +43,18 @@ struct Edge3 {
 };
 
 struct LandmarkMeasurement2 {
-  int pose = 0, landmark = 0;   // landmark ids are their own namespace (0-based, contiguous after reading)
-  Vec2 position = Vec2::Zero(); // landmark in the frame of the pose
+  int pose = 0, landmark = 0;    // landmark ids are their own namespace (0-based, contiguous after reading)
+  Vec2 position = Vec2::Zero();  // landmark in the frame of the pose
   Mat2 information = Mat2::Identity();
   int line = 0;
 };
 
 struct PoseGraph2D {
-  std::vector<SE2> poses;       // initial estimate (VERTEX lines, or chained odometry, or ground truth)
+  std::vector<SE2> poses;  // initial estimate (VERTEX lines, or chained odometry, or ground truth)
   std::vector<Edge2> edges;
   std::vector<Vec2> landmarks;  // initial landmark positions (world frame)
   std::vector<LandmarkMeasurement2> landmark_measurements;
-  std::string source;           // file the graph was read from
+  std::string source;              // file the graph was read from
   bool has_initial_poses = false;  // true when the file itself carried vertex estimates
 };
 

@@ -1,5 +1,5 @@
-// The residuals that define the measurement convention of pose_graph.hpp, written once for every consumer (the
-// solver in keel::pgo, the linearization in keel::cov, tests and experiments).
+// The residuals that define the measurement convention of pose_graph.hpp, written once for every consumer
+// (the solver in keel::pgo, the linearization in keel::cov, tests and experiments).
 #pragma once
 
 #include "graph/pose_graph.hpp"

@@ -125,8 +125,8 @@ void RecordScanner::expect(std::span<const char* const> names) {
   const std::size_t n = size();
   const char* after = kind_.empty() ? " fields after the tag, found " : " fields, found ";
   if (n < names.size()) {
-    fail(fmt::format("{}: expected {}{}{} (truncated line?): field {} ({}) is missing", tag(), names.size(), after, n,
-                     n + 1, names[n]));
+    fail(fmt::format("{}: expected {}{}{} (truncated line?): field {} ({}) is missing", tag(), names.size(),
+                     after, n, n + 1, names[n]));
   }
   if (n > names.size()) {
     fail(fmt::format("{}: expected {}{}{}: field {} {} is one too many", tag(), names.size(), after, n,
@@ -147,7 +147,8 @@ void RecordScanner::fail_field(std::size_t k, const std::string& msg) const {
 
 void RecordScanner::fail_fields(std::size_t first, std::size_t last, const std::string& msg) const {
   if (first >= 1 && last <= names_.size())
-    fail(fmt::format("{} fields {}-{} ({}..{}): {}", tag(), first, last, names_[first - 1], names_[last - 1], msg));
+    fail(fmt::format("{} fields {}-{} ({}..{}): {}", tag(), first, last, names_[first - 1], names_[last - 1],
+                     msg));
   fail(fmt::format("{} fields {}-{}: {}", tag(), first, last, msg));
 }
 
@@ -159,7 +160,8 @@ double RecordScanner::number(std::size_t k) const {
   const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
   if (ec == std::errc::result_out_of_range)
     fail_field(k, fmt::format("{} is out of the range of a double", quote_token(t)));
-  if (ec != std::errc() || p != s.data() + s.size()) fail_field(k, fmt::format("{} is not a number", quote_token(t)));
+  if (ec != std::errc() || p != s.data() + s.size())
+    fail_field(k, fmt::format("{} is not a number", quote_token(t)));
   if (!std::isfinite(v)) fail_field(k, fmt::format("{} is not finite", quote_token(t)));
   return v;
 }
@@ -176,10 +178,12 @@ int RecordScanner::id(std::size_t k) const {
   const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec == std::errc() && p == s.data() + s.size()) {
     if (v < 0) fail_field(k, fmt::format("{} is negative (ids must be >= 0)", quote_token(t)));
-    if (v >= std::numeric_limits<int>::max()) fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
+    if (v >= std::numeric_limits<int>::max())
+      fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
     return static_cast<int>(v);
   }
-  if (ec == std::errc::result_out_of_range) fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
+  if (ec == std::errc::result_out_of_range)
+    fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
   fail_field(k, fmt::format("{} is not an integer id", quote_token(t)));
 }
 

@@ -49,17 +49,20 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
   for (const auto& r : recs) {
     auto [it, fresh] = seen.emplace(r.id, r.line);
     if (!fresh) {
-      detail::fail_at(name, r.line,
-                      fmt::format("{} field 1 (id): duplicate id {} (first on line {})", kind, r.id, it->second));
+      detail::fail_at(
+          name, r.line,
+          fmt::format("{} field 1 (id): duplicate id {} (first on line {})", kind, r.id, it->second));
     }
   }
   for (const auto& r : recs) {
     if (static_cast<std::size_t>(r.id) >= n) {
       std::size_t missing = 0;
       while (seen.count(static_cast<int>(missing))) ++missing;
-      detail::fail_at(name, r.line,
-                      fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
-                                  "this one has id {})", kind, missing, n, r.id));
+      detail::fail_at(
+          name, r.line,
+          fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
+                      "this one has id {})",
+                      kind, missing, n, r.id));
     }
   }
   std::vector<T> out(n);
@@ -150,7 +153,8 @@ std::string poses_3d_text(const std::vector<SE3>& poses) {
   return s;
 }
 
-// TUM lines are `timestamp tx ty tz qx qy qz qw`; with the pose index as timestamp that is exactly the 3D pose list.
+// TUM lines are `timestamp tx ty tz qx qy qz qw`; with the pose index as timestamp that is exactly the 3D
+// pose list.
 std::string tum_text(const std::vector<SE3>& poses) { return poses_3d_text(poses); }
 
 std::string tum_text(const std::vector<SE2>& poses) {

@@ -23,9 +23,9 @@ concept LieGroup = requires(const G& g, const typename G::Tangent& xi, const typ
   requires std::same_as<std::remove_cvref_t<decltype(G::DoF)>, int>;
   requires std::same_as<std::remove_cvref_t<decltype(G::Dim)>, int>;
   requires G::DoF >= 1;
-  requires G::Tangent::RowsAtCompileTime == G::DoF && G::Tangent::ColsAtCompileTime == 1;
-  requires G::Jacobian::RowsAtCompileTime == G::DoF && G::Jacobian::ColsAtCompileTime == G::DoF;
-  requires G::MatrixType::RowsAtCompileTime == G::Dim && G::MatrixType::ColsAtCompileTime == G::Dim;
+  requires G::Tangent::RowsAtCompileTime == G::DoF&& G::Tangent::ColsAtCompileTime == 1;
+  requires G::Jacobian::RowsAtCompileTime == G::DoF&& G::Jacobian::ColsAtCompileTime == G::DoF;
+  requires G::MatrixType::RowsAtCompileTime == G::Dim&& G::MatrixType::ColsAtCompileTime == G::Dim;
   { G::identity() } -> std::same_as<G>;
   { G::exp(xi) } -> std::same_as<G>;
   { G::hat(xi) } -> std::same_as<typename G::MatrixType>;
@@ -37,9 +37,9 @@ concept LieGroup = requires(const G& g, const typename G::Tangent& xi, const typ
   { G::from_matrix(m) } -> std::same_as<G>;
   { g.log() } -> std::same_as<typename G::Tangent>;
   { g.inverse() } -> std::same_as<G>;
-  { g * g } -> std::same_as<G>;
+  { g* g } -> std::same_as<G>;
   { g.act(p) } -> std::same_as<typename G::Point>;
-  { g * p } -> std::same_as<typename G::Point>;
+  { g* p } -> std::same_as<typename G::Point>;
   { g.adjoint() } -> std::same_as<typename G::Jacobian>;
   { g.matrix() } -> std::convertible_to<typename G::MatrixType>;
   { g.is_approx(g, 1e-9) } -> std::same_as<bool>;

@@ -29,8 +29,8 @@ TEST_CASE("wrap_angle maps to (-pi, pi]") {
 
 TEST_CASE("rotation_from_rpy is Rz(yaw) Ry(pitch) Rx(roll)") {
   const double r = 0.3, p = -0.7, y = 2.1;
-  const Mat3 expected = SO3::exp(Vec3(0, 0, y)).matrix() * SO3::exp(Vec3(0, p, 0)).matrix() *
-                        SO3::exp(Vec3(r, 0, 0)).matrix();
+  const Mat3 expected =
+      SO3::exp(Vec3(0, 0, y)).matrix() * SO3::exp(Vec3(0, p, 0)).matrix() * SO3::exp(Vec3(r, 0, 0)).matrix();
   CHECK((rotation_from_rpy(r, p, y) - expected).norm() < 1e-15);
 }
 

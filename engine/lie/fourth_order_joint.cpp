@@ -190,10 +190,11 @@ UncertainPose<SE3> compose_fourth_order_joint(const JointPoses<SE3>& poses, std:
 // ------------------------------------------------------------------------------------------
 
 namespace {
-constexpr core::NameTable<ChainCrossOrder, 2> kChainCrossOrderNames{"lie::ChainCrossOrder", {{
-    {ChainCrossOrder::first, "first"},
-    {ChainCrossOrder::fourth, "fourth"},
-}}};
+constexpr core::NameTable<ChainCrossOrder, 2> kChainCrossOrderNames{"lie::ChainCrossOrder",
+                                                                    {{
+                                                                        {ChainCrossOrder::first, "first"},
+                                                                        {ChainCrossOrder::fourth, "fourth"},
+                                                                    }}};
 }  // namespace
 
 std::string_view to_string(ChainCrossOrder v) { return kChainCrossOrderNames.name(v); }

@@ -362,8 +362,8 @@ TEST_CASE("fourth-order joint vs Monte Carlo: Fig. 5.4-like chain with AR(1) cor
                                      << score_line("4th joint exact polynomial", exact)
                                      << "\n  mean: |m_pred - m_mc| = " << (mex - sample_mean(xi)).norm()
                                      << ", |m_mc| = " << sample_mean(xi).norm());
-    // Measured (M = 1e6; at M = 2e5 the Monte-Carlo noise of eps reached 0.004 on some streams, as large as the
-    // margins checked below):
+    // Measured (M = 1e6; at M = 2e5 the Monte-Carlo noise of eps reached 0.004 on some streams, as large as
+    // the margins checked below):
     //   sigma = 3: first 0.013, B&F indep. 0.50, sequential 0.0073 / 0.0088, exact 0.0005
     //   sigma = 5: first 0.022, B&F indep. 0.50, sequential 0.0119 / 0.0143, exact 0.0009
     // The chi-square fractions stay below nominal even for the exact covariance (0.93 / 0.99):
@@ -387,8 +387,9 @@ TEST_CASE("ChainCrossOrder names: round trip over every enumerator, errors name 
   }
   CHECK(to_string(ChainCrossOrder::first) == "first");
   CHECK(to_string(ChainCrossOrder::fourth) == "fourth");
-  CHECK(testkit::throws_with<std::invalid_argument>([] { (void)chain_cross_order_from_string("second"); },
-                                                    "unknown lie::ChainCrossOrder 'second' (valid: first, fourth)"));
+  CHECK(testkit::throws_with<std::invalid_argument>(
+      [] { (void)chain_cross_order_from_string("second"); },
+      "unknown lie::ChainCrossOrder 'second' (valid: first, fourth)"));
   CHECK(testkit::throws_with<std::invalid_argument>([] { (void)chain_cross_order_from_string("First"); },
                                                     "(valid: first, fourth)"));
   CHECK(testkit::throws_with<std::invalid_argument>([] { (void)to_string(static_cast<ChainCrossOrder>(9)); },

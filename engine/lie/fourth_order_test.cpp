@@ -55,7 +55,8 @@ ChainErrors chain_vs_monte_carlo(const std::vector<UncertainPose<SE3>>& steps, i
   MatX xi(6, M);
   for (int m = 0; m < M; ++m) {
     SE3 acc;
-    for (std::size_t k = 0; k < steps.size(); ++k) acc = acc * SE3::exp(Vec6(samplers[k](rng))) * steps[k].mean;
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      acc = acc * SE3::exp(Vec6(samplers[k](rng))) * steps[k].mean;
     xi.col(m) = (acc * mean_inv).log();
   }
   const MatX mc = sample_covariance_about_zero(xi);
@@ -133,7 +134,8 @@ TEST_CASE("fourth-order compounding vs Monte Carlo (Barfoot-Furgale style chain)
     const UncertainPose<SE3> a(SE3::exp(x1), random_spd6(rng, 0.08));
     const UncertainPose<SE3> b(SE3::exp(x2), random_spd6(rng, 0.08));
     const ChainErrors e = chain_vs_monte_carlo({a, b}, 100000, rng);
-    MESSAGE("single compounding, random covariances (sigma ~0.2): first = " << e.first << ", fourth = " << e.fourth);
+    MESSAGE("single compounding, random covariances (sigma ~0.2): first = " << e.first
+                                                                            << ", fourth = " << e.fourth);
     CHECK(e.fourth < 0.05);
   }
 }

@@ -12,9 +12,7 @@
 namespace keel::lie {
 
 void validate_covariance(const Eigen::Ref<const MatX>& cov, std::string_view what, double rel_tol) {
-  auto fail = [&](const std::string& why) {
-    throw std::invalid_argument(fmt::format("{}: {}", what, why));
-  };
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(fmt::format("{}: {}", what, why)); };
   if (cov.rows() != cov.cols()) {
     fail(fmt::format("covariance must be square, got {}x{}", cov.rows(), cov.cols()));
   }
@@ -32,8 +30,9 @@ void validate_covariance(const Eigen::Ref<const MatX>& cov, std::string_view wha
   const double lmin = es.eigenvalues().minCoeff();
   const double lmax = es.eigenvalues().cwiseAbs().maxCoeff();
   if (lmin < -rel_tol * lmax) {
-    fail(fmt::format("covariance is not positive semi-definite (smallest eigenvalue {:g}, largest |eigenvalue| {:g})",
-                     lmin, lmax));
+    fail(fmt::format(
+        "covariance is not positive semi-definite (smallest eigenvalue {:g}, largest |eigenvalue| {:g})",
+        lmin, lmax));
   }
 }
 

@@ -47,7 +47,8 @@ template <class G>
 typename G::Tangent random_tangent_bounded(keel::core::Rng& rng, double trans_scale, double max_angle) {
   typename G::Tangent xi = random_tangent<G>(rng, trans_scale);
   double a = rng.uniform(0.0, max_angle);
-  if constexpr (std::is_same_v<G, SO2> || std::is_same_v<G, SE2>) a *= (rng.uniform(-1.0, 1.0) < 0 ? -1.0 : 1.0);
+  if constexpr (std::is_same_v<G, SO2> || std::is_same_v<G, SE2>)
+    a *= (rng.uniform(-1.0, 1.0) < 0 ? -1.0 : 1.0);
   if constexpr (std::is_same_v<G, SO3>) xi = random_tangent<G>(rng, 1.0);
   return with_rotation_angle<G>(xi, a);
 }
@@ -71,7 +72,6 @@ M matrix_exponential_series(const M& A) {
   return sum;
 }
 
-
 }  // namespace
 
 TEST_CASE_TEMPLATE("group axioms", G, SO2, SO3, SE2, SE3) {
@@ -92,7 +92,8 @@ TEST_CASE_TEMPLATE("group axioms", G, SO2, SO3, SE2, SE3) {
   CHECK(G::identity().matrix().isApprox(G::MatrixType::Identity()));
 }
 
-TEST_CASE_TEMPLATE("exp matches the matrix power series (eq. 5.7) and hat/vee round trip", G, SO2, SO3, SE2, SE3) {
+TEST_CASE_TEMPLATE("exp matches the matrix power series (eq. 5.7) and hat/vee round trip", G, SO2, SO3, SE2,
+                   SE3) {
   keel::core::Rng rng(2);
   for (int trial = 0; trial < 50; ++trial) {
     const typename G::Tangent xi = random_tangent_bounded<G>(rng, 2.0, 3.0);
@@ -125,7 +126,8 @@ TEST_CASE_TEMPLATE("exp/log round trips (random, near 0, near pi)", G, SO2, SO3,
   CHECK(G::identity().log().norm() == 0.0);
 }
 
-TEST_CASE_TEMPLATE("Jacobians against central differences of their defining relations", G, SO2, SO3, SE2, SE3) {
+TEST_CASE_TEMPLATE("Jacobians against central differences of their defining relations", G, SO2, SO3, SE2,
+                   SE3) {
   keel::core::Rng rng(4);
   using Tan = typename G::Tangent;
   using Jac = typename G::Jacobian;
@@ -139,16 +141,20 @@ TEST_CASE_TEMPLATE("Jacobians against central differences of their defining rela
     const G T = G::exp(xi);
     const G Ti = T.inverse();
     // exp(xi + d) ~= exp(J_l d) exp(xi)
-    const Jac Jl_num = testkit::numerical_jacobian_tangent<G>([&](const Tan& d) { return (G::exp(Tan(xi + d)) * Ti).log(); });
+    const Jac Jl_num = testkit::numerical_jacobian_tangent<G>(
+        [&](const Tan& d) { return (G::exp(Tan(xi + d)) * Ti).log(); });
     CHECK((G::left_jacobian(xi) - Jl_num).norm() < 1e-8);
     // exp(xi + d) ~= exp(xi) exp(J_r d)
-    const Jac Jr_num = testkit::numerical_jacobian_tangent<G>([&](const Tan& d) { return (Ti * G::exp(Tan(xi + d))).log(); });
+    const Jac Jr_num = testkit::numerical_jacobian_tangent<G>(
+        [&](const Tan& d) { return (Ti * G::exp(Tan(xi + d))).log(); });
     CHECK((G::right_jacobian(xi) - Jr_num).norm() < 1e-8);
     // log(exp(e) exp(xi)) ~= xi + J_l^-1 e
-    const Jac Jli_num = testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (G::exp(e) * T).log(); });
+    const Jac Jli_num =
+        testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (G::exp(e) * T).log(); });
     CHECK((G::left_jacobian_inverse(xi) - Jli_num).norm() < 1e-8);
     // log(exp(xi) exp(e)) ~= xi + J_r^-1 e
-    const Jac Jri_num = testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (T * G::exp(e)).log(); });
+    const Jac Jri_num =
+        testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (T * G::exp(e)).log(); });
     CHECK((G::right_jacobian_inverse(xi) - Jri_num).norm() < 1e-8);
     // Inverses are inverses.
     CHECK((G::left_jacobian(xi) * G::left_jacobian_inverse(xi) - Jac::Identity()).norm() < 1e-12);
@@ -171,29 +177,39 @@ TEST_CASE_TEMPLATE("optional Jacobian outputs (left perturbations)", G, SO2, SO3
     Jac J1, J2;
     // exp
     G::exp(xi, &J1);
-    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& d) { return (G::exp(Tan(xi + d)) * A.inverse()).log(); }))
-              .norm() < 1e-8);
+    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& d) {
+             return (G::exp(Tan(xi + d)) * A.inverse()).log();
+           })).norm() < 1e-8);
     // log
     A.log(&J1);
-    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (G::exp(e) * A).log(); })).norm() < 1e-8);
+    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) {
+             return (G::exp(e) * A).log();
+           })).norm() < 1e-8);
     // inverse: (exp(e) A)^-1 = exp(J e) A^-1
     A.inverse(&J1);
-    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return ((G::exp(e) * A).inverse() * A).log(); })).norm() <
-          1e-8);
+    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) {
+             return ((G::exp(e) * A).inverse() * A).log();
+           })).norm() < 1e-8);
     // compose
     const G AB = A.compose(B, &J1, &J2);
     CHECK(AB.is_approx(A * B, 1e-15));
     const G ABi = AB.inverse();
-    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (G::exp(e) * A * B * ABi).log(); })).norm() < 1e-8);
-    CHECK((J2 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (A * G::exp(e) * B * ABi).log(); })).norm() < 1e-8);
+    CHECK((J1 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) {
+             return (G::exp(e) * A * B * ABi).log();
+           })).norm() < 1e-8);
+    CHECK((J2 - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) {
+             return (A * G::exp(e) * B * ABi).log();
+           })).norm() < 1e-8);
     // act
     PJ Jt;
     Eigen::Matrix<double, G::Point::RowsAtCompileTime, G::Point::RowsAtCompileTime> Jp;
     A.act(p, &Jt, &Jp);
-    CHECK((Jt - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) { return (G::exp(e) * A).act(p); })).norm() <
-          1e-8);
+    CHECK((Jt - testkit::numerical_jacobian_tangent<G>([&](const Tan& e) {
+             return (G::exp(e) * A).act(p);
+           })).norm() < 1e-8);
     const testkit::VecX p0 = p;
-    CHECK((Jp - testkit::numerical_jacobian([&](const testkit::VecX& q) { return A.act(typename G::Point(q)); }, p0))
+    CHECK((Jp - testkit::numerical_jacobian(
+                    [&](const testkit::VecX& q) { return A.act(typename G::Point(q)); }, p0))
               .norm() < 1e-8);
   }
 }

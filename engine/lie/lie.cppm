@@ -1,9 +1,9 @@
-// keel.lie — the curated facade of engine/lie (thesis ch. 5): Lie groups SO(2), SO(3), SE(2), SE(3); uncertain poses
-// in the left-perturbation convention T = exp(ξ^) T̄ (eq. 5.14), jointly distributed sets (eqs. 5.28–5.29) and their
-// composition / inverse / relative pose with and without cross-covariance; SSC baselines (§5.3); the unscented
-// conversion (§5.8.1); metrics; and the Monte-Carlo studies behind the ch5_* experiments.
-// Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in the export block,
-// no import of another facade.
+// keel.lie — the curated facade of engine/lie (thesis ch. 5): Lie groups SO(2), SO(3), SE(2), SE(3);
+// uncertain poses in the left-perturbation convention T = exp(ξ^) T̄ (eq. 5.14), jointly distributed sets
+// (eqs. 5.28–5.29) and their composition / inverse / relative pose with and without cross-covariance; SSC
+// baselines (§5.3); the unscented conversion (§5.8.1); metrics; and the Monte-Carlo studies behind the ch5_*
+// experiments. Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in
+// the export block, no import of another facade.
 module;
 #include "lie/concepts.hpp"
 #include "lie/euler.hpp"
@@ -24,17 +24,17 @@ export module keel.lie;
 
 export namespace keel::lie {
 // linear-algebra aliases and constants
+using keel::lie::kPi;
+using keel::lie::Mat12;
 using keel::lie::Mat2;
 using keel::lie::Mat3;
 using keel::lie::Mat4;
 using keel::lie::Mat6;
-using keel::lie::Mat12;
 using keel::lie::MatX;
 using keel::lie::Vec2;
 using keel::lie::Vec3;
 using keel::lie::Vec6;
 using keel::lie::VecX;
-using keel::lie::kPi;
 // groups
 using keel::lie::LieGroup;
 using keel::lie::SE2;
@@ -53,22 +53,22 @@ using keel::lie::wrap_angle;
 using keel::lie::append_composition;
 using keel::lie::append_inverse;
 using keel::lie::append_relative;
+using keel::lie::chain_cross_order_from_string;
 using keel::lie::chain_jacobian;
+using keel::lie::ChainCrossOrder;
 using keel::lie::compose;
 using keel::lie::compose_chain;
 using keel::lie::compose_chain_fourth_order;
-using keel::lie::compose_fourth_order;
 using keel::lie::compose_chain_fourth_order_joint;
 using keel::lie::compose_chain_fourth_order_joint_exact;
+using keel::lie::compose_fourth_order;
 using keel::lie::compose_fourth_order_joint;
-using keel::lie::ChainCrossOrder;
-using keel::lie::chain_cross_order_from_string;
-using keel::lie::to_string;
 using keel::lie::inverse;
 using keel::lie::JointPoses;
 using keel::lie::perturb;
 using keel::lie::perturbation_of;
 using keel::lie::relative;
+using keel::lie::to_string;
 using keel::lie::UncertainPose;
 // Gaussian helpers, unscented transform, metrics
 using keel::lie::chi2_cdf;

@@ -35,7 +35,8 @@ MatX sample_covariance_about_zero(const std::vector<VecX>& samples) {
   const Eigen::Index d = samples.front().size();
   MatX S = MatX::Zero(d, d);
   for (const VecX& s : samples) {
-    if (s.size() != d) throw std::invalid_argument("sample_covariance_about_zero: samples of different sizes");
+    if (s.size() != d)
+      throw std::invalid_argument("sample_covariance_about_zero: samples of different sizes");
     S.selfadjointView<Eigen::Lower>().rankUpdate(s);
   }
   S = S.selfadjointView<Eigen::Lower>();
@@ -145,7 +146,10 @@ double chi2_quantile(double p, double dof) {
   for (int it = 0; it < 2000; ++it) {
     const double r = residual(x);
     if (r == 0.0) return x;
-    if (r < 0.0) lo = x; else hi = x;
+    if (r < 0.0)
+      lo = x;
+    else
+      hi = x;
     const double dens = pdf(x);
     double next = (dens > 0.0 && std::isfinite(dens)) ? x - r / dens : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // safeguard: bisect
@@ -158,8 +162,8 @@ double chi2_quantile(double p, double dof) {
 
 double mahalanobis_squared(const VecX& v, const MatX& cov) {
   if (cov.rows() != cov.cols() || cov.rows() != v.size()) {
-    throw std::invalid_argument(fmt::format("mahalanobis_squared: vector of size {} with a {}x{} covariance", v.size(),
-                                            cov.rows(), cov.cols()));
+    throw std::invalid_argument(fmt::format("mahalanobis_squared: vector of size {} with a {}x{} covariance",
+                                            v.size(), cov.rows(), cov.cols()));
   }
   Eigen::LLT<MatX> llt(cov);
   if (llt.info() != Eigen::Success)

@@ -55,7 +55,8 @@ TEST_CASE("covariance errors (eq. 5.56 and its normalized form of §5.9.2)") {
   CHECK(covariance_error(A, B) == doctest::Approx(std::sqrt(1 + 1 + 1 + 4)));
   CHECK(covariance_error(A, B) == doctest::Approx(std::sqrt(((A - B).transpose() * (A - B)).trace())));
   CHECK(normalized_covariance_error(A, B) == doctest::Approx(covariance_error(A, B) / std::sqrt(2.0)));
-  CHECK(normalized_covariance_error(1e-6 * A, 1e-6 * B) == doctest::Approx(normalized_covariance_error(A, B)));
+  CHECK(normalized_covariance_error(1e-6 * A, 1e-6 * B) ==
+        doctest::Approx(normalized_covariance_error(A, B)));
   CHECK_THROWS_AS((void)covariance_error(A, MatX::Identity(3, 3)), std::invalid_argument);
   CHECK_THROWS_AS((void)normalized_covariance_error(A, MatX::Zero(2, 2)), std::invalid_argument);
 }

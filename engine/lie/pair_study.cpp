@@ -59,8 +59,8 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
   const Mat6 Sx = Jx * S * Jx.transpose();
   const auto ssc_pred = ssc::tail_to_tail(ssc_from_se2(Ti), ssc_from_se2(Tj), Sx);
 
-  // Monte Carlo: ξ ~ N(0, S) (eqs. 5.57–5.59); the SSC reference is the sample covariance of the same samples'
-  // parameters (about their sample mean, angle differences wrapped around the predicted mean).
+  // Monte Carlo: ξ ~ N(0, S) (eqs. 5.57–5.59); the SSC reference is the sample covariance of the same
+  // samples' parameters (about their sample mean, angle differences wrapped around the predicted mean).
   const Mat6 L = Mat6(covariance_square_root(S));
   Mat3 lie_acc = Mat3::Zero(), ssc_acc = Mat3::Zero(), raw_acc = Mat3::Zero();
   Vec3 ssc_sum = Vec3::Zero(), raw_sum = Vec3::Zero();
@@ -70,8 +70,8 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
     const Vec6 xi = L * z;
     const SE2 Ti_m = SE2::exp(xi.head<3>()) * Ti;
     const SE2 Tj_m = SE2::exp(xi.tail<3>()) * Tj;
-    const SE2 Tm = Ti_m.inverse() * Tj_m;     // eq. 5.58
-    const Vec3 e = (Tm * mean_inv).log();     // eq. 5.59
+    const SE2 Tm = Ti_m.inverse() * Tj_m;  // eq. 5.58
+    const Vec3 e = (Tm * mean_inv).log();  // eq. 5.59
     lie_acc += e * e.transpose();
     const Vec3 raw = ssc_from_se2(Tm);
     raw_sum += raw;
@@ -99,7 +99,8 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
 
 }  // namespace
 
-std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
+std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
+                                          const std::vector<std::pair<int, int>>& pairs,
                                           const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
                                           core::Progress* progress) {
   setup.validate();
@@ -121,8 +122,8 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const s
         core::Rng rng = core::Rng::stream(setup.seed, k);
         const auto [i, j] = pairs[k];
         try {
-          out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)], joint_covs[k],
-                             setup.samples, rng);
+          out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)],
+                             joint_covs[k], setup.samples, rng);
         } catch (const std::exception& e) {
           throw std::runtime_error(fmt::format("pair ({}, {}): {}", i, j, e.what()));
         }
@@ -133,7 +134,8 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses, const s
   return out;
 }
 
-PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::*field, int offset) {
+PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::* field,
+                               int offset) {
   PairStatistics st;
   double sum = 0, sum2 = 0;
   for (const auto& r : records) {

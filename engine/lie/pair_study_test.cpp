@@ -12,7 +12,8 @@ namespace testkit = keel::testkit;
 TEST_CASE("ssc_jacobian_of_left_perturbation matches central differences") {
   const SE2 T(3.0, -2.0, 0.7);
   const Mat3 J = ssc_jacobian_of_left_perturbation(T);
-  const MatX num = testkit::numerical_jacobian_tangent<SE2>([&](const Vec3& d) { return ssc_from_se2(SE2::exp(d) * T); });
+  const MatX num =
+      testkit::numerical_jacobian_tangent<SE2>([&](const Vec3& d) { return ssc_from_se2(SE2::exp(d) * T); });
   for (int k = 0; k < 3; ++k) CHECK((num.col(k) - J.col(k)).norm() < 1e-8);
 }
 
@@ -56,12 +57,12 @@ TEST_CASE("pair study: bad inputs are rejected with clear messages") {
   setup.samples = 10;
   CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 5}}, {Mat6::Identity()}, setup),
                        doctest::Contains("outside [0, 2)"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {}, setup), doctest::Contains("1 pairs but 0"),
-                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {}, setup),
+                       doctest::Contains("1 pairs but 0"), std::invalid_argument);
   Mat6 bad = Mat6::Identity();
   bad(0, 0) = -1;
-  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {bad}, setup), doctest::Contains("pair (0, 1)"),
-                       std::runtime_error);
+  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {bad}, setup),
+                       doctest::Contains("pair (0, 1)"), std::runtime_error);
   setup.samples = 1;
   CHECK_THROWS_AS((void)run_pair_study_2d(poses, {{0, 1}}, {Mat6::Identity()}, setup), std::invalid_argument);
 }

@@ -18,8 +18,8 @@ namespace {
 // V(theta) such that the translation of exp([rho; theta]) is V rho.
 Mat2 se2_v(double theta) {
   const double at = std::abs(theta);
-  const double a = detail::sinc(at);                                  // even in theta
-  const double b = theta * detail::one_minus_cos_over_theta2(at);     // (1 - cos t)/t, odd
+  const double a = detail::sinc(at);                               // even in theta
+  const double b = theta * detail::one_minus_cos_over_theta2(at);  // (1 - cos t)/t, odd
   Mat2 V;
   V << a, -b, b, a;
   return V;
@@ -39,7 +39,7 @@ Vec2 se2_jl_column(const Vec3& xi) {
   const double t = xi(2);
   const double at = std::abs(t);
   const double p = t * detail::theta_minus_sin_over_theta3(at);  // (t - sin t)/t^2 (odd in t)
-  const double q = detail::one_minus_cos_over_theta2(at);         // (1 - cos t)/t^2 (even in t)
+  const double q = detail::one_minus_cos_over_theta2(at);        // (1 - cos t)/t^2 (even in t)
   return Vec2(xi(0) * p + xi(1) * q, -xi(0) * q + xi(1) * p);
 }
 
@@ -85,7 +85,8 @@ SE2 SE2::from_matrix(const MatrixType& T, double tol) {
   if (!T.allFinite()) throw std::invalid_argument("SE2::from_matrix: matrix has non-finite entries");
   const double bottom = std::abs(T(2, 0)) + std::abs(T(2, 1)) + std::abs(T(2, 2) - 1.0);
   if (!(bottom <= tol))
-    throw std::invalid_argument(fmt::format("SE2::from_matrix: bottom row is not [0 0 1] (deviation {:f})", bottom));
+    throw std::invalid_argument(
+        fmt::format("SE2::from_matrix: bottom row is not [0 0 1] (deviation {:f})", bottom));
   return SE2(SO2::from_matrix(T.topLeftCorner<2, 2>(), tol), T.topRightCorner<2, 1>());
 }
 

@@ -92,7 +92,8 @@ SE3 SE3::from_matrix(const MatrixType& T, double tol) {
   if (!T.allFinite()) throw std::invalid_argument("SE3::from_matrix: matrix has non-finite entries");
   const double bottom = T.bottomLeftCorner<1, 3>().cwiseAbs().sum() + std::abs(T(3, 3) - 1.0);
   if (!(bottom <= tol))
-    throw std::invalid_argument(fmt::format("SE3::from_matrix: bottom row is not [0 0 0 1] (deviation {:f})", bottom));
+    throw std::invalid_argument(
+        fmt::format("SE3::from_matrix: bottom row is not [0 0 0 1] (deviation {:f})", bottom));
   return SE3(SO3::from_matrix(T.topLeftCorner<3, 3>(), tol), T.topRightCorner<3, 1>());
 }
 

@@ -36,7 +36,8 @@ SO2 SO2::from_matrix(const MatrixType& R, double tol) {
   if (!R.allFinite()) throw std::invalid_argument("SO2::from_matrix: matrix has non-finite entries");
   const double err = (R.transpose() * R - Mat2::Identity()).norm();
   if (!(err <= tol))
-    throw std::invalid_argument(fmt::format("SO2::from_matrix: matrix is not orthonormal (||R^T R - I||_F = {:f})", err));
+    throw std::invalid_argument(
+        fmt::format("SO2::from_matrix: matrix is not orthonormal (||R^T R - I||_F = {:f})", err));
   if (R.determinant() <= 0.0)
     throw std::invalid_argument("SO2::from_matrix: det(R) <= 0 (reflection, not a rotation)");
   return SO2(std::atan2(R(1, 0) - R(0, 1), R(0, 0) + R(1, 1)));
@@ -91,8 +92,6 @@ SO2::MatrixType SO2::matrix() const {
   return m;
 }
 
-bool SO2::is_approx(const SO2& other, double tol) const {
-  return (matrix() - other.matrix()).norm() <= tol;
-}
+bool SO2::is_approx(const SO2& other, double tol) const { return (matrix() - other.matrix()).norm() <= tol; }
 
 }  // namespace keel::lie

@@ -59,8 +59,8 @@ SO3 SO3::from_matrix(const MatrixType& R, double tol) {
   if (!R.allFinite()) throw std::invalid_argument("SO3::from_matrix: matrix has non-finite entries");
   const double err = (R.transpose() * R - Mat3::Identity()).norm();
   if (!(err <= tol))
-    throw std::invalid_argument(
-        fmt::format("SO3::from_matrix: matrix is not orthonormal (||R^T R - I||_F = {:f}, tolerance {:f})", err, tol));
+    throw std::invalid_argument(fmt::format(
+        "SO3::from_matrix: matrix is not orthonormal (||R^T R - I||_F = {:f}, tolerance {:f})", err, tol));
   if (R.determinant() <= 0.0)
     throw std::invalid_argument("SO3::from_matrix: det(R) <= 0 (reflection, not a rotation)");
   // Project onto SO(3): nearest rotation in Frobenius norm, U diag(1,1,det(UV^T)) V^T.

@@ -159,7 +159,7 @@ Estimate3D inverse(const Estimate3D& x_ij) {
   validate_covariance(x_ij.cov, "ssc::inverse");
   Mat6 J;
   Estimate3D out;
-  out.mean = inverse(x_ij.mean, &J);  // eq. 5.22
+  out.mean = inverse(x_ij.mean, &J);       // eq. 5.22
   out.cov = J * x_ij.cov * J.transpose();  // eq. 5.23
   out.cov = 0.5 * (out.cov + out.cov.transpose()).eval();
   return out;
@@ -279,12 +279,12 @@ namespace {
 template <int D, class Vec, class Mat, class Est>
 Est chain_impl(const VecX& x, const MatX& joint_cov, const char* fn) {
   if (x.size() == 0 || x.size() % D != 0) {
-    throw std::invalid_argument(
-        fmt::format("{}: stacked parameter vector has length {}, expected a positive multiple of {}", fn, x.size(), D));
+    throw std::invalid_argument(fmt::format(
+        "{}: stacked parameter vector has length {}, expected a positive multiple of {}", fn, x.size(), D));
   }
   if (joint_cov.rows() != x.size() || joint_cov.cols() != x.size()) {
-    throw std::invalid_argument(fmt::format("{}: joint covariance is {}x{}, expected {}x{}", fn, joint_cov.rows(),
-                                            joint_cov.cols(), x.size(), x.size()));
+    throw std::invalid_argument(fmt::format("{}: joint covariance is {}x{}, expected {}x{}", fn,
+                                            joint_cov.rows(), joint_cov.cols(), x.size(), x.size()));
   }
   validate_covariance(joint_cov, fn);
   const Eigen::Index n = x.size() / D;

@@ -17,7 +17,8 @@ namespace testkit = keel::testkit;
 
 namespace {
 
-// Euler parameters (x, y, z, roll, pitch, yaw): positions in [-5, 5], angles in [-π, π], |pitch| <= max_pitch.
+// Euler parameters (x, y, z, roll, pitch, yaw): positions in [-5, 5], angles in [-π, π], |pitch| <=
+// max_pitch.
 Vec6 random_x6(keel::core::Rng& rng, double max_pitch = 1.3) {
   Vec6 x;
   for (int i = 0; i < 3; ++i) x(i) = rng.uniform(-5.0, 5.0);
@@ -48,8 +49,8 @@ Vec3 diff3(const Vec3& a, const Vec3& b) {
   return d;
 }
 
-// Central-difference Jacobian of f at x (the shared kit's), with differences taken about f(x) and their angles
-// wrapped, so a step that crosses ±π does not produce a 2π jump.
+// Central-difference Jacobian of f at x (the shared kit's), with differences taken about f(x) and their
+// angles wrapped, so a step that crosses ±π does not produce a 2π jump.
 template <int N, class F>
 Eigen::Matrix<double, N, N> numeric_jac(F f, const Eigen::Matrix<double, N, 1>& x) {
   using V = Eigen::Matrix<double, N, 1>;
@@ -176,8 +177,8 @@ TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise") {
   Mat12 blockdiag = joint;
   blockdiag.topRightCorner<6, 6>().setZero();
   blockdiag.bottomLeftCorner<6, 6>().setZero();
-  CHECK(normalized_covariance_error(ssc::head_to_tail(a, b, blockdiag).cov, sample_covariance_about_zero(d_h2t)) >
-        0.1);
+  CHECK(normalized_covariance_error(ssc::head_to_tail(a, b, blockdiag).cov,
+                                    sample_covariance_about_zero(d_h2t)) > 0.1);
 }
 
 TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise") {
@@ -195,8 +196,10 @@ TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise") {
     d_t2t.col(m) = diff3(ssc::tail_to_tail(an, bn), ssc::tail_to_tail(a, b));
     d_inv.col(m) = diff3(ssc::inverse(an), ssc::inverse(a));
   }
-  CHECK(normalized_covariance_error(ssc::head_to_tail(a, b, joint).cov, sample_covariance_about_zero(d_h2t)) < 0.02);
-  CHECK(normalized_covariance_error(ssc::tail_to_tail(a, b, joint).cov, sample_covariance_about_zero(d_t2t)) < 0.02);
+  CHECK(normalized_covariance_error(ssc::head_to_tail(a, b, joint).cov, sample_covariance_about_zero(d_h2t)) <
+        0.02);
+  CHECK(normalized_covariance_error(ssc::tail_to_tail(a, b, joint).cov, sample_covariance_about_zero(d_t2t)) <
+        0.02);
   CHECK(normalized_covariance_error(ssc::inverse(ssc::Estimate2D{a, joint.topLeftCorner<3, 3>()}).cov,
                                     sample_covariance_about_zero(d_inv)) < 0.02);
 }
@@ -216,7 +219,8 @@ TEST_CASE("SSC chain uses the full joint covariance") {
 
   // Two-element chain equals the pairwise helper.
   const ssc::Estimate3D two = ssc::head_to_tail_chain_3d(x.head<12>(), joint.topLeftCorner(12, 12));
-  const ssc::Estimate3D pair = ssc::head_to_tail(Vec6(x.head<6>()), Vec6(x.segment<6>(6)), Mat12(joint.topLeftCorner(12, 12)));
+  const ssc::Estimate3D pair =
+      ssc::head_to_tail(Vec6(x.head<6>()), Vec6(x.segment<6>(6)), Mat12(joint.topLeftCorner(12, 12)));
   CHECK((two.mean - pair.mean).norm() < 1e-14);
   CHECK((two.cov - pair.cov).norm() < 1e-14 * (1.0 + pair.cov.norm()));
 

@@ -35,7 +35,8 @@ Vec6 normal6(core::Rng& rng) {
 struct Whitener {
   Eigen::LLT<Mat6> llt;
   explicit Whitener(const Mat6& cov, const std::string& what) : llt(cov) {
-    if (llt.info() != Eigen::Success) throw std::runtime_error(fmt::format("{}: predicted covariance is not positive definite", what));
+    if (llt.info() != Eigen::Success)
+      throw std::runtime_error(fmt::format("{}: predicted covariance is not positive definite", what));
   }
   double d2(const Vec6& v) const { return llt.matrixL().solve(v).squaredNorm(); }
 };
@@ -55,11 +56,14 @@ Mat6 composition_step_covariance(double sigma_t, double sigma_r) {
 }
 
 void CompositionSetup::validate() const {
-  if (steps < 1) throw std::invalid_argument(fmt::format("CompositionSetup: steps must be >= 1, got {}", steps));
-  if (!(sigma_t > 0) || !(sigma_r > 0)) throw std::invalid_argument("CompositionSetup: sigma_t and sigma_r must be > 0");
+  if (steps < 1)
+    throw std::invalid_argument(fmt::format("CompositionSetup: steps must be >= 1, got {}", steps));
+  if (!(sigma_t > 0) || !(sigma_r > 0))
+    throw std::invalid_argument("CompositionSetup: sigma_t and sigma_r must be > 0");
   if (!(rho > -1.0 && rho < 1.0)) throw std::invalid_argument("CompositionSetup: rho must lie in (-1, 1)");
   if (trajectories < 2) throw std::invalid_argument("CompositionSetup: trajectories must be >= 2");
-  if (levels.empty()) throw std::invalid_argument("CompositionSetup: at least one probability level is needed");
+  if (levels.empty())
+    throw std::invalid_argument("CompositionSetup: at least one probability level is needed");
   for (double p : levels)
     if (!(p > 0 && p < 1)) throw std::invalid_argument("CompositionSetup: levels must lie in (0, 1)");
 }
@@ -78,7 +82,8 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   joint.means.assign(static_cast<std::size_t>(n), step_mean);
   joint.cov = MatX::Zero(6 * n, 6 * n);
   for (int j = 0; j < n; ++j)
-    for (int k = 0; k < n; ++k) joint.cov.block<6, 6>(6 * j, 6 * k) = std::pow(s.rho, std::abs(j - k)) * step_cov;
+    for (int k = 0; k < n; ++k)
+      joint.cov.block<6, 6>(6 * j, 6 * k) = std::pow(s.rho, std::abs(j - k)) * step_cov;
 
   CompositionOutcome out;
   const auto lie_joint = compose_chain(joint, true);
@@ -98,9 +103,9 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
     out.lie_joint_fourth_order.cov = j4.cov;
   }
 
-  // SSC inputs: the Euler parameters x_k = ssc(exp(ξ_k) T̄) of each step by the unscented transform (§5.8.1 in the
-  // other direction). All steps share one distribution, so one 6-D UT gives the mean x̂, the block P and the
-  // cross-covariance C = E[ξ (x - x̂)ᵀ]; the blocks between steps follow by statistical linearization,
+  // SSC inputs: the Euler parameters x_k = ssc(exp(ξ_k) T̄) of each step by the unscented transform (§5.8.1 in
+  // the other direction). All steps share one distribution, so one 6-D UT gives the mean x̂, the block P and
+  // the cross-covariance C = E[ξ (x - x̂)ᵀ]; the blocks between steps follow by statistical linearization,
   // Cov(x_j, x_k) = G Cov(ξ_j, ξ_k) Gᵀ with G = Cᵀ Σ⁻¹ (exact for the diagonal blocks, which keep P).
   const UtResult ut = unscented_transform(VecX::Zero(6), MatX(step_cov), [&](const VecX& xi) -> VecX {
     return ssc_from_se3(SE3::exp(Vec6(xi)) * step_mean);
@@ -142,9 +147,12 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
       s.threads, progress);
 
   const Whitener w_joint(lie_joint.cov, "lie_joint"), w_ind(lie_ind.cov, "lie_independent"),
-      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"), w_ssc_ind(ssc_ind.cov, "ssc_independent"),
-      w_j4(out.has_joint_fourth_order ? out.lie_joint_fourth_order.cov : Mat6(Mat6::Identity()), "lie_joint_fourth_order");
-  const SE3 inv_joint = lie_joint.mean.inverse(), inv_ind = lie_ind.mean.inverse(), inv_4th = lie_4th.mean.inverse();
+      w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"),
+      w_ssc_ind(ssc_ind.cov, "ssc_independent"),
+      w_j4(out.has_joint_fourth_order ? out.lie_joint_fourth_order.cov : Mat6(Mat6::Identity()),
+           "lie_joint_fourth_order");
+  const SE3 inv_joint = lie_joint.mean.inverse(), inv_ind = lie_ind.mean.inverse(),
+            inv_4th = lie_4th.mean.inverse();
   std::vector<std::array<double, 6>> d2(m);
   const SE3 inv_j4 = out.lie_joint_fourth_order.mean.inverse();
   core::parallel_for(
@@ -158,8 +166,12 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         d2[i][5] = out.has_joint_fourth_order ? w_j4.d2((ends[i] * inv_j4).log()) : 0.0;
       },
       s.threads);
-  CompositionPrediction* preds[6] = {&out.ssc,           &out.lie_independent, &out.lie_joint, &out.lie_fourth_order,
-                                     &out.ssc_independent, &out.lie_joint_fourth_order};
+  CompositionPrediction* preds[6] = {&out.ssc,
+                                     &out.lie_independent,
+                                     &out.lie_joint,
+                                     &out.lie_fourth_order,
+                                     &out.ssc_independent,
+                                     &out.lie_joint_fourth_order};
   for (double p : s.levels) {
     const double r2 = chi2_quantile(p, 6.0);
     for (int k = 0; k < (out.has_joint_fourth_order ? 6 : 5); ++k) {
@@ -179,12 +191,14 @@ void RelativePoseSetup::validate() const {
   validate_covariance(joint, "RelativePoseSetup joint covariance");
 }
 
-RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g1, const std::vector<double>& t_g2,
-                                      const std::vector<double>& marginal_diag, const std::vector<double>& cross_diag,
-                                      double alpha) {
+RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g1,
+                                      const std::vector<double>& t_g2,
+                                      const std::vector<double>& marginal_diag,
+                                      const std::vector<double>& cross_diag, double alpha) {
   auto vec = [](const std::vector<double>& v, std::size_t n, const char* what) {
     if (v.size() != n) {
-      throw std::invalid_argument(fmt::format("relative_pose_setup: {} needs {} numbers, got {}", what, n, v.size()));
+      throw std::invalid_argument(
+          fmt::format("relative_pose_setup: {} needs {} numbers, got {}", what, n, v.size()));
     }
     return Eigen::Map<const VecX>(v.data(), static_cast<Eigen::Index>(n)).eval();
   };
@@ -195,7 +209,7 @@ RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g
   s.T_g2 = SE3(R, vec(t_g2, 3, "t_g2"));
   s.cov_g1 = alpha * Mat6(vec(marginal_diag, 6, "marginal_diag").asDiagonal());  // eq. 5.54
   s.cov_g2 = s.cov_g1;
-  s.cov_g1_g2 = alpha * Mat6(vec(cross_diag, 6, "cross_diag").asDiagonal());   // eq. 5.55
+  s.cov_g1_g2 = alpha * Mat6(vec(cross_diag, 6, "cross_diag").asDiagonal());  // eq. 5.55
   s.validate();
   return s;
 }
@@ -225,8 +239,8 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
         const Eigen::Matrix<double, 12, 1> xi = L * z;
         const SE3 T1 = SE3::exp(xi.head<6>()) * s.T_g1;
         const SE3 T2 = SE3::exp(xi.tail<6>()) * s.T_g2;
-        const SE3 Tm = T1.inverse() * T2;   // eq. 5.58
-        xs[i] = (Tm * mean_inv).log();      // eq. 5.59
+        const SE3 Tm = T1.inverse() * T2;  // eq. 5.58
+        xs[i] = (Tm * mean_inv).log();     // eq. 5.59
         if (s.keep_samples) poses[i] = Tm;
       },
       s.threads, progress);

@@ -29,8 +29,8 @@ std::string group_name() {
 template <LieGroup G>
 void check_index(const JointPoses<G>& poses, std::size_t i, const char* fn) {
   if (i >= poses.size()) {
-    throw std::invalid_argument(fmt::format("{}: pose index {} out of range (JointPoses<{}> has {} poses)", fn, i,
-                                            group_name<G>(), poses.size()));
+    throw std::invalid_argument(fmt::format("{}: pose index {} out of range (JointPoses<{}> has {} poses)",
+                                            fn, i, group_name<G>(), poses.size()));
   }
 }
 
@@ -46,7 +46,8 @@ std::size_t append_linear(JointPoses<G>& poses, const G& mean,
   for (const auto& [idx, A] : terms) row += A * poses.cov.middleRows(D * static_cast<Eigen::Index>(idx), D);
   // C_new,new = sum_s C_new,idx_s A_s^T.
   typename G::Jacobian nn = G::Jacobian::Zero();
-  for (const auto& [idx, A] : terms) nn += row.middleCols(D * static_cast<Eigen::Index>(idx), D) * A.transpose();
+  for (const auto& [idx, A] : terms)
+    nn += row.middleCols(D * static_cast<Eigen::Index>(idx), D) * A.transpose();
   MatX grown = MatX::Zero(D * (n + 1), D * (n + 1));
   grown.topLeftCorner(D * n, D * n) = poses.cov;
   grown.bottomLeftCorner(D, D * n) = row;
@@ -72,9 +73,9 @@ template <LieGroup G>
 void JointPoses<G>::check_dimensions() const {
   const Eigen::Index expected = static_cast<Eigen::Index>(G::DoF * means.size());
   if (cov.rows() != expected || cov.cols() != expected) {
-    throw std::invalid_argument(fmt::format("JointPoses<{}>: joint covariance is {}x{} but {} poses of {} DoF need {}x{}",
-                                            group_name<G>(), cov.rows(), cov.cols(), means.size(), G::DoF, expected,
-                                            expected));
+    throw std::invalid_argument(
+        fmt::format("JointPoses<{}>: joint covariance is {}x{} but {} poses of {} DoF need {}x{}",
+                    group_name<G>(), cov.rows(), cov.cols(), means.size(), G::DoF, expected, expected));
   }
 }
 
@@ -97,7 +98,8 @@ typename G::Jacobian JointPoses<G>::cross(std::size_t i, std::size_t j) const {
   check_dimensions();
   check_index(*this, i, "JointPoses::cross");
   check_index(*this, j, "JointPoses::cross");
-  return cov.block<G::DoF, G::DoF>(G::DoF * static_cast<Eigen::Index>(i), G::DoF * static_cast<Eigen::Index>(j));
+  return cov.block<G::DoF, G::DoF>(G::DoF * static_cast<Eigen::Index>(i),
+                                   G::DoF * static_cast<Eigen::Index>(j));
 }
 
 template <LieGroup G>
@@ -139,7 +141,8 @@ UncertainPose<G> compose(const UncertainPose<G>& ij, const UncertainPose<G>& jk,
 template <LieGroup G>
 UncertainPose<G> compose(const G& known_ij, const UncertainPose<G>& jk) {
   const typename G::Jacobian Ad = known_ij.adjoint();
-  return UncertainPose<G>(known_ij * jk.mean, symmetrized(typename G::Jacobian(Ad * jk.cov * Ad.transpose())));
+  return UncertainPose<G>(known_ij * jk.mean,
+                          symmetrized(typename G::Jacobian(Ad * jk.cov * Ad.transpose())));
 }
 
 // T K = exp(xi) (T_bar K): the left perturbation is untouched, Sigma' = Sigma (exact).
@@ -308,7 +311,8 @@ UncertainPose<G> compose_chain(const std::vector<UncertainPose<G>>& poses) {
 //   xi = xi_1 + xi'_2 + 1/2 xi_1^c xi'_2 + 1/12 xi_1^c xi_1^c xi'_2 + 1/12 xi'_2^c xi'_2^c xi_1 + ...
 // (^c = curly hat of eq. 5.12), keeping all terms of E[xi xi^T] up to fourth order in the
 // perturbations (odd moments vanish; independence kills the cross terms of eq. 5.35/5.37):
-//   Sigma_4th = Sigma_1 + Sigma_2' + 1/4 B + 1/12 (A_1 Sigma_2' + Sigma_2' A_1^T + A_2' Sigma_1 + Sigma_1 A_2'^T)
+//   Sigma_4th = Sigma_1 + Sigma_2' + 1/4 B + 1/12 (A_1 Sigma_2' + Sigma_2' A_1^T + A_2' Sigma_1 + Sigma_1
+//   A_2'^T)
 // with A_1 = E[xi_1^c xi_1^c] = <<Sigma_1>>, A_2' = <<Sigma_2'>>, B = E[xi_1^c Sigma_2' xi_1^c^T].
 // ------------------------------------------------------------------------------------------
 
@@ -337,7 +341,8 @@ Mat6 fourth_order_b_matrix(const Mat6& S1, const Mat6& S2) {
   const Mat3 S2pp = S2.bottomRightCorner<3, 3>();
   const Mat3 Brr = double_bracket(S1pp, S2rr) + double_bracket(Mat3(S1rp.transpose()), S2rp) +
                    double_bracket(S1rp, Mat3(S2rp.transpose())) + double_bracket(S1rr, S2pp);
-  const Mat3 Brp = double_bracket(S1pp, Mat3(S2rp.transpose())) + double_bracket(Mat3(S1rp.transpose()), S2pp);
+  const Mat3 Brp =
+      double_bracket(S1pp, Mat3(S2rp.transpose())) + double_bracket(Mat3(S1rp.transpose()), S2pp);
   const Mat3 Bpp = double_bracket(S1pp, S2pp);
   Mat6 B;
   B << Brr, Brp, Brp.transpose(), Bpp;
@@ -367,27 +372,27 @@ UncertainPose<SE3> compose_chain_fourth_order(const std::vector<UncertainPose<SE
 // Explicit instantiations
 // ------------------------------------------------------------------------------------------
 
-#define KEEL_LIE_INSTANTIATE_UNCERTAIN(G)                                                                 \
-  template struct UncertainPose<G>;                                                                       \
-  template struct JointPoses<G>;                                                                          \
-  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const UncertainPose<G>&);                \
-  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const UncertainPose<G>&,                 \
-                                       const typename G::Jacobian&);                                     \
-  template UncertainPose<G> compose<G>(const G&, const UncertainPose<G>&);                               \
-  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const G&);                               \
-  template UncertainPose<G> compose<G>(const JointPoses<G>&, std::size_t, std::size_t, bool);            \
-  template UncertainPose<G> inverse<G>(const UncertainPose<G>&);                                         \
-  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const UncertainPose<G>&);               \
-  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const UncertainPose<G>&,                \
-                                        const typename G::Jacobian&);                                    \
-  template UncertainPose<G> relative<G>(const G&, const UncertainPose<G>&);                              \
-  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const G&);                              \
-  template UncertainPose<G> relative<G>(const JointPoses<G>&, std::size_t, std::size_t, bool);           \
-  template std::size_t append_composition<G>(JointPoses<G>&, std::size_t, std::size_t);                  \
-  template std::size_t append_inverse<G>(JointPoses<G>&, std::size_t);                                   \
-  template std::size_t append_relative<G>(JointPoses<G>&, std::size_t, std::size_t);                     \
-  template MatX chain_jacobian<G>(const JointPoses<G>&);                                                 \
-  template UncertainPose<G> compose_chain<G>(const JointPoses<G>&, bool);                                \
+#define KEEL_LIE_INSTANTIATE_UNCERTAIN(G)                                                      \
+  template struct UncertainPose<G>;                                                            \
+  template struct JointPoses<G>;                                                               \
+  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const UncertainPose<G>&);      \
+  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const UncertainPose<G>&,       \
+                                       const typename G::Jacobian&);                           \
+  template UncertainPose<G> compose<G>(const G&, const UncertainPose<G>&);                     \
+  template UncertainPose<G> compose<G>(const UncertainPose<G>&, const G&);                     \
+  template UncertainPose<G> compose<G>(const JointPoses<G>&, std::size_t, std::size_t, bool);  \
+  template UncertainPose<G> inverse<G>(const UncertainPose<G>&);                               \
+  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const UncertainPose<G>&);     \
+  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const UncertainPose<G>&,      \
+                                        const typename G::Jacobian&);                          \
+  template UncertainPose<G> relative<G>(const G&, const UncertainPose<G>&);                    \
+  template UncertainPose<G> relative<G>(const UncertainPose<G>&, const G&);                    \
+  template UncertainPose<G> relative<G>(const JointPoses<G>&, std::size_t, std::size_t, bool); \
+  template std::size_t append_composition<G>(JointPoses<G>&, std::size_t, std::size_t);        \
+  template std::size_t append_inverse<G>(JointPoses<G>&, std::size_t);                         \
+  template std::size_t append_relative<G>(JointPoses<G>&, std::size_t, std::size_t);           \
+  template MatX chain_jacobian<G>(const JointPoses<G>&);                                       \
+  template UncertainPose<G> compose_chain<G>(const JointPoses<G>&, bool);                      \
   template UncertainPose<G> compose_chain<G>(const std::vector<UncertainPose<G>>&);
 
 KEEL_LIE_INSTANTIATE_UNCERTAIN(SO2)

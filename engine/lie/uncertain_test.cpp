@@ -33,8 +33,9 @@ G random_pose(keel::core::Rng& rng, double scale = 1.5) {
 // Monte-Carlo covariance (eqs. 5.57-5.59) of op(T_1..T_n) about `out_mean`, where
 // T_i = exp(xi_i) mean_i and xi_{1:n} ~ N(0, joint).
 template <class G>
-MatX monte_carlo(const std::vector<G>& means, const MatX& joint, const std::function<G(const std::vector<G>&)>& op,
-                 const G& out_mean, int M, keel::core::Rng& rng) {
+MatX monte_carlo(const std::vector<G>& means, const MatX& joint,
+                 const std::function<G(const std::vector<G>&)>& op, const G& out_mean, int M,
+                 keel::core::Rng& rng) {
   constexpr int D = G::DoF;
   const GaussianSampler sampler(joint);
   const G out_inv = out_mean.inverse();
@@ -76,8 +77,8 @@ TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo", G
   const UncertainPose<G> corr = compose(a, b, jp.cross(0, 1));
   const UncertainPose<G> ind = compose(a, b);
   CHECK(corr.mean.is_approx(means[0] * means[1], 1e-14));  // eq. 5.32
-  const MatX mc = monte_carlo<G>(means, joint, [](const std::vector<G>& s) { return s[0] * s[1]; }, corr.mean,
-                                 kSamples, rng);
+  const MatX mc = monte_carlo<G>(
+      means, joint, [](const std::vector<G>& s) { return s[0] * s[1]; }, corr.mean, kSamples, rng);
   const double e_corr = normalized_covariance_error(corr.cov, mc);
   const double e_ind = normalized_covariance_error(ind.cov, mc);
   CAPTURE(e_corr);
@@ -93,8 +94,8 @@ TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo", G
   MatX blockdiag = MatX::Zero(2 * D, 2 * D);
   blockdiag.topLeftCorner(D, D) = a.cov;
   blockdiag.bottomRightCorner(D, D) = b.cov;
-  const MatX mc_ind = monte_carlo<G>(means, blockdiag, [](const std::vector<G>& s) { return s[0] * s[1]; },
-                                     ind.mean, kSamples, rng);
+  const MatX mc_ind = monte_carlo<G>(
+      means, blockdiag, [](const std::vector<G>& s) { return s[0] * s[1]; }, ind.mean, kSamples, rng);
   CHECK(normalized_covariance_error(ind.cov, mc_ind) < 0.02);
 }
 
@@ -107,8 +108,8 @@ TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise
     const UncertainPose<G> a(mean, cov);
     const UncertainPose<G> inv = inverse(a);
     CHECK(inv.mean.is_approx(mean.inverse(), 1e-14));
-    const MatX mc = monte_carlo<G>({mean}, cov, [](const std::vector<G>& s) { return s[0].inverse(); }, inv.mean,
-                                   kSamples, rng);
+    const MatX mc = monte_carlo<G>(
+        {mean}, cov, [](const std::vector<G>& s) { return s[0].inverse(); }, inv.mean, kSamples, rng);
     CHECK(normalized_covariance_error(inv.cov, mc) < 0.02);  // the map of eq. 5.43 is exact
   }
 }
@@ -126,8 +127,8 @@ TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo", G, SO3, SE2
   const UncertainPose<G> rel = relative(jp, 0, 1);
   const UncertainPose<G> rel_ind = relative(jp, 0, 1, false);
   CHECK(rel.mean.is_approx(means[0].inverse() * means[1], 1e-14));  // eq. 5.48
-  const MatX mc = monte_carlo<G>(means, joint, [](const std::vector<G>& s) { return s[0].inverse() * s[1]; },
-                                 rel.mean, kSamples, rng);
+  const MatX mc = monte_carlo<G>(
+      means, joint, [](const std::vector<G>& s) { return s[0].inverse() * s[1]; }, rel.mean, kSamples, rng);
   const double e = normalized_covariance_error(rel.cov, mc);
   const double e_ind = normalized_covariance_error(rel_ind.cov, mc);
   CAPTURE(e);
@@ -136,15 +137,17 @@ TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo", G, SO3, SE2
   CHECK(e_ind > 1.0);  // ignoring positive correlation grossly over-estimates (Fig. 5.5)
   CHECK(rel_ind.cov.trace() > rel.cov.trace());
   // Flipping the sign of the cross terms (the garbled typesetting of eq. 5.51) is wrong:
-  const UncertainPose<G> wrong_sign = relative(jp.marginal(0), jp.marginal(1), typename G::Jacobian(-jp.cross(0, 1)));
+  const UncertainPose<G> wrong_sign =
+      relative(jp.marginal(0), jp.marginal(1), typename G::Jacobian(-jp.cross(0, 1)));
   CHECK(normalized_covariance_error(wrong_sign.cov, mc) > 1.0);
 
   // Independent poses: eq. 5.51 without cross terms matches.
   MatX blockdiag = joint;
   blockdiag.topRightCorner(D, D).setZero();
   blockdiag.bottomLeftCorner(D, D).setZero();
-  const MatX mc_ind = monte_carlo<G>(means, blockdiag, [](const std::vector<G>& s) { return s[0].inverse() * s[1]; },
-                                     rel.mean, kSamples, rng);
+  const MatX mc_ind = monte_carlo<G>(
+      means, blockdiag, [](const std::vector<G>& s) { return s[0].inverse() * s[1]; }, rel.mean, kSamples,
+      rng);
   CHECK(normalized_covariance_error(rel_ind.cov, mc_ind) < 0.02);
 }
 
@@ -217,13 +220,14 @@ TEST_CASE_TEMPLATE("chains of correlated poses: compose_chain and append_composi
   for (int i = 0; i < N; ++i) parts.push_back(jp.marginal(static_cast<std::size_t>(i)));
   CHECK((compose_chain(parts).cov - chain_ind.cov).norm() < 1e-12 * chain_ind.cov.norm());
 
-  const MatX mc = monte_carlo<G>(means, joint,
-                                 [](const std::vector<G>& s) {
-                                   G acc_pose = G::identity();
-                                   for (const G& x : s) acc_pose = acc_pose * x;
-                                   return acc_pose;
-                                 },
-                                 chain.mean, kSamples, rng);
+  const MatX mc = monte_carlo<G>(
+      means, joint,
+      [](const std::vector<G>& s) {
+        G acc_pose = G::identity();
+        for (const G& x : s) acc_pose = acc_pose * x;
+        return acc_pose;
+      },
+      chain.mean, kSamples, rng);
   const double e = normalized_covariance_error(chain.cov, mc);
   const double e_ind = normalized_covariance_error(chain_ind.cov, mc);
   CAPTURE(e);
@@ -239,15 +243,15 @@ TEST_CASE_TEMPLATE("append_inverse / append_relative keep cross-covariances", G,
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng), random_pose<G>(rng)};
   const MatX joint = random_cov(rng, 3 * D, 1e-3);
   JointPoses<G> jp{means, joint};
-  const std::size_t r = append_relative(jp, 0, 1);  // T_0^-1 T_1
-  const std::size_t i = append_inverse(jp, 2);      // T_2^-1
+  const std::size_t r = append_relative(jp, 0, 1);     // T_0^-1 T_1
+  const std::size_t i = append_inverse(jp, 2);         // T_2^-1
   const std::size_t c = append_composition(jp, r, i);  // T_0^-1 T_1 T_2^-1
   jp.validate();
   CHECK((jp.marginal(r).cov - relative(JointPoses<G>{means, joint}, 0, 1).cov).norm() < 1e-15);
   CHECK((jp.marginal(i).cov - inverse(JointPoses<G>{means, joint}.marginal(2)).cov).norm() < 1e-15);
-  const MatX mc = monte_carlo<G>(means, joint,
-                                 [](const std::vector<G>& s) { return s[0].inverse() * s[1] * s[2].inverse(); },
-                                 jp.means[c], kSamples, rng);
+  const MatX mc = monte_carlo<G>(
+      means, joint, [](const std::vector<G>& s) { return s[0].inverse() * s[1] * s[2].inverse(); },
+      jp.means[c], kSamples, rng);
   CHECK(normalized_covariance_error(jp.marginal(c).cov, mc) < 0.03);
 }
 
@@ -269,8 +273,9 @@ TEST_CASE("thesis relative-pose example (eqs. 5.52-5.55), alpha = 1") {
   jp.validate();
   const UncertainPose<SE3> rel = relative(jp, 0, 1);
   const UncertainPose<SE3> rel_ind = relative(jp, 0, 1, false);
-  const MatX mc = monte_carlo<SE3>(jp.means, joint, [](const std::vector<SE3>& s) { return s[0].inverse() * s[1]; },
-                                   rel.mean, kSamples, rng);
+  const MatX mc = monte_carlo<SE3>(
+      jp.means, joint, [](const std::vector<SE3>& s) { return s[0].inverse() * s[1]; }, rel.mean, kSamples,
+      rng);
   const double e = covariance_error(rel.cov, mc);
   const double e_ind = covariance_error(rel_ind.cov, mc);
   MESSAGE("thesis example (alpha=1): eps joint = " << e << ", eps ignoring correlation = " << e_ind);
@@ -284,14 +289,16 @@ TEST_CASE("bad inputs throw with clear messages") {
   CHECK(throws_with<std::invalid_argument>([&] { UncertainPose<SE3>(SE3(), asym); }, "not symmetric"));
   Mat6 neg = Mat6::Identity();
   neg(5, 5) = -0.5;
-  CHECK(throws_with<std::invalid_argument>([&] { UncertainPose<SE3>(SE3(), neg); }, "not positive semi-definite"));
+  CHECK(throws_with<std::invalid_argument>([&] { UncertainPose<SE3>(SE3(), neg); },
+                                           "not positive semi-definite"));
   Mat3 nan = Mat3::Identity();
   nan(1, 1) = std::nan("");
   CHECK(throws_with<std::invalid_argument>([&] { UncertainPose<SE2>(SE2(), nan); }, "non-finite"));
   CHECK_NOTHROW(UncertainPose<SE3>(SE3(), Mat6::Zero()));
 
   const JointPoses<SE3> wrong{{SE3(), SE3(), SE3()}, MatX::Identity(12, 12)};
-  CHECK(throws_with<std::invalid_argument>([&] { wrong.validate(); }, "joint covariance is 12x12 but 3 poses"));
+  CHECK(
+      throws_with<std::invalid_argument>([&] { wrong.validate(); }, "joint covariance is 12x12 but 3 poses"));
   CHECK(throws_with<std::invalid_argument>([&] { (void)compose(wrong, 0, 1); }, "need 18x18"));
   CHECK(throws_with<std::invalid_argument>([&] { (void)compose_chain(wrong); }, "need 18x18"));
   const JointPoses<SE2> ok{{SE2(), SE2()}, MatX::Identity(6, 6)};
@@ -300,6 +307,10 @@ TEST_CASE("bad inputs throw with clear messages") {
   notpsd(0, 3) = notpsd(3, 0) = 2.0;
   const JointPoses<SE2> bad{{SE2(), SE2()}, notpsd};
   CHECK(throws_with<std::invalid_argument>([&] { bad.validate(); }, "not positive semi-definite"));
-  CHECK(throws_with<std::invalid_argument>([&] { (void)bad.marginal(0); (void)GaussianSampler(bad.cov); },
-                                           "not positive semi-definite"));
+  CHECK(throws_with<std::invalid_argument>(
+      [&] {
+        (void)bad.marginal(0);
+        (void)GaussianSampler(bad.cov);
+      },
+      "not positive semi-definite"));
 }

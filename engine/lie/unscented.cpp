@@ -14,8 +14,8 @@ SigmaPoints sigma_points(const VecX& mean, const MatX& cov, const UtParams& para
   const Eigen::Index n = mean.size();
   if (n == 0) throw std::invalid_argument("sigma_points: empty mean");
   if (cov.rows() != n || cov.cols() != n) {
-    throw std::invalid_argument(
-        fmt::format("sigma_points: covariance is {}x{} but the mean has {} entries", cov.rows(), cov.cols(), n));
+    throw std::invalid_argument(fmt::format("sigma_points: covariance is {}x{} but the mean has {} entries",
+                                            cov.rows(), cov.cols(), n));
   }
   const double nd = static_cast<double>(n);
   const double lambda = params.alpha * params.alpha * (nd + params.kappa) - nd;
@@ -80,8 +80,8 @@ template <class G>
 JointPoses<G> joint_poses_from_ssc(const VecX& x_hat, const MatX& Sigma_hat, const UtParams& params) {
   constexpr int D = G::DoF;
   if (x_hat.size() == 0 || x_hat.size() % D != 0) {
-    throw std::invalid_argument(
-        fmt::format("joint_poses_from_ssc: x_hat has length {}, expected a positive multiple of {}", x_hat.size(), D));
+    throw std::invalid_argument(fmt::format(
+        "joint_poses_from_ssc: x_hat has length {}, expected a positive multiple of {}", x_hat.size(), D));
   }
   const Eigen::Index n = x_hat.size() / D;
   JointPoses<G> out;
@@ -94,7 +94,8 @@ JointPoses<G> joint_poses_from_ssc(const VecX& x_hat, const MatX& Sigma_hat, con
   auto ell = [&](const VecX& x) {
     VecX v(x.size());
     for (Eigen::Index i = 0; i < n; ++i)
-      v.segment<D>(D * i) = (group_from_ssc<G>(x.segment<D>(D * i)) * mean_inv[static_cast<std::size_t>(i)]).log();
+      v.segment<D>(D * i) =
+          (group_from_ssc<G>(x.segment<D>(D * i)) * mean_inv[static_cast<std::size_t>(i)]).log();
     return v;
   };
   const SigmaPoints sp = sigma_points(x_hat, Sigma_hat, params);

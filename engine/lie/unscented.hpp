@@ -47,8 +47,9 @@ struct UtResult {
 /// n + lambda <= 0.
 [[nodiscard]] SigmaPoints sigma_points(const VecX& mean, const MatX& cov, const UtParams& params = {});
 
-[[nodiscard]] UtResult unscented_transform(const VecX& mean, const MatX& cov, const std::function<VecX(const VecX&)>& f,
-                             const UtParams& params = {});
+[[nodiscard]] UtResult unscented_transform(const VecX& mean, const MatX& cov,
+                                           const std::function<VecX(const VecX&)>& f,
+                                           const UtParams& params = {});
 
 /// eqs. 5.60-5.62: given stacked SSC vectors x_hat = [x_1; ...; x_n] (6n for SE3 with
 /// se3_from_ssc, 3n for SE2 with se2_from_ssc) and their joint covariance Sigma_hat, returns

@@ -18,7 +18,8 @@ namespace {
 // Linearised (first-order) conversion for comparison: Sigma = J Sigma_hat J^T with J the
 // central-difference Jacobian of the stacked l of eq. 5.60 at x_hat.
 template <class G>
-MatX linearized_conversion(const VecX& x_hat, const MatX& Sigma_hat, const std::function<VecX(const VecX&)>& ell) {
+MatX linearized_conversion(const VecX& x_hat, const MatX& Sigma_hat,
+                           const std::function<VecX(const VecX&)>& ell) {
   const MatX J = testkit::numerical_jacobian(ell, x_hat);
   return J * Sigma_hat * J.transpose();
 }
@@ -109,9 +110,9 @@ TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate 
   MESSAGE("SE3 SSC->Lie conversion: normalized eps UT = " << e_ut << ", linearized = " << e_lin);
   CHECK(e_ut < 0.03);
   CHECK(e_lin < 0.03);
-  // Which conversion is closer depends on the random correlation matrix at this noise level: over eight instances
-  // (seeds 1-7 and 303, M = 3e5) the UT was closer on five and up to 1.6x farther on the others, e.g. 0.0119 vs 0.0107
-  // for this one at M = 1e6. Reported, not required.
+  // Which conversion is closer depends on the random correlation matrix at this noise level: over eight
+  // instances (seeds 1-7 and 303, M = 3e5) the UT was closer on five and up to 1.6x farther on the others,
+  // e.g. 0.0119 vs 0.0107 for this one at M = 1e6. Reported, not required.
   WARN(e_ut < e_lin);
 }
 
@@ -146,7 +147,8 @@ TEST_CASE("unscented transform rejects bad input") {
   MatX neg = MatX::Identity(3, 3);
   neg(1, 1) = -1.0;
   CHECK_THROWS_AS((void)sigma_points(mu, neg), std::invalid_argument);
-  CHECK_THROWS_AS((void)sigma_points(mu, MatX::Identity(3, 3), UtParams{1.0, 0.0, -3.0}), std::invalid_argument);
+  CHECK_THROWS_AS((void)sigma_points(mu, MatX::Identity(3, 3), UtParams{1.0, 0.0, -3.0}),
+                  std::invalid_argument);
   CHECK_THROWS_AS(joint_poses_from_ssc(VecX::Zero(7), MatX::Identity(7, 7)), std::invalid_argument);
   CHECK_THROWS_AS(joint_poses_from_ssc(VecX::Zero(6), MatX::Identity(5, 5)), std::invalid_argument);
   // A rank-deficient (PSD) covariance is fine.

@@ -355,8 +355,8 @@ ConsistencyGraph ConsistencyGraph::from_matrix(const std::vector<std::vector<boo
   ConsistencyGraph g(n);
   for (int i = 0; i < n; ++i)
     if (static_cast<int>(a[i].size()) != n)
-      throw std::invalid_argument(
-          fmt::format("ConsistencyGraph::from_matrix: row {} has {} entries, expected {}", i, a[i].size(), n));
+      throw std::invalid_argument(fmt::format(
+          "ConsistencyGraph::from_matrix: row {} has {} entries, expected {}", i, a[i].size(), n));
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
       if (a[i][j] != a[j][i])
@@ -368,7 +368,8 @@ ConsistencyGraph ConsistencyGraph::from_matrix(const std::vector<std::vector<boo
 }
 
 ConsistencyGraph ConsistencyGraph::from_threshold(int n, const std::vector<double>& q, double gamma) {
-  if (n < 0) throw std::invalid_argument(fmt::format("ConsistencyGraph::from_threshold: negative vertex count {}", n));
+  if (n < 0)
+    throw std::invalid_argument(fmt::format("ConsistencyGraph::from_threshold: negative vertex count {}", n));
   if (q.size() != static_cast<std::size_t>(n) * static_cast<std::size_t>(n))
     throw std::invalid_argument(
         fmt::format("ConsistencyGraph::from_threshold: expected {}x{} entries, got {}", n, n, q.size()));
@@ -387,13 +388,15 @@ ConsistencyGraph ConsistencyGraph::from_threshold(int n, const std::vector<doubl
 
 void ConsistencyGraph::check_vertex(int v, const char* what) const {
   if (v < 0 || v >= n_)
-    throw std::invalid_argument(fmt::format("ConsistencyGraph::{}: vertex {} out of range [0, {})", what, v, n_));
+    throw std::invalid_argument(
+        fmt::format("ConsistencyGraph::{}: vertex {} out of range [0, {})", what, v, n_));
 }
 
 void ConsistencyGraph::add_edge(int u, int v) {
   check_vertex(u, "add_edge");
   check_vertex(v, "add_edge");
-  if (u == v) throw std::invalid_argument(fmt::format("ConsistencyGraph::add_edge: self loop at vertex {}", u));
+  if (u == v)
+    throw std::invalid_argument(fmt::format("ConsistencyGraph::add_edge: self loop at vertex {}", u));
   std::uint64_t* ru = adj_.data() + static_cast<std::size_t>(u) * words_;
   if (test_bit(ru, v)) return;
   set_bit(ru, v);
@@ -443,12 +446,11 @@ constexpr core::NameTable<CliqueAlgorithm, 3> kCliqueAlgorithmNames{
     {{{CliqueAlgorithm::exact, "exact"},
       {CliqueAlgorithm::heuristic, "heuristic"},
       {CliqueAlgorithm::brute_force, "brute_force"}}}};
-constexpr core::NameTable<SearchStatus, 4> kSearchStatusNames{
-    "pcm::SearchStatus",
-    {{{SearchStatus::optimal, "optimal"},
-      {SearchStatus::unproven, "unproven"},
-      {SearchStatus::node_limit, "node_limit"},
-      {SearchStatus::time_limit, "time_limit"}}}};
+constexpr core::NameTable<SearchStatus, 4> kSearchStatusNames{"pcm::SearchStatus",
+                                                              {{{SearchStatus::optimal, "optimal"},
+                                                                {SearchStatus::unproven, "unproven"},
+                                                                {SearchStatus::node_limit, "node_limit"},
+                                                                {SearchStatus::time_limit, "time_limit"}}}};
 }  // namespace
 
 std::string_view to_string(CliqueAlgorithm a) { return kCliqueAlgorithmNames.name(a); }
@@ -465,7 +467,8 @@ CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOpt
   const auto d = degeneracy(g);
   r.clique = greedy_clique(g, d.core, r.nodes_explored);
   r.upper_bound = g.size() == 0 ? 0 : *std::max_element(d.core.begin(), d.core.end()) + 1;
-  r.status = static_cast<int>(r.clique.size()) == r.upper_bound ? SearchStatus::optimal : SearchStatus::unproven;
+  r.status =
+      static_cast<int>(r.clique.size()) == r.upper_bound ? SearchStatus::optimal : SearchStatus::unproven;
   r.time_s = seconds_since(t0);
   return r;
 }
@@ -541,8 +544,8 @@ CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueO
   const auto t0 = Clock::now();
   const int n = g.size();
   if (n > kBruteForceMaxVertices)
-    throw std::invalid_argument(fmt::format("maximum_clique_brute_force: {} vertices exceed the limit of {}", n,
-                                            kBruteForceMaxVertices));
+    throw std::invalid_argument(fmt::format("maximum_clique_brute_force: {} vertices exceed the limit of {}",
+                                            n, kBruteForceMaxVertices));
   CliqueResult r;
   std::vector<std::uint64_t> nb(n, 0);
   for (int v = 0; v < n; ++v) nb[v] = n == 0 ? 0 : g.row(v)[0];
@@ -599,7 +602,8 @@ CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm
     case CliqueAlgorithm::brute_force:
       return maximum_clique_brute_force(g, options);
   }
-  throw std::invalid_argument(fmt::format("maximum_clique: unknown algorithm {}", static_cast<int>(algorithm)));
+  throw std::invalid_argument(
+      fmt::format("maximum_clique: unknown algorithm {}", static_cast<int>(algorithm)));
 }
 
 }  // namespace keel::pcm

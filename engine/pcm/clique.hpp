@@ -65,7 +65,8 @@ CliqueAlgorithm clique_algorithm_from_string(std::string_view s);  // throws std
 enum class SearchStatus {
   optimal,     // the clique is proven maximum: its size equals the proven upper bound
   unproven,    // the heuristic finished without proving its clique maximum (its bound is larger)
-  node_limit,  // the exact search stopped at CliqueOptions::node_limit: the best clique so far and a valid bound
+  node_limit,  // the exact search stopped at CliqueOptions::node_limit: the best clique so far and a valid
+               // bound
   time_limit,  // the exact search stopped at CliqueOptions::time_limit_s: likewise
 };
 std::string_view to_string(SearchStatus s);
@@ -79,10 +80,10 @@ struct CliqueOptions {
 };
 
 struct CliqueResult {
-  std::vector<int> clique;                        // sorted vertex ids of a largest clique found
-  int upper_bound = 0;                            // no clique is larger than this
-  SearchStatus status = SearchStatus::unproven;   // optimal iff clique.size() == upper_bound
-  std::vector<std::vector<int>> ties;             // other maximum cliques (sorted ids, lexicographic), if requested
+  std::vector<int> clique;                       // sorted vertex ids of a largest clique found
+  int upper_bound = 0;                           // no clique is larger than this
+  SearchStatus status = SearchStatus::unproven;  // optimal iff clique.size() == upper_bound
+  std::vector<std::vector<int>> ties;  // other maximum cliques (sorted ids, lexicographic), if requested
   long long nodes_explored = 0;
   double time_s = 0.0;
   bool proven_optimal() const { return status == SearchStatus::optimal; }
@@ -93,16 +94,18 @@ struct CliqueResult {
 // Pattabiraman et al.'s heuristic: from every vertex, grow a clique greedily choosing the candidate of
 // highest core number (then degree, then lowest id) with core-number pruning. Returns a clique (never larger
 // than the maximum); upper_bound is the degeneracy bound max core + 1; ties are not collected.
-[[nodiscard]] CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g, const CliqueOptions& options = {});
+[[nodiscard]] CliqueResult maximum_clique_heuristic(const ConsistencyGraph& g,
+                                                    const CliqueOptions& options = {});
 
 // Bron–Kerbosch without pivoting over all maximal cliques, for validation only: throws std::invalid_argument
 // when g.size() > kBruteForceMaxVertices. With report_ties, ties lists every other maximum clique (up to
 // max_ties).
 inline constexpr int kBruteForceMaxVertices = 32;
-[[nodiscard]] CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g, const CliqueOptions& options = {});
+[[nodiscard]] CliqueResult maximum_clique_brute_force(const ConsistencyGraph& g,
+                                                      const CliqueOptions& options = {});
 
 // Dispatch on the algorithm.
 [[nodiscard]] CliqueResult maximum_clique(const ConsistencyGraph& g, CliqueAlgorithm algorithm,
-                            const CliqueOptions& options = {});
+                                          const CliqueOptions& options = {});
 
 }  // namespace keel::pcm

@@ -66,12 +66,10 @@ TEST_CASE("ConsistencyGraph: construction, adjacency, degree") {
 }
 
 TEST_CASE("bad inputs throw with the offending indices") {
-  CHECK(message_of([] {
-          ConsistencyGraph g(3, {{1, 1}});
-        }).find("self loop at vertex 1") != std::string::npos);
-  CHECK(message_of([] {
-          ConsistencyGraph g(3, {{0, 3}});
-        }).find("vertex 3 out of range [0, 3)") != std::string::npos);
+  CHECK(message_of([] { ConsistencyGraph g(3, {{1, 1}}); }).find("self loop at vertex 1") !=
+        std::string::npos);
+  CHECK(message_of([] { ConsistencyGraph g(3, {{0, 3}}); }).find("vertex 3 out of range [0, 3)") !=
+        std::string::npos);
   CHECK(message_of([] { ConsistencyGraph g(3, {{-1, 0}}); }).find("vertex -1") != std::string::npos);
   CHECK(message_of([] { ConsistencyGraph g(-2); }).find("negative") != std::string::npos);
   CHECK(message_of([] { ConsistencyGraph(2).degree(2); }).find("vertex 2") != std::string::npos);
@@ -79,12 +77,10 @@ TEST_CASE("bad inputs throw with the offending indices") {
   CHECK(message_of([] {
           ConsistencyGraph::from_matrix({{false, true, false}, {false, false, false}, {false, false, false}});
         }).find("not symmetric at (0, 1)") != std::string::npos);
-  CHECK(message_of([] {
-          ConsistencyGraph::from_matrix({{false, true}, {true}});
-        }).find("row 1") != std::string::npos);
-  CHECK(message_of([] {
-          ConsistencyGraph::from_threshold(2, {0, 1, 1}, 1.0);
-        }).find("expected 2x2") != std::string::npos);
+  CHECK(message_of([] { ConsistencyGraph::from_matrix({{false, true}, {true}}); }).find("row 1") !=
+        std::string::npos);
+  CHECK(message_of([] { ConsistencyGraph::from_threshold(2, {0, 1, 1}, 1.0); }).find("expected 2x2") !=
+        std::string::npos);
   CHECK(message_of([] {
           ConsistencyGraph::from_threshold(2, {0, 0.0 / 0.0, 1, 0}, 1.0);
         }).find("NaN at (0, 1)") != std::string::npos);
@@ -244,15 +240,17 @@ TEST_CASE("node limit: not proven, valid bound and clique") {
 TEST_CASE("clique and status names round-trip; a bad name lists the valid ones") {
   for (auto a : {CliqueAlgorithm::exact, CliqueAlgorithm::heuristic, CliqueAlgorithm::brute_force})
     CHECK(clique_algorithm_from_string(to_string(a)) == a);
-  for (auto st : {SearchStatus::optimal, SearchStatus::unproven, SearchStatus::node_limit, SearchStatus::time_limit})
+  for (auto st :
+       {SearchStatus::optimal, SearchStatus::unproven, SearchStatus::node_limit, SearchStatus::time_limit})
     CHECK(search_status_from_string(to_string(st)) == st);
   CHECK(message_of([] { (void)clique_algorithm_from_string("fast"); }) ==
         "unknown pcm::CliqueAlgorithm 'fast' (valid: exact, heuristic, brute_force)");
-  // The heuristic reports `unproven` when its clique is below the degeneracy bound, `optimal` when it meets it.
+  // The heuristic reports `unproven` when its clique is below the degeneracy bound, `optimal` when it meets
+  // it.
   const auto g = random_graph(300, 0.5, 3);
   const auto h = maximum_clique_heuristic(g);
   CHECK(h.status == (static_cast<int>(h.clique.size()) == h.upper_bound ? SearchStatus::optimal
-                                                                         : SearchStatus::unproven));
+                                                                        : SearchStatus::unproven));
 }
 
 TEST_CASE("determinism") {

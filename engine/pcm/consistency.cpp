@@ -1,5 +1,5 @@
-// Pairwise consistency measure of eq. 2.4 (thesis §2.4.1) and the matrix Q of §2.5/§2.6. See consistency.hpp for
-// the derivation of the first-order loop covariance.
+// Pairwise consistency measure of eq. 2.4 (thesis §2.4.1) and the matrix Q of §2.5/§2.6. See consistency.hpp
+// for the derivation of the first-order loop covariance.
 #include "pcm/consistency.hpp"
 
 #include <fmt/format.h>
@@ -43,9 +43,8 @@ void check_pose(const G& T, const std::string& what) {
 }  // namespace
 
 namespace {
-constexpr core::NameTable<Composition, 2> kCompositionNames{"pcm::Composition", {{
-      {Composition::joint, "joint"},
-      {Composition::independent, "independent"}}}};
+constexpr core::NameTable<Composition, 2> kCompositionNames{
+    "pcm::Composition", {{{Composition::joint, "joint"}, {Composition::independent, "independent"}}}};
 }  // namespace
 
 std::string_view to_string(Composition v) { return kCompositionNames.name(v); }
@@ -165,9 +164,10 @@ std::vector<int> index_map(const LocalMap<G>& m, const char* name) {
   }
   const auto need = static_cast<Eigen::Index>(d * m.ids.size());
   if (m.joint.rows() != need || m.joint.cols() != need)
-    throw std::invalid_argument(fmt::format("{}: joint covariance is {}x{}, expected {}x{} ({} per covered "
-                                            "pose)",
-                                            who, m.joint.rows(), m.joint.cols(), need, need, d));
+    throw std::invalid_argument(
+        fmt::format("{}: joint covariance is {}x{}, expected {}x{} ({} per covered "
+                    "pose)",
+                    who, m.joint.rows(), m.joint.cols(), need, need, d));
   check_covariance(m.joint, fmt::format("{} joint marginal", who));
   return index;
 }
@@ -200,14 +200,16 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
     check_pose(c.z, fmt::format("{} measurement", who));
     check_covariance(c.covariance, who);
   }
-  auto block = [](const LocalMap<G>& m, int s, int t) -> J { return m.joint.template block<d, d>(d * s, d * t); };
+  auto block = [](const LocalMap<G>& m, int s, int t) -> J {
+    return m.joint.template block<d, d>(d * s, d * t);
+  };
 
   ConsistencyMatrix Q;
   Q.n = n;
   Q.dof = d;
   Q.q.assign(static_cast<std::size_t>(n) * n, 0.0);
-  // Every ordered pair (u, v), u ≠ v, traces its own loop from u (thesis Fig. 2.1 D: the graph keeps an edge only
-  // if q_uv and q_vu are both within the threshold). Rows are independent and processed in parallel.
+  // Every ordered pair (u, v), u ≠ v, traces its own loop from u (thesis Fig. 2.1 D: the graph keeps an edge
+  // only if q_uv and q_vu are both within the threshold). Rows are independent and processed in parallel.
   std::vector<int> failed(static_cast<std::size_t>(n) * n, 0);
   core::parallel_for(
       static_cast<std::size_t>(n),
@@ -227,8 +229,8 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
           const auto xlk = relative_pose(b.poses[l], b.poses[k], block(b, sl, sl), Skk, block(b, sl, sk),
                                          options.composition);
           bool ok = false;
-          const auto e = loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x,
-                                              xlk.covariance, &ok);
+          const auto e = loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance,
+                                              xlk.x, xlk.covariance, &ok);
           const std::size_t at = static_cast<std::size_t>(u) * n + v;
           if (!ok) failed[at] = 1;
           Q.q[at] = e.q;
@@ -262,9 +264,9 @@ template LoopError<lie::SE2> loop_error(const lie::SE2&, const lie::Mat3&, const
                                         const lie::SE2&, const lie::Mat3&, const lie::SE2&, const lie::Mat3&);
 template LoopError<lie::SE3> loop_error(const lie::SE3&, const lie::Mat6&, const lie::SE3&, const lie::Mat6&,
                                         const lie::SE3&, const lie::Mat6&, const lie::SE3&, const lie::Mat6&);
-template RelativePose<lie::SE2> relative_pose(const lie::SE2&, const lie::SE2&, const lie::Mat3&, const lie::Mat3&,
-                                              const lie::Mat3&, Composition);
-template RelativePose<lie::SE3> relative_pose(const lie::SE3&, const lie::SE3&, const lie::Mat6&, const lie::Mat6&,
-                                              const lie::Mat6&, Composition);
+template RelativePose<lie::SE2> relative_pose(const lie::SE2&, const lie::SE2&, const lie::Mat3&,
+                                              const lie::Mat3&, const lie::Mat3&, Composition);
+template RelativePose<lie::SE3> relative_pose(const lie::SE3&, const lie::SE3&, const lie::Mat6&,
+                                              const lie::Mat6&, const lie::Mat6&, Composition);
 
 }  // namespace keel::pcm

@@ -1,6 +1,6 @@
-// The consistency measure of eq. 2.4: Jacobians against central differences, the relative-pose covariance against
-// keel::lie's eq. 5.51, the χ² distribution of inlier pairs (Monte Carlo, fixed seed), symmetry, thread
-// independence and bad inputs.
+// The consistency measure of eq. 2.4: Jacobians against central differences, the relative-pose covariance
+// against keel::lie's eq. 5.51, the χ² distribution of inlier pairs (Monte Carlo, fixed seed), symmetry,
+// thread independence and bad inputs.
 #include <doctest/doctest.h>
 
 #include <Eigen/LU>
@@ -21,12 +21,12 @@
 
 using namespace keel;
 using namespace keel::pcm;
-using lie::MatX;
-using lie::SE2;
-using lie::SE3;
 using keel::core::Rng;
 using keel::testkit::contains;
 using keel::testkit::message_of;
+using lie::MatX;
+using lie::SE2;
+using lie::SE3;
 
 namespace {
 
@@ -78,8 +78,8 @@ TEST_CASE_TEMPLATE("loop_error: analytic Jacobians match central differences (eq
   }
 }
 
-TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and without cross-covariance", G, SE2,
-                   SE3) {
+TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and without cross-covariance", G,
+                   SE2, SE3) {
   constexpr int d = G::DoF;
   Rng rng(12);
   for (int trial = 0; trial < 10; ++trial) {
@@ -97,12 +97,13 @@ TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and
   }
 }
 
-// Monte Carlo of the whole §2.6 situation: two solved local maps whose estimates scatter around the truth with a
-// strongly correlated joint covariance (a chain: ξ_j = ξ_i + w), two inlier measurements of a common true anchor.
-// With the joint composition the squared distances must follow χ²(dof); the independent composition, which
-// over-counts the relative-pose uncertainty of correlated poses, must give much smaller values.
-TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freedom (joint composition)", G, SE2,
-                   SE3) {
+// Monte Carlo of the whole §2.6 situation: two solved local maps whose estimates scatter around the truth
+// with a strongly correlated joint covariance (a chain: ξ_j = ξ_i + w), two inlier measurements of a common
+// true anchor. With the joint composition the squared distances must follow χ²(dof); the independent
+// composition, which over-counts the relative-pose uncertainty of correlated poses, must give much smaller
+// values.
+TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freedom (joint composition)", G,
+                   SE2, SE3) {
   constexpr int d = G::DoF;
   using J = typename G::Jacobian;
   using V = typename G::Tangent;
@@ -164,8 +165,8 @@ TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual 
   lie::Mat3 S = lie::Mat3::Zero();
   for (int t = 0; t < N; ++t) {
     const lie::Vec3 r = sample<lie::Vec3>(rng, L);
-    const SE2 E(r(0), r(1), r(2));       // residual E = z⁻¹ X with ρ(E) = r
-    const SE2 z = X * E.inverse();       // the measurement
+    const SE2 E(r(0), r(1), r(2));                // residual E = z⁻¹ X with ρ(E) = r
+    const SE2 z = X * E.inverse();                // the measurement
     const lie::Vec3 n = (z * X.inverse()).log();  // its left perturbation about X
     S += n * n.transpose() / N;
   }
@@ -211,8 +212,9 @@ Fixture<G> make_fixture(std::uint64_t seed, int n_candidates) {
     InterRobotMeasurement<G> m;
     m.pose_a = f.a.ids[uniform_index(rng, 6)];
     m.pose_b = f.b.ids[uniform_index(rng, 4)];
-    m.z = u % 3 == 2 ? random_pose<G>(rng, 4.0)
-                     : random_pose<G>(rng, 0.02) * f.a.poses[m.pose_a].inverse() * anchor * f.b.poses[m.pose_b];
+    m.z = u % 3 == 2
+              ? random_pose<G>(rng, 4.0)
+              : random_pose<G>(rng, 0.02) * f.a.poses[m.pose_a].inverse() * anchor * f.b.poses[m.pose_b];
     m.covariance = random_spd(rng, d, 0.03);
     f.c.push_back(m);
   }
@@ -221,7 +223,8 @@ Fixture<G> make_fixture(std::uint64_t seed, int n_candidates) {
 
 }  // namespace
 
-TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, thread independent", G, SE2, SE3) {
+TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, thread independent", G, SE2,
+                   SE3) {
   constexpr int d = G::DoF;
   using J = typename G::Jacobian;
   const auto f = make_fixture<G>(99, 17);
@@ -236,16 +239,19 @@ TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, 
   auto slot = [](const LocalMap<G>& m, int id) {
     return static_cast<int>(std::find(m.ids.begin(), m.ids.end(), id) - m.ids.begin());
   };
-  auto blk = [&](const LocalMap<G>& m, int s, int t) -> J { return m.joint.template block<d, d>(d * s, d * t); };
+  auto blk = [&](const LocalMap<G>& m, int s, int t) -> J {
+    return m.joint.template block<d, d>(d * s, d * t);
+  };
   auto direct = [&](int u, int v) {
     const auto &cu = f.c[u], &cv = f.c[v];
     const int si = slot(f.a, cu.pose_a), sj = slot(f.a, cv.pose_a), sk = slot(f.b, cu.pose_b),
               sl = slot(f.b, cv.pose_b);
-    const auto xij = relative_pose(f.a.poses[cu.pose_a], f.a.poses[cv.pose_a], blk(f.a, si, si), blk(f.a, sj, sj),
-                                   blk(f.a, si, sj), Composition::joint);
-    const auto xlk = relative_pose(f.b.poses[cv.pose_b], f.b.poses[cu.pose_b], blk(f.b, sl, sl), blk(f.b, sk, sk),
-                                   blk(f.b, sl, sk), Composition::joint);
-    return loop_error(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x, xlk.covariance).q;
+    const auto xij = relative_pose(f.a.poses[cu.pose_a], f.a.poses[cv.pose_a], blk(f.a, si, si),
+                                   blk(f.a, sj, sj), blk(f.a, si, sj), Composition::joint);
+    const auto xlk = relative_pose(f.b.poses[cv.pose_b], f.b.poses[cu.pose_b], blk(f.b, sl, sl),
+                                   blk(f.b, sk, sk), blk(f.b, sl, sk), Composition::joint);
+    return loop_error(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x, xlk.covariance)
+        .q;
   };
   for (int u = 0; u < Q1.n; ++u) {
     CHECK(Q1.at(u, u) == 0.0);
@@ -268,17 +274,20 @@ TEST_CASE("consistency_matrix: bad inputs give clear errors") {
   {
     auto g = f;
     g.c[3].covariance(0, 0) = std::nan("");
-    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }), "candidate 3: covariance has a non-finite"));
+    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }),
+                   "candidate 3: covariance has a non-finite"));
   }
   {
     auto g = f;
     g.c[1].pose_a = 40;
-    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }), "candidate 1 touches pose 40 of robot a"));
+    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }),
+                   "candidate 1 touches pose 40 of robot a"));
   }
   {
     auto g = f;
     g.c[2].pose_b = 0;  // a pose of b that exists but has no marginal
-    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }), "pose 0 of robot b has no joint marginal"));
+    CHECK(contains(message_of([&] { consistency_matrix(g.a, g.b, g.c); }),
+                   "pose 0 of robot b has no joint marginal"));
   }
   {
     auto g = f;

@@ -1,8 +1,8 @@
-// keel.pcm — the curated facade of engine/pcm (thesis ch. 2): pairwise consistency maximisation. The consistency
-// metric of eq. 2.4 and the matrix Q, the consistency graph and its maximum clique (§2.5: exact branch and bound,
-// Pattabiraman et al.'s heuristic, a brute-force reference), and the selection methods PCM, SCGP and RANSAC.
-// Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in the export block,
-// no import of another facade.
+// keel.pcm — the curated facade of engine/pcm (thesis ch. 2): pairwise consistency maximisation. The
+// consistency metric of eq. 2.4 and the matrix Q, the consistency graph and its maximum clique (§2.5: exact
+// branch and bound, Pattabiraman et al.'s heuristic, a brute-force reference), and the selection methods PCM,
+// SCGP and RANSAC. Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations
+// in the export block, no import of another facade.
 module;
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
@@ -29,14 +29,14 @@ using keel::pcm::LoopError;
 using keel::pcm::relative_pose;
 using keel::pcm::RelativePose;
 // consistency graph and maximum clique
-using keel::pcm::ConsistencyGraph;
 using keel::pcm::clique_algorithm_from_string;
 using keel::pcm::CliqueAlgorithm;
 using keel::pcm::CliqueOptions;
 using keel::pcm::CliqueResult;
+using keel::pcm::ConsistencyGraph;
+using keel::pcm::maximum_clique;
 using keel::pcm::search_status_from_string;
 using keel::pcm::SearchStatus;
-using keel::pcm::maximum_clique;
 using keel::pcm::to_string;
 // selection methods
 using keel::pcm::scgp;

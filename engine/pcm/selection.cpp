@@ -35,9 +35,10 @@ void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who) {
   }
   const std::size_t n = static_cast<std::size_t>(Q.n);
   if (Q.q.size() != n * n) {
-    throw std::invalid_argument(fmt::format("{}: the consistency matrix has {} entries, expected n*n = {} "
-                                            "(n = {})",
-                                            who, Q.q.size(), n * n, Q.n));
+    throw std::invalid_argument(
+        fmt::format("{}: the consistency matrix has {} entries, expected n*n = {} "
+                    "(n = {})",
+                    who, Q.q.size(), n * n, Q.n));
   }
   for (std::size_t u = 0; u < n; ++u) {
     for (std::size_t v = 0; v < n; ++v) {
@@ -58,8 +59,8 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
   validate_consistency_matrix(Q, "select_pcm");
   check_gamma(gamma, "select_pcm");
   const auto t0 = Clock::now();
-  // Consistency graph of §2.5: edge {u, v} iff q_uv <= γ and q_vu <= γ; a clique is a pairwise internally consistent
-  // set (eq. 2.3), and the maximum clique solves eq. 2.5.
+  // Consistency graph of §2.5: edge {u, v} iff q_uv <= γ and q_vu <= γ; a clique is a pairwise internally
+  // consistent set (eq. 2.3), and the maximum clique solves eq. 2.5.
   const ConsistencyGraph g = ConsistencyGraph::from_threshold(Q.n, Q.q, gamma);
   const CliqueResult r = maximum_clique(g, algorithm, options);
   Selection s;
@@ -70,8 +71,8 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// RANSAC (§2.7): every candidate is tried as the single-sample model; its support is the set of candidates likely
-// given it. No pairwise check among the supporters.
+// RANSAC (§2.7): every candidate is tried as the single-sample model; its support is the set of candidates
+// likely given it. No pairwise check among the supporters.
 
 Selection select_ransac(const ConsistencyMatrix& Q, double gamma) {
   validate_consistency_matrix(Q, "select_ransac");
@@ -100,13 +101,15 @@ Selection select_ransac(const ConsistencyMatrix& Q, double gamma) {
 // SCGP (Olson et al. 2005)
 
 namespace {
-constexpr core::NameTable<ScgpDiscretization, 2> kScgpDiscretizationNames{"pcm::ScgpDiscretization", {{
-      {ScgpDiscretization::dot_product, "dot_product"},
-      {ScgpDiscretization::rayleigh, "rayleigh"}}}};
+constexpr core::NameTable<ScgpDiscretization, 2> kScgpDiscretizationNames{
+    "pcm::ScgpDiscretization",
+    {{{ScgpDiscretization::dot_product, "dot_product"}, {ScgpDiscretization::rayleigh, "rayleigh"}}}};
 }  // namespace
 
 std::string_view to_string(ScgpDiscretization v) { return kScgpDiscretizationNames.name(v); }
-ScgpDiscretization scgp_discretization_from_string(std::string_view s) { return kScgpDiscretizationNames.parse(s); }
+ScgpDiscretization scgp_discretization_from_string(std::string_view s) {
+  return kScgpDiscretizationNames.parse(s);
+}
 
 void ScgpOptions::validate() const {
   if (!(affinity_scale > 0.0) || !std::isfinite(affinity_scale))
@@ -140,9 +143,11 @@ ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
   }
 
   ScgpResult out;
-  // λ(v) = vᵀAv / vᵀv is maximised over real v by the dominant eigenvector (eigenvalues come sorted ascending).
+  // λ(v) = vᵀAv / vᵀv is maximised over real v by the dominant eigenvector (eigenvalues come sorted
+  // ascending).
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
-  if (eig.info() != Eigen::Success) throw std::runtime_error("scgp: the eigen decomposition of A did not converge");
+  if (eig.info() != Eigen::Success)
+    throw std::runtime_error("scgp: the eigen decomposition of A did not converge");
   const Eigen::VectorXd& values = eig.eigenvalues();
   Eigen::VectorXd v1 = eig.eigenvectors().col(n - 1);
   if (v1.sum() < 0.0) v1 = -v1;  // A >= 0 elementwise: the Perron vector can be taken non-negative
@@ -191,6 +196,8 @@ ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
   return out;
 }
 
-Selection select_scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) { return scgp(Q, options).selection; }
+Selection select_scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
+  return scgp(Q, options).selection;
+}
 
 }  // namespace keel::pcm

@@ -1,16 +1,19 @@
 // Selecting a set of measurements from the matrix Q of pairwise consistency measures (thesis §2.5, §2.7).
 //
-// Every method here starts from the same n×n matrix Q (q_uv = squared Mahalanobis distance of the loop error of
-// candidates u and v, eq. 2.4; building Q is not part of the selection and is not timed):
+// Every method here starts from the same n×n matrix Q (q_uv = squared Mahalanobis distance of the loop error
+// of candidates u and v, eq. 2.4; building Q is not part of the selection and is not timed):
 //
-//   PCM     (eq. 2.5, §2.5) the maximum clique of the consistency graph: edge {u, v} iff q_uv <= γ and q_vu <= γ.
+//   PCM     (eq. 2.5, §2.5) the maximum clique of the consistency graph: edge {u, v} iff q_uv <= γ and q_vu
+//   <= γ.
 //           Every pair of the returned set is consistent (eq. 2.3).
 //   RANSAC  (§2.7) exhaustive single-sample consensus: for every candidate u the support is
-//           {u} ∪ {v : q_uv <= γ}; the largest support wins (ties: smallest u). Members of the support are each
-//           consistent with u, but not necessarily with each other.
-//   SCGP    (Olson, Walter, Teller, Leonard, "Single-cluster spectral graph partitioning for robotics applications",
-//           RSS 2005; thesis §2.7 computes the eigenvectors with an off-the-shelf solver instead of the power method,
-//           as done here with Eigen's SelfAdjointEigenSolver). See ScgpOptions for the exact definition used.
+//           {u} ∪ {v : q_uv <= γ}; the largest support wins (ties: smallest u). Members of the support are
+//           each consistent with u, but not necessarily with each other.
+//   SCGP    (Olson, Walter, Teller, Leonard, "Single-cluster spectral graph partitioning for robotics
+//   applications",
+//           RSS 2005; thesis §2.7 computes the eigenvectors with an off-the-shelf solver instead of the power
+//           method, as done here with Eigen's SelfAdjointEigenSolver). See ScgpOptions for the exact
+//           definition used.
 #pragma once
 
 #include <optional>
@@ -32,25 +35,27 @@ struct Selection {
   bool proven_optimal() const { return search && search->proven_optimal(); }
 };
 
-// Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() != n·n,
-// a NaN entry, or a negative off-diagonal entry (a squared distance is >= 0). +inf is allowed (never consistent).
-// The diagonal is otherwise ignored (a measurement is always consistent with itself).
+// Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() !=
+// n·n, a NaN entry, or a negative off-diagonal entry (a squared distance is >= 0). +inf is allowed (never
+// consistent). The diagonal is otherwise ignored (a measurement is always consistent with itself).
 void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who);
 
 // PCM (eq. 2.5, §2.5): maximum clique of ConsistencyGraph::from_threshold(Q, γ). γ > 0 and finite, else
 // std::invalid_argument. time_s includes thresholding Q into the graph.
 [[nodiscard]] Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
-                     const CliqueOptions& options = {});
+                                   const CliqueOptions& options = {});
 
 // RANSAC as in thesis §2.7 (see the header comment). γ > 0 and finite.
 [[nodiscard]] Selection select_ransac(const ConsistencyMatrix& Q, double gamma);
 
-// How SCGP turns the continuous dominant eigenvector v₁ into a discrete indicator vector. Both consider only the n
-// "threshold" sets S_k = the k candidates with the largest entries of v₁ (k = 1..n; ties in v₁ broken by lower index).
+// How SCGP turns the continuous dominant eigenvector v₁ into a discrete indicator vector. Both consider only
+// the n "threshold" sets S_k = the k candidates with the largest entries of v₁ (k = 1..n; ties in v₁ broken
+// by lower index).
 enum class ScgpDiscretization {
-  dot_product,  // Olson et al. (2005): the S_k whose normalised indicator w_k/‖w_k‖ has the largest dot product with
-                // v₁ (‖v₁‖ = 1), i.e. maximise (Σ_{i∈S_k} v₁ᵢ)/√k — the discrete vector closest in angle to v₁
-  rayleigh,     // the S_k with the largest λ(w_k) = w_kᵀ A w_k / w_kᵀ w_k (the average affinity SCGP maximises)
+  dot_product,  // Olson et al. (2005): the S_k whose normalised indicator w_k/‖w_k‖ has the largest dot
+                // product with v₁ (‖v₁‖ = 1), i.e. maximise (Σ_{i∈S_k} v₁ᵢ)/√k — the discrete vector closest
+                // in angle to v₁
+  rayleigh,  // the S_k with the largest λ(w_k) = w_kᵀ A w_k / w_kᵀ w_k (the average affinity SCGP maximises)
 };
 std::string_view to_string(ScgpDiscretization d);
 ScgpDiscretization scgp_discretization_from_string(std::string_view s);  // "dot_product" | "rayleigh"
@@ -59,13 +64,14 @@ ScgpDiscretization scgp_discretization_from_string(std::string_view s);  // "dot
 //
 //     A_uv = exp(−max(q_uv, q_vu) / affinity_scale),   A_uu = 1,
 //
-// i.e. with the default scale 2 the Gaussian likelihood kernel exp(−d²/2) of the squared Mahalanobis distance (the
-// symmetric max is the conservative choice of §2.5 when q_uv ≠ q_vu). SCGP seeks the indicator vector v maximising the
-// average pairwise consistency λ(v) = vᵀAv / vᵀv; relaxed to real v the maximiser is the dominant eigenvector v₁ of A
-// (Rayleigh quotient), which is then discretised (ScgpDiscretization). Olson's confidence test compares the two largest
-// eigenvalues: the cluster is unambiguous when λ₁/λ₂ is large. With min_eigen_ratio > 0 a selection whose λ₁/λ₂ is
-// below it is rejected (empty set); 0 (the default) always returns the cluster, as SCGP is used as a selector in the
-// thesis's comparisons (Olson 2009 uses λ₁/λ₂ > 2 for "locally unambiguous").
+// i.e. with the default scale 2 the Gaussian likelihood kernel exp(−d²/2) of the squared Mahalanobis distance
+// (the symmetric max is the conservative choice of §2.5 when q_uv ≠ q_vu). SCGP seeks the indicator vector v
+// maximising the average pairwise consistency λ(v) = vᵀAv / vᵀv; relaxed to real v the maximiser is the
+// dominant eigenvector v₁ of A (Rayleigh quotient), which is then discretised (ScgpDiscretization). Olson's
+// confidence test compares the two largest eigenvalues: the cluster is unambiguous when λ₁/λ₂ is large. With
+// min_eigen_ratio > 0 a selection whose λ₁/λ₂ is below it is rejected (empty set); 0 (the default) always
+// returns the cluster, as SCGP is used as a selector in the thesis's comparisons (Olson 2009 uses λ₁/λ₂ > 2
+// for "locally unambiguous").
 struct ScgpOptions {
   double affinity_scale = 2.0;  // s in A_uv = exp(−q_uv / s); > 0 and finite
   ScgpDiscretization discretization = ScgpDiscretization::dot_product;  // Olson et al.'s rule

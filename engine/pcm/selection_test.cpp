@@ -1,6 +1,6 @@
-// Selection methods on a consistency matrix Q (thesis §2.5, §2.7): PCM = maximum clique (eq. 2.5) against brute
-// force on random matrices, RANSAC's single-sample support (and the inconsistent pairs it returns), SCGP's dominant
-// cluster, its λ₁/λ₂ confidence test, and bad inputs.
+// Selection methods on a consistency matrix Q (thesis §2.5, §2.7): PCM = maximum clique (eq. 2.5) against
+// brute force on random matrices, RANSAC's single-sample support (and the inconsistent pairs it returns),
+// SCGP's dominant cluster, its λ₁/λ₂ confidence test, and bad inputs.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -37,7 +37,8 @@ ConsistencyMatrix make_q(int n, F&& q_of) {
   return Q;
 }
 
-// 1D points with unit standard deviation: q_uv = (z_u − z_v)² / 2 (the 1D case of eq. 2.4, as sim::World1D's Q).
+// 1D points with unit standard deviation: q_uv = (z_u − z_v)² / 2 (the 1D case of eq. 2.4, as sim::World1D's
+// Q).
 ConsistencyMatrix points(const std::vector<double>& z) {
   return make_q(static_cast<int>(z.size()), [&](int u, int v) {
     const double d = z[static_cast<std::size_t>(u)] - z[static_cast<std::size_t>(v)];
@@ -57,7 +58,8 @@ int inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, 
 }  // namespace
 
 TEST_CASE("RANSAC: a star centre wins and its support holds inconsistent pairs; PCM does not") {
-  // Candidate 0 is consistent with 1..4, which are pairwise inconsistent; 5 and 6 are consistent with each other only.
+  // Candidate 0 is consistent with 1..4, which are pairwise inconsistent; 5 and 6 are consistent with each
+  // other only.
   const auto Q = make_q(7, [](int u, int v) {
     if (u == 0 && v <= 4) return 1.0;
     if (v == 0 && u <= 4) return 1.0;
@@ -164,7 +166,7 @@ TEST_CASE("SCGP finds the dominant block among a smaller block and scattered can
     const int a = std::min(u, v), b = std::max(u, v);
     const double r = noise[a * 12 + b];
     if (group[u] == group[v] && group[u] != 3) return 0.2 + 0.8 * r;  // consistent
-    return 20.0 + 30.0 * r;                                            // inconsistent
+    return 20.0 + 30.0 * r;                                           // inconsistent
   });
   for (auto d : {ScgpDiscretization::dot_product, ScgpDiscretization::rayleigh}) {
     ScgpOptions o;
@@ -197,8 +199,8 @@ TEST_CASE("SCGP finds the dominant block among a smaller block and scattered can
 TEST_CASE("SCGP: the λ1/λ2 confidence test rejects two equally strong clusters") {
   // Two identical disjoint blocks of 4: λ₁ ≈ λ₂.
   const auto Q = make_q(8, [](int u, int v) { return (u / 4 == v / 4) ? 0.3 : 60.0; });
-  // v₁ is any unit vector of the two-dimensional dominant eigenspace, so the cluster is arbitrary: exactly the case
-  // the test exists for.
+  // v₁ is any unit vector of the two-dimensional dominant eigenspace, so the cluster is arbitrary: exactly
+  // the case the test exists for.
   const auto off = scgp(Q);
   CHECK(off.confident);
   CHECK_FALSE(off.selection.selected.empty());
@@ -218,7 +220,8 @@ TEST_CASE("SCGP: the λ1/λ2 confidence test rejects two equally strong clusters
 }
 
 TEST_CASE("SCGP does not enforce pairwise consistency (a smooth chain is one cluster)") {
-  // Points 0, 0.5, ..., 3 with σ = 1: neighbours are consistent, the ends are not at γ(0.05) = 3.84 (q = 4.5).
+  // Points 0, 0.5, ..., 3 with σ = 1: neighbours are consistent, the ends are not at γ(0.05) = 3.84 (q
+  // = 4.5).
   const auto Q = points({0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0});
   const double gamma = consistency_threshold(0.05, 1);
   const auto s = select_scgp(Q);
@@ -244,7 +247,8 @@ TEST_CASE("bad inputs throw std::invalid_argument with a clear message") {
 
   auto wrong = good;
   wrong.q.pop_back();
-  CHECK(contains(message_of([&] { (void)select_pcm(wrong, 1.0, CliqueAlgorithm::heuristic); }), "expected n*n = 9"));
+  CHECK(contains(message_of([&] { (void)select_pcm(wrong, 1.0, CliqueAlgorithm::heuristic); }),
+                 "expected n*n = 9"));
   CHECK(contains(message_of([&] { (void)select_scgp(wrong); }), "8 entries"));
 
   auto nan = good;
@@ -255,7 +259,8 @@ TEST_CASE("bad inputs throw std::invalid_argument with a clear message") {
   neg.q[2 * 3 + 0] = -1.0;
   CHECK(contains(message_of([&] { (void)select_pcm(neg, 1.0, CliqueAlgorithm::exact); }), "negative"));
 
-  for (double g : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+  for (double g :
+       {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     CHECK(contains(message_of([&] { (void)select_pcm(good, g, CliqueAlgorithm::exact); }), "gamma"));
     CHECK(contains(message_of([&] { (void)select_ransac(good, g); }), "gamma"));
   }

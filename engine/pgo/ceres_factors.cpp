@@ -60,8 +60,8 @@ bool PoseEdge2Cost::Evaluate(double const* const* parameters, double* residuals,
   const double* pj = parameters[1];
   const double c = std::cos(pi[2]), s = std::sin(pi[2]);
   const double dx = pj[0] - pi[0], dy = pj[1] - pi[1];
-  const double ux = c * dx + s * dy, uy = -s * dx + c * dy;            // R_iᵀ d
-  const double ax = cz_ * ux + sz_ * uy, ay = -sz_ * ux + cz_ * uy;    // A d = R_zᵀ R_iᵀ d
+  const double ux = c * dx + s * dy, uy = -s * dx + c * dy;          // R_iᵀ d
+  const double ax = cz_ * ux + sz_ * uy, ay = -sz_ * ux + cz_ * uy;  // A d = R_zᵀ R_iᵀ d
   const lie::Vec3 r(ax - rzt_tz_(0), ay - rzt_tz_(1), lie::wrap_angle(pj[2] - pi[2] - theta_z_));
   Eigen::Map<lie::Vec3> res(residuals);
   res = U_ * r;

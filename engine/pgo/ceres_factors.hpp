@@ -1,7 +1,8 @@
 // keel::pgo — the Ceres side of the optimizer: manifolds, cost functions and the kernel adapter.
 //
-// INTERNAL: this header includes Ceres. It is used by solve.cpp and by the unit tests only; the facade pgo.cppm and
-// every public header stay free of Ceres (shared design card: a facade that pulls in Ceres breaks importers).
+// INTERNAL: this header includes Ceres. It is used by solve.cpp and by the unit tests only; the facade
+// pgo.cppm and every public header stay free of Ceres (shared design card: a facade that pulls in Ceres
+// breaks importers).
 //
 // Parameter blocks:
 //   2D pose:     double[3] = (x, y, θ), manifold Se2Manifold (additive, θ wrapped to (−π, π]);
@@ -45,8 +46,8 @@ Pose3Params to_params(const lie::SE3& T);
 lie::SE3 from_params(const Pose3Params& p);
 
 // ---------------------------------------------------------------------------------------------------------------
-// SE(2) as R² × S¹ with (x, y, θ): x ⊞ δ = x + δ with θ wrapped, y ⊟ x = y − x with the angle difference wrapped.
-// Both Jacobians are the identity.
+// SE(2) as R² × S¹ with (x, y, θ): x ⊞ δ = x + δ with θ wrapped, y ⊟ x = y − x with the angle difference
+// wrapped. Both Jacobians are the identity.
 class Se2Manifold final : public ceres::Manifold {
  public:
   int AmbientSize() const override { return 3; }
@@ -91,8 +92,10 @@ class Landmark2Cost final : public ceres::SizedCostFunction<2, 3, 2> {
 // Templated residuals for automatic differentiation.
 template <class T>
 double scalar_part(const T& v) {
-  if constexpr (std::is_arithmetic_v<T>) return static_cast<double>(v);
-  else return v.a;
+  if constexpr (std::is_arithmetic_v<T>)
+    return static_cast<double>(v);
+  else
+    return v.a;
 }
 
 // a − 2πk with k chosen on the scalar part so the value lies in (−π, π]; the derivative is untouched.
@@ -146,9 +149,9 @@ struct InterRobot2Functor {
 
 // 3D: residual of z at global poses given as quaternion + translation.
 template <class T>
-void pose_edge3_residual(const Eigen::Quaterniond& qz_inv, const lie::Vec3& tz, const Eigen::Quaternion<T>& qi,
-                         const Eigen::Matrix<T, 3, 1>& ti, const Eigen::Quaternion<T>& qj,
-                         const Eigen::Matrix<T, 3, 1>& tj, T* r) {
+void pose_edge3_residual(const Eigen::Quaterniond& qz_inv, const lie::Vec3& tz,
+                         const Eigen::Quaternion<T>& qi, const Eigen::Matrix<T, 3, 1>& ti,
+                         const Eigen::Quaternion<T>& qj, const Eigen::Matrix<T, 3, 1>& tj, T* r) {
   const Eigen::Quaternion<T> qi_inv = qi.conjugate();
   const Eigen::Quaternion<T> qz_inv_t = qz_inv.template cast<T>();
   const Eigen::Matrix<T, 3, 1> t_ij = qi_inv * (tj - ti);

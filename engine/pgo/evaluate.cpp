@@ -29,11 +29,13 @@ Evaluation3D evaluate(const graph::PoseGraph3D& graph, const Estimate3D& at, con
   return single_of<Evaluation3D>(detail::evaluate_view<detail::D3>(detail::view_of(graph), m, options));
 }
 
-MultiRobotEvaluation2D evaluate(const MultiRobotGraph2D& graph, const MultiRobotEstimate2D& at, const Options& options) {
+MultiRobotEvaluation2D evaluate(const MultiRobotGraph2D& graph, const MultiRobotEstimate2D& at,
+                                const Options& options) {
   return detail::evaluate_view<detail::D2>(detail::view_of(graph), at, options);
 }
 
-MultiRobotEvaluation3D evaluate(const MultiRobotGraph3D& graph, const MultiRobotEstimate3D& at, const Options& options) {
+MultiRobotEvaluation3D evaluate(const MultiRobotGraph3D& graph, const MultiRobotEstimate3D& at,
+                                const Options& options) {
   return detail::evaluate_view<detail::D3>(detail::view_of(graph), at, options);
 }
 

@@ -1,5 +1,5 @@
-// Unit tests of the Ceres side: analytic Jacobians against central differences, the autodiff residuals against the
-// plain residual definitions of pose_graph.hpp, the kernel adapter, and manifold ⊞/⊟ consistency.
+// Unit tests of the Ceres side: analytic Jacobians against central differences, the autodiff residuals
+// against the plain residual definitions of pose_graph.hpp, the kernel adapter, and manifold ⊞/⊟ consistency.
 #include <doctest/doctest.h>
 
 #include <Eigen/Geometry>
@@ -78,7 +78,8 @@ std::vector<double> vec(const Pose2Params& p) { return {p.begin(), p.end()}; }
 
 }  // namespace
 
-TEST_CASE("pose edge 2D: residual matches pose_graph.hpp and the analytic Jacobian matches central differences") {
+TEST_CASE(
+    "pose edge 2D: residual matches pose_graph.hpp and the analytic Jacobian matches central differences") {
   core::Rng rng(7);
   for (int trial = 0; trial < 200; ++trial) {
     const lie::SE2 z = random_se2(rng), Ti = random_se2(rng), Tj = random_se2(rng);
@@ -123,7 +124,8 @@ TEST_CASE("pose edge 3D (autodiff): residual matches pose_graph.hpp, including r
     const lie::Mat6 U = sqrt_information(random_information<6>(rng), "test");
     std::unique_ptr<ceres::CostFunction> f(make_pose_edge3(z, U));
     auto pi = to_params(Ti), pj = to_params(Tj);
-    if (trial % 2) for (int k = 0; k < 4; ++k) pj[k] = -pj[k];  // the other quaternion sign: same pose
+    if (trial % 2)
+      for (int k = 0; k < 4; ++k) pj[k] = -pj[k];  // the other quaternion sign: same pose
     const double* ptrs[] = {pi.data(), pj.data()};
     lie::Vec6 r;
     REQUIRE(f->Evaluate(ptrs, r.data(), nullptr));
@@ -139,7 +141,8 @@ TEST_CASE("pose edge 3D (autodiff): residual matches pose_graph.hpp, including r
   CHECK(r.norm() < 1e-12);
 }
 
-TEST_CASE("pose edge 3D: autodiff Jacobian through the manifold equals central differences in the tangent space") {
+TEST_CASE(
+    "pose edge 3D: autodiff Jacobian through the manifold equals central differences in the tangent space") {
   core::Rng rng(10);
   const Se3Manifold manifold;
   for (int trial = 0; trial < 50; ++trial) {
@@ -288,7 +291,8 @@ TEST_CASE("sqrt_information: Cholesky, semi-definite fallback, and errors name t
   CHECK((sqrt_information(psd, "edge").transpose() * sqrt_information(psd, "edge") - psd).norm() < 1e-12);
   lie::Mat3 bad = lie::Mat3::Identity();
   bad(2, 2) = -1.0;
-  CHECK_THROWS_WITH_AS(sqrt_information(bad, "edge 3 (line 7 of 'x.txt')"),
-                       doctest::Contains("edge 3 (line 7 of 'x.txt'): information matrix is not positive semi-definite"),
-                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(
+      sqrt_information(bad, "edge 3 (line 7 of 'x.txt')"),
+      doctest::Contains("edge 3 (line 7 of 'x.txt'): information matrix is not positive semi-definite"),
+      std::invalid_argument);
 }

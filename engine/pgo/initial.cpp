@@ -41,23 +41,25 @@ lie::SE3 random_pose(core::Rng& rng, double extent, const lie::SE3*) {
   return lie::SE3(lie::SO3::from_matrix_unchecked(quat.normalized().toRotationMatrix()), t);
 }
 
-// Odometry chain of one robot: T_0 as read (identity if none), T_k = T_{k−1} z_{k−1,k} using the first edge between
-// k−1 and k in the file (inverted if it is stored as (k, k−1)).
+// Odometry chain of one robot: T_0 as read (identity if none), T_k = T_{k−1} z_{k−1,k} using the first edge
+// between k−1 and k in the file (inverted if it is stored as (k, k−1)).
 template <class D>
 std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) {
   using Pose = typename D::Pose;
   std::vector<std::optional<Pose>> step(n > 0 ? n - 1 : 0);
   for (const auto& e : g.edges) {
-    if (e.j == e.i + 1 && !step[e.i]) step[e.i] = e.measurement;
-    else if (e.i == e.j + 1 && !step[e.j]) step[e.j] = e.measurement.inverse();
+    if (e.j == e.i + 1 && !step[e.i])
+      step[e.i] = e.measurement;
+    else if (e.i == e.j + 1 && !step[e.j])
+      step[e.j] = e.measurement.inverse();
   }
   std::vector<Pose> poses(n);
   if (n == 0) return poses;
   poses[0] = g.poses.empty() ? Pose() : g.poses[0];
   for (int k = 1; k < n; ++k) {
     if (!step[k - 1])
-      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}",
-                       name_of(g.source), k - 1, k));
+      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}", name_of(g.source),
+                       k - 1, k));
     poses[k] = poses[k - 1] * *step[k - 1];
   }
   return poses;
@@ -72,9 +74,10 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
   switch (o.initial_guess) {
     case InitialGuess::as_read:
       if (static_cast<int>(g.poses.size()) != n)
-        fail(fmt::format("initial_guess = as_read: {} stores {} poses but its measurements use {} (choose "
-                         "initial_guess = odometry?)",
-                         name_of(g.source), g.poses.size(), n));
+        fail(
+            fmt::format("initial_guess = as_read: {} stores {} poses but its measurements use {} (choose "
+                        "initial_guess = odometry?)",
+                        name_of(g.source), g.poses.size(), n));
       est.poses = g.poses;
       break;
     case InitialGuess::odometry:
@@ -83,8 +86,8 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
     case InitialGuess::supplied:
       if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
       if (static_cast<int>(supplied->poses.size()) != n)
-        fail(fmt::format("initial_guess = supplied: the estimate of robot {} has {} poses, the graph {}", robot,
-                         supplied->poses.size(), n));
+        fail(fmt::format("initial_guess = supplied: the estimate of robot {} has {} poses, the graph {}",
+                         robot, supplied->poses.size(), n));
       est.poses = supplied->poses;
       break;
     case InitialGuess::random: {
@@ -100,7 +103,8 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
     const int m = landmark_count(g);
     if (o.initial_guess == InitialGuess::as_read && static_cast<int>(g.landmarks.size()) == m) {
       est.landmarks = g.landmarks;
-    } else if (o.initial_guess == InitialGuess::supplied && static_cast<int>(supplied->landmarks.size()) == m) {
+    } else if (o.initial_guess == InitialGuess::supplied &&
+               static_cast<int>(supplied->landmarks.size()) == m) {
       est.landmarks = supplied->landmarks;
     } else {
       est.landmarks.assign(m, lie::Vec2::Zero());
@@ -118,8 +122,9 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
 }  // namespace
 
 template <class D>
-typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vector<typename D::Pose>& given_anchors,
-                                       const Options& o, const typename D::MultiEstimate* supplied) {
+typename D::MultiEstimate initial_view(const RobotsView<D>& view,
+                                       const std::vector<typename D::Pose>& given_anchors, const Options& o,
+                                       const typename D::MultiEstimate* supplied) {
   using Pose = typename D::Pose;
   o.validate();
   validate_graph(view);
@@ -127,8 +132,8 @@ typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vec
   if (o.initial_guess == InitialGuess::supplied) {
     if (!supplied) fail("initial_guess = supplied but no estimate was supplied");
     if (static_cast<int>(supplied->robots.size()) != robots)
-      fail(fmt::format("initial_guess = supplied: the estimate has {} robots, the graph {}", supplied->robots.size(),
-                       robots));
+      fail(fmt::format("initial_guess = supplied: the estimate has {} robots, the graph {}",
+                       supplied->robots.size(), robots));
   }
   typename D::MultiEstimate est;
   for (int r = 0; r < robots; ++r)
@@ -143,8 +148,8 @@ typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vec
     return est;
   }
   if (!given_anchors.empty() && static_cast<int>(given_anchors.size()) != robots)
-    fail(fmt::format("the graph has {} anchors for {} robots (give one per robot, or none)", given_anchors.size(),
-                     robots));
+    fail(fmt::format("the graph has {} anchors for {} robots (give one per robot, or none)",
+                     given_anchors.size(), robots));
   est.anchors = given_anchors.empty() ? std::vector<Pose>(robots) : given_anchors;
   if (o.anchor_guess == AnchorGuess::inter_robot_edges && view.inter) {
     std::vector<char> placed(robots, 0);
@@ -167,10 +172,10 @@ typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vec
   return est;
 }
 
-template D2::MultiEstimate initial_view<D2>(const RobotsView<D2>&, const std::vector<lie::SE2>&, const Options&,
-                                            const D2::MultiEstimate*);
-template D3::MultiEstimate initial_view<D3>(const RobotsView<D3>&, const std::vector<lie::SE3>&, const Options&,
-                                            const D3::MultiEstimate*);
+template D2::MultiEstimate initial_view<D2>(const RobotsView<D2>&, const std::vector<lie::SE2>&,
+                                            const Options&, const D2::MultiEstimate*);
+template D3::MultiEstimate initial_view<D3>(const RobotsView<D3>&, const std::vector<lie::SE3>&,
+                                            const Options&, const D3::MultiEstimate*);
 
 }  // namespace detail
 
@@ -185,13 +190,15 @@ typename D::MultiEstimate wrap_single(const typename D::Estimate* supplied) {
 
 }  // namespace
 
-Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options, const Estimate2D* supplied) {
+Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options,
+                            const Estimate2D* supplied) {
   const auto m = supplied ? wrap_single<detail::D2>(supplied) : MultiRobotEstimate2D{};
   auto est = detail::initial_view<detail::D2>(detail::view_of(graph), {}, options, supplied ? &m : nullptr);
   return std::move(est.robots[0]);
 }
 
-Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options, const Estimate3D* supplied) {
+Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options,
+                            const Estimate3D* supplied) {
   const auto m = supplied ? wrap_single<detail::D3>(supplied) : MultiRobotEstimate3D{};
   auto est = detail::initial_view<detail::D3>(detail::view_of(graph), {}, options, supplied ? &m : nullptr);
   return std::move(est.robots[0]);
@@ -213,8 +220,8 @@ template <class E>
 auto global_poses_impl(const E& estimate, int robot) {
   if (robot < 0 || robot >= static_cast<int>(estimate.robots.size()) ||
       estimate.anchors.size() != estimate.robots.size())
-    throw std::invalid_argument(
-        fmt::format("pgo::global_poses: robot {} out of range, or anchors and robots differ in number", robot));
+    throw std::invalid_argument(fmt::format(
+        "pgo::global_poses: robot {} out of range, or anchors and robots differ in number", robot));
   auto poses = estimate.robots[robot].poses;
   for (auto& T : poses) T = estimate.anchors[robot] * T;
   return poses;

@@ -20,13 +20,15 @@ std::string source_of(const std::string& s) {
 }
 
 template <int N>
-Eigen::Matrix<double, N, N> sqrt_info_impl(const Eigen::Matrix<double, N, N>& omega, const std::string& what) {
+Eigen::Matrix<double, N, N> sqrt_info_impl(const Eigen::Matrix<double, N, N>& omega,
+                                           const std::string& what) {
   using M = Eigen::Matrix<double, N, N>;
   if (!omega.allFinite()) fail(fmt::format("{}: information matrix has a non-finite entry", what));
   const M sym = 0.5 * (omega + omega.transpose());
   Eigen::LLT<M> llt(sym);
   if (llt.info() == Eigen::Success) return llt.matrixU();
-  // Positive semi-definite (or slightly indefinite from rounding): symmetric square root of the clamped spectrum.
+  // Positive semi-definite (or slightly indefinite from rounding): symmetric square root of the clamped
+  // spectrum.
   Eigen::SelfAdjointEigenSolver<M> es(sym);
   const auto& lambda = es.eigenvalues();
   const double scale = std::max(1.0, lambda.cwiseAbs().maxCoeff());
@@ -48,8 +50,12 @@ int max_pose_index(const G& g) {
 
 }  // namespace
 
-int pose_count(const graph::PoseGraph2D& g) { return std::max<int>(static_cast<int>(g.poses.size()), max_pose_index(g) + 1); }
-int pose_count(const graph::PoseGraph3D& g) { return std::max<int>(static_cast<int>(g.poses.size()), max_pose_index(g) + 1); }
+int pose_count(const graph::PoseGraph2D& g) {
+  return std::max<int>(static_cast<int>(g.poses.size()), max_pose_index(g) + 1);
+}
+int pose_count(const graph::PoseGraph3D& g) {
+  return std::max<int>(static_cast<int>(g.poses.size()), max_pose_index(g) + 1);
+}
 int landmark_count(const graph::PoseGraph2D& g) {
   int m = -1;
   for (const auto& lm : g.landmark_measurements) m = std::max(m, lm.landmark);
@@ -69,7 +75,8 @@ void validate_graph(const RobotsView<D>& view) {
     const auto& g = *view.robots[r];
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
       const auto& e = g.edges[k];
-      if (e.i < 0 || e.j < 0) fail(fmt::format("{}: negative pose index", edge_label("edge", k, e.line, g.source)));
+      if (e.i < 0 || e.j < 0)
+        fail(fmt::format("{}: negative pose index", edge_label("edge", k, e.line, g.source)));
       if (e.i == e.j)
         fail(fmt::format("{}: connects pose {} to itself", edge_label("edge", k, e.line, g.source), e.i));
     }
@@ -88,8 +95,8 @@ void validate_graph(const RobotsView<D>& view) {
     const std::string label = edge_label("inter-robot edge", k, e.line, "");
     if (e.robot_a < 0 || e.robot_a >= robots || e.robot_b < 0 || e.robot_b >= robots)
       fail(fmt::format("{}: robot index out of range ({} robots)", label, robots));
-    if (e.robot_a == e.robot_b) fail(fmt::format("{}: robot_a == robot_b (use an edge of that robot's own graph)",
-                                                 label));
+    if (e.robot_a == e.robot_b)
+      fail(fmt::format("{}: robot_a == robot_b (use an edge of that robot's own graph)", label));
     if (e.pose_a < 0 || e.pose_a >= pose_count(*view.robots[e.robot_a]) || e.pose_b < 0 ||
         e.pose_b >= pose_count(*view.robots[e.robot_b]))
       fail(fmt::format("{}: pose index out of range of its robot's graph", label));
@@ -99,9 +106,15 @@ void validate_graph(const RobotsView<D>& view) {
 template void validate_graph<D2>(const RobotsView<D2>&);
 template void validate_graph<D3>(const RobotsView<D3>&);
 
-lie::Mat2 sqrt_information(const lie::Mat2& omega, const std::string& what) { return sqrt_info_impl<2>(omega, what); }
-lie::Mat3 sqrt_information(const lie::Mat3& omega, const std::string& what) { return sqrt_info_impl<3>(omega, what); }
-lie::Mat6 sqrt_information(const lie::Mat6& omega, const std::string& what) { return sqrt_info_impl<6>(omega, what); }
+lie::Mat2 sqrt_information(const lie::Mat2& omega, const std::string& what) {
+  return sqrt_info_impl<2>(omega, what);
+}
+lie::Mat3 sqrt_information(const lie::Mat3& omega, const std::string& what) {
+  return sqrt_info_impl<3>(omega, what);
+}
+lie::Mat6 sqrt_information(const lie::Mat6& omega, const std::string& what) {
+  return sqrt_info_impl<6>(omega, what);
+}
 
 bool robust_edge(const Options& o, int i, int j) {
   if (o.robust_kernel == RobustKernel::none) return false;
@@ -190,15 +203,16 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
     if constexpr (D::kLandmarks) {
       const int m = landmark_count(g);
       if (static_cast<int>(est.landmarks.size()) < m)
-        fail(fmt::format("evaluate: robot {} ({}) has {} landmarks but the estimate {}", r, source_of(g.source), m,
-                         est.landmarks.size()));
+        fail(fmt::format("evaluate: robot {} ({}) has {} landmarks but the estimate {}", r,
+                         source_of(g.source), m, est.landmarks.size()));
       std::vector<char> lm_used(m, 0);
       ev.landmark_residuals.resize(g.landmark_measurements.size());
       ev.landmark_edges.resize(g.landmark_measurements.size());
       const bool robust = robust_landmark(o);
       for (std::size_t k = 0; k < g.landmark_measurements.size(); ++k) {
         const auto& lm = g.landmark_measurements[k];
-        const auto U = sqrt_information(lm.information, edge_label("landmark measurement", k, lm.line, g.source));
+        const auto U =
+            sqrt_information(lm.information, edge_label("landmark measurement", k, lm.line, g.source));
         const lie::Vec2 res = landmark_residual(lm.position, est.poses[lm.pose], est.landmarks[lm.landmark]);
         const double chi2 = (U * res).squaredNorm();
         ev.landmark_residuals[k] = res;
@@ -253,8 +267,10 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
   return out;
 }
 
-template D2::MultiEvaluation evaluate_view<D2>(const RobotsView<D2>&, const D2::MultiEstimate&, const Options&);
-template D3::MultiEvaluation evaluate_view<D3>(const RobotsView<D3>&, const D3::MultiEstimate&, const Options&);
+template D2::MultiEvaluation evaluate_view<D2>(const RobotsView<D2>&, const D2::MultiEstimate&,
+                                               const Options&);
+template D3::MultiEvaluation evaluate_view<D3>(const RobotsView<D3>&, const D3::MultiEstimate&,
+                                               const Options&);
 
 RobotsView<D2> view_of(const graph::PoseGraph2D& g) { return {{&g}, nullptr, false}; }
 RobotsView<D3> view_of(const graph::PoseGraph3D& g) { return {{&g}, nullptr, false}; }

@@ -1,7 +1,8 @@
-// keel::pgo — internals shared by evaluate.cpp, initial.cpp and solve.cpp (no Ceres here; not part of the facade).
+// keel::pgo — internals shared by evaluate.cpp, initial.cpp and solve.cpp (no Ceres here; not part of the
+// facade).
 //
-// Single-robot problems are handled as multi-robot problems with one robot and no anchors: a RobotsView points at
-// the robots' graphs (nothing is copied) and the estimates use the multi-robot layout.
+// Single-robot problems are handled as multi-robot problems with one robot and no anchors: a RobotsView
+// points at the robots' graphs (nothing is copied) and the estimates use the multi-robot layout.
 #pragma once
 
 #include <cmath>
@@ -69,7 +70,8 @@ int landmark_count(const graph::PoseGraph2D& g);
 // Where a measurement came from, for error messages: "edge 12 (line 40 of 'file')".
 std::string edge_label(const char* kind, std::size_t index, int line, const std::string& source);
 
-// Throws std::invalid_argument for negative indices, self-edges, inter-robot edges with bad robot/pose indices.
+// Throws std::invalid_argument for negative indices, self-edges, inter-robot edges with bad robot/pose
+// indices.
 template <class D>
 void validate_graph(const RobotsView<D>& view);
 
@@ -103,8 +105,9 @@ typename D::MultiEvaluation evaluate_view(const RobotsView<D>& view, const typen
 // Initial estimate in the multi-robot layout. For a single robot (view.with_anchors false) anchors has one
 // identity entry. `supplied` may be null unless o.initial_guess == supplied.
 template <class D>
-typename D::MultiEstimate initial_view(const RobotsView<D>& view, const std::vector<typename D::Pose>& given_anchors,
-                                       const Options& o, const typename D::MultiEstimate* supplied);
+typename D::MultiEstimate initial_view(const RobotsView<D>& view,
+                                       const std::vector<typename D::Pose>& given_anchors, const Options& o,
+                                       const typename D::MultiEstimate* supplied);
 
 // Views of the public graph types.
 RobotsView<D2> view_of(const graph::PoseGraph2D& g);

@@ -1,7 +1,9 @@
-// Manhattan3500 (Olson et al. 2006; iSAM text file, 3500 poses, 5598 edges): the optimizer on real benchmark data.
+// Manhattan3500 (Olson et al. 2006; iSAM text file, 3500 poses, 5598 edges): the optimizer on real benchmark
+// data.
 //  * noise-free ground-truth edges, started from the noisy odometry chain → the ground-truth poses to ~1e-6;
 //  * the noisy file from the odometry chain → the optimum reached from ground truth, normalized χ² ≈ 1.
-// The files are found through the dataset manifest (keel::graph::resolve_dataset_file) and read by keel::graph.
+// The files are found through the dataset manifest (keel::graph::resolve_dataset_file) and read by
+// keel::graph.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -27,9 +29,12 @@ double max_error(const std::vector<lie::SE2>& a, const std::vector<lie::SE2>& b)
 
 }  // namespace
 
-TEST_CASE("Manhattan3500: noise-free edges from the noisy odometry guess recover ground truth; real data optimum") {
-  const auto noisy = graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
-  // Noise-free edges printed with 6 digits: snapped to the grid (0.5 m, π/2) they chain to the exact ground truth.
+TEST_CASE(
+    "Manhattan3500: noise-free edges from the noisy odometry guess recover ground truth; real data optimum") {
+  const auto noisy =
+      graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+  // Noise-free edges printed with 6 digits: snapped to the grid (0.5 m, π/2) they chain to the exact ground
+  // truth.
   const auto gt = graph::read_isam_ground_truth_2d(
       graph::resolve_dataset_file("manhattan3500", "isam/groundtruth/manhattanOlson3500_groundtruth.txt"),
       graph::GroundTruthOptions{0.5, lie::kPi / 2, 1e-5});
@@ -40,7 +45,8 @@ TEST_CASE("Manhattan3500: noise-free edges from the noisy odometry guess recover
   CHECK(gt.max_edge_rotation_error < 1e-12);
   const std::vector<lie::SE2>& truth = gt.poses;
 
-  // Ground-truth measurements on the noisy file's edges and information (the files have the same (i, j) sequence).
+  // Ground-truth measurements on the noisy file's edges and information (the files have the same (i, j)
+  // sequence).
   graph::PoseGraph2D exact = noisy;
   for (auto& e : exact.edges) e.measurement = truth[e.i].inverse() * truth[e.j];
   Options o;
@@ -68,10 +74,11 @@ TEST_CASE("Manhattan3500: noise-free edges from the noisy odometry guess recover
     from_truth.initial_guess = InitialGuess::supplied;
     const Estimate2D truth_guess{truth, {}};
     const Result2D best = optimize(noisy, from_truth, &truth_guess);
-    MESSAGE("Manhattan3500 from odometry: initial cost " << r.summary.initial_cost << ", final cost "
-            << r.summary.final_cost << ", iterations " << r.summary.iterations << ", normalized chi2 "
-            << r.summary.normalized_chi2 << ", time " << r.summary.total_time_s << " s, max pose error vs truth "
-            << max_error(r.estimate.poses, truth) << "; from ground truth: final cost " << best.summary.final_cost);
+    MESSAGE("Manhattan3500 from odometry: initial cost "
+            << r.summary.initial_cost << ", final cost " << r.summary.final_cost << ", iterations "
+            << r.summary.iterations << ", normalized chi2 " << r.summary.normalized_chi2 << ", time "
+            << r.summary.total_time_s << " s, max pose error vs truth " << max_error(r.estimate.poses, truth)
+            << "; from ground truth: final cost " << best.summary.final_cost);
     CHECK(r.summary.termination == Termination::converged);
     CHECK(r.summary.final_cost < 1e-3 * r.summary.initial_cost);
     CHECK(r.summary.final_cost == doctest::Approx(best.summary.final_cost).epsilon(1e-5));

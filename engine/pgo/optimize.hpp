@@ -4,15 +4,15 @@
 //   pose–pose edge (i, j):  E = z⁻¹ T_i⁻¹ T_j;  2D r = (x_E, y_E, wrap(θ_E)),  3D r = (t_E, Log R_E);
 //   2D landmark:            r = R_iᵀ (l − t_i) − z;
 //   inter-robot edge:       the pose–pose residual of Δ_a T^a_i and Δ_b T^b_j (multi_robot.hpp).
-// Each residual is whitened by the Cholesky factor U of its information (Ω = UᵀU, whitened r = U r) and ρ_e is the
-// robust kernel (robust.hpp) for edges in Options::robust_scope, the identity for the others. Poses in
+// Each residual is whitened by the Cholesky factor U of its information (Ω = UᵀU, whitened r = U r) and ρ_e
+// is the robust kernel (robust.hpp) for edges in Options::robust_scope, the identity for the others. Poses in
 // Options::constant_poses (and robot 0's anchor) are held constant: the gauge.
 //
-// Parameterization (solver side only): 2D poses are (x, y, θ) with θ wrapped on every update; 3D poses are a unit
-// quaternion and a translation, updated on SO(3) × R³ (Ceres' EigenQuaternionManifold and EuclideanManifold<3>).
-// The solver is Ceres 2.1 (only the .cpp files see it). Errors in the inputs (indices out of range, information
-// not positive semi-definite, estimate sizes) throw std::invalid_argument naming the edge (and its source line);
-// solver failures come back in Summary::termination / message.
+// Parameterization (solver side only): 2D poses are (x, y, θ) with θ wrapped on every update; 3D poses are a
+// unit quaternion and a translation, updated on SO(3) × R³ (Ceres' EigenQuaternionManifold and
+// EuclideanManifold<3>). The solver is Ceres 2.1 (only the .cpp files see it). Errors in the inputs (indices
+// out of range, information not positive semi-definite, estimate sizes) throw std::invalid_argument naming
+// the edge (and its source line); solver failures come back in Summary::termination / message.
 #pragma once
 
 #include <string>
@@ -39,8 +39,8 @@ struct Estimate3D {
 };
 
 struct MultiRobotEstimate2D {
-  std::vector<lie::SE2> anchors;    // Δ_r, the pose of robot r's local frame in the global frame
-  std::vector<Estimate2D> robots;   // local poses and landmarks of each robot
+  std::vector<lie::SE2> anchors;   // Δ_r, the pose of robot r's local frame in the global frame
+  std::vector<Estimate2D> robots;  // local poses and landmarks of each robot
 };
 
 struct MultiRobotEstimate3D {
@@ -77,18 +77,21 @@ struct IterationRecord {
 
 struct Summary {
   Termination termination = Termination::failure;
-  std::string message;          // the solver's reason for stopping
-  double initial_cost = 0.0;    // ½ Σ ρ(χ²) at the initial estimate
-  double final_cost = 0.0;      // ½ Σ ρ(χ²) at the solution
-  double final_chi2 = 0.0;      // Σ χ² at the solution, without the kernel (= 2·final_cost when no kernel applies)
-  int residual_dimension = 0;   // Σ of the residual sizes (3 per 2D edge, 2 per landmark measurement, 6 per 3D edge)
-  int free_parameter_dimension = 0;  // tangent dimensions of the free unknowns that appear in some residual
-                                     // (3 per 2D pose, 2 per landmark, 6 per 3D pose or anchor; constant ones excluded)
-  // Normalized χ² = 2·final_cost / (residual_dimension − free_parameter_dimension): the cost per degree of freedom,
-  // ≈ 1 when the noise model is right (thesis §2.7 "Chi2"). With a robust kernel it uses the robustified cost
-  // (use final_chi2 for the plain one). NaN when there are no degrees of freedom.
+  std::string message;        // the solver's reason for stopping
+  double initial_cost = 0.0;  // ½ Σ ρ(χ²) at the initial estimate
+  double final_cost = 0.0;    // ½ Σ ρ(χ²) at the solution
+  double final_chi2 =
+      0.0;  // Σ χ² at the solution, without the kernel (= 2·final_cost when no kernel applies)
+  int residual_dimension =
+      0;  // Σ of the residual sizes (3 per 2D edge, 2 per landmark measurement, 6 per 3D edge)
+  int free_parameter_dimension =
+      0;  // tangent dimensions of the free unknowns that appear in some residual
+          // (3 per 2D pose, 2 per landmark, 6 per 3D pose or anchor; constant ones excluded)
+  // Normalized χ² = 2·final_cost / (residual_dimension − free_parameter_dimension): the cost per degree of
+  // freedom, ≈ 1 when the noise model is right (thesis §2.7 "Chi2"). With a robust kernel it uses the
+  // robustified cost (use final_chi2 for the plain one). NaN when there are no degrees of freedom.
   double normalized_chi2 = 0.0;
-  int iterations = 0;           // trust-region iterations (successful + unsuccessful steps)
+  int iterations = 0;  // trust-region iterations (successful + unsuccessful steps)
   int successful_steps = 0;
   int unsuccessful_steps = 0;
   // Time in seconds: total, and the solver's phases (preprocessing, minimization, postprocessing; inside the
@@ -133,38 +136,42 @@ struct MultiRobotResult3D {
 };
 
 // ---------------------------------------------------------------------------------------------------------------
-// The initial estimate that optimize() starts from (Options::initial_guess, seed, random_extent, anchor_guess).
-// The number of poses is max(graph.poses.size(), 1 + the largest pose index used); landmarks likewise. Landmarks
-// come from graph.landmarks (as_read) or supplied->landmarks (supplied) when those have the right size, otherwise
-// from their first measurement at the initial pose (l = T_i z). `supplied` is required for InitialGuess::supplied.
+// The initial estimate that optimize() starts from (Options::initial_guess, seed, random_extent,
+// anchor_guess). The number of poses is max(graph.poses.size(), 1 + the largest pose index used); landmarks
+// likewise. Landmarks come from graph.landmarks (as_read) or supplied->landmarks (supplied) when those have
+// the right size, otherwise from their first measurement at the initial pose (l = T_i z). `supplied` is
+// required for InitialGuess::supplied.
 [[nodiscard]] Estimate2D initial_estimate(const graph::PoseGraph2D& graph, const Options& options,
-                            const Estimate2D* supplied = nullptr);
+                                          const Estimate2D* supplied = nullptr);
 [[nodiscard]] Estimate3D initial_estimate(const graph::PoseGraph3D& graph, const Options& options,
-                            const Estimate3D* supplied = nullptr);
+                                          const Estimate3D* supplied = nullptr);
 // Multi-robot: robot r's local estimate as above (random: stream r); anchors by Options::anchor_guess, or
 // supplied->anchors under InitialGuess::supplied.
 [[nodiscard]] MultiRobotEstimate2D initial_estimate(const MultiRobotGraph2D& graph, const Options& options,
-                                      const MultiRobotEstimate2D* supplied = nullptr);
+                                                    const MultiRobotEstimate2D* supplied = nullptr);
 [[nodiscard]] MultiRobotEstimate3D initial_estimate(const MultiRobotGraph3D& graph, const Options& options,
-                                      const MultiRobotEstimate3D* supplied = nullptr);
+                                                    const MultiRobotEstimate3D* supplied = nullptr);
 
 // One batch solve. Throws std::invalid_argument for invalid options or graphs (see above).
-[[nodiscard]] Result2D optimize(const graph::PoseGraph2D& graph, const Options& options = {}, const Estimate2D* supplied = nullptr);
-[[nodiscard]] Result3D optimize(const graph::PoseGraph3D& graph, const Options& options = {}, const Estimate3D* supplied = nullptr);
+[[nodiscard]] Result2D optimize(const graph::PoseGraph2D& graph, const Options& options = {},
+                                const Estimate2D* supplied = nullptr);
+[[nodiscard]] Result3D optimize(const graph::PoseGraph3D& graph, const Options& options = {},
+                                const Estimate3D* supplied = nullptr);
 [[nodiscard]] MultiRobotResult2D optimize(const MultiRobotGraph2D& graph, const Options& options = {},
-                            const MultiRobotEstimate2D* supplied = nullptr);
+                                          const MultiRobotEstimate2D* supplied = nullptr);
 [[nodiscard]] MultiRobotResult3D optimize(const MultiRobotGraph3D& graph, const Options& options = {},
-                            const MultiRobotEstimate3D* supplied = nullptr);
+                                          const MultiRobotEstimate3D* supplied = nullptr);
 
 // ---------------------------------------------------------------------------------------------------------------
-// The residuals and cost of a graph at a given estimate, without solving (no Ceres involved). The kernel, its scope
-// and the gauge (for the degrees of freedom) are taken from `options`; everything else in it is ignored.
+// The residuals and cost of a graph at a given estimate, without solving (no Ceres involved). The kernel, its
+// scope and the gauge (for the degrees of freedom) are taken from `options`; everything else in it is
+// ignored.
 struct Evaluation {
-  double cost = 0.0;                 // ½ Σ ρ(χ²): what optimize() minimizes (its Summary::final_cost at a solution)
-  double chi2 = 0.0;                 // Σ χ² without the kernel
-  int residual_dimension = 0;        // as in Summary
+  double cost = 0.0;           // ½ Σ ρ(χ²): what optimize() minimizes (its Summary::final_cost at a solution)
+  double chi2 = 0.0;           // Σ χ² without the kernel
+  int residual_dimension = 0;  // as in Summary
   int free_parameter_dimension = 0;  // as in Summary
-  double normalized_chi2 = 0.0;      // 2·cost / (residual_dimension − free_parameter_dimension); NaN if ≤ 0 dof
+  double normalized_chi2 = 0.0;  // 2·cost / (residual_dimension − free_parameter_dimension); NaN if ≤ 0 dof
 };
 
 struct Evaluation2D : Evaluation {
@@ -180,7 +187,7 @@ struct Evaluation3D : Evaluation {
 };
 
 struct MultiRobotEvaluation2D : Evaluation {
-  std::vector<Evaluation2D> robots;             // per robot (their cost/chi2 fields cover that robot's measurements)
+  std::vector<Evaluation2D> robots;  // per robot (their cost/chi2 fields cover that robot's measurements)
   std::vector<lie::Vec3> inter_robot_residuals;
   std::vector<EdgeReport> inter_robot_edges;
 };
@@ -191,11 +198,13 @@ struct MultiRobotEvaluation3D : Evaluation {
   std::vector<EdgeReport> inter_robot_edges;
 };
 
-[[nodiscard]] Evaluation2D evaluate(const graph::PoseGraph2D& graph, const Estimate2D& at, const Options& options = {});
-[[nodiscard]] Evaluation3D evaluate(const graph::PoseGraph3D& graph, const Estimate3D& at, const Options& options = {});
+[[nodiscard]] Evaluation2D evaluate(const graph::PoseGraph2D& graph, const Estimate2D& at,
+                                    const Options& options = {});
+[[nodiscard]] Evaluation3D evaluate(const graph::PoseGraph3D& graph, const Estimate3D& at,
+                                    const Options& options = {});
 [[nodiscard]] MultiRobotEvaluation2D evaluate(const MultiRobotGraph2D& graph, const MultiRobotEstimate2D& at,
-                                const Options& options = {});
+                                              const Options& options = {});
 [[nodiscard]] MultiRobotEvaluation3D evaluate(const MultiRobotGraph3D& graph, const MultiRobotEstimate3D& at,
-                                const Options& options = {});
+                                              const Options& options = {});
 
 }  // namespace keel::pgo

@@ -1,5 +1,6 @@
-// optimize(): recovery of ground truth on noise-free synthetic graphs (2D with landmarks, 3D), robust kernels against
-// a gross outlier, anchors of two robots, deterministic random initial guesses, options and input errors.
+// optimize(): recovery of ground truth on noise-free synthetic graphs (2D with landmarks, 3D), robust kernels
+// against a gross outlier, anchors of two robots, deterministic random initial guesses, options and input
+// errors.
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
@@ -47,14 +48,17 @@ graph::Edge2 edge2(const std::vector<lie::SE2>& T, int i, int j, const lie::Mat3
   return e;
 }
 
-// Noise-free 2D graph: odometry, loop closures one and two laps back and a few chords, landmarks seen from nearby.
-graph::PoseGraph2D synthetic_2d(const std::vector<lie::SE2>& T, const std::vector<lie::Vec2>& L, core::Rng& rng,
-                                double info_scale = 50.0) {
+// Noise-free 2D graph: odometry, loop closures one and two laps back and a few chords, landmarks seen from
+// nearby.
+graph::PoseGraph2D synthetic_2d(const std::vector<lie::SE2>& T, const std::vector<lie::Vec2>& L,
+                                core::Rng& rng, double info_scale = 50.0) {
   graph::PoseGraph2D g;
   const int n = static_cast<int>(T.size());
-  for (int k = 0; k + 1 < n; ++k) g.edges.push_back(edge2(T, k, k + 1, random_information<3>(rng, info_scale)));
+  for (int k = 0; k + 1 < n; ++k)
+    g.edges.push_back(edge2(T, k, k + 1, random_information<3>(rng, info_scale)));
   for (int k = 20; k < n; ++k) g.edges.push_back(edge2(T, k - 20, k, random_information<3>(rng, info_scale)));
-  for (int k = 0; k + 7 < n; k += 5) g.edges.push_back(edge2(T, k, k + 7, random_information<3>(rng, info_scale)));
+  for (int k = 0; k + 7 < n; k += 5)
+    g.edges.push_back(edge2(T, k, k + 7, random_information<3>(rng, info_scale)));
   for (int k = 0; k < n; ++k)
     for (int l = 0; l < static_cast<int>(L.size()); ++l)
       if ((T[k].translation() - L[l]).norm() < 9.0) {
@@ -129,7 +133,8 @@ double max_error(const std::vector<lie::SE2>& a, const std::vector<lie::SE2>& b)
 
 double max_error(const std::vector<lie::SE3>& a, const std::vector<lie::SE3>& b) {
   double worst = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, (b[k].inverse() * a[k]).log().cwiseAbs().maxCoeff());
+  for (std::size_t k = 0; k < a.size(); ++k)
+    worst = std::max(worst, (b[k].inverse() * a[k]).log().cwiseAbs().maxCoeff());
   return worst;
 }
 
@@ -170,11 +175,13 @@ TEST_CASE("2D noise-free graph with loops and landmarks: ground truth recovered 
   CHECK(r.summary.final_cost < 1e-16);
   CHECK(max_error(r.estimate.poses, T) < 1e-6);
   double lm_err = 0.0;
-  for (std::size_t l = 0; l < L.size(); ++l) lm_err = std::max(lm_err, (r.estimate.landmarks[l] - L[l]).norm());
+  for (std::size_t l = 0; l < L.size(); ++l)
+    lm_err = std::max(lm_err, (r.estimate.landmarks[l] - L[l]).norm());
   CHECK(lm_err < 1e-6);
   CHECK(r.estimate.poses[0].is_approx(T[0], 0.0));  // the gauge pose did not move
   // Dimensions: 3 per edge + 2 per landmark measurement; 3 per free pose (59) + 2 per landmark.
-  CHECK(r.summary.residual_dimension == static_cast<int>(3 * g.edges.size() + 2 * g.landmark_measurements.size()));
+  CHECK(r.summary.residual_dimension ==
+        static_cast<int>(3 * g.edges.size() + 2 * g.landmark_measurements.size()));
   CHECK(r.summary.free_parameter_dimension == 3 * 59 + 2 * 8);
   CHECK(r.edges.size() == g.edges.size());
   CHECK(r.landmark_edges.size() == g.landmark_measurements.size());
@@ -207,7 +214,8 @@ TEST_CASE("3D noise-free graph with loops: ground truth recovered from a perturb
   CHECK(max_error(d.estimate.poses, T) < 1e-6);
 }
 
-TEST_CASE("noisy 2D graph: evaluate() agrees with the solver's cost; normalized χ² ≈ 1 for the right noise model") {
+TEST_CASE(
+    "noisy 2D graph: evaluate() agrees with the solver's cost; normalized χ² ≈ 1 for the right noise model") {
   core::Rng rng(3);
   const auto T = circle_truth(200, 30.0);
   graph::PoseGraph2D g = synthetic_2d(T, {}, rng, 100.0);
@@ -262,8 +270,9 @@ TEST_CASE("a gross outlier loop closure: DCS switches it off, no kernel and Hube
   o.robust_parameter = 5.0;
   const Result2D dcs = optimize(g, o);
 
-  MESSAGE("max pose error: none " << max_error(plain.estimate.poses, T) << ", huber " << max_error(huber.estimate.poses, T)
-                                  << ", dcs " << max_error(dcs.estimate.poses, T) << "; DCS scale of the outlier "
+  MESSAGE("max pose error: none " << max_error(plain.estimate.poses, T) << ", huber "
+                                  << max_error(huber.estimate.poses, T) << ", dcs "
+                                  << max_error(dcs.estimate.poses, T) << "; DCS scale of the outlier "
                                   << dcs.edges[k_out].scale);
   CHECK(max_error(plain.estimate.poses, T) > 0.05);
   CHECK(max_error(huber.estimate.poses, T) > 1e-2);
@@ -330,7 +339,8 @@ TEST_CASE("two robots with an unknown offset: anchors recover it (2D)") {
   oa.anchor_guess = AnchorGuess::inter_robot_edges;
   CHECK(initial_estimate(exact, oa).anchors[1].is_approx(delta_b, 1e-9));
   CHECK(initial_estimate(exact, Options{}).anchors[1].is_approx(lie::SE2(), 0.0));
-  CHECK(evaluate(exact, MultiRobotEstimate2D{{lie::SE2(), delta_b}, {{localA, {}}, {localB, {}}}}, oa).cost < 1e-20);
+  CHECK(evaluate(exact, MultiRobotEstimate2D{{lie::SE2(), delta_b}, {{localA, {}}, {localB, {}}}}, oa).cost <
+        1e-20);
 }
 
 TEST_CASE("two robots with an unknown offset: anchors recover it (3D)") {
@@ -387,7 +397,8 @@ TEST_CASE("random initial guess: deterministic for a seed, different across seed
   CHECK(a.poses[0].is_approx(T[0], 0.0));
   o.seed = 42;
   const Result2D r1 = optimize(g, o), r2 = optimize(g, o);
-  for (std::size_t k = 0; k < T.size(); ++k) CHECK(r1.estimate.poses[k].matrix() == r2.estimate.poses[k].matrix());
+  for (std::size_t k = 0; k < T.size(); ++k)
+    CHECK(r1.estimate.poses[k].matrix() == r2.estimate.poses[k].matrix());
   CHECK(r1.summary.final_cost == r2.summary.final_cost);
   CHECK(r1.summary.iterations == r2.summary.iterations);
 }
@@ -424,11 +435,11 @@ TEST_CASE("Options: validate names the violated constraint; enums round-trip thr
   o = {};
   o.max_time_s = 0.0;
   fails_with(o, "max_time_s must be > 0");
-
 }
 
 TEST_CASE("Options enums round-trip through their names; an unknown name is an error naming the valid ones") {
-  // Every enumerator back through <enum>_from_string, then a bad name whose error names the type and every name.
+  // Every enumerator back through <enum>_from_string, then a bad name whose error names the type and every
+  // name.
   auto round_trip = [](auto parse, const char* type, const char* valid, auto... values) {
     for (auto v : {values...}) CHECK(parse(to_string(v)) == v);
     const std::string expected = fmt::format("unknown {} 'bogus' (valid: {})", type, valid);
@@ -439,8 +450,9 @@ TEST_CASE("Options enums round-trip through their names; an unknown name is an e
   round_trip(linear_solver_from_string, "pgo::LinearSolver",
              "sparse_normal_cholesky, sparse_schur, dense_normal_cholesky, dense_qr, dense_schur, cgnr, "
              "iterative_schur",
-             LinearSolver::sparse_normal_cholesky, LinearSolver::sparse_schur, LinearSolver::dense_normal_cholesky,
-             LinearSolver::dense_qr, LinearSolver::dense_schur, LinearSolver::cgnr, LinearSolver::iterative_schur);
+             LinearSolver::sparse_normal_cholesky, LinearSolver::sparse_schur,
+             LinearSolver::dense_normal_cholesky, LinearSolver::dense_qr, LinearSolver::dense_schur,
+             LinearSolver::cgnr, LinearSolver::iterative_schur);
   round_trip(sparse_library_from_string, "pgo::SparseLibrary", "suite_sparse, eigen_sparse, cx_sparse",
              SparseLibrary::suite_sparse, SparseLibrary::eigen_sparse, SparseLibrary::cx_sparse);
   round_trip(initial_guess_from_string, "pgo::InitialGuess", "as_read, odometry, supplied, random",
@@ -449,8 +461,8 @@ TEST_CASE("Options enums round-trip through their names; an unknown name is an e
              RobustKernel::huber, RobustKernel::cauchy, RobustKernel::dcs);
   round_trip(robust_scope_from_string, "pgo::RobustScope", "all_edges, loop_closures, inter_robot",
              RobustScope::all_edges, RobustScope::loop_closures, RobustScope::inter_robot);
-  round_trip(anchor_guess_from_string, "pgo::AnchorGuess", "as_given, inter_robot_edges", AnchorGuess::as_given,
-             AnchorGuess::inter_robot_edges);
+  round_trip(anchor_guess_from_string, "pgo::AnchorGuess", "as_given, inter_robot_edges",
+             AnchorGuess::as_given, AnchorGuess::inter_robot_edges);
   round_trip(termination_from_string, "pgo::Termination", "converged, no_convergence, failure",
              Termination::converged, Termination::no_convergence, Termination::failure);
   // Names match exactly.
@@ -477,12 +489,15 @@ TEST_CASE("input errors come back as exceptions naming the problem") {
   o = {};
   g.edges[3].information(1, 1) = -5.0;
   g.edges[3].line = 17;
-  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("edge 3 (line 17 of 'synthetic_2d')"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("edge 3 (line 17 of 'synthetic_2d')"),
+                       std::invalid_argument);
   g = synthetic_2d(T, {}, rng);
   g.poses.clear();
-  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("initial_guess = as_read"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("initial_guess = as_read"),
+                       std::invalid_argument);
   o.initial_guess = InitialGuess::odometry;
   CHECK(optimize(g, o).summary.termination == Termination::converged);  // pose 0 = identity, chained
-  g.edges.erase(g.edges.begin() + 4);  // the odometry edge (4, 5)
-  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("no edge between poses 4 and 5"), std::invalid_argument);
+  g.edges.erase(g.edges.begin() + 4);                                   // the odometry edge (4, 5)
+  CHECK_THROWS_WITH_AS((void)optimize(g, o), doctest::Contains("no edge between poses 4 and 5"),
+                       std::invalid_argument);
 }

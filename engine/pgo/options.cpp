@@ -14,17 +14,17 @@ namespace keel::pgo {
 namespace {
 
 // One name table per enum: to_string and <enum>_from_string read the same table, so they cannot disagree.
-constexpr core::NameTable<Method, 2> kMethod{"pgo::Method",
-                                             {{{Method::levenberg_marquardt, "levenberg_marquardt"},
-                                               {Method::dogleg, "dogleg"}}}};
-constexpr core::NameTable<LinearSolver, 7> kLinearSolver{"pgo::LinearSolver",
-                                                         {{{LinearSolver::sparse_normal_cholesky, "sparse_normal_cholesky"},
-                                                           {LinearSolver::sparse_schur, "sparse_schur"},
-                                                           {LinearSolver::dense_normal_cholesky, "dense_normal_cholesky"},
-                                                           {LinearSolver::dense_qr, "dense_qr"},
-                                                           {LinearSolver::dense_schur, "dense_schur"},
-                                                           {LinearSolver::cgnr, "cgnr"},
-                                                           {LinearSolver::iterative_schur, "iterative_schur"}}}};
+constexpr core::NameTable<Method, 2> kMethod{
+    "pgo::Method", {{{Method::levenberg_marquardt, "levenberg_marquardt"}, {Method::dogleg, "dogleg"}}}};
+constexpr core::NameTable<LinearSolver, 7> kLinearSolver{
+    "pgo::LinearSolver",
+    {{{LinearSolver::sparse_normal_cholesky, "sparse_normal_cholesky"},
+      {LinearSolver::sparse_schur, "sparse_schur"},
+      {LinearSolver::dense_normal_cholesky, "dense_normal_cholesky"},
+      {LinearSolver::dense_qr, "dense_qr"},
+      {LinearSolver::dense_schur, "dense_schur"},
+      {LinearSolver::cgnr, "cgnr"},
+      {LinearSolver::iterative_schur, "iterative_schur"}}}};
 constexpr core::NameTable<SparseLibrary, 3> kSparseLibrary{"pgo::SparseLibrary",
                                                            {{{SparseLibrary::suite_sparse, "suite_sparse"},
                                                              {SparseLibrary::eigen_sparse, "eigen_sparse"},
@@ -43,15 +43,17 @@ constexpr core::NameTable<RobustScope, 3> kRobustScope{"pgo::RobustScope",
                                                        {{{RobustScope::all_edges, "all_edges"},
                                                          {RobustScope::loop_closures, "loop_closures"},
                                                          {RobustScope::inter_robot, "inter_robot"}}}};
-constexpr core::NameTable<AnchorGuess, 2> kAnchorGuess{"pgo::AnchorGuess",
-                                                       {{{AnchorGuess::as_given, "as_given"},
-                                                         {AnchorGuess::inter_robot_edges, "inter_robot_edges"}}}};
+constexpr core::NameTable<AnchorGuess, 2> kAnchorGuess{
+    "pgo::AnchorGuess",
+    {{{AnchorGuess::as_given, "as_given"}, {AnchorGuess::inter_robot_edges, "inter_robot_edges"}}}};
 constexpr core::NameTable<Termination, 3> kTermination{"pgo::Termination",
                                                        {{{Termination::converged, "converged"},
                                                          {Termination::no_convergence, "no_convergence"},
                                                          {Termination::failure, "failure"}}}};
 
-[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo::Options: {}", what)); }
+[[noreturn]] void fail(const std::string& what) {
+  throw std::invalid_argument(fmt::format("pgo::Options: {}", what));
+}
 
 }  // namespace
 
@@ -83,22 +85,27 @@ void Options::validate() const {
   if (!(parameter_tolerance >= 0.0))
     fail(fmt::format("parameter_tolerance must be >= 0 (got {})", parameter_tolerance));
   if (initial_guess == InitialGuess::random && !(random_extent > 0.0 && std::isfinite(random_extent)))
-    fail(fmt::format("random_extent must be finite and > 0 for initial_guess = random (got {})", random_extent));
+    fail(fmt::format("random_extent must be finite and > 0 for initial_guess = random (got {})",
+                     random_extent));
   if (robust_kernel != RobustKernel::none && !(robust_parameter > 0.0 && std::isfinite(robust_parameter)))
     fail(fmt::format("robust_parameter must be finite and > 0 for robust_kernel = {} (got {})",
                      to_string(robust_kernel), robust_parameter));
   for (int k : constant_poses)
     if (k < 0) fail(fmt::format("constant_poses must hold pose indices >= 0 (got {})", k));
-  if (method == Method::dogleg && (linear_solver == LinearSolver::cgnr || linear_solver == LinearSolver::iterative_schur))
-    fail(fmt::format("method = dogleg needs a factorization-based linear_solver (got {})", to_string(linear_solver)));
-  const bool sparse = linear_solver == LinearSolver::sparse_normal_cholesky || linear_solver == LinearSolver::sparse_schur;
+  if (method == Method::dogleg &&
+      (linear_solver == LinearSolver::cgnr || linear_solver == LinearSolver::iterative_schur))
+    fail(fmt::format("method = dogleg needs a factorization-based linear_solver (got {})",
+                     to_string(linear_solver)));
+  const bool sparse =
+      linear_solver == LinearSolver::sparse_normal_cholesky || linear_solver == LinearSolver::sparse_schur;
   if (sparse) {
     const ceres::SparseLinearAlgebraLibraryType lib =
         sparse_library == SparseLibrary::suite_sparse   ? ceres::SUITE_SPARSE
         : sparse_library == SparseLibrary::eigen_sparse ? ceres::EIGEN_SPARSE
                                                         : ceres::CX_SPARSE;
     if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(lib))
-      fail(fmt::format("sparse_library = {} is not available in this Ceres build", to_string(sparse_library)));
+      fail(
+          fmt::format("sparse_library = {} is not available in this Ceres build", to_string(sparse_library)));
   }
 }
 

@@ -1,9 +1,10 @@
-// keel.pgo — the curated facade of engine/pgo: batch maximum-likelihood pose-graph SLAM (thesis eq. 2.1), several
-// robots with anchor nodes (Kim et al. 2010; thesis §2.3, eq. 2.2), robust kernels including Dynamic Covariance
-// Scaling (Agarwal et al. 2013; thesis §2.7), and the residual/cost of a graph at given poses.
-// Facade rules (docs/DESIGN.md): includes in the global module fragment (the public headers only: they include the
-// graph/lie headers and the standard library, never Ceres), using-declarations in the export block, no import of
-// another facade. Consumers also import keel.lie (SE2, SE3, ...) and keel.graph (PoseGraph2D, readers) themselves.
+// keel.pgo — the curated facade of engine/pgo: batch maximum-likelihood pose-graph SLAM (thesis eq. 2.1),
+// several robots with anchor nodes (Kim et al. 2010; thesis §2.3, eq. 2.2), robust kernels including Dynamic
+// Covariance Scaling (Agarwal et al. 2013; thesis §2.7), and the residual/cost of a graph at given poses.
+// Facade rules (docs/DESIGN.md): includes in the global module fragment (the public headers only: they
+// include the graph/lie headers and the standard library, never Ceres), using-declarations in the export
+// block, no import of another facade. Consumers also import keel.lie (SE2, SE3, ...) and keel.graph
+// (PoseGraph2D, readers) themselves.
 module;
 #include "pgo/multi_robot.hpp"
 #include "pgo/optimize.hpp"

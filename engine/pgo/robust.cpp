@@ -36,7 +36,7 @@ Rho robust_rho(RobustKernel kernel, double a, double s) {
         r = {s, 1.0, 0.0};
       } else {
         const double d = phi + s;
-        const double q = 2.0 * phi / d;  // the DCS scale s (< 1 here)
+        const double q = 2.0 * phi / d;                                  // the DCS scale s (< 1 here)
         r = {3.0 * phi - 4.0 * phi * phi / d, q * q, -2.0 * q * q / d};  // ρ'' = −8φ²/d³ = −2 (2φ/d)² / d
       }
       break;

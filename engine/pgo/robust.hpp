@@ -4,8 +4,8 @@
 // ρ'(χ²) · Jᵀ Ω r and ρ'(χ²) is the weight iteratively reweighted least squares would give it. A kernel is
 // "quadratic" (ρ(χ²) = χ²) where it trusts the measurement.
 //
-// Dynamic Covariance Scaling (Agarwal, Tipaldi, Spinello, Stachniss, Burgard, ICRA 2013; thesis §2.7 uses φ = 5).
-// DCS scales the whitened residual of an edge by
+// Dynamic Covariance Scaling (Agarwal, Tipaldi, Spinello, Stachniss, Burgard, ICRA 2013; thesis §2.7 uses φ =
+// 5). DCS scales the whitened residual of an edge by
 //     s = min(1, 2φ / (φ + χ²)),
 // i.e. its information by s². Read as an M-estimator, that is the kernel whose IRLS weight is s²:
 //     ρ'(χ²) = s² = 1                      for χ² ≤ φ,
@@ -15,14 +15,14 @@
 //     χ² > φ:  ρ = C − 4φ²/(φ + χ²), and C − 4φ²/(2φ) = φ gives C = 3φ, so
 //              ρ = 3φ − 4φ²/(φ + χ²) = φ (3χ² − φ) / (φ + χ²),
 //     ρ'' = 0 for χ² < φ and −8φ² / (φ + χ²)³ for χ² > φ.
-// ρ, ρ' are continuous at φ (ρ' = 1 on both sides); ρ'' jumps from 0 to −1/φ there. ρ is bounded by 3φ, so a gross
-// outlier contributes at most 3φ/2 to the cost and its weight s² → 0 (redescending, like Geman–McClure, of which
-// DCS is closely related, as Agarwal et al. discuss). DCS as published freezes s at each linearization point and
-// minimizes Σ s² χ² — iteratively reweighted least squares with weight s². A fixed point of that iteration has
-// Σ s² ∇χ² = 0, which is exactly a stationary point of ½ Σ ρ(χ²) with ρ' = s²: so minimizing this ρ with Ceres
-// finds the DCS solutions. Ceres applies its curvature (Triggs) correction only where ρ'' > 0; DCS has ρ'' ≤ 0
-// everywhere, so each Ceres step scales the edge's whitened residual and Jacobian by √ρ' = s — the DCS step itself —
-// while step acceptance uses the cost ½ Σ ρ(χ²).
+// ρ, ρ' are continuous at φ (ρ' = 1 on both sides); ρ'' jumps from 0 to −1/φ there. ρ is bounded by 3φ, so a
+// gross outlier contributes at most 3φ/2 to the cost and its weight s² → 0 (redescending, like Geman–McClure,
+// of which DCS is closely related, as Agarwal et al. discuss). DCS as published freezes s at each
+// linearization point and minimizes Σ s² χ² — iteratively reweighted least squares with weight s². A fixed
+// point of that iteration has Σ s² ∇χ² = 0, which is exactly a stationary point of ½ Σ ρ(χ²) with ρ' = s²: so
+// minimizing this ρ with Ceres finds the DCS solutions. Ceres applies its curvature (Triggs) correction only
+// where ρ'' > 0; DCS has ρ'' ≤ 0 everywhere, so each Ceres step scales the edge's whitened residual and
+// Jacobian by √ρ' = s — the DCS step itself — while step acceptance uses the cost ½ Σ ρ(χ²).
 #pragma once
 
 #include "pgo/options.hpp"

@@ -1,4 +1,5 @@
-// Robust kernels: DCS ρ, ρ', ρ'' (derived in robust.hpp) checked numerically; ρ' = s² for DCS; Huber and Cauchy.
+// Robust kernels: DCS ρ, ρ', ρ'' (derived in robust.hpp) checked numerically; ρ' = s² for DCS; Huber and
+// Cauchy.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -17,8 +18,12 @@ void check_derivatives(RobustKernel kernel, double a, double x) {
   const double h = 1e-5 * std::max(1.0, x);
   const Rho r = robust_rho(kernel, a, x);
   // ρ and ρ' as functions R¹ → R¹ for the shared central-difference Jacobian.
-  auto rho = [&](const testkit::VecX& v) { return testkit::VecX::Constant(1, robust_rho(kernel, a, v(0)).rho); };
-  auto d1 = [&](const testkit::VecX& v) { return testkit::VecX::Constant(1, robust_rho(kernel, a, v(0)).d1); };
+  auto rho = [&](const testkit::VecX& v) {
+    return testkit::VecX::Constant(1, robust_rho(kernel, a, v(0)).rho);
+  };
+  auto d1 = [&](const testkit::VecX& v) {
+    return testkit::VecX::Constant(1, robust_rho(kernel, a, v(0)).d1);
+  };
   const testkit::VecX at = testkit::VecX::Constant(1, x);
   CAPTURE(x);
   CHECK(testkit::numerical_jacobian(rho, at, h)(0, 0) == doctest::Approx(r.d1).epsilon(1e-7));
@@ -33,7 +38,7 @@ TEST_CASE("DCS: ρ'(χ²) = s² with s = min(1, 2φ/(φ+χ²)), numerical ρ' an
       const Rho r = robust_rho(RobustKernel::dcs, phi, x);
       const double s = dcs_scale(x, phi);
       CHECK(r.d1 == doctest::Approx(s * s).epsilon(1e-14));
-      CHECK(r.rho <= x + 1e-12);      // never above the quadratic
+      CHECK(r.rho <= x + 1e-12);         // never above the quadratic
       CHECK(r.rho < 3.0 * phi + 1e-12);  // bounded by 3φ
       if (std::abs(x - phi) > 1e-3 * phi && x > 0) check_derivatives(RobustKernel::dcs, phi, x);
     }

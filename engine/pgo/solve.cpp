@@ -37,22 +37,32 @@ struct ResultOf<D3> {
 
 ceres::LinearSolverType linear_solver_of(LinearSolver v) {
   switch (v) {
-    case LinearSolver::sparse_normal_cholesky: return ceres::SPARSE_NORMAL_CHOLESKY;
-    case LinearSolver::sparse_schur: return ceres::SPARSE_SCHUR;
-    case LinearSolver::dense_normal_cholesky: return ceres::DENSE_NORMAL_CHOLESKY;
-    case LinearSolver::dense_qr: return ceres::DENSE_QR;
-    case LinearSolver::dense_schur: return ceres::DENSE_SCHUR;
-    case LinearSolver::cgnr: return ceres::CGNR;
-    case LinearSolver::iterative_schur: return ceres::ITERATIVE_SCHUR;
+    case LinearSolver::sparse_normal_cholesky:
+      return ceres::SPARSE_NORMAL_CHOLESKY;
+    case LinearSolver::sparse_schur:
+      return ceres::SPARSE_SCHUR;
+    case LinearSolver::dense_normal_cholesky:
+      return ceres::DENSE_NORMAL_CHOLESKY;
+    case LinearSolver::dense_qr:
+      return ceres::DENSE_QR;
+    case LinearSolver::dense_schur:
+      return ceres::DENSE_SCHUR;
+    case LinearSolver::cgnr:
+      return ceres::CGNR;
+    case LinearSolver::iterative_schur:
+      return ceres::ITERATIVE_SCHUR;
   }
   return ceres::SPARSE_NORMAL_CHOLESKY;
 }
 
 ceres::SparseLinearAlgebraLibraryType sparse_library_of(SparseLibrary v) {
   switch (v) {
-    case SparseLibrary::suite_sparse: return ceres::SUITE_SPARSE;
-    case SparseLibrary::eigen_sparse: return ceres::EIGEN_SPARSE;
-    case SparseLibrary::cx_sparse: return ceres::CX_SPARSE;
+    case SparseLibrary::suite_sparse:
+      return ceres::SUITE_SPARSE;
+    case SparseLibrary::eigen_sparse:
+      return ceres::EIGEN_SPARSE;
+    case SparseLibrary::cx_sparse:
+      return ceres::CX_SPARSE;
   }
   return ceres::SUITE_SPARSE;
 }
@@ -60,9 +70,12 @@ ceres::SparseLinearAlgebraLibraryType sparse_library_of(SparseLibrary v) {
 Termination termination_of(ceres::TerminationType t) {
   switch (t) {
     case ceres::CONVERGENCE:
-    case ceres::USER_SUCCESS: return Termination::converged;
-    case ceres::NO_CONVERGENCE: return Termination::no_convergence;
-    default: return Termination::failure;
+    case ceres::USER_SUCCESS:
+      return Termination::converged;
+    case ceres::NO_CONVERGENCE:
+      return Termination::no_convergence;
+    default:
+      return Termination::failure;
   }
 }
 
@@ -117,8 +130,9 @@ Summary summary_of(const ceres::Solver::Summary& s) {
 }
 
 template <class D>
-typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vector<typename D::Pose>& given_anchors,
-                                      const Options& o, const typename D::MultiEstimate* supplied) {
+typename ResultOf<D>::type solve_view(const RobotsView<D>& view,
+                                      const std::vector<typename D::Pose>& given_anchors, const Options& o,
+                                      const typename D::MultiEstimate* supplied) {
   using Params = typename ResultOf<D>::Params;
   constexpr int kAmbient = static_cast<int>(std::tuple_size_v<Params>);
   const auto init = initial_view<D>(view, given_anchors, o, supplied);  // validates options and graph
@@ -142,10 +156,13 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
   for (std::size_t r = 0; r < init.anchors.size(); ++r) anchors[r] = to_params(init.anchors[r]);
 
   std::unique_ptr<ceres::Manifold> manifold;
-  if constexpr (D::kPoseDof == 3) manifold = std::make_unique<Se2Manifold>();
-  else manifold = std::make_unique<Se3Manifold>();
+  if constexpr (D::kPoseDof == 3)
+    manifold = std::make_unique<Se2Manifold>();
+  else
+    manifold = std::make_unique<Se3Manifold>();
   std::unique_ptr<ceres::LossFunction> loss;
-  if (o.robust_kernel != RobustKernel::none) loss = std::make_unique<KernelLoss>(o.robust_kernel, o.robust_parameter);
+  if (o.robust_kernel != RobustKernel::none)
+    loss = std::make_unique<KernelLoss>(o.robust_kernel, o.robust_parameter);
 
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -164,15 +181,18 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
       const auto& e = g.edges[k];
       const auto U = sqrt_information(e.information, edge_label("edge", k, e.line, g.source));
       ceres::CostFunction* cost;
-      if constexpr (D::kPoseDof == 3) cost = new PoseEdge2Cost(e.measurement, U);
-      else cost = make_pose_edge3(e.measurement, U);
+      if constexpr (D::kPoseDof == 3)
+        cost = new PoseEdge2Cost(e.measurement, U);
+      else
+        cost = make_pose_edge3(e.measurement, U);
       problem.AddResidualBlock(cost, robust_edge(o, e.i, e.j) ? loss.get() : nullptr, poses[r][e.i].data(),
                                poses[r][e.j].data());
     }
     if constexpr (D::kLandmarks) {
       for (std::size_t k = 0; k < g.landmark_measurements.size(); ++k) {
         const auto& m = g.landmark_measurements[k];
-        const auto U = sqrt_information(m.information, edge_label("landmark measurement", k, m.line, g.source));
+        const auto U =
+            sqrt_information(m.information, edge_label("landmark measurement", k, m.line, g.source));
         problem.AddResidualBlock(new Landmark2Cost(m.position, U), robust_landmark(o) ? loss.get() : nullptr,
                                  poses[r][m.pose].data(), landmarks[r][m.landmark].data());
       }
@@ -183,8 +203,10 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
       const auto& e = (*view.inter)[k];
       const auto U = sqrt_information(e.information, edge_label("inter-robot edge", k, e.line, ""));
       ceres::CostFunction* cost;
-      if constexpr (D::kPoseDof == 3) cost = make_inter_robot2(e.measurement, U);
-      else cost = make_inter_robot3(e.measurement, U);
+      if constexpr (D::kPoseDof == 3)
+        cost = make_inter_robot2(e.measurement, U);
+      else
+        cost = make_inter_robot3(e.measurement, U);
       problem.AddResidualBlock(cost, robust_inter_robot(o) ? loss.get() : nullptr, anchors[e.robot_a].data(),
                                poses[e.robot_a][e.pose_a].data(), anchors[e.robot_b].data(),
                                poses[e.robot_b][e.pose_b].data());
@@ -215,8 +237,8 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view, const std::vect
   result.summary.final_chi2 = ev.chi2;
   result.summary.residual_dimension = ev.residual_dimension;
   result.summary.free_parameter_dimension = ev.free_parameter_dimension;
-  result.summary.normalized_chi2 = normalized_chi2(result.summary.final_cost, ev.residual_dimension,
-                                                   ev.free_parameter_dimension);
+  result.summary.normalized_chi2 =
+      normalized_chi2(result.summary.final_cost, ev.residual_dimension, ev.free_parameter_dimension);
   for (auto& rev : ev.robots) {
     result.edges.push_back(std::move(rev.edges));
     if constexpr (D::kLandmarks) result.landmark_edges.push_back(std::move(rev.landmark_edges));

@@ -28,6 +28,7 @@ TEST_CASE("random_graph is deterministic per seed and its edge count matches the
 }
 
 TEST_CASE("random_graph rejects a density outside [0, 1] and a negative size") {
-  CHECK(throws_with<std::invalid_argument>([] { (void)random_graph(3, 1.5, 1); }, "density 1.5 not in [0, 1]"));
+  CHECK(
+      throws_with<std::invalid_argument>([] { (void)random_graph(3, 1.5, 1); }, "density 1.5 not in [0, 1]"));
   CHECK(throws_with<std::invalid_argument>([] { (void)random_graph(-1, 0.5, 1); }, "n = -1"));
 }

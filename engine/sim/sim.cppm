@@ -1,7 +1,7 @@
-// keel.sim — the curated facade of engine/sim: data fabricated for experiments. The 1D world of §2.7.1, two-robot
-// scenarios split from a single-robot dataset with candidate inter-robot loop closures (inliers from the dataset,
-// perceptually aliased groups, random outliers; §2.7.2–2.7.3), measurement resampling about the ground truth, and
-// random consistency graphs. Facade rules (docs/DESIGN.md) as every area.
+// keel.sim — the curated facade of engine/sim: data fabricated for experiments. The 1D world of §2.7.1,
+// two-robot scenarios split from a single-robot dataset with candidate inter-robot loop closures (inliers
+// from the dataset, perceptually aliased groups, random outliers; §2.7.2–2.7.3), measurement resampling about
+// the ground truth, and random consistency graphs. Facade rules (docs/DESIGN.md) as every area.
 module;
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"

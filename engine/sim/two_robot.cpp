@@ -19,7 +19,6 @@ namespace keel::sim {
 
 using namespace keel::pcm;  // measurement types and the left-perturbation covariance
 
-
 namespace {
 
 // Throws std::invalid_argument with the formatted message, prefixed "pcm::".
@@ -130,8 +129,7 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
     fail("split_two_robots: the ground truth has {} poses, the graph {}", n, graph.poses.size());
   o.validate(n);
   for (int v = o.first; v < o.last; ++v)
-    if (!finite_pose(gt[v]))
-      fail("split_two_robots: ground-truth pose {} is not finite", v);
+    if (!finite_pose(gt[v])) fail("split_two_robots: ground-truth pose {} is not finite", v);
 
   TwoRobotScenario<G> s;
   s.split = o;
@@ -192,13 +190,15 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
     s.pool_lines.push_back(e.line);
   }
   if (const int v = first_unreachable(s.robot_a, na); v >= 0)
-    fail("split_two_robots: robot a's local graph is not connected (its pose {} = pose {} of the "
-         "dataset is not linked to its pose 0)",
-         v, o.first + v);
+    fail(
+        "split_two_robots: robot a's local graph is not connected (its pose {} = pose {} of the "
+        "dataset is not linked to its pose 0)",
+        v, o.first + v);
   if (const int v = first_unreachable(s.robot_b, nb); v >= 0)
-    fail("split_two_robots: robot b's local graph is not connected (its pose {} = pose {} of the "
-         "dataset is not linked to its pose 0)",
-         v, o.split + v);
+    fail(
+        "split_two_robots: robot b's local graph is not connected (its pose {} = pose {} of the "
+        "dataset is not linked to its pose 0)",
+        v, o.split + v);
 
   s.extent_min = s.truth_a[0].translation();
   s.extent_max = s.extent_min;
@@ -309,7 +309,8 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
   return out;
 }
 
-// A residual draw r ~ N(0, s² Ω⁻¹) and the measurement X ρ⁻¹(r)⁻¹ whose residual at the true relative pose X is r.
+// A residual draw r ~ N(0, s² Ω⁻¹) and the measurement X ρ⁻¹(r)⁻¹ whose residual at the true relative pose X
+// is r.
 template <class G>
 G redraw(core::Rng& rng, const G& X, const typename G::Jacobian& info, double scale) {
   using J = typename G::Jacobian;
@@ -321,7 +322,8 @@ G redraw(core::Rng& rng, const G& X, const typename G::Jacobian& info, double sc
 
 template <class G, class Graph>
 void resample_graph(Graph& g, const std::vector<G>& truth, double scale, core::Rng rng) {
-  for (auto& e : g.edges) e.measurement = redraw(rng, G(truth[e.i].inverse() * truth[e.j]), e.information, scale);
+  for (auto& e : g.edges)
+    e.measurement = redraw(rng, G(truth[e.i].inverse() * truth[e.j]), e.information, scale);
 }
 
 template <class G>
@@ -375,8 +377,7 @@ TwoRobotScenario3 split_two_robots(const graph::PoseGraph3D& graph, const std::v
 
 void CandidateOptions::validate() const {
   auto count = [](const char* name, int v) {
-    if (v < 0)
-      fail("CandidateOptions: {} must be >= 0 (got {})", name, v);
+    if (v < 0) fail("CandidateOptions: {} must be >= 0 (got {})", name, v);
   };
   count("num_inliers", num_inliers);
   count("aliased_groups", aliased_groups);

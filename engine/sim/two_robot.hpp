@@ -130,8 +130,8 @@ struct CandidateLabel {
 };
 
 struct CandidateOptions {
-  int num_inliers = 15;  // true loop closures drawn from the pool without replacement (≥ 0, ≤ pool size)
-  int aliased_groups = 2;      // groups of mutually consistent outliers (≥ 0)
+  int num_inliers = 15;    // true loop closures drawn from the pool without replacement (≥ 0, ≤ pool size)
+  int aliased_groups = 2;  // groups of mutually consistent outliers (≥ 0)
   int aliased_group_size = 5;  // outliers per group (≥ 1 when aliased_groups > 0)
   int random_outliers = 90;    // random outliers (≥ 0)
   double random_sigma_translation_min =
@@ -140,8 +140,8 @@ struct CandidateOptions {
   double random_sigma_rotation_min =
       0.005;  // rad; σ_r of a random outlier, log-uniform on [min, max] (0 < min ≤ max)
   double random_sigma_rotation_max = 1.0;
-  double aliased_noise_scale = 1.0;  // aliased members: residual r ~ N(0, s² Ω⁻¹) with this s (> 0); 1 = like an
-                                     // inlier of the dataset; < 1 with resample_measurements() (same s)
+  double aliased_noise_scale = 1.0;  // aliased members: residual r ~ N(0, s² Ω⁻¹) with this s (> 0); 1 = like
+                                     // an inlier of the dataset; < 1 with resample_measurements() (same s)
   bool shuffle = true;  // random candidate order (else: inliers, aliased groups in order, random outliers)
   int total() const { return num_inliers + aliased_groups * aliased_group_size + random_outliers; }
   // Throws std::invalid_argument naming the violated constraint (negative counts, bad σ ranges, no
@@ -152,9 +152,9 @@ struct CandidateOptions {
 template <class G>
 struct CandidateSet {
   std::vector<pcm::InterRobotMeasurement<G>> candidates;  // z ≈ (T^a_i)⁻¹ T_ab T^b_k with left covariance
-  std::vector<typename G::Jacobian> information;     // residual information Ω of each candidate
-  std::vector<CandidateLabel> labels;                // one per candidate
-  std::vector<G> false_anchors;                      // per aliased group: the anchor its members agree on
+  std::vector<typename G::Jacobian> information;          // residual information Ω of each candidate
+  std::vector<CandidateLabel> labels;                     // one per candidate
+  std::vector<G> false_anchors;  // per aliased group: the anchor its members agree on
   // Indices of the inlier candidates, ascending (the NO-OUT selection).
   std::vector<int> inliers() const {
     std::vector<int> v;
@@ -179,13 +179,14 @@ CandidateSet2 generate_candidates(const TwoRobotScenario2& scenario, const Candi
 CandidateSet3 generate_candidates(const TwoRobotScenario3& scenario, const CandidateOptions& options,
                                   std::uint64_t seed, std::uint64_t index);
 
-// Replaces every measurement of both local graphs and of the pool by a fresh draw around the ground truth, keeping
-// the declared information Ω: edge (i, j) gets z = X ρ⁻¹(r)⁻¹ with X the true relative pose and r ~ N(0, s² Ω⁻¹)
-// (so its residual at the truth is exactly r); pool edges are redrawn about X = (T^a_i)⁻¹ T_ab T^b_k and their left
-// covariances recomputed. s = noise_scale > 0: 1 draws a fresh realisation at the stated noise level, s < 1 makes the
-// measurements less noisy than their covariance claims (normalized χ² ≈ s²) — the regime the thesis's Table 2.1 χ²
-// values (0.013–0.018) indicate. Deterministic: robot a, robot b and the pool draw from Rng::stream(seed, 0/1/2).
-// Throws std::invalid_argument for s ≤ 0 or non-finite, or a graph with landmark measurements (not supported).
+// Replaces every measurement of both local graphs and of the pool by a fresh draw around the ground truth,
+// keeping the declared information Ω: edge (i, j) gets z = X ρ⁻¹(r)⁻¹ with X the true relative pose and r ~
+// N(0, s² Ω⁻¹) (so its residual at the truth is exactly r); pool edges are redrawn about X = (T^a_i)⁻¹ T_ab
+// T^b_k and their left covariances recomputed. s = noise_scale > 0: 1 draws a fresh realisation at the stated
+// noise level, s < 1 makes the measurements less noisy than their covariance claims (normalized χ² ≈ s²) —
+// the regime the thesis's Table 2.1 χ² values (0.013–0.018) indicate. Deterministic: robot a, robot b and the
+// pool draw from Rng::stream(seed, 0/1/2). Throws std::invalid_argument for s ≤ 0 or non-finite, or a graph
+// with landmark measurements (not supported).
 void resample_measurements(TwoRobotScenario2& scenario, double noise_scale, std::uint64_t seed);
 void resample_measurements(TwoRobotScenario3& scenario, double noise_scale, std::uint64_t seed);
 

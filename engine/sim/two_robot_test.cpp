@@ -345,7 +345,8 @@ TEST_CASE("real data: City10000 (0, 750, 1500) has 209 true a-b loop closures, s
 
 namespace {
 
-// Mean whitened squared residual rᵀΩr (per degree of freedom) of every edge of a graph at the truth, and of the pool.
+// Mean whitened squared residual rᵀΩr (per degree of freedom) of every edge of a graph at the truth, and of
+// the pool.
 template <class G>
 double mean_chi2_per_dof(const TwoRobotScenario<G>& s) {
   double sum = 0.0;
@@ -361,8 +362,10 @@ double mean_chi2_per_dof(const TwoRobotScenario<G>& s) {
     sum += r.dot(info * r);
     dof += G::DoF;
   };
-  for (const auto& e : s.robot_a.edges) add(e.measurement, s.truth_a[e.i].inverse() * s.truth_a[e.j], e.information);
-  for (const auto& e : s.robot_b.edges) add(e.measurement, s.truth_b[e.i].inverse() * s.truth_b[e.j], e.information);
+  for (const auto& e : s.robot_a.edges)
+    add(e.measurement, s.truth_a[e.i].inverse() * s.truth_a[e.j], e.information);
+  for (const auto& e : s.robot_b.edges)
+    add(e.measurement, s.truth_b[e.i].inverse() * s.truth_b[e.j], e.information);
   for (std::size_t u = 0; u < s.pool.size(); ++u) {
     const auto& c = s.pool[u];
     add(c.z, s.truth_a[c.pose_a].inverse() * s.true_anchor * s.truth_b[c.pose_b], s.pool_information[u]);
@@ -378,9 +381,10 @@ void check_resample() {
   resample_measurements(s1, 1.0, 7);
   resample_measurements(s2, 0.3, 7);
   resample_measurements(tiny, 1e-9, 7);
-  MESSAGE("chi2/dof at the truth: scale 1 " << mean_chi2_per_dof(s1) << ", scale 0.3 " << mean_chi2_per_dof(s2));
-  CHECK(mean_chi2_per_dof(s1) == doctest::Approx(1.0).epsilon(0.1));            // ~1500 residual dofs
-  CHECK(mean_chi2_per_dof(s2) == doctest::Approx(0.09).epsilon(0.1));           // s²
+  MESSAGE("chi2/dof at the truth: scale 1 " << mean_chi2_per_dof(s1) << ", scale 0.3 "
+                                            << mean_chi2_per_dof(s2));
+  CHECK(mean_chi2_per_dof(s1) == doctest::Approx(1.0).epsilon(0.1));   // ~1500 residual dofs
+  CHECK(mean_chi2_per_dof(s2) == doctest::Approx(0.09).epsilon(0.1));  // s²
   CHECK(mean_chi2_per_dof(tiny) < 1e-15);
   // The pool's left covariance is recomputed at the new measurement.
   for (std::size_t u = 0; u < s2.pool.size(); ++u)
@@ -406,12 +410,15 @@ TEST_CASE("resample_measurements: residuals at the truth follow N(0, s² Ω⁻¹
   SUBCASE("3D") { check_resample<lie::SE3>(); }
 }
 
-TEST_CASE("real data: City10000's measurements are calibrated at the truth (chi2/dof about 1), after the split too") {
+TEST_CASE(
+    "real data: City10000's measurements are calibrated at the truth (chi2/dof about 1), after the split "
+    "too") {
   graph::PoseGraph2D city;
   std::vector<lie::SE2> truth;
   try {
     city = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
-    truth = graph::read_poses_2d(graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
+    truth = graph::read_poses_2d(
+        graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
   } catch (const graph::DatasetError& e) {
     MESSAGE("City10000 not available, test skipped: " << e.what());
     return;

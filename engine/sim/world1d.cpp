@@ -10,7 +10,6 @@
 
 #include "core/names.hpp"
 
-
 namespace keel::sim {
 
 namespace {
@@ -30,8 +29,9 @@ int uniform_int(core::Rng& rng, int lo, int hi) {
 }  // namespace
 
 namespace {
-constexpr core::NameTable<MeasurementLabel, 3> kMeasurementLabelNames{"sim::MeasurementLabel", {{
-      {MeasurementLabel::inlier, "inlier"},
+constexpr core::NameTable<MeasurementLabel, 3> kMeasurementLabelNames{
+    "sim::MeasurementLabel",
+    {{{MeasurementLabel::inlier, "inlier"},
       {MeasurementLabel::aliased, "aliased"},
       {MeasurementLabel::random, "random"}}}};
 }  // namespace
@@ -55,12 +55,14 @@ void World1DOptions::validate() const {
     }
   }
   if (inliers_max + aliased_max + random_max < 1) {
-    throw std::invalid_argument("World1DOptions: the maximum counts of inliers, aliased and random outliers are all 0 "
-                                "(a world needs at least one measurement)");
+    throw std::invalid_argument(
+        "World1DOptions: the maximum counts of inliers, aliased and random outliers are all 0 "
+        "(a world needs at least one measurement)");
   }
   if (!(outlier_mean_range >= 0.0) || !std::isfinite(outlier_mean_range))
     fail("World1DOptions::outlier_mean_range must be >= 0 and finite (got {:g})", outlier_mean_range);
-  if (!(outlier_sigma_min > 0.0) || !(outlier_sigma_max >= outlier_sigma_min) || !std::isfinite(outlier_sigma_max))
+  if (!(outlier_sigma_min > 0.0) || !(outlier_sigma_max >= outlier_sigma_min) ||
+      !std::isfinite(outlier_sigma_max))
     fail("World1DOptions::outlier_sigma_min/_max: need 0 < min <= max < inf (got {:g}, {:g})",
          outlier_sigma_min, outlier_sigma_max);
 }
@@ -105,13 +107,14 @@ World1D generate_world1d(const World1DOptions& options, core::Rng& rng) {
   const double R = options.outlier_mean_range;
   const double smin = options.outlier_sigma_min, smax = options.outlier_sigma_max;
   // §2.7.1: inliers from a Gaussian of fixed variance centred on x.
-  for (int i = 0; i < n_in; ++i) add(options.x + options.sigma_inlier * rng.normal(), options.sigma_inlier,
-                                     MeasurementLabel::inlier);
-  // One perceptually aliased group: several samples from a single Gaussian with its own (random) mean and variance.
+  for (int i = 0; i < n_in; ++i)
+    add(options.x + options.sigma_inlier * rng.normal(), options.sigma_inlier, MeasurementLabel::inlier);
+  // One perceptually aliased group: several samples from a single Gaussian with its own (random) mean and
+  // variance.
   w.aliased_mean = rng.uniform(options.x - R, options.x + R);
   w.aliased_sigma = rng.uniform(smin, smax);
-  for (int i = 0; i < n_al; ++i) add(w.aliased_mean + w.aliased_sigma * rng.normal(), w.aliased_sigma,
-                                     MeasurementLabel::aliased);
+  for (int i = 0; i < n_al; ++i)
+    add(w.aliased_mean + w.aliased_sigma * rng.normal(), w.aliased_sigma, MeasurementLabel::aliased);
   // Random outliers: each from its own Gaussian with random mean and variance.
   for (int i = 0; i < n_rand; ++i) {
     const double mu = rng.uniform(options.x - R, options.x + R);
@@ -154,7 +157,8 @@ pcm::ConsistencyMatrix world1d_consistency_matrix(const World1D& world) {
   for (int u = 0; u < m; ++u) {
     for (int v = u + 1; v < m; ++v) {
       const double d = world.z[u] - world.z[v];
-      // Squared Mahalanobis distance of z_u − z_v ~ N(0, σ_u² + σ_v²) under the hypothesis that both observe x.
+      // Squared Mahalanobis distance of z_u − z_v ~ N(0, σ_u² + σ_v²) under the hypothesis that both observe
+      // x.
       const double q = d * d / (world.sigma[u] * world.sigma[u] + world.sigma[v] * world.sigma[v]);
       Q.q[static_cast<std::size_t>(u) * m + v] = q;
       Q.q[static_cast<std::size_t>(v) * m + u] = q;

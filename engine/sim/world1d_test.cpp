@@ -1,5 +1,5 @@
-// The 1D world of §2.7.1: deterministic generation, the distributions it draws from, and its Q (the 1D case of
-// eq. 2.4).
+// The 1D world of §2.7.1: deterministic generation, the distributions it draws from, and its Q (the 1D case
+// of eq. 2.4).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -148,8 +148,9 @@ TEST_CASE("World1DOptions validation and fixed-size options") {
   CHECK(f.aliased_min == 9);
   CHECK(f.random_min == 9);
   for (int i = 0; i < 20; ++i) CHECK(generate_world1d(f, 1, i).size() == 37);
-  CHECK(contains(message_of([] { (void)world1d_options_with_total(World1DOptions{}, 0, 0.5, 0.2); }), "total"));
-  CHECK(contains(message_of([] { (void)world1d_options_with_total(World1DOptions{}, 10, 0.8, 0.3); }), "fractions"));
+  CHECK(
+      contains(message_of([] { (void)world1d_options_with_total(World1DOptions{}, 0, 0.5, 0.2); }), "total"));
+  CHECK(contains(message_of([] { (void)world1d_options_with_total(World1DOptions{}, 10, 0.8, 0.3); }),
+                 "fractions"));
   CHECK(to_string(MeasurementLabel::aliased) == "aliased");
 }
-

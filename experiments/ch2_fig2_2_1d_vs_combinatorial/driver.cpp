@@ -19,8 +19,8 @@ namespace eval = keel::eval;
 namespace {
 
 // Outline of a histogram with unit-width bins centred on `bins` (a step curve for a line layer).
-core::Layer step_layer(const std::vector<double>& bins, const std::vector<double>& freq, const std::string& label,
-                       const std::string& color) {
+core::Layer step_layer(const std::vector<double>& bins, const std::vector<double>& freq,
+                       const std::string& label, const std::string& color) {
   std::vector<double> x, y;
   for (std::size_t b = 0; b < bins.size(); ++b) {
     x.insert(x.end(), {bins[b] - 0.5, bins[b] - 0.5, bins[b] + 0.5, bins[b] + 0.5});
@@ -54,8 +54,9 @@ int main(int argc, char** argv) {
     core::Progress progress(ex.id(), o.worlds);
     const eval::World1DStudy study = eval::run_world1d_study(o, &progress);
     progress.finish();
-    const auto cmp = eval::compare_to_combinatorial(study, {eval::Selector1D::pcm_exact, eval::Selector1D::pcm_heuristic,
-                                                            eval::Selector1D::scgp, eval::Selector1D::ransac});
+    const auto cmp =
+        eval::compare_to_combinatorial(study, {eval::Selector1D::pcm_exact, eval::Selector1D::pcm_heuristic,
+                                               eval::Selector1D::scgp, eval::Selector1D::ransac});
     const auto& comb = study.of(eval::Selector1D::combinatorial);
     const std::size_t n = o.worlds;
     auto& r = ex.results();
@@ -85,8 +86,8 @@ int main(int argc, char** argv) {
       r.timing("mean_time." + name, row.time_mean_s);
     }
     const auto &rx = cmp.rows[0], &rh = cmp.rows[1], &rs = cmp.rows[2], &rr = cmp.rows[3];
-    // Plot range of the inconsistent-pair histograms: what covers 99.9 % of the worlds of every method (the series
-    // keep the whole range).
+    // Plot range of the inconsistent-pair histograms: what covers 99.9 % of the worlds of every method (the
+    // series keep the whole range).
     int ishow = 1;
     for (const auto& row : cmp.rows) {
       double cum = 0;
@@ -101,23 +102,29 @@ int main(int argc, char** argv) {
 
     r.check("PCM-Exact returns a set of the combinatorial maximum's size in every world (eq. 2.5)",
             rx.match_rate == 1.0,
-            fmt::format("PCM-Exact has the combinatorial maximum's size in {:.0f} of {} worlds", rx.match_rate * n, n));
+            fmt::format("PCM-Exact has the combinatorial maximum's size in {:.0f} of {} worlds",
+                        rx.match_rate * n, n));
     r.check("PCM selections are always pairwise consistent (0 inconsistent pairs, eq. 2.3)",
             rx.inconsistent_total == 0 && rh.inconsistent_total == 0,
             fmt::format("inconsistent pairs in PCM selections: exact {}, heuristic {} ({} worlds)",
                         rx.inconsistent_total, rh.inconsistent_total, n));
-    r.check("PCM-Heuristic never returns more than PCM-Exact", cmp.heuristic_above_exact == 0 && rh.larger_rate == 0.0,
-            fmt::format("heuristic larger than exact in {} worlds; heuristic matches the maximum in {:.4f} of worlds",
-                        cmp.heuristic_above_exact, rh.match_rate));
-    r.check("SCGP and RANSAC do not enforce pairwise consistency (some of their selections hold inconsistent pairs)",
-            rs.inconsistent_rate > 0.0 && rr.inconsistent_rate > 0.0,
-            fmt::format("worlds with >= 1 inconsistent pair: SCGP {:.4f}, RANSAC {:.4f}; mean pairs: SCGP {:.3f}, "
-                        "RANSAC {:.3f}",
-                        rs.inconsistent_rate, rr.inconsistent_rate, rs.inconsistent_mean, rr.inconsistent_mean));
+    r.check("PCM-Heuristic never returns more than PCM-Exact",
+            cmp.heuristic_above_exact == 0 && rh.larger_rate == 0.0,
+            fmt::format(
+                "heuristic larger than exact in {} worlds; heuristic matches the maximum in {:.4f} of worlds",
+                cmp.heuristic_above_exact, rh.match_rate));
+    r.check(
+        "SCGP and RANSAC do not enforce pairwise consistency (some of their selections hold inconsistent "
+        "pairs)",
+        rs.inconsistent_rate > 0.0 && rr.inconsistent_rate > 0.0,
+        fmt::format(
+            "worlds with >= 1 inconsistent pair: SCGP {:.4f}, RANSAC {:.4f}; mean pairs: SCGP {:.3f}, "
+            "RANSAC {:.3f}",
+            rs.inconsistent_rate, rr.inconsistent_rate, rs.inconsistent_mean, rr.inconsistent_mean));
     r.check("RANSAC sometimes returns more and sometimes fewer measurements than the combinatorial maximum",
             rr.larger_rate > 0.0 && rr.smaller_rate > 0.0,
-            fmt::format("RANSAC larger than the maximum in {:.4f} of worlds, smaller in {:.4f}", rr.larger_rate,
-                        rr.smaller_rate));
+            fmt::format("RANSAC larger than the maximum in {:.4f} of worlds, smaller in {:.4f}",
+                        rr.larger_rate, rr.smaller_rate));
 
     // Fig. 2.2: first row, size returned − maximum size; second row, inconsistent pairs of the returned set.
     const char* titles[] = {"PCM-Exact", "PCM-Heuristic", "SCGP", "RANSAC"};
@@ -133,14 +140,15 @@ int main(int argc, char** argv) {
       for (std::size_t k = 0; k < cmp.rows.size(); ++k) {
         core::Panel panel;
         panel.title = titles[k];
-        panel.xlabel = row == 0 ? "size returned − maximum size" : "inconsistent pairs returned (99.9 % of worlds)";
+        panel.xlabel =
+            row == 0 ? "size returned − maximum size" : "inconsistent pairs returned (99.9 % of worlds)";
         panel.ylabel = "fraction of worlds";
         panel.ylim = std::make_pair(0.0, 1.05);
         if (row == 1) panel.xlim = std::make_pair(-1.0, ishow + 0.5);
         panel.legend = "none";
-        panel.layers.push_back(row == 0 ? step_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
-                                        : step_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "",
-                                                     colors[k]));
+        panel.layers.push_back(
+            row == 0 ? step_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
+                     : step_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "", colors[k]));
         f.panels.push_back(panel);
       }
     }

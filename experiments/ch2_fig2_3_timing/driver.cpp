@@ -1,6 +1,6 @@
-// Fig. 2.3 (§2.7.1.2): selection time against the number of measurements on simulated 1D worlds — thin driver over
-// keel::eval::run_timing_sweep. Wall times go through Results::timing (never diffed; the figure refers to them by
-// name); deterministic quantities (mean selected sizes, heuristic match rates) are series.
+// Fig. 2.3 (§2.7.1.2): selection time against the number of measurements on simulated 1D worlds — thin driver
+// over keel::eval::run_timing_sweep. Wall times go through Results::timing (never diffed; the figure refers
+// to them by name); deterministic quantities (mean selected sizes, heuristic match rates) are series.
 import keel.core;
 import keel.pcm;
 import keel.sim;
@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
     ex.params_done();
     for (double m : sizes) {
       if (!(m >= 1 && m == std::floor(m)))
-        throw core::ConfigError(p.where("measurements") + ": sizes must be positive integers in increasing order");
+        throw core::ConfigError(p.where("measurements") +
+                                ": sizes must be positive integers in increasing order");
       o.sizes.push_back(static_cast<int>(m));
     }
     try {
@@ -84,17 +85,19 @@ int main(int argc, char** argv) {
     r.metric("worlds_per_size", static_cast<double>(o.base.worlds));
     r.metric("gamma.pcm", o.base.pcm_gamma);
     r.metric("gamma.ransac", o.base.ransac_gamma);
-    r.check("PCM-Exact returns a set of the combinatorial maximum's size wherever the combinatorial search ran",
-            sweep.combinatorial_checked > 0 && sweep.combinatorial_mismatch == 0,
-            fmt::format("{} combinatorial runs (both variants), {} with a different size", sweep.combinatorial_checked,
-                        sweep.combinatorial_mismatch));
+    r.check(
+        "PCM-Exact returns a set of the combinatorial maximum's size wherever the combinatorial search ran",
+        sweep.combinatorial_checked > 0 && sweep.combinatorial_mismatch == 0,
+        fmt::format("{} combinatorial runs (both variants), {} with a different size",
+                    sweep.combinatorial_checked, sweep.combinatorial_mismatch));
 
     // Fig. 2.3: median time per selection and, beside it, the mean selected size (both log-log).
     core::Figure f;
     f.file = ex.id() + ".png";
-    f.title = fmt::format("Fig. 2.3: selection time vs number of measurements ({} worlds per size; Q not timed; "
-                          "machine-dependent)",
-                          o.base.worlds);
+    f.title = fmt::format(
+        "Fig. 2.3: selection time vs number of measurements ({} worlds per size; Q not timed; "
+        "machine-dependent)",
+        o.base.worlds);
     f.width = 13.0;
     f.height = 5.0;
     core::Panel tp, sp;
@@ -109,8 +112,8 @@ int main(int argc, char** argv) {
       core::Layer l = core::line_layer(sweep.curves[c].m, {}, st.label, st.color, st.marker);
       l.y_timings = timing_names[c];
       tp.layers.push_back(l);
-      sp.layers.push_back(core::line_layer(sweep.curves[c].m, sweep.curves[c].size_mean, st.label, st.color,
-                                           st.marker));
+      sp.layers.push_back(
+          core::line_layer(sweep.curves[c].m, sweep.curves[c].size_mean, st.label, st.color, st.marker));
     }
     f.panels = {tp, sp};
     r.figure(f);

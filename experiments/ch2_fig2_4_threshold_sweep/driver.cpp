@@ -1,6 +1,6 @@
-// Fig. 2.4 (§2.7.2.1): TPR, FPR and normalized χ² of PCM-Exact, PCM-Heuristic and RANSAC against the consistency
-// threshold on the City10000 two-robot data sets of Table 2.1 — thin driver over keel.eval's two-robot study.
-// Beyond the thesis: the same sweep with the poses composed as independent.
+// Fig. 2.4 (§2.7.2.1): TPR, FPR and normalized χ² of PCM-Exact, PCM-Heuristic and RANSAC against the
+// consistency threshold on the City10000 two-robot data sets of Table 2.1 — thin driver over keel.eval's
+// two-robot study. Beyond the thesis: the same sweep with the poses composed as independent.
 import keel.core;
 import keel.pcm;
 import keel.eval;
@@ -19,7 +19,6 @@ namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 using namespace keel::experiments::fig2_4;
 
-
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
@@ -32,11 +31,14 @@ int main(int argc, char** argv) {
     const auto family_table = p.table("family");
     for (const auto& name : p.strings("families")) {
       const auto t = family_table.table(name);
-      families.push_back({name, t.string("label"), t.string("color"), t.parse("kind", eval::merge_method_kind_from_string),
+      families.push_back({name, t.string("label"), t.string("color"),
+                          t.parse("kind", eval::merge_method_kind_from_string),
                           t.parse_or("composition", pcm::composition_from_string, pcm::Composition::joint)});
-      if (families.back().kind == eval::MergeMethodKind::no_outliers || families.back().kind == eval::MergeMethodKind::dcs ||
+      if (families.back().kind == eval::MergeMethodKind::no_outliers ||
+          families.back().kind == eval::MergeMethodKind::dcs ||
           families.back().kind == eval::MergeMethodKind::scgp)
-        throw core::ConfigError(t.where("kind") + ": a threshold sweep needs pcm_exact, pcm_heuristic or ransac");
+        throw core::ConfigError(t.where("kind") +
+                                ": a threshold sweep needs pcm_exact, pcm_heuristic or ransac");
     }
     const auto regimes = eval::read_regimes(p, "regimes", "regime");
     auto t0 = core::Clock::now();
@@ -53,7 +55,8 @@ int main(int argc, char** argv) {
     const std::size_t fe = family("pcm_exact"), fh = family("pcm_heuristic"), fr = family("ransac");
 
     // One method per (family, p); NO-OUT first (the χ² reference of the figure).
-    std::vector<eval::MergeMethod> specs = {eval::MergeMethod::make("no_out", eval::MergeMethodKind::no_outliers)};
+    std::vector<eval::MergeMethod> specs = {
+        eval::MergeMethod::make("no_out", eval::MergeMethodKind::no_outliers)};
     for (const auto& f : families)
       for (double q : p_values) {
         specs.push_back(eval::MergeMethod::make(fmt::format("{}@{:g}", f.name, q), f.kind, q, f.composition));
@@ -69,9 +72,10 @@ int main(int argc, char** argv) {
     r.series("p", p_values);
     core::Figure fig;
     fig.file = ex.id() + ".png";
-    fig.title = fmt::format("Fig. 2.4: City10000 two-robot data sets ({} sets) against the tail probability p of "
-                            "γ(p) = F⁻¹χ²(3)(1 − p); larger p = stricter",
-                            datasets);
+    fig.title = fmt::format(
+        "Fig. 2.4: City10000 two-robot data sets ({} sets) against the tail probability p of "
+        "γ(p) = F⁻¹χ²(3)(1 − p); larger p = stricter",
+        datasets);
     fig.cols = 3;
     fig.rows = static_cast<int>(regimes.size());
     fig.width = 16.5;
@@ -84,8 +88,8 @@ int main(int argc, char** argv) {
       r.timing(g.name + ".local_solves", core::seconds_since(t0));
       t0 = core::Clock::now();
       core::Progress progress(ex.id() + " " + g.name, datasets);
-      const auto runs = eval::run_merge_datasets(scenario, local, eval::apply_regime(copt, g), specs, ex.seed(),
-                                                 datasets, ex.threads(), datasets, &progress);
+      const auto runs = eval::run_merge_datasets(scenario, local, eval::apply_regime(copt, g), specs,
+                                                 ex.seed(), datasets, ex.threads(), datasets, &progress);
       progress.finish();
       r.timing(g.name + ".datasets", core::seconds_since(t0));
 
@@ -114,8 +118,8 @@ int main(int argc, char** argv) {
           }
       }
 
-      check_fig2_4(r, p_values, curves, {fe, fh, fr}, chi2_no_out, claim_p_max, claim_tpr_spread, claim_fpr_max,
-                   " [" + g.label + "]");
+      check_fig2_4(r, p_values, curves, {fe, fh, fr}, chi2_no_out, claim_p_max, claim_tpr_spread,
+                   claim_fpr_max, " [" + g.label + "]");
       add_fig2_4_row(fig, p_values, curves, families, chi2_no_out, g.label);
     }
     r.figure(fig);

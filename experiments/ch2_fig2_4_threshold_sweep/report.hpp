@@ -1,5 +1,5 @@
-// The claims of §2.7.2.1 and the panels of Fig. 2.4 — presentation glue of ch2_fig2_4_threshold_sweep only (the
-// study itself is keel::eval's). Include after the imports of driver.cpp.
+// The claims of §2.7.2.1 and the panels of Fig. 2.4 — presentation glue of ch2_fig2_4_threshold_sweep only
+// (the study itself is keel::eval's). Include after the imports of driver.cpp.
 #pragma once
 
 #include <fmt/format.h>
@@ -29,9 +29,9 @@ struct Claimed {
 };
 
 // The claims of §2.7.2.1 on one regime's curves (they may fail); `in` names the regime in the check names.
-inline void check_fig2_4(keel::core::Results& r, const std::vector<double>& p_values, const std::vector<Curve>& curves,
-                         Claimed c, double chi2_no_out, double claim_p_max, double claim_tpr_spread,
-                         double claim_fpr_max, const std::string& in) {
+inline void check_fig2_4(keel::core::Results& r, const std::vector<double>& p_values,
+                         const std::vector<Curve>& curves, Claimed c, double chi2_no_out, double claim_p_max,
+                         double claim_tpr_spread, double claim_fpr_max, const std::string& in) {
   const auto [fe, fh, fr] = c;
   double tmin = 1.0, tmax = 0.0, fmax = 0.0;
   std::string at;
@@ -61,18 +61,19 @@ inline void check_fig2_4(keel::core::Results& r, const std::vector<double>& p_va
   }
   r.check("RANSAC accepts more outliers than PCM at every threshold" + in, higher == p_values.size(),
           fmt::format("RANSAC FPR above PCM-Exact's at {} of {} thresholds", higher, p_values.size()));
-  r.check("PCM's merged graphs are consistent at every threshold (normalized chi2 within 10 % of NO-OUT's)" + in,
-          worst <= 0.1,
-          fmt::format("largest relative difference to NO-OUT's {:.4g}: {:.4f}", chi2_no_out, worst));
+  r.check(
+      "PCM's merged graphs are consistent at every threshold (normalized chi2 within 10 % of NO-OUT's)" + in,
+      worst <= 0.1,
+      fmt::format("largest relative difference to NO-OUT's {:.4g}: {:.4f}", chi2_no_out, worst));
   r.check("PCM-Heuristic tracks PCM-Exact across the sweep (all but at most one threshold)" + in,
           same + 1 >= p_values.size(),
           fmt::format("identical pooled TPR and FPR at {} of {} thresholds", same, p_values.size()));
-
 }
 
 // One row of three panels (TPR, FPR, χ²) of Fig. 2.4 for one regime.
-inline void add_fig2_4_row(keel::core::Figure& fig, const std::vector<double>& p_values, const std::vector<Curve>& curves,
-                           const std::vector<Family>& families, double chi2_no_out, const std::string& label) {
+inline void add_fig2_4_row(keel::core::Figure& fig, const std::vector<double>& p_values,
+                           const std::vector<Curve>& curves, const std::vector<Family>& families,
+                           double chi2_no_out, const std::string& label) {
   namespace core = keel::core;
   const char* names[3] = {"TPR", "FPR", "normalized χ²"};
   for (int panel = 0; panel < 3; ++panel) {

@@ -1,6 +1,6 @@
-// Table 2.1 (§2.7.2), PCM rows, across noise regimes: how PCM-11 %'s outcome on the City10000 two-robot data sets
-// depends on the noise level of the measurements and on the realization of the local maps, and how well the
-// consistency metric is calibrated in each regime — thin driver over keel.eval's two-robot study.
+// Table 2.1 (§2.7.2), PCM rows, across noise regimes: how PCM-11 %'s outcome on the City10000 two-robot data
+// sets depends on the noise level of the measurements and on the realization of the local maps, and how well
+// the consistency metric is calibrated in each regime — thin driver over keel.eval's two-robot study.
 import keel.core;
 import keel.lie;
 import keel.pcm;
@@ -33,13 +33,18 @@ int main(int argc, char** argv) {
     const auto color = p.table("color");
     for (const auto& m : methods) colors.push_back(color.string(m.method.name));
     const auto claims = p.table("claims");
-    const Claims c{claims.string("method"), claims.number("noise_scale"), claims.number("tpr_min"),
-                   claims.number("fpr_max"), claims.number("calibration_scale"), claims.number("calibration_p"),
+    const Claims c{claims.string("method"),
+                   claims.number("noise_scale"),
+                   claims.number("tpr_min"),
+                   claims.number("fpr_max"),
+                   claims.number("calibration_scale"),
+                   claims.number("calibration_p"),
                    eval::read_range(claims, "calibration_range")};
     auto t0 = core::Clock::now();
     const auto base = eval::load_scenario_2d(p);
     ex.params_done();
-    const Setup s = validate_setup(p, claims, ex.seed(), scales, pair_p, resample_seed, realizations, methods, c);
+    const Setup s =
+        validate_setup(p, claims, ex.seed(), scales, pair_p, resample_seed, realizations, methods, c);
     auto& r = ex.results();
     r.timing("read_and_split", core::seconds_since(t0));
     r.metric("scenario.pool", static_cast<double>(base.pool.size()));
@@ -63,8 +68,9 @@ int main(int argc, char** argv) {
       }
     }
 
-    // Per realization: the scenario, both local maps solved once, and the calibration of Q on its whole pool; then
-    // every data set and method (data set d draws from stream (seed, d): the same index in every realization).
+    // Per realization: the scenario, both local maps solved once, and the calibration of Q on its whole pool;
+    // then every data set and method (data set d draws from stream (seed, d): the same index in every
+    // realization).
     const std::size_t n = realization_regimes.size();
     std::vector<Realization> reals(n);
     core::Progress progress(ex.id(), n * (1 + datasets));
@@ -83,11 +89,11 @@ int main(int argc, char** argv) {
     r.timing("local_maps_and_calibration", core::seconds_since(t0));
     t0 = core::Clock::now();
     for (std::size_t i = 0; i < n; ++i) {
-      const auto runs = eval::run_merge_datasets(reals[i].scenario, reals[i].local,
-                                                 eval::apply_regime(copt, realization_regimes[i]),
-                                                 eval::methods_of(methods), ex.seed(), datasets, ex.threads(),
-                                                 datasets, &progress);
-      for (std::size_t m = 0; m < methods.size(); ++m) reals[i].methods.push_back(eval::summarize_method(runs, m));
+      const auto runs = eval::run_merge_datasets(
+          reals[i].scenario, reals[i].local, eval::apply_regime(copt, realization_regimes[i]),
+          eval::methods_of(methods), ex.seed(), datasets, ex.threads(), datasets, &progress);
+      for (std::size_t m = 0; m < methods.size(); ++m)
+        reals[i].methods.push_back(eval::summarize_method(runs, m));
     }
     progress.finish();
     r.timing("datasets", core::seconds_since(t0));

@@ -1,6 +1,6 @@
-// Config checks, summaries over realizations, recorded names, claims and the figure of ch2_table2_1_noise_regimes —
-// presentation glue of this experiment only (the study itself is keel::eval's: regimes, local maps, calibration of
-// Q on the pool, data sets). Include after the imports of driver.cpp.
+// Config checks, summaries over realizations, recorded names, claims and the figure of
+// ch2_table2_1_noise_regimes — presentation glue of this experiment only (the study itself is keel::eval's:
+// regimes, local maps, calibration of Q on the pool, data sets). Include after the imports of driver.cpp.
 #pragma once
 
 #include <fmt/format.h>
@@ -68,13 +68,14 @@ inline Setup validate_setup(const core::ConfigTable& p, const core::ConfigTable&
   if (resample_seed < 0) throw ConfigError(p.where("resample_seed") + ": must be >= 0");
   Setup s;
   s.resample_seed = static_cast<std::uint64_t>(resample_seed);
-  // resample_measurements draws from Rng::stream(seed', 0/1/2) and generate_candidates from Rng::stream(seed, d):
-  // with seed' = seed the first three data sets would reuse the resampling's random numbers.
+  // resample_measurements draws from Rng::stream(seed', 0/1/2) and generate_candidates from Rng::stream(seed,
+  // d): with seed' = seed the first three data sets would reuse the resampling's random numbers.
   for (std::size_t k = 0; k < realizations; ++k)
     if (s.resample_seed + k == seed)
-      throw ConfigError(fmt::format("{}: resample_seed + realization index must never equal the experiment seed ({}), "
-                                    "which drives the candidate streams",
-                                    p.where("resample_seed"), seed));
+      throw ConfigError(
+          fmt::format("{}: resample_seed + realization index must never equal the experiment seed ({}), "
+                      "which drives the candidate streams",
+                      p.where("resample_seed"), seed));
   if (pair_p.empty()) throw ConfigError(p.where("pair_p_values") + ": needs at least one level");
   for (double x : pair_p)
     if (!(x > 0.0 && x < 1.0)) throw ConfigError(p.where("pair_p_values") + ": levels must lie in (0, 1)");
@@ -87,7 +88,8 @@ inline Setup validate_setup(const core::ConfigTable& p, const core::ConfigTable&
   }
   if (s.i_claim == methods.size())
     throw ConfigError(fmt::format("{}: '{}' is not in `methods`", claims.where("method"), c.method));
-  if (s.i_ref == methods.size()) throw ConfigError(p.where("methods") + ": needs a no_outliers method (the reference)");
+  if (s.i_ref == methods.size())
+    throw ConfigError(p.where("methods") + ": needs a no_outliers method (the reference)");
   const auto find_scale = [&](double x, const char* key) {
     for (std::size_t k = 0; k < scales.size(); ++k)
       if (scales[k] == x) return k;
@@ -102,18 +104,20 @@ inline Setup validate_setup(const core::ConfigTable& p, const core::ConfigTable&
     s.p_tags.push_back(tag_of(100.0 * pair_p[j]));
     s.gammas.push_back(keel::pcm::consistency_threshold(pair_p[j], 3));
   }
-  if (s.j_cal == pair_p.size()) throw ConfigError(claims.where("calibration_p") + ": must be one of `pair_p_values`");
+  if (s.j_cal == pair_p.size())
+    throw ConfigError(claims.where("calibration_p") + ": must be one of `pair_p_values`");
   return s;
 }
 
-// Per regime, one value per realization: TPR, FPR and mean merged χ² per method; calibration per composition and
-// level; mean q; local χ² of both robots and the pool χ² at the truth.
+// Per regime, one value per realization: TPR, FPR and mean merged χ² per method; calibration per composition
+// and level; mean q; local χ² of both robots and the pool χ² at the truth.
 struct Summary {
-  std::vector<std::vector<std::vector<double>>> tpr, fpr, chi2;        // [regime][method][realization]
-  std::vector<std::vector<std::vector<std::vector<double>>>> fail;     // [regime][composition][level][realization]
-  std::vector<std::vector<std::vector<double>>> q_mean;                // [regime][composition][realization]
-  std::vector<std::vector<double>> local_a, local_b, pool_chi2;        // [regime][realization]
-  std::vector<std::vector<double>> selection_time;                     // [method], every (realization, data set)
+  std::vector<std::vector<std::vector<double>>> tpr, fpr, chi2;  // [regime][method][realization]
+  std::vector<std::vector<std::vector<std::vector<double>>>>
+      fail;                                                      // [regime][composition][level][realization]
+  std::vector<std::vector<std::vector<double>>> q_mean;          // [regime][composition][realization]
+  std::vector<std::vector<double>> local_a, local_b, pool_chi2;  // [regime][realization]
+  std::vector<std::vector<double>> selection_time;               // [method], every (realization, data set)
 };
 
 inline Summary summarize(const std::vector<Realization>& reals, const std::vector<std::size_t>& regime_of,
@@ -123,7 +127,8 @@ inline Summary summarize(const std::vector<Realization>& reals, const std::vecto
   Summary s;
   s.tpr.assign(G, std::vector<std::vector<double>>(M));
   s.fpr = s.chi2 = s.tpr;
-  s.fail.assign(G, std::vector<std::vector<std::vector<double>>>(2, std::vector<std::vector<double>>(levels)));
+  s.fail.assign(G,
+                std::vector<std::vector<std::vector<double>>>(2, std::vector<std::vector<double>>(levels)));
   s.q_mean.assign(G, std::vector<std::vector<double>>(2));
   s.local_a.assign(G, {});
   s.local_b = s.pool_chi2 = s.local_a;
@@ -177,7 +182,8 @@ inline void record(core::Results& r, const Summary& s, const std::vector<Regime>
     }
     for (std::size_t c = 0; c < 2; ++c) {
       for (std::size_t j = 0; j < setup.gammas.size(); ++j)
-        record_values(r, fmt::format("{}.pair_fail_{}.{}", rn, setup.p_tags[j], kComposition[c]), s.fail[g][c][j]);
+        record_values(r, fmt::format("{}.pair_fail_{}.{}", rn, setup.p_tags[j], kComposition[c]),
+                      s.fail[g][c][j]);
       record_values(r, fmt::format("{}.pair_q_mean.{}", rn, kComposition[c]), s.q_mean[g][c]);
     }
     record_values(r, rn + ".local.a.chi2", s.local_a[g]);
@@ -198,42 +204,50 @@ inline void check_claims(core::Results& r, const Summary& s, const Setup& setup,
   const auto& fpr = s.fpr[setup.r_claim][setup.i_claim];
   bool ok = true;
   for (std::size_t k = 0; k < tpr.size(); ++k) ok = ok && tpr[k] >= c.tpr_min && fpr[k] <= c.fpr_max;
-  r.check(fmt::format("{} at the thesis's implied noise level (s = {:g}) keeps TPR >= {:g} and FPR <= {:g} in every "
-                      "realization",
-                      c.method, c.scale, c.tpr_min, c.fpr_max),
+  r.check(fmt::format(
+              "{} at the thesis's implied noise level (s = {:g}) keeps TPR >= {:g} and FPR <= {:g} in every "
+              "realization",
+              c.method, c.scale, c.tpr_min, c.fpr_max),
           ok,
-          fmt::format("{} at s = {:g}, per realization: TPR {}; FPR {} (thesis 0.997 / 0.001)", c.method, c.scale,
-                      join(tpr), join(fpr)));
+          fmt::format("{} at s = {:g}, per realization: TPR {}; FPR {} (thesis 0.997 / 0.001)", c.method,
+                      c.scale, join(tpr), join(fpr)));
   const auto& f = s.fail[setup.r_cal][0][setup.j_cal];
-  const auto mean = [&](std::size_t g, std::size_t comp) { return core::mean_std(s.fail[g][comp][setup.j_cal]).mean; };
+  const auto mean = [&](std::size_t g, std::size_t comp) {
+    return core::mean_std(s.fail[g][comp][setup.j_cal]).mean;
+  };
   const double m = mean(setup.r_cal, 0);
-  r.check(fmt::format("the joint consistency metric is calibrated at the stated noise (s = {:g}): inlier pairs fail "
-                      "gamma({:g}) at a rate in [{:g}, {:g}] (nominal {:g})",
-                      c.calibration_scale, c.calibration_p, c.calibration_range.first, c.calibration_range.second,
-                      c.calibration_p),
-          m >= c.calibration_range.first && m <= c.calibration_range.second,
-          fmt::format("joint Q, s = {:g}: fraction of ordered inlier pairs with q > gamma({:g}) = {:.3f}: mean {:.4f} "
-                      "(realizations {}; nominal {:g}); independent composition mean {:.4f}; the file's own "
-                      "measurements (dataset regime): joint {:.4f}, independent {:.4f}",
-                      c.calibration_scale, c.calibration_p, setup.gammas[setup.j_cal], m, join(f), c.calibration_p,
-                      mean(setup.r_cal, 1), mean(0, 0), mean(0, 1)));
+  r.check(
+      fmt::format(
+          "the joint consistency metric is calibrated at the stated noise (s = {:g}): inlier pairs fail "
+          "gamma({:g}) at a rate in [{:g}, {:g}] (nominal {:g})",
+          c.calibration_scale, c.calibration_p, c.calibration_range.first, c.calibration_range.second,
+          c.calibration_p),
+      m >= c.calibration_range.first && m <= c.calibration_range.second,
+      fmt::format(
+          "joint Q, s = {:g}: fraction of ordered inlier pairs with q > gamma({:g}) = {:.3f}: mean {:.4f} "
+          "(realizations {}; nominal {:g}); independent composition mean {:.4f}; the file's own "
+          "measurements (dataset regime): joint {:.4f}, independent {:.4f}",
+          c.calibration_scale, c.calibration_p, setup.gammas[setup.j_cal], m, join(f), c.calibration_p,
+          mean(setup.r_cal, 1), mean(0, 0), mean(0, 1)));
 }
 
 // Against s, one point per realization, a line through the means, the dataset regime as a dotted line.
 inline core::Figure figure(const std::string& file, const Summary& s, const std::vector<Regime>& regimes,
-                           const std::vector<eval::StudyMethod>& methods, const std::vector<std::string>& colors,
-                           const Setup& setup, std::size_t realizations, std::size_t datasets) {
+                           const std::vector<eval::StudyMethod>& methods,
+                           const std::vector<std::string>& colors, const Setup& setup,
+                           std::size_t realizations, std::size_t datasets) {
   core::Figure fig;
   fig.file = file;
-  fig.title = fmt::format("PCM on the City10000 two-robot data sets against the noise scale s of redrawn measurements "
-                          "({} realizations x {} data sets; dotted: the file's own measurements)",
-                          realizations, datasets);
+  fig.title = fmt::format(
+      "PCM on the City10000 two-robot data sets against the noise scale s of redrawn measurements "
+      "({} realizations x {} data sets; dotted: the file's own measurements)",
+      realizations, datasets);
   std::vector<double> xs;
   for (const auto& g : regimes)
     if (g.resampled) xs.push_back(g.scale);
   // Scatter of the realizations, line through the means, dotted line at the dataset regime's mean.
-  const auto add = [&](core::Panel& pa, const std::vector<std::vector<double>>& per_regime, const std::string& label,
-                       const std::string& color) {
+  const auto add = [&](core::Panel& pa, const std::vector<std::vector<double>>& per_regime,
+                       const std::string& label, const std::string& color) {
     std::vector<double> px, py, my;
     for (std::size_t g = 1; g < regimes.size(); ++g) {
       px.insert(px.end(), regimes[g].realizations, regimes[g].scale);

@@ -1,6 +1,5 @@
-// Table 2.1 (§2.7.2) in the thesis's noise regime: the City10000 two-robot data sets with every measurement redrawn
-// and PCM — thin driver over keel.eval's two-robot study
-// (common/city_table.hpp).
+// Table 2.1 (§2.7.2) in the thesis's noise regime: the City10000 two-robot data sets with every measurement
+// redrawn and PCM — thin driver over keel.eval's two-robot study (common/city_table.hpp).
 import keel.core;
 import keel.pcm;
 import keel.eval;

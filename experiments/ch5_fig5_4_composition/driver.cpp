@@ -46,27 +46,36 @@ int main(int argc, char** argv) {
     }
 
     const double pct = 100.0 * level;
-    const double e_ssc = std::fabs(ssc - level), e_ind = std::fabs(ind - level), e_joint = std::fabs(joint - level);
+    const double e_ssc = std::fabs(ssc - level), e_ind = std::fabs(ind - level),
+                 e_joint = std::fabs(joint - level);
     // Monte-Carlo standard error of a fraction at the nominal level.
     const double se = std::sqrt(level * (1.0 - level) / static_cast<double>(s.trajectories));
-    r.check("the joint Lie-algebra prediction is the closest of SSC / independent / joint to the nominal level",
-            e_joint < e_ind && e_joint < e_ssc,
-            fmt::format("|inside - {:.3g}|: joint {:.4f}, independent {:.4f}, SSC {:.4f}", level, e_joint, e_ind, e_ssc));
-    r.check(fmt::format("the joint Lie-algebra {:.3g} % region is consistent (within 3 standard errors)", pct),
-            e_joint <= 3 * se, fmt::format("inside: joint {:.4f}, nominal {:.3g} ± {:.4f}", joint, level, 3 * se));
-    r.check("dropping the cross-covariance under-approximates the spread (fewer samples inside than the joint region)",
-            ind < joint, fmt::format("inside: independent {:.4f} < joint {:.4f}", ind, joint));
-    r.check("the Lie algebra beats SSC head-to-tail like for like (joint vs SSC, independent vs independent SSC)",
-            e_joint < e_ssc && std::fabs(ind - level) < std::fabs(ssc_ind - level),
-            fmt::format("with correlation: joint {:.4f} vs SSC {:.4f}; without: Lie {:.4f} vs SSC {:.4f}", joint, ssc,
-                        ind, ssc_ind));
+    r.check(
+        "the joint Lie-algebra prediction is the closest of SSC / independent / joint to the nominal level",
+        e_joint < e_ind && e_joint < e_ssc,
+        fmt::format("|inside - {:.3g}|: joint {:.4f}, independent {:.4f}, SSC {:.4f}", level, e_joint, e_ind,
+                    e_ssc));
+    r.check(
+        fmt::format("the joint Lie-algebra {:.3g} % region is consistent (within 3 standard errors)", pct),
+        e_joint <= 3 * se,
+        fmt::format("inside: joint {:.4f}, nominal {:.3g} ± {:.4f}", joint, level, 3 * se));
+    r.check(
+        "dropping the cross-covariance under-approximates the spread (fewer samples inside than the joint "
+        "region)",
+        ind < joint, fmt::format("inside: independent {:.4f} < joint {:.4f}", ind, joint));
+    r.check(
+        "the Lie algebra beats SSC head-to-tail like for like (joint vs SSC, independent vs independent SSC)",
+        e_joint < e_ssc && std::fabs(ind - level) < std::fabs(ssc_ind - level),
+        fmt::format("with correlation: joint {:.4f} vs SSC {:.4f}; without: Lie {:.4f} vs SSC {:.4f}", joint,
+                    ssc, ind, ssc_ind));
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.width = 13.0;
     f.height = 5.5;
-    f.title = fmt::format("Fig. 5.4: {} end poses (N = {}); regions are shadows of the (x, y, yaw) ellipsoids",
-                          s.trajectories, s.steps);
+    f.title =
+        fmt::format("Fig. 5.4: {} end poses (N = {}); regions are shadows of the (x, y, yaw) ellipsoids",
+                    s.trajectories, s.steps);
     std::vector<double> sx, sy;
     lie::planar_positions(out.samples, sx, sy);
     auto base_panel = [&](std::string title) {
@@ -78,7 +87,8 @@ int main(int argc, char** argv) {
       panel.layers.push_back(core::scatter_layer(sx, sy, "Monte-Carlo end positions", "0.25", 3.0, 0.2));
       return panel;
     };
-    auto region = [&](core::Panel& panel, const lie::CompositionPrediction& pr, const char* label, const char* color) {
+    auto region = [&](core::Panel& panel, const lie::CompositionPrediction& pr, const char* label,
+                      const char* color) {
       std::vector<double> x, y;
       lie::planar_lie_region(pr, level, region_points, x, y);
       panel.layers.push_back(core::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
@@ -86,12 +96,14 @@ int main(int argc, char** argv) {
     core::Panel thesis = base_panel(fmt::format("as in the thesis: {:.3g} % regions", pct));
     std::vector<double> ell_x, ell_y;
     lie::planar_ssc_ellipse(out.ssc, level, 200, ell_x, ell_y);
-    thesis.layers.push_back(core::line_layer(std::move(ell_x), std::move(ell_y), "SSC head-to-tail", "tab:red"));
+    thesis.layers.push_back(
+        core::line_layer(std::move(ell_x), std::move(ell_y), "SSC head-to-tail", "tab:red"));
     region(thesis, out.lie_independent, "Lie algebra, correlation ignored", "tab:cyan");
     region(thesis, out.lie_joint, "Lie algebra, joint (proposed)", "tab:green");
     f.panels.push_back(thesis);
     if (out.has_joint_fourth_order) {
-      core::Panel beyond = base_panel(fmt::format("beyond the thesis: first vs fourth order, {:.3g} % regions", pct));
+      core::Panel beyond =
+          base_panel(fmt::format("beyond the thesis: first vs fourth order, {:.3g} % regions", pct));
       region(beyond, out.lie_joint, "joint, first order (eq. 5.39)", "tab:green");
       region(beyond, out.lie_joint_fourth_order, "joint, fourth order (Isserlis)", "tab:purple");
       f.panels.push_back(beyond);

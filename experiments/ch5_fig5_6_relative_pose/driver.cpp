@@ -1,4 +1,5 @@
-// Figs. 5.5–5.6 (§5.7.2): relative pose of correlated poses — thin driver over keel::lie::run_relative_pose_study.
+// Figs. 5.5–5.6 (§5.7.2): relative pose of correlated poses — thin driver over
+// keel::lie::run_relative_pose_study.
 import keel.core;
 import keel.lie;
 
@@ -63,12 +64,13 @@ int main(int argc, char** argv) {
       below = below && err_joint[k] < err_ind[k];
       worst_ratio = std::max(worst_ratio, err_joint[k] / err_ind[k]);
     }
-    r.check("ε with cross-covariance is below ε without it at every α", below,
-            fmt::format("largest ε_joint/ε_independent over {} values of α: {:.3g}", alphas.size(), worst_ratio));
+    r.check(
+        "ε with cross-covariance is below ε without it at every α", below,
+        fmt::format("largest ε_joint/ε_independent over {} values of α: {:.3g}", alphas.size(), worst_ratio));
     r.check("at α = 1, including correlation reduces ε by more than 10×",
             example.error_joint * 10 < example.error_independent,
-            fmt::format("α = {:g}: ε_joint = {:.3g}, ε_independent = {:.3g}", example_alpha, example.error_joint,
-                        example.error_independent));
+            fmt::format("α = {:g}: ε_joint = {:.3g}, ε_independent = {:.3g}", example_alpha,
+                        example.error_joint, example.error_independent));
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());
@@ -89,7 +91,8 @@ int main(int argc, char** argv) {
     ex_panel.aspect = "equal";
     std::vector<double> px, py;
     lie::planar_positions(example.samples, px, py);
-    ex_panel.layers.push_back(core::scatter_layer(std::move(px), std::move(py), "Monte-Carlo T₁₂", "0.25", 3.0, 0.2));
+    ex_panel.layers.push_back(
+        core::scatter_layer(std::move(px), std::move(py), "Monte-Carlo T₁₂", "0.25", 3.0, 0.2));
     auto region = [&](const auto& cov, const char* label, const char* color) {
       std::vector<double> x, y;
       lie::planar_lie_region(example.mean, cov, level, region_points, x, y);

@@ -14,7 +14,8 @@ namespace lie = keel::lie;
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    const auto n_min = p.integer("steps_min"), n_max = p.integer("steps_max"), stride = p.integer("steps_stride");
+    const auto n_min = p.integer("steps_min"), n_max = p.integer("steps_max"),
+               stride = p.integer("steps_stride");
     lie::CompositionSetup base;
     base.sigma_t = p.number("sigma_t");
     base.sigma_r = p.number("sigma_r");
@@ -38,7 +39,8 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < ns.size(); ++k) {
       auto s = base;
       s.steps = static_cast<int>(ns[k]);
-      s.stream_base = 0;  // common random numbers: every N reuses the same streams (cleaner comparisons across N)
+      s.stream_base =
+          0;  // common random numbers: every N reuses the same streams (cleaner comparisons across N)
       const auto out = lie::run_composition_study(s, &progress);
       ssc.push_back(out.ssc.inside[0]);
       ssc_ind.push_back(out.ssc_independent.inside[0]);
@@ -72,12 +74,12 @@ int main(int argc, char** argv) {
     }
     r.check("the joint Lie-algebra method is the most accurate of SSC / independent / joint at every N",
             joint_best == static_cast<int>(ns.size()),
-            fmt::format("joint closest to {:.3f} (ties within {:.4f}) at {} of {} values of N", level, tie, joint_best,
-                        ns.size()));
+            fmt::format("joint closest to {:.3f} (ties within {:.4f}) at {} of {} values of N", level, tie,
+                        joint_best, ns.size()));
     r.check("consistency drops as N grows (joint and SSC lower at the longest N than at the shortest)",
             joint.back() < joint.front() && ssc.back() < ssc.front(),
-            fmt::format("inside (joint): N={:g} {:.4f} -> N={:g} {:.4f}; SSC {:.4f} -> {:.4f}", ns.front(), joint.front(),
-                        ns.back(), joint.back(), ssc.front(), ssc.back()));
+            fmt::format("inside (joint): N={:g} {:.4f} -> N={:g} {:.4f}; SSC {:.4f} -> {:.4f}", ns.front(),
+                        joint.front(), ns.back(), joint.back(), ssc.front(), ssc.back()));
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());

@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
         w.ind.push_back(out.lie_independent.inside[0]);
         w.joint.push_back(out.lie_joint.inside[0]);
         w.fourth.push_back(out.lie_fourth_order.inside[0]);
-        if (!out.has_joint_fourth_order) throw std::runtime_error("the fourth-order joint chain was not evaluated");
+        if (!out.has_joint_fourth_order)
+          throw std::runtime_error("the fourth-order joint chain was not evaluated");
         w.joint4.push_back(out.lie_joint_fourth_order.inside[0]);
       }
       return w;
@@ -54,7 +55,8 @@ int main(int argc, char** argv) {
     const Sweep rot = sweep(true, 0), tra = sweep(false, std::uint64_t{1} << 32);
     progress.finish();
 
-    for (const auto& [prefix, var, w] : {std::tuple{"rotation", "sigma_r", &rot}, std::tuple{"translation", "sigma_t", &tra}}) {
+    for (const auto& [prefix, var, w] :
+         {std::tuple{"rotation", "sigma_r", &rot}, std::tuple{"translation", "sigma_t", &tra}}) {
       const std::string pre = fmt::format("{}.inside{}", prefix, core::level_tag(level));
       r.series(fmt::format("{}.{}", prefix, var), sigmas);
       r.series(fmt::format("{}.ssc", pre), w->ssc);
@@ -67,14 +69,19 @@ int main(int argc, char** argv) {
 
     // Claim checks on our numbers. "Closer" allows a tie within two Monte-Carlo standard errors at the level.
     const double tie = 2.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(base.trajectories));
-    // Effect of a noise source = how much the joint method's inside fraction falls from the smallest to the largest σ.
-    const double rot_effect = rot.joint.front() - rot.joint.back(), tra_effect = tra.joint.front() - tra.joint.back();
-    const double rot_effect_ssc = rot.ssc.front() - rot.ssc.back(), tra_effect_ssc = tra.ssc.front() - tra.ssc.back();
-    r.check("rotation noise degrades consistency much more than translation noise",
-            rot_effect > tra_effect + tie && rot_effect_ssc > tra_effect_ssc + tie,
-            fmt::format("drop of inside fraction from σ = {:g} to {:g}: joint σr {:.4f} vs σt {:.4f}; SSC σr {:.4f} vs σt "
-                        "{:.4f}",
-                        sigmas.front(), sigmas.back(), rot_effect, tra_effect, rot_effect_ssc, tra_effect_ssc));
+    // Effect of a noise source = how much the joint method's inside fraction falls from the smallest to the
+    // largest σ.
+    const double rot_effect = rot.joint.front() - rot.joint.back(),
+                 tra_effect = tra.joint.front() - tra.joint.back();
+    const double rot_effect_ssc = rot.ssc.front() - rot.ssc.back(),
+                 tra_effect_ssc = tra.ssc.front() - tra.ssc.back();
+    r.check(
+        "rotation noise degrades consistency much more than translation noise",
+        rot_effect > tra_effect + tie && rot_effect_ssc > tra_effect_ssc + tie,
+        fmt::format("drop of inside fraction from σ = {:g} to {:g}: joint σr {:.4f} vs σt {:.4f}; SSC σr "
+                    "{:.4f} vs σt "
+                    "{:.4f}",
+                    sigmas.front(), sigmas.back(), rot_effect, tra_effect, rot_effect_ssc, tra_effect_ssc));
     int joint_beats_ind = 0, total = 0, joint_beats_ssc = 0, ind_beats_ssc_ind = 0;
     auto closer = [&](double a, double b) { return std::fabs(a - level) <= std::fabs(b - level) + tie; };
     for (const Sweep* w : {&rot, &tra}) {
@@ -86,30 +93,37 @@ int main(int argc, char** argv) {
     }
     r.check("the joint method is more accurate than ignoring correlation at every sweep point",
             joint_beats_ind == total,
-            fmt::format("joint at least as close to {:.3f} as independent at {} of {} points (ties within {:.4f})", level,
-                        joint_beats_ind, total, tie));
-    r.check("the Lie-algebra methods beat SSC like for like at every point of both sweeps (neither sweep has very low "
-            "rotation together with very high translation noise, the thesis's exception)",
-            joint_beats_ssc == total && ind_beats_ssc_ind == total,
-            fmt::format("joint vs SSC: Lie at least as close at {} of {} points; independent Lie vs independent SSC: {} "
-                        "of {}",
-                        joint_beats_ssc, total, ind_beats_ssc_ind, total));
+            fmt::format(
+                "joint at least as close to {:.3f} as independent at {} of {} points (ties within {:.4f})",
+                level, joint_beats_ind, total, tie));
+    r.check(
+        "the Lie-algebra methods beat SSC like for like at every point of both sweeps (neither sweep has "
+        "very low "
+        "rotation together with very high translation noise, the thesis's exception)",
+        joint_beats_ssc == total && ind_beats_ssc_ind == total,
+        fmt::format(
+            "joint vs SSC: Lie at least as close at {} of {} points; independent Lie vs independent SSC: {} "
+            "of {}",
+            joint_beats_ssc, total, ind_beats_ssc_ind, total));
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.title = fmt::format("Fig. 5.9: fraction inside the 99.9 % ellipsoid vs noise (N = {})", base.steps);
-    for (const auto& [title, xlabel, w] :
-         {std::tuple{"rotation noise (σt = 3)", "σr", &rot}, std::tuple{"translation noise (σr = 3)", "σt", &tra}}) {
+    for (const auto& [title, xlabel, w] : {std::tuple{"rotation noise (σt = 3)", "σr", &rot},
+                                           std::tuple{"translation noise (σr = 3)", "σt", &tra}}) {
       core::Panel panel;
       panel.title = title;
       panel.xlabel = xlabel;
       panel.ylabel = "fraction of samples inside";
       panel.layers.push_back(core::line_layer(sigmas, w->ssc, "SSC head-to-tail", "tab:red", "^"));
-      panel.layers.push_back(core::line_layer(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
+      panel.layers.push_back(
+          core::line_layer(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
       panel.layers.push_back(core::line_layer(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
-      panel.layers.push_back(core::line_layer(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
+      panel.layers.push_back(
+          core::line_layer(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
       panel.layers.push_back(core::line_layer(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
-      panel.layers.push_back(core::line_layer(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
+      panel.layers.push_back(
+          core::line_layer(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
       panel.layers.push_back(core::hline_layer(level, "nominal", "0.3"));
       f.panels.push_back(panel);
     }

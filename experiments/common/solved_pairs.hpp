@@ -1,7 +1,8 @@
-// Shared glue of the Manhattan3500 relative-pose experiments (Tables 5.1–5.2): read the dataset, solve it, extract
-// the pair marginals in the Lie algebra, run the pair study, record timings and the solver summary, and draw the
-// Figs. 5.10–5.14 panels. Include after `import keel.core; import keel.lie; import keel.graph; import keel.pgo;
-// import keel.cov;` (DESIGN rule 4). Drivers call engine functions only; no linear algebra here.
+// Shared glue of the Manhattan3500 relative-pose experiments (Tables 5.1–5.2): read the dataset, solve it,
+// extract the pair marginals in the Lie algebra, run the pair study, record timings and the solver summary,
+// and draw the Figs. 5.10–5.14 panels. Include after `import keel.core; import keel.lie; import keel.graph;
+// import keel.pgo; import keel.cov;` (DESIGN rule 4). Drivers call engine functions only; no linear algebra
+// here.
 #pragma once
 
 #include <fmt/format.h>
@@ -16,9 +17,9 @@
 namespace keel::experiments {
 
 struct SolvedPairs {
-  std::vector<keel::lie::SE2> poses;                 // the maximum-likelihood solution
-  std::vector<std::pair<int, int>> pairs;             // (i, i + k)
-  std::vector<keel::lie::PairRecord> records;         // one per pair
+  std::vector<keel::lie::SE2> poses;           // the maximum-likelihood solution
+  std::vector<std::pair<int, int>> pairs;      // (i, i + k)
+  std::vector<keel::lie::PairRecord> records;  // one per pair
   std::vector<int> offsets, figure_offsets;
 };
 
@@ -38,8 +39,8 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   keel::lie::PairStudySetup setup;
   setup.samples = p.count("samples");
   ex.params_done();
-  // One solver thread: Ceres sums cost and gradient per thread, so 1 and 2 threads differ in the last bits and the
-  // result files would depend on the thread count. The solve takes well under a second either way.
+  // One solver thread: Ceres sums cost and gradient per thread, so 1 and 2 threads differ in the last bits
+  // and the result files would depend on the thread count. The solve takes well under a second either way.
   options.threads = 1;
   SolvedPairs out;
   for (double k : offsets_in) out.offsets.push_back(static_cast<int>(k));
@@ -67,7 +68,8 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   const keel::cov::MarginalCovariance marginals(info);
   const int n = static_cast<int>(out.poses.size());
   for (int k : out.offsets) {
-    if (k < 1 || k >= n) throw core::ConfigError(fmt::format("{}: offset {} out of range", p.where("offsets"), k));
+    if (k < 1 || k >= n)
+      throw core::ConfigError(fmt::format("{}: offset {} out of range", p.where("offsets"), k));
     for (int i = 0; i + k < n; i += stride) out.pairs.emplace_back(i, i + k);
   }
   const auto covs = keel::cov::pair_marginals_2d(marginals, out.pairs, ex.threads());
@@ -86,7 +88,8 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
 
 // Records `<name>.mean` / `<name>.std` over all pairs and per offset (`offset<k>.<name>.mean`).
 inline keel::lie::PairStatistics record_statistics(keel::core::Results& r, const SolvedPairs& s,
-                                                   double keel::lie::PairRecord::*field, const std::string& name) {
+                                                   double keel::lie::PairRecord::* field,
+                                                   const std::string& name) {
   const auto all = keel::lie::pair_statistics(s.records, field);
   r.metric(fmt::format("{}.mean", name), all.mean);
   r.metric(fmt::format("{}.std", name), all.std);
@@ -98,9 +101,9 @@ inline keel::lie::PairStatistics record_statistics(keel::core::Results& r, const
   return all;
 }
 
-// One panel of Figs. 5.10–5.14: every pair at `offset` drawn as a segment between the two positions, coloured by
-// `field` on [0, vmax] with `cmap`.
-inline keel::core::Panel pair_panel(const SolvedPairs& s, int offset, double keel::lie::PairRecord::*field,
+// One panel of Figs. 5.10–5.14: every pair at `offset` drawn as a segment between the two positions, coloured
+// by `field` on [0, vmax] with `cmap`.
+inline keel::core::Panel pair_panel(const SolvedPairs& s, int offset, double keel::lie::PairRecord::* field,
                                     const std::string& title, const std::string& cmap, double vmax) {
   keel::core::Panel panel;
   panel.title = title;

@@ -1,5 +1,6 @@
 // The figure shared by the two-robot map-merging experiments of chapter 2 (Figs. 2.5 and 2.7). Include after
-// `import keel.core; import keel.eval;` (DESIGN rule 4); it imports nothing itself and does no linear algebra.
+// `import keel.core; import keel.eval;` (DESIGN rule 4); it imports nothing itself and does no linear
+// algebra.
 #pragma once
 
 #include <fmt/format.h>
@@ -9,18 +10,21 @@
 
 namespace keel::experiments {
 
-// Figs. 2.5 / 2.7: one panel per method with the merged trajectories of both robots (axes ax, ay of the translation)
-// and every candidate as a segment between its two poses: blue accepted inliers, red accepted outliers, pink rejected
-// inliers, grey rejected outliers. `d` must have been run with keep_solutions.
+// Figs. 2.5 / 2.7: one panel per method with the merged trajectories of both robots (axes ax, ay of the
+// translation) and every candidate as a segment between its two poses: blue accepted inliers, red accepted
+// outliers, pink rejected inliers, grey rejected outliers. `d` must have been run with keep_solutions.
 template <class G>
-keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d, const std::vector<keel::eval::StudyMethod>& methods,
+keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
+                                      const std::vector<keel::eval::StudyMethod>& methods,
                                       const std::string& file, const std::string& title, int ax, int ay,
                                       double trajectory_width, const std::string& xlabel = "",
                                       const std::string& ylabel = "") {
   namespace core = keel::core;
   core::Figure f;
   f.file = file;
-  f.title = title + " (blue: accepted inliers, red: accepted outliers, pink: rejected inliers, grey: rejected outliers)";
+  f.title =
+      title +
+      " (blue: accepted inliers, red: accepted outliers, pink: rejected inliers, grey: rejected outliers)";
   f.cols = 4;
   f.rows = static_cast<int>((methods.size() + 3) / 4);
   f.width = 22.0;

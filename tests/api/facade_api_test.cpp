@@ -1,4 +1,5 @@
-// Facade-API tests: use the engine exactly as drivers do, through `import` (imports before any include, DESIGN rule 4).
+// Facade-API tests: use the engine exactly as drivers do, through `import` (imports before any include,
+// DESIGN rule 4).
 import keel.core;
 import keel.lie;
 import keel.pcm;
@@ -32,9 +33,12 @@ TEST_CASE("keel.lie facade: group round trip and the adjoint identity (eq. 5.10)
   CHECK(lhs.is_approx(rhs, 1e-10));
 }
 
-TEST_CASE("keel.lie facade: relative pose of correlated poses beats the independent formula (Fig. 5.6 at alpha = 1)") {
-  auto s = lie::relative_pose_setup(lie::kPi / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
-                                    {0.0005, 0.0005, 0, 0, 0, 0.005}, 1.0);
+TEST_CASE(
+    "keel.lie facade: relative pose of correlated poses beats the independent formula (Fig. 5.6 at alpha = "
+    "1)") {
+  auto s = lie::relative_pose_setup(lie::kPi / 4, {3, 3, 0}, {4.5, 4.5, 0},
+                                    {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006}, {0.0005, 0.0005, 0, 0, 0, 0.005},
+                                    1.0);
   s.samples = 20000;
   s.seed = 5;
   const auto out = lie::run_relative_pose_study(s);
@@ -59,7 +63,8 @@ TEST_CASE("keel.lie facade: composition study is deterministic across thread cou
   CHECK_THROWS_WITH_AS((void)lie::run_composition_study(s), doctest::Contains("rho"), std::invalid_argument);
 }
 
-TEST_CASE("keel.lie facade: at small noise every first-order prediction is consistent (Monte-Carlo agreement)") {
+TEST_CASE(
+    "keel.lie facade: at small noise every first-order prediction is consistent (Monte-Carlo agreement)") {
   lie::CompositionSetup s;
   s.steps = 10;
   s.sigma_t = 0.01;
@@ -70,7 +75,8 @@ TEST_CASE("keel.lie facade: at small noise every first-order prediction is consi
   s.seed = 3;
   const auto out = lie::run_composition_study(s);
   const double se = std::sqrt(0.95 * 0.05 / 20000.0);
-  // With the correlation modelled, first and fourth order agree with Monte Carlo; SSC too (small noise, near-linear).
+  // With the correlation modelled, first and fourth order agree with Monte Carlo; SSC too (small noise,
+  // near-linear).
   CHECK(std::fabs(out.lie_joint.inside[0] - 0.95) < 4 * se);
   CHECK(std::fabs(out.lie_joint_fourth_order.inside[0] - 0.95) < 4 * se);
   CHECK(std::fabs(out.ssc.inside[0] - 0.95) < 4 * se);
@@ -84,16 +90,19 @@ TEST_CASE("keel.core facade: config errors name file, table and key") {
   const auto dir = std::filesystem::temp_directory_path() / "keel_api_test" / "demo";
   std::filesystem::create_directories(dir);
   const auto file = dir / "experiment.toml";
-  std::ofstream(file) << "id = \"demo\"\ntitle = \"t\"\nreproduces = \"r\"\nseed = 1\n[params]\nsteps = \"ten\"\n"
-                         "[profiles.quick]\n";
+  std::ofstream(file)
+      << "id = \"demo\"\ntitle = \"t\"\nreproduces = \"r\"\nseed = 1\n[params]\nsteps = \"ten\"\n"
+         "[profiles.quick]\n";
   const auto cfg = core::ExperimentConfig::load(file, "quick");
-  CHECK_THROWS_WITH_AS((void)cfg.params.integer("steps"),
-                       doctest::Contains("experiment.toml: [params] key 'steps' (line 6): expected an integer"),
-                       core::ConfigError);
+  CHECK_THROWS_WITH_AS(
+      (void)cfg.params.integer("steps"),
+      doctest::Contains("experiment.toml: [params] key 'steps' (line 6): expected an integer"),
+      core::ConfigError);
   std::filesystem::remove_all(dir.parent_path());
 }
 
-TEST_CASE("keel.pcm facade: PCM-Exact equals the combinatorial maximum of eq. 2.5 on 1D worlds; RANSAC does not") {
+TEST_CASE(
+    "keel.pcm facade: PCM-Exact equals the combinatorial maximum of eq. 2.5 on 1D worlds; RANSAC does not") {
   sim::World1DOptions options;  // the defaults of world1d.hpp
   const double gamma = pcm::consistency_threshold(0.11, 1);
   int ransac_inconsistent = 0;
@@ -104,7 +113,8 @@ TEST_CASE("keel.pcm facade: PCM-Exact equals the combinatorial maximum of eq. 2.
     const auto exact = pcm::select_pcm(Q, gamma, pcm::CliqueAlgorithm::exact);
     CHECK(exact.selected.size() == comb.selected.size());
     CHECK(eval::count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
-    ransac_inconsistent += eval::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
+    ransac_inconsistent +=
+        eval::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
   }
   CHECK(ransac_inconsistent > 0);  // RANSAC does not enforce pairwise consistency (§2.7.1)
 }

@@ -1,7 +1,7 @@
-// The shared test kit of every area's unit tests (docs/DESIGN.md "Naming and errors"): numerical Jacobians by central
-// differences, random matrices, SPD matrices, tangents and poses drawn from keel::core::Rng (identical on every
-// standard library, unlike std::normal_distribution), and a check that a call throws a given message. Unit tests
-// include it as "kit/test_kit.hpp"; it imports nothing (DESIGN rule 4).
+// The shared test kit of every area's unit tests (docs/DESIGN.md "Naming and errors"): numerical Jacobians by
+// central differences, random matrices, SPD matrices, tangents and poses drawn from keel::core::Rng
+// (identical on every standard library, unlike std::normal_distribution), and a check that a call throws a
+// given message. Unit tests include it as "kit/test_kit.hpp"; it imports nothing (DESIGN rule 4).
 #pragma once
 
 #include <Eigen/Core>
@@ -37,7 +37,8 @@ MatX numerical_jacobian(const F& f, const VecX& x, double h = 1e-6) {
 }
 
 // Central-difference Jacobian of a function of a group perturbation δ ∈ R^DoF at δ = 0: f(δ) is called with
-// ±h e_k as a G::Tangent (the caller decides how δ enters, e.g. exp(δ^) T for the left perturbation of eq. 5.14).
+// ±h e_k as a G::Tangent (the caller decides how δ enters, e.g. exp(δ^) T for the left perturbation of
+// eq. 5.14).
 template <class G, class F>
 MatX numerical_jacobian_tangent(const F& f, double h = 1e-6) {
   const VecX f0 = f(typename G::Tangent(G::Tangent::Zero()));
@@ -58,7 +59,9 @@ inline MatX random_matrix(core::Rng& rng, Eigen::Index rows, Eigen::Index cols, 
   return A;
 }
 
-inline VecX random_vector(core::Rng& rng, Eigen::Index n, double scale = 1.0) { return random_matrix(rng, n, 1, scale); }
+inline VecX random_vector(core::Rng& rng, Eigen::Index n, double scale = 1.0) {
+  return random_matrix(rng, n, 1, scale);
+}
 
 // A B Bᵀ / n + min_eigenvalue I with B i.i.d. N(0, scale²): symmetric positive definite, smallest eigenvalue
 // ≥ min_eigenvalue.
@@ -81,7 +84,8 @@ typename G::Tangent random_tangent(core::Rng& rng, double scale = 1.0) {
   return random_tangent<G>(rng, scale, scale);
 }
 
-// exp of a random tangent: rotations with angle scale `rotation_scale` (radians), translations `translation_scale`.
+// exp of a random tangent: rotations with angle scale `rotation_scale` (radians), translations
+// `translation_scale`.
 template <class G>
 G random_pose(core::Rng& rng, double rotation_scale = 1.0, double translation_scale = 1.0) {
   return G::exp(random_tangent<G>(rng, rotation_scale, translation_scale));
@@ -113,6 +117,8 @@ std::string message_of(F&& f) {
   return kNoThrow;
 }
 
-inline bool contains(std::string_view s, std::string_view part) { return s.find(part) != std::string_view::npos; }
+inline bool contains(std::string_view s, std::string_view part) {
+  return s.find(part) != std::string_view::npos;
+}
 
 }  // namespace keel::testkit

@@ -20,6 +20,7 @@ using namespace keel;
 using namespace keel::pcm;
 using namespace keel::sim;
 using namespace keel::eval;
+using keel::sim::testing::small_candidate_options;
 using keel::sim::testing::square_laps;
 
 using keel::testkit::contains;
@@ -43,24 +44,12 @@ Pipeline<G> pipeline(std::uint64_t seed, int laps = 3) {
   return p;
 }
 
-CandidateOptions small_options() {
-  CandidateOptions o;
-  o.num_inliers = 10;
-  o.aliased_groups = 2;
-  o.aliased_group_size = 5;
-  o.random_outliers = 30;
-  // Random covariances up to 10 % of the 10 m map (the defaults reach 10 m, the whole map here).
-  o.random_sigma_translation_max = 1.0;
-  o.random_sigma_rotation_max = 0.1;
-  return o;
-}
-
 template <class G>
 void check_anchor_recovery() {
   const auto p = pipeline<G>(31);
   CHECK(p.a.summary.termination == pgo::Termination::converged);
   CHECK(p.a.covariance->num_poses() == 60);
-  const auto c = generate_candidates(p.scenario, small_options(), 5, 0);
+  const auto c = generate_candidates(p.scenario, small_candidate_options(), 5, 0);
   const auto inliers = c.inliers();
   const auto merged = merge_maps(p.a, p.b, c.candidates, inliers);
   CHECK(merged.summary.termination == pgo::Termination::converged);
@@ -115,7 +104,7 @@ TEST_CASE("merge_maps with the inliers alone recovers the true anchor (3D)") {
 
 TEST_CASE("local_maps: ids are the distinct poses touched, joint their marginal covariance") {
   const auto p = pipeline<lie::SE2>(8);
-  const auto c = generate_candidates(p.scenario, small_options(), 2, 1);
+  const auto c = generate_candidates(p.scenario, small_candidate_options(), 2, 1);
   const auto maps = local_maps(p.a, p.b, c.candidates);
   CHECK(std::is_sorted(maps.a.ids.begin(), maps.a.ids.end()));
   CHECK(std::adjacent_find(maps.b.ids.begin(), maps.b.ids.end()) == maps.b.ids.end());
@@ -164,7 +153,7 @@ TEST_CASE("aliased groups are mutually consistent, random outliers are not") {
   const double gamma = consistency_threshold(0.01, 3);
   int same_group = 0, same_group_ok = 0, random_pairs = 0, random_ok = 0, cross = 0, cross_ok = 0;
   for (std::uint64_t d = 0; d < 10; ++d) {
-    const auto c = generate_candidates(p.scenario, small_options(), 404, d);
+    const auto c = generate_candidates(p.scenario, small_candidate_options(), 404, d);
     const auto maps = local_maps(p.a, p.b, c.candidates);
     const auto Q = consistency_matrix(maps.a, maps.b, c.candidates);
     for (int u = 0; u < Q.n; ++u)
@@ -246,7 +235,7 @@ TEST_CASE("metrics: zero for identical solutions, hand-computed values on a tiny
 
 TEST_CASE("merge_maps: empty selection, DCS, and the accepted candidates") {
   const auto p = pipeline<lie::SE2>(55);
-  const auto c = generate_candidates(p.scenario, small_options(), 9, 0);
+  const auto c = generate_candidates(p.scenario, small_candidate_options(), 9, 0);
   // Nothing selected: b's anchor has nothing to align it and stays at the identity; both maps stay solved.
   const auto none = merge_maps(p.a, p.b, c.candidates, {});
   CHECK(none.summary.termination == pgo::Termination::converged);
@@ -278,7 +267,7 @@ TEST_CASE("merge_maps: empty selection, DCS, and the accepted candidates") {
 
 TEST_CASE("merge: bad inputs give clear errors") {
   const auto p = pipeline<lie::SE2>(3);
-  auto c = generate_candidates(p.scenario, small_options(), 1, 0);
+  auto c = generate_candidates(p.scenario, small_candidate_options(), 1, 0);
   CHECK(message_of([&] {
           (void)merge_maps(p.a, p.b, c.candidates, {50});
         }).find("selected candidate 50 out of range") != std::string::npos);
@@ -336,8 +325,8 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
   methods[6].name = "pcm_exact_ind";
   methods[6].kind = MergeMethodKind::pcm_exact;
   methods[6].composition = Composition::independent;
-  const auto d =
-      run_merge_dataset(p.scenario, p.a, p.b, small_options(), methods, 12, 4, /*keep_solutions=*/true);
+  const auto d = run_merge_dataset(p.scenario, p.a, p.b, small_candidate_options(), methods, 12, 4,
+                                   /*keep_solutions=*/true);
   REQUIRE(d.methods.size() == 7);
   CHECK(d.candidates.candidates.size() == 50);
   CHECK(d.matrix_time_s > 0.0);
@@ -369,7 +358,7 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
   CHECK(d.methods[1].selection.selected == accepted_candidates(d.methods[1].merged, 0.5));
   CHECK_FALSE(d.methods[1].selection.search.has_value());
 
-  const auto again = run_merge_dataset(p.scenario, p.a, p.b, small_options(), methods, 12, 4);
+  const auto again = run_merge_dataset(p.scenario, p.a, p.b, small_candidate_options(), methods, 12, 4);
   for (std::size_t k = 0; k < methods.size(); ++k) {
     CHECK(again.methods[k].selection.selected == d.methods[k].selection.selected);
     CHECK(again.methods[k].metrics.map.translation_mse == d.methods[k].metrics.map.translation_mse);
@@ -385,7 +374,7 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
   auto bad = methods;
   bad[3].p = 1.0;
   CHECK(message_of([&] {
-          (void)run_merge_dataset(p.scenario, p.a, p.b, small_options(), bad, 12, 4);
+          (void)run_merge_dataset(p.scenario, p.a, p.b, small_candidate_options(), bad, 12, 4);
         }).find("MergeMethod 'ransac': p must be in (0, 1)") != std::string::npos);
   bad = methods;
   bad[1].dcs_accept_scale = 0.0;

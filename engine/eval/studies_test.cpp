@@ -18,6 +18,7 @@
 
 using namespace keel;
 using namespace keel::eval;
+using keel::sim::testing::small_candidate_options;
 using keel::sim::testing::square_laps;
 using keel::testkit::contains;
 using keel::testkit::message_of;
@@ -29,17 +30,6 @@ sim::TwoRobotScenario2 scenario(std::uint64_t seed) {
   return sim::split_two_robots(syn.graph, syn.truth, {0, 60, 120});
 }
 
-sim::CandidateOptions small_candidates() {
-  sim::CandidateOptions o;
-  o.num_inliers = 8;
-  o.aliased_groups = 1;
-  o.aliased_group_size = 4;
-  o.random_outliers = 12;
-  o.random_sigma_translation_max = 1.0;
-  o.random_sigma_rotation_max = 0.1;
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("data sets in parallel equal data sets one by one; summaries pool what the data sets hold") {
@@ -48,10 +38,10 @@ TEST_CASE("data sets in parallel equal data sets one by one; summaries pool what
   const std::vector<MergeMethod> methods = {MergeMethod::make("no_out", MergeMethodKind::no_outliers),
                                             MergeMethod::make("pcm", MergeMethodKind::pcm_exact),
                                             MergeMethod::make("heu", MergeMethodKind::pcm_heuristic)};
-  const auto runs = run_merge_datasets(s, local, small_candidates(), methods, 17, 4, 2, 1);
+  const auto runs = run_merge_datasets(s, local, small_candidate_options(), methods, 17, 4, 2, 1);
   REQUIRE(runs.size() == 4);
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const auto one = run_merge_dataset(s, local.a, local.b, small_candidates(), methods, 17, i);
+    const auto one = run_merge_dataset(s, local.a, local.b, small_candidate_options(), methods, 17, i);
     for (std::size_t k = 0; k < methods.size(); ++k) {
       CHECK(runs[i].methods[k].selection.selected == one.methods[k].selection.selected);
       CHECK(runs[i].methods[k].metrics.normalized_chi2 == one.methods[k].metrics.normalized_chi2);
@@ -84,7 +74,7 @@ TEST_CASE("the pool's χ² at the truth is s² and Q's calibration follows χ²(
     const double chi2 = pool_chi2_at_truth(x);
     INFO("s = " << s << ", pool " << x.pool.size() << ", chi2/dof " << chi2);
     CHECK(chi2 / (s * s) == doctest::Approx(1.0).epsilon(0.35));
-    CHECK(apply_regime(small_candidates(), g).aliased_noise_scale == s);
+    CHECK(apply_regime(small_candidate_options(), g).aliased_noise_scale == s);
   }
   const auto local = solve_local_pair(base);
   const std::vector<double> gammas = {pcm::consistency_threshold(0.5, 3),

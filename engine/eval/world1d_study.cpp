@@ -23,12 +23,6 @@ namespace {
 using core::Clock;
 using core::seconds_since;
 
-void check_gamma(double gamma, const char* who) {
-  if (!(gamma > 0.0) || !std::isfinite(gamma))
-    throw std::invalid_argument(
-        fmt::format("{}: the consistency threshold gamma must be > 0 and finite (got {:g})", who, gamma));
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -81,7 +75,7 @@ struct PrunedSearch {
 CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q, double gamma,
                                                      CombinatorialMethod method) {
   validate_consistency_matrix(Q, "max_consistent_set_combinatorial");
-  check_gamma(gamma, "max_consistent_set_combinatorial");
+  validate_gamma(gamma, "max_consistent_set_combinatorial");
   const int m = Q.n;
   const int limit =
       method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
@@ -155,8 +149,8 @@ Selector1D selector1d_from_string(std::string_view s) { return kSelector1DNames.
 
 void World1DStudyOptions::validate() const {
   world.validate();
-  check_gamma(pcm_gamma, "World1DStudyOptions::pcm_gamma");
-  check_gamma(ransac_gamma, "World1DStudyOptions::ransac_gamma");
+  validate_gamma(pcm_gamma, "World1DStudyOptions::pcm_gamma");
+  validate_gamma(ransac_gamma, "World1DStudyOptions::ransac_gamma");
   scgp.validate();
   if (worlds < 1) throw std::invalid_argument("World1DStudyOptions::worlds must be >= 1");
   if (selectors.empty()) throw std::invalid_argument("World1DStudyOptions::selectors is empty");

@@ -20,13 +20,13 @@ namespace {
 using core::Clock;
 using core::seconds_since;
 
-void check_gamma(double gamma, const char* who) {
+}  // namespace
+
+void validate_gamma(double gamma, const char* who) {
   if (!(gamma > 0.0) || !std::isfinite(gamma))
     throw std::invalid_argument(
         fmt::format("{}: the consistency threshold gamma must be > 0 and finite (got {:g})", who, gamma));
 }
-
-}  // namespace
 
 void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who) {
   if (Q.n <= 0) {
@@ -57,7 +57,7 @@ void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who) {
 Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
                      const CliqueOptions& options) {
   validate_consistency_matrix(Q, "select_pcm");
-  check_gamma(gamma, "select_pcm");
+  validate_gamma(gamma, "select_pcm");
   const auto t0 = Clock::now();
   // Consistency graph of §2.5: edge {u, v} iff q_uv <= γ and q_vu <= γ; a clique is a pairwise internally
   // consistent set (eq. 2.3), and the maximum clique solves eq. 2.5.
@@ -76,7 +76,7 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
 
 Selection select_ransac(const ConsistencyMatrix& Q, double gamma) {
   validate_consistency_matrix(Q, "select_ransac");
-  check_gamma(gamma, "select_ransac");
+  validate_gamma(gamma, "select_ransac");
   const auto t0 = Clock::now();
   const int n = Q.n;
   int best_u = 0, best_count = -1;

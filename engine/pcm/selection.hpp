@@ -40,6 +40,10 @@ struct Selection {
 // consistent). The diagonal is otherwise ignored (a measurement is always consistent with itself).
 void validate_consistency_matrix(const ConsistencyMatrix& Q, const char* who);
 
+// Throws std::invalid_argument "<who>: the consistency threshold gamma must be > 0 and finite (got γ)"
+// otherwise.
+void validate_gamma(double gamma, const char* who);
+
 // PCM (eq. 2.5, §2.5): maximum clique of ConsistencyGraph::from_threshold(Q, γ). γ > 0 and finite, else
 // std::invalid_argument. time_s includes thresholding Q into the graph.
 [[nodiscard]] Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,

@@ -81,4 +81,17 @@ SyntheticGraph<G> square_laps(int laps, int closure_stride, std::uint64_t seed, 
   return out;
 }
 
+// A small candidate set for the square-laps scenarios: 10 inliers, 2 aliased groups of 5, 30 random outliers
+// with covariances up to 10 % of the 10 m map (the defaults reach 10 m, the whole map here).
+inline CandidateOptions small_candidate_options() {
+  CandidateOptions o;
+  o.num_inliers = 10;
+  o.aliased_groups = 2;
+  o.aliased_group_size = 5;
+  o.random_outliers = 30;
+  o.random_sigma_translation_max = 1.0;
+  o.random_sigma_rotation_max = 0.1;
+  return o;
+}
+
 }  // namespace keel::sim::testing

@@ -46,6 +46,7 @@ using keel::core::experiment_main;
 using keel::core::ExperimentBody;
 using keel::core::Figure;
 using keel::core::git_describe;
+using keel::core::histogram_layer;
 using keel::core::hline_layer;
 using keel::core::Layer;
 using keel::core::level_tag;

@@ -313,3 +313,11 @@ TEST_CASE("results round trip through baseline diff and bless") {
   std::string why;
   CHECK_FALSE(same_results(latest_path(results, "demo"), baseline_path(results, "demo", "quick"), &why));
 }
+
+TEST_CASE("histogram_layer outlines unit-width bins; mismatched sizes are an error") {
+  const auto l = keel::core::histogram_layer({0.0, 1.0}, {0.25, 0.75}, "h", "k");
+  CHECK(l.x == std::vector<double>{-0.5, -0.5, 0.5, 0.5, 0.5, 0.5, 1.5, 1.5});
+  CHECK(l.y == std::vector<double>{0.0, 0.25, 0.25, 0.0, 0.0, 0.75, 0.75, 0.0});
+  CHECK_THROWS_WITH_AS(keel::core::histogram_layer({0.0, 1.0}, {1.0}, "", "k"),
+                       "histogram_layer: 1 frequencies for 2 bins", std::invalid_argument);
+}

@@ -45,6 +45,19 @@ Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string la
   return l;
 }
 
+Layer histogram_layer(const std::vector<double>& bins, const std::vector<double>& freq, std::string label,
+                      std::string color) {
+  if (freq.size() != bins.size())
+    throw std::invalid_argument(
+        fmt::format("histogram_layer: {} frequencies for {} bins", freq.size(), bins.size()));
+  std::vector<double> x, y;
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    x.insert(x.end(), {bins[b] - 0.5, bins[b] - 0.5, bins[b] + 0.5, bins[b] + 0.5});
+    y.insert(y.end(), {0.0, freq[b], freq[b], 0.0});
+  }
+  return line_layer(std::move(x), std::move(y), std::move(label), std::move(color));
+}
+
 Layer hline_layer(double y, std::string label, std::string color, std::string linestyle) {
   Layer l;
   l.type = "hline";

@@ -34,6 +34,10 @@ Layer line_layer(std::vector<double> x, std::vector<double> y, std::string label
 Layer scatter_layer(std::vector<double> x, std::vector<double> y, std::string label, std::string color,
                     double size, double alpha = 1.0, std::string marker = ".");
 Layer hline_layer(double y, std::string label, std::string color, std::string linestyle = "--");
+// Outline of a histogram with unit-width bins centred on `bins` (frequencies `freq`, one per bin) as a step
+// line.
+Layer histogram_layer(const std::vector<double>& bins, const std::vector<double>& freq, std::string label,
+                      std::string color);
 
 struct Panel {
   std::string title, xlabel, ylabel;

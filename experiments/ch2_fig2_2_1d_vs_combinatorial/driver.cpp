@@ -16,21 +16,6 @@ namespace core = keel::core;
 namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 
-namespace {
-
-// Outline of a histogram with unit-width bins centred on `bins` (a step curve for a line layer).
-core::Layer step_layer(const std::vector<double>& bins, const std::vector<double>& freq,
-                       const std::string& label, const std::string& color) {
-  std::vector<double> x, y;
-  for (std::size_t b = 0; b < bins.size(); ++b) {
-    x.insert(x.end(), {bins[b] - 0.5, bins[b] - 0.5, bins[b] + 0.5, bins[b] + 0.5});
-    y.insert(y.end(), {0.0, freq[b], freq[b], 0.0});
-  }
-  return core::line_layer(std::move(x), std::move(y), label, color);
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
@@ -147,8 +132,9 @@ int main(int argc, char** argv) {
         if (row == 1) panel.xlim = std::make_pair(-1.0, ishow + 0.5);
         panel.legend = "none";
         panel.layers.push_back(
-            row == 0 ? step_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
-                     : step_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "", colors[k]));
+            row == 0
+                ? core::histogram_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
+                : core::histogram_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "", colors[k]));
         f.panels.push_back(panel);
       }
     }

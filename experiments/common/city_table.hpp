@@ -8,19 +8,28 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace keel::experiments {
 
-// Index of the method [params.claims] names under `key`, as a located configuration error when it is unknown.
+// Index of the method [params.claims] names, as a located configuration error when it is unknown or, with
+// `kind`, of another kind.
 inline std::size_t claimed_method(const std::vector<keel::eval::StudyMethod>& methods,
-                                  const keel::core::ConfigTable& claims, const std::string& name) {
+                                  const keel::core::ConfigTable& claims, const std::string& name,
+                                  std::optional<keel::eval::MergeMethodKind> kind = std::nullopt) {
+  std::size_t k = 0;
   try {
-    return keel::eval::method_index(methods, name, "[params.claims]");
+    k = keel::eval::method_index(methods, name, "[params.claims]");
   } catch (const std::invalid_argument& e) {
     throw keel::core::ConfigError(fmt::format("{}: {}", claims.file(), e.what()));
   }
+  if (kind && methods[k].method.kind != *kind)
+    throw keel::core::ConfigError(fmt::format("{}: [params.claims] names '{}' where a {} method is needed",
+                                              claims.file(), name, keel::eval::to_string(*kind)));
+  return k;
 }
 
 // `measurements = "dataset"` keeps the file's measurements; `"resampled"` redraws every measurement with the
@@ -40,7 +49,7 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   const double tpr_min = claims.number("pcm_tpr_min"), fpr_max = claims.number("pcm_fpr_max");
   const std::string reference = claims.string("reference"), dcs = claims.string("dcs"),
                     exact = claims.string("pcm_exact"), heuristic = claims.string("pcm_heuristic");
-  const std::size_t i_ref = claimed_method(methods, claims, reference),
+  const std::size_t i_ref = claimed_method(methods, claims, reference, eval::MergeMethodKind::no_outliers),
                     i_dcs = claimed_method(methods, claims, dcs),
                     i_lo = claimed_method(methods, claims, claims.string("ransac_low")),
                     i_hi = claimed_method(methods, claims, claims.string("ransac_high")),
@@ -53,8 +62,6 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
   ex.params_done();
   if (figure_dataset >= datasets)
     throw core::ConfigError(fmt::format("{}: must be < datasets ({})", p.where("figure_dataset"), datasets));
-  if (methods[i_ref].method.kind != eval::MergeMethodKind::no_outliers)
-    throw core::ConfigError(claims.file() + ": [params.claims] reference must be a no_outliers method");
   auto& r = ex.results();
   r.timing("read_and_split", core::seconds_since(t0));
   const auto local = eval::solve_local_pair(scenario);

@@ -1,0 +1,377 @@
+#include "align/align.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/names.hpp"
+#include "core/parallel.hpp"
+
+namespace keel::align {
+
+namespace {
+
+constexpr core::NameTable<Method, 4> kMethodNames{"align::Method",
+                                                  {{{Method::proposed, "proposed"},
+                                                    {Method::so_conv_hull, "so_conv_hull"},
+                                                    {Method::symmetric, "symmetric"},
+                                                    {Method::affine, "affine"}}}};
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr double kPi = 3.14159265358979323846;
+
+Transform2 transform_from(Parameterization kind, const std::vector<double>& p) {
+  if (kind == Parameterization::affine) return {p[0], p[1], p[2], p[3], p[4], p[5]};
+  return {p[0], -p[1], p[1], p[0], p[2], p[3]};
+}
+
+struct Bounds {
+  double x_lo, x_hi, y_lo, y_hi;
+};
+Bounds bounding_box(const std::vector<double>& x, const std::vector<double>& y) {
+  Bounds b{x[0], x[0], y[0], y[0]};
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    b.x_lo = std::min(b.x_lo, x[i]), b.x_hi = std::max(b.x_hi, x[i]);
+    b.y_lo = std::min(b.y_lo, y[i]), b.y_hi = std::max(b.y_hi, y[i]);
+  }
+  return b;
+}
+
+bool gated(const AlignmentProblem& p, double gate, std::size_t i, std::size_t j) {
+  return gate <= 0 || p.ref_z.empty() || std::abs(p.ref_z[i] - p.query_z[j]) <= gate;
+}
+
+// Hull planes of query point j over the reference points inside `box` (and the depth gate). Throws when the
+// cloud is too small or degenerate (the caller then keeps the previous region).
+std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
+                                 const Box& box, std::size_t min_points) {
+  std::vector<double> x, y, c;
+  for (std::size_t i = 0; i < p.reference_size(); ++i) {
+    if (p.ref_x[i] < box.x_lo || p.ref_x[i] > box.x_hi || p.ref_y[i] < box.y_lo || p.ref_y[i] > box.y_hi)
+      continue;
+    if (!gated(p, o.depth_gate, i, j)) continue;
+    x.push_back(p.ref_x[i]);
+    y.push_back(p.ref_y[i]);
+    c.push_back(p.c(i, j));
+  }
+  if (x.size() < std::max<std::size_t>(min_points, 3))
+    throw std::runtime_error(fmt::format("query point {}: {} reference points in its region", j, x.size()));
+  return lower_hull_planes(x, y, c, o.hull);
+}
+
+struct RoundSolution {
+  LpSolution lp;
+  int sector = -1;
+  int solves = 0;
+};
+
+RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, const Regions& reg) {
+  const Parameterization kind =
+      o.method == Method::affine ? Parameterization::affine : Parameterization::rotation_like;
+  LpSettings settings = o.lp;
+  settings.disc_tolerance = o.method == Method::so_conv_hull ? o.disc_tolerance : 0.0;
+  RoundSolution out;
+  if (o.method == Method::proposed) {
+    std::vector<LpSolution> sols(8);
+    core::parallel_for(
+        8,
+        [&](std::size_t k) {
+          HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
+          lp.set_cs_rows(sector_rows(static_cast<int>(k)));
+          sols[k] = lp.solve();
+        },
+        o.threads);
+    for (int k = 0; k < 8; ++k) {
+      out.solves += sols[k].solves;
+      if (sols[k].status == LpStatus::failed)
+        throw std::runtime_error(
+            fmt::format("align: the LP of sector {} failed (CLP did not prove optimality)", k));
+      if (sols[k].status != LpStatus::optimal) continue;
+      if (out.sector < 0 || sols[k].cost < out.lp.cost) out.lp = sols[k], out.sector = k;
+    }
+    if (out.sector < 0)
+      throw std::runtime_error(
+          "align: every sector LP is infeasible: no rotation places all query points inside their regions "
+          "(is the query inside the reference?)");
+    return out;
+  }
+  HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
+  if (o.method == Method::so_conv_hull) {  // start from the circumscribed octagon; cuts refine it
+    std::vector<CsRow> rows;
+    for (int k = 0; k < 8; ++k) rows.push_back({std::cos(k * kPi / 4), std::sin(k * kPi / 4), -1e300, 1.0});
+    lp.set_cs_rows(rows);
+  }
+  out.lp = lp.solve();
+  out.solves = out.lp.solves;
+  if (out.lp.status == LpStatus::infeasible)
+    throw std::runtime_error(fmt::format(
+        "align ({}): the LP is infeasible: no transform places all query points inside their regions (is the "
+        "query inside the reference?)",
+        to_string(o.method)));
+  if (out.lp.status != LpStatus::optimal)
+    throw std::runtime_error(fmt::format("align ({}): CLP did not prove optimality", to_string(o.method)));
+  return out;
+}
+
+}  // namespace
+
+std::string_view to_string(Method m) { return kMethodNames.name(m); }
+Method method_from_string(std::string_view text) { return kMethodNames.parse(text); }
+
+void AlignmentProblem::validate() const {
+  const std::size_t na = ref_x.size(), nb = query_x.size();
+  if (ref_y.size() != na)
+    throw std::invalid_argument(
+        fmt::format("AlignmentProblem: ref_x has {} entries, ref_y {}", na, ref_y.size()));
+  if (query_y.size() != nb)
+    throw std::invalid_argument(
+        fmt::format("AlignmentProblem: query_x has {} entries, query_y {}", nb, query_y.size()));
+  if (na < 3)
+    throw std::invalid_argument(fmt::format("AlignmentProblem: {} reference points (need at least 3)", na));
+  if (nb < 1) throw std::invalid_argument("AlignmentProblem: no query point");
+  if (ref_z.empty() != query_z.empty())
+    throw std::invalid_argument("AlignmentProblem: depths given for one trajectory only (ref_z and query_z)");
+  if (!ref_z.empty() && (ref_z.size() != na || query_z.size() != nb))
+    throw std::invalid_argument(
+        fmt::format("AlignmentProblem: ref_z has {} entries (want {}), query_z {} (want {})", ref_z.size(),
+                    na, query_z.size(), nb));
+  if (dissimilarity.size() != na * nb)
+    throw std::invalid_argument(
+        fmt::format("AlignmentProblem: dissimilarity has {} entries, want n_a × n_b = {} × {} = {}",
+                    dissimilarity.size(), na, nb, na * nb));
+  auto finite = [](const std::vector<double>& v, const char* name) {
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        throw std::invalid_argument(
+            fmt::format("AlignmentProblem: {}[{}] = {} is not finite", name, i, v[i]));
+  };
+  finite(ref_x, "ref_x"), finite(ref_y, "ref_y"), finite(ref_z, "ref_z");
+  finite(query_x, "query_x"), finite(query_y, "query_y"), finite(query_z, "query_z");
+  for (std::size_t k = 0; k < dissimilarity.size(); ++k)
+    if (!std::isfinite(dissimilarity[k]))
+      throw std::invalid_argument(fmt::format("AlignmentProblem: dissimilarity C({}, {}) = {} is not finite",
+                                              k / nb, k % nb, dissimilarity[k]));
+  // Collinear reference: the 2x2 scatter matrix is singular.
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < na; ++i) mx += ref_x[i], my += ref_y[i];
+  mx /= static_cast<double>(na), my /= static_cast<double>(na);
+  double sxx = 0, syy = 0, sxy = 0;
+  for (std::size_t i = 0; i < na; ++i) {
+    const double dx = ref_x[i] - mx, dy = ref_y[i] - my;
+    sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
+  }
+  const double tr = sxx + syy, det = sxx * syy - sxy * sxy;
+  if (!(det > 1e-12 * tr * tr))
+    throw std::invalid_argument(
+        "AlignmentProblem: the reference positions are collinear (no 2D region to align in)");
+  // The query must fit inside the reference: its diameter cannot exceed the reference's bounding-box
+  // diagonal.
+  const Bounds b = bounding_box(ref_x, ref_y);
+  const double diag2 = (b.x_hi - b.x_lo) * (b.x_hi - b.x_lo) + (b.y_hi - b.y_lo) * (b.y_hi - b.y_lo);
+  double qd2 = 0;
+  for (std::size_t j = 0; j < nb; ++j)
+    for (std::size_t k = j + 1; k < nb; ++k)
+      qd2 = std::max(qd2, (query_x[j] - query_x[k]) * (query_x[j] - query_x[k]) +
+                              (query_y[j] - query_y[k]) * (query_y[j] - query_y[k]));
+  if (qd2 > diag2 * (1 + 1e-9))
+    throw std::invalid_argument(
+        fmt::format("AlignmentProblem: the query spans {:.3g} m but the reference's bounding box only {:.3g} "
+                    "m: the query "
+                    "cannot lie inside the reference",
+                    std::sqrt(qd2), std::sqrt(diag2)));
+}
+
+std::vector<double> dissimilarity_matrix(std::size_t n_a, std::size_t n_b,
+                                         const std::function<double(std::size_t, std::size_t)>& c) {
+  std::vector<double> m(n_a * n_b);
+  for (std::size_t i = 0; i < n_a; ++i)
+    for (std::size_t j = 0; j < n_b; ++j) m[i * n_b + j] = c(i, j);
+  return m;
+}
+
+std::vector<double> euclidean_dissimilarity(const std::vector<double>& fa, const std::vector<double>& fb,
+                                            int dim) {
+  if (dim < 1 || fa.size() % dim != 0 || fb.size() % dim != 0)
+    throw std::invalid_argument(fmt::format(
+        "euclidean_dissimilarity: feature arrays of {} and {} values are not multiples of dim = {}",
+        fa.size(), fb.size(), dim));
+  const std::size_t na = fa.size() / dim, nb = fb.size() / dim;
+  std::vector<double> m(na * nb);
+  for (std::size_t i = 0; i < na; ++i)
+    for (std::size_t j = 0; j < nb; ++j) {
+      double d2 = 0;
+      for (int k = 0; k < dim; ++k) {
+        const double d = fa[i * dim + k] - fb[j * dim + k];
+        d2 += d * d;
+      }
+      m[i * nb + j] = std::sqrt(d2);
+    }
+  return m;
+}
+
+void RegionOptions::validate() const {
+  if (max_rounds < 0)
+    throw std::invalid_argument(fmt::format("RegionOptions.max_rounds = {}: must be >= 0", max_rounds));
+  if (!(shrink > 0 && shrink < 1))
+    throw std::invalid_argument(fmt::format("RegionOptions.shrink = {}: must be in (0, 1)", shrink));
+  if (!(min_half_width > 0))
+    throw std::invalid_argument(
+        fmt::format("RegionOptions.min_half_width = {}: must be > 0", min_half_width));
+  if (min_points < 3)
+    throw std::invalid_argument(fmt::format("RegionOptions.min_points = {}: must be >= 3", min_points));
+}
+
+void AlignOptions::validate() const {
+  hull.validate();
+  region.validate();
+  if (!(disc_tolerance > 0))
+    throw std::invalid_argument(fmt::format("AlignOptions.disc_tolerance = {}: must be > 0", disc_tolerance));
+  if (!(depth_gate >= 0))
+    throw std::invalid_argument(fmt::format("AlignOptions.depth_gate = {}: must be >= 0", depth_gate));
+  if (!(lp.violation_tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("AlignOptions.lp.violation_tolerance = {}: must be > 0", lp.violation_tolerance));
+  if (lp.max_generation_rounds < 1)
+    throw std::invalid_argument(
+        fmt::format("AlignOptions.lp.max_generation_rounds = {}: must be >= 1", lp.max_generation_rounds));
+  if (!(lp.matrix_bound > 0))
+    throw std::invalid_argument(
+        fmt::format("AlignOptions.lp.matrix_bound = {}: must be > 0", lp.matrix_bound));
+}
+
+std::vector<CsRow> sector_rows(int k) {
+  if (k < 0 || k > 7) throw std::invalid_argument(fmt::format("sector_rows: sector {} (valid: 0–7)", k));
+  const int quadrant = k / 2;
+  const double sc = (quadrant == 0 || quadrant == 3) ? 1.0 : -1.0;  // sign of c in the sector
+  const double ss = quadrant < 2 ? 1.0 : -1.0;                      // sign of s
+  const bool c_dominant = (k == 0 || k == 3 || k == 4 || k == 7);   // |c| ≥ |s|
+  constexpr double big = 1e300;
+  std::vector<CsRow> rows;
+  rows.push_back({sc, 0.0, 0.0, big});  // σc c ≥ 0
+  rows.push_back({0.0, ss, 0.0, big});  // σs s ≥ 0
+  if (c_dominant) {
+    rows.push_back({sc, -ss, 0.0, big});  // σc c − σs s ≥ 0
+    rows.push_back({kBarniDelta * kBarniAlpha1 * sc, kBarniDelta * kBarniAlpha2 * ss, 1.0, 1.0});  // eq. 3.18
+  } else {
+    rows.push_back({-sc, ss, 0.0, big});  // σs s − σc c ≥ 0
+    rows.push_back({kBarniDelta * kBarniAlpha2 * sc, kBarniDelta * kBarniAlpha1 * ss, 1.0, 1.0});
+  }
+  return rows;
+}
+
+void singular_values(const Transform2& t, double& s1, double& s2) {
+  const double q = 0.5 * std::hypot(t.a11 + t.a22, t.a21 - t.a12);
+  const double r = 0.5 * std::hypot(t.a11 - t.a22, t.a21 + t.a12);
+  s1 = q + r;
+  s2 = std::abs(q - r);
+}
+
+bool approximately_valid(const Transform2& t, double tolerance) {
+  double s1, s2;
+  singular_values(t, s1, s2);
+  const double det = t.a11 * t.a22 - t.a12 * t.a21;
+  return det > 0 && std::abs(s1 - 1) <= tolerance && std::abs(s2 - 1) <= tolerance;
+}
+
+Rigid2 project_to_rigid(const Transform2& t, double cx, double cy) {
+  // argmax_θ tr(R(θ)ᵀ A) = atan2(a21 − a12, a11 + a22): the closest rotation in the Frobenius norm.
+  const double th = std::atan2(t.a21 - t.a12, t.a11 + t.a22);
+  const double c = std::cos(th), s = std::sin(th);
+  const double px = t.a11 * cx + t.a12 * cy + t.tx, py = t.a21 * cx + t.a22 * cy + t.ty;
+  return {th, px - (c * cx - s * cy), py - (s * cx + c * cy)};
+}
+
+Regions global_regions(const AlignmentProblem& p, const AlignOptions& o) {
+  const Bounds b = bounding_box(p.ref_x, p.ref_y);
+  Regions reg;
+  const std::size_t nb = p.query_size();
+  reg.boxes.assign(nb, Box{b.x_lo, b.x_hi, b.y_lo, b.y_hi});
+  reg.planes.resize(nb);
+  core::parallel_for(
+      nb, [&](std::size_t j) { reg.planes[j] = planes_in_box(p, o, j, reg.boxes[j], 3); }, o.threads);
+  for (const auto& pl : reg.planes) reg.plane_count += pl.size();
+  return reg;
+}
+
+AlignResult align(const AlignmentProblem& p, const AlignOptions& o) {
+  p.validate();
+  o.validate();
+  if (o.depth_gate > 0 && p.ref_z.empty())
+    throw std::invalid_argument("align: depth_gate > 0 needs depths (ref_z, query_z)");
+  const auto t0 = Clock::now();
+  const Parameterization kind =
+      o.method == Method::affine ? Parameterization::affine : Parameterization::rotation_like;
+  AlignResult res;
+  res.method = o.method;
+
+  auto th = Clock::now();
+  Regions reg = global_regions(p, o);
+  RoundTrace tr;
+  const Bounds b = bounding_box(p.ref_x, p.ref_y);
+  const double w0 = 0.5 * std::max(b.x_hi - b.x_lo, b.y_hi - b.y_lo);
+  tr.half_width = w0;
+  tr.hull_time_s = since(th);
+  tr.planes = reg.plane_count;
+  auto tl = Clock::now();
+  RoundSolution sol = solve_round(p, o, reg);
+  tr.lp_time_s = since(tl);
+  tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
+  res.rounds.push_back(tr);
+  Transform2 T = transform_from(kind, sol.lp.params);
+
+  const std::size_t nb = p.query_size();
+  for (int r = 1; r <= o.region.max_rounds; ++r) {
+    const double w = w0 * std::pow(o.region.shrink, r);
+    if (w < o.region.min_half_width) break;
+    th = Clock::now();
+    Regions next;
+    next.boxes.resize(nb);
+    next.planes.resize(nb);
+    std::vector<char> kept(nb, 0);
+    core::parallel_for(
+        nb,
+        [&](std::size_t j) {
+          const double px = T.a11 * p.query_x[j] + T.a12 * p.query_y[j] + T.tx;
+          const double py = T.a21 * p.query_x[j] + T.a22 * p.query_y[j] + T.ty;
+          const Box box{px - w, px + w, py - w, py + w};
+          try {
+            next.planes[j] = planes_in_box(p, o, j, box, o.region.min_points);
+            next.boxes[j] = box;
+          } catch (const std::runtime_error&) {  // too few or degenerate points: keep the previous region
+            next.planes[j] = reg.planes[j];
+            next.boxes[j] = reg.boxes[j];
+            kept[j] = 1;
+          }
+        },
+        o.threads);
+    for (std::size_t j = 0; j < nb; ++j) next.kept += kept[j], next.plane_count += next.planes[j].size();
+    reg = std::move(next);
+    tr = RoundTrace{};
+    tr.half_width = w;
+    tr.hull_time_s = since(th);
+    tr.planes = reg.plane_count;
+    tr.kept_boxes = reg.kept;
+    tl = Clock::now();
+    sol = solve_round(p, o, reg);
+    tr.lp_time_s = since(tl);
+    tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
+    res.rounds.push_back(tr);
+    T = transform_from(kind, sol.lp.params);
+  }
+  res.raw = T;
+  res.cost = sol.lp.cost;
+  res.sector = sol.sector;
+  double cx = 0, cy = 0;
+  for (std::size_t j = 0; j < nb; ++j) cx += p.query_x[j], cy += p.query_y[j];
+  res.rigid = project_to_rigid(T, cx / static_cast<double>(nb), cy / static_cast<double>(nb));
+  res.time_s = since(t0);
+  return res;
+}
+
+}  // namespace keel::align

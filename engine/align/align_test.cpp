@@ -1,0 +1,282 @@
+// Unit tests of engine/align: hulls (eqs. 3.3–3.4), the octagon sectors (eqs. 3.13–3.19), the alignment LPs
+// and bad inputs.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "align/align.hpp"
+#include "align/hull.hpp"
+#include "core/random.hpp"
+#include "kit/test_kit.hpp"
+
+using namespace keel::align;
+using keel::core::Rng;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A smooth 3-component field of Gaussian bumps (distinctive enough that the dissimilarity has one zero).
+struct Field {
+  std::vector<double> cx, cy, sg, amp;
+  explicit Field(std::uint64_t seed, double size) {
+    Rng rng(seed);
+    for (int k = 0; k < 3 * 12; ++k) {
+      cx.push_back(rng.uniform(-2, size + 2));
+      cy.push_back(rng.uniform(-2, size + 2));
+      sg.push_back(rng.uniform(2.0, 4.0));
+      amp.push_back(rng.uniform(-1, 1));
+    }
+  }
+  void value(double x, double y, double* f) const {
+    for (int d = 0; d < 3; ++d) {
+      f[d] = 0;
+      for (int k = d * 12; k < (d + 1) * 12; ++k)
+        f[d] +=
+            amp[k] * std::exp(-((x - cx[k]) * (x - cx[k]) + (y - cy[k]) * (y - cy[k])) / (2 * sg[k] * sg[k]));
+    }
+  }
+};
+
+// Reference: a grid of n × n points (spacing 1 m); query: a copy of the reference seen through the inverse of
+// (theta, tx, ty), so align must return (theta, tx, ty).
+AlignmentProblem exact_copy(int n, double theta, double tx, double ty, std::uint64_t seed = 7) {
+  Field field(seed, n - 1.0);
+  AlignmentProblem p;
+  std::vector<double> fa;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      p.ref_x.push_back(a);
+      p.ref_y.push_back(b);
+      double f[3];
+      field.value(a, b, f);
+      fa.insert(fa.end(), f, f + 3);
+    }
+  const double c = std::cos(theta), s = std::sin(theta);
+  for (std::size_t i = 0; i < p.ref_x.size(); ++i) {  // p_query = Rᵀ (p_ref − t)
+    const double dx = p.ref_x[i] - tx, dy = p.ref_y[i] - ty;
+    p.query_x.push_back(c * dx + s * dy);
+    p.query_y.push_back(-s * dx + c * dy);
+  }
+  p.dissimilarity = euclidean_dissimilarity(fa, fa, 3);
+  return p;
+}
+
+template <class F>
+void check_message(F&& f, const char* needle) {
+  const std::string m = keel::testkit::message_of(std::forward<F>(f));
+  CHECK_MESSAGE(keel::testkit::contains(m, needle), m);
+}
+
+double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
+
+}  // namespace
+
+TEST_CASE("Barni constants of eq. 3.14 for n = 2") {
+  CHECK(kBarniAlpha1 == 1.0);
+  CHECK(kBarniAlpha2 == doctest::Approx(std::sqrt(2.0) - 1.0).epsilon(1e-15));
+  const double delta = 2.0 / (1.0 + std::sqrt(1.0 + kBarniAlpha2 * kBarniAlpha2));
+  CHECK(kBarniDelta == doctest::Approx(delta).epsilon(1e-15));
+  CHECK(std::abs(kBarniDelta - 0.960434) < 5e-7);  // the and notes' value; the thesis prints 0.96044
+}
+
+TEST_CASE("lower hull planes under-estimate every point and touch the hull vertices") {
+  Rng rng(11);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> x, y, c;
+    for (int i = 0; i < 300; ++i) {
+      x.push_back(rng.uniform(-10, 10));
+      y.push_back(rng.uniform(0, 5));
+      c.push_back(std::sin(0.3 * x.back()) + 0.1 * y.back() * y.back() + 0.2 * rng.normal());
+    }
+    HullStats st;
+    const auto planes = lower_hull_planes(x, y, c, {}, &st);
+    REQUIRE(planes.size() >= 3);
+    CHECK(st.steep == 0);
+    std::size_t touching = 0;
+    for (const auto& pl : planes) {
+      std::size_t on = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const double gap = c[i] - pl.at(x[i], y[i]);
+        CHECK(gap >= -1e-9);  // under-estimates every point
+        on += gap <= 1e-9;
+      }
+      CHECK(on >= 3);  // each plane is a facet: it passes through at least three points of the cloud
+    }
+    // The envelope max_m plane_m equals C at the lower-hull vertices: the cloud's minimum is one of them.
+    std::size_t imin = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      double env = -1e300;
+      for (const auto& pl : planes) env = std::max(env, pl.at(x[i], y[i]));
+      touching += std::abs(env - c[i]) <= 1e-9;
+      if (c[i] < c[imin]) imin = i;
+    }
+    double env_min = -1e300;
+    for (const auto& pl : planes) env_min = std::max(env_min, pl.at(x[imin], y[imin]));
+    CHECK(env_min == doctest::Approx(c[imin]).epsilon(1e-9));
+    CHECK(touching >= 3);
+  }
+}
+
+TEST_CASE("hull of degenerate clouds: flat dissimilarity joggles, collinear positions give a clear error") {
+  std::vector<double> x{0, 1, 0, 1, 0.5}, y{0, 0, 1, 1, 0.5}, c(5, 2.0);
+  HullStats st;
+  const auto planes = lower_hull_planes(x, y, c, {}, &st);
+  REQUIRE(!planes.empty());
+  for (const auto& pl : planes) CHECK(pl.at(0.5, 0.5) == doctest::Approx(2.0).epsilon(1e-6));
+  std::vector<double> lx{0, 1, 2, 3}, ly{0, 0, 0, 0}, lc{1, 0, 2, 1};
+  CHECK_THROWS((void)lower_hull_planes(lx, ly, lc));
+  std::vector<double> nx{0, 1, 0}, ny{0, 0, 1}, nc{1, NAN, 0};
+  check_message([&] { (void)lower_hull_planes(nx, ny, nc); }, "not finite");
+  CHECK_THROWS_AS((void)lower_hull_planes(std::vector<double>{0, 1}, std::vector<double>{0, 1},
+                                          std::vector<double>{0, 1}),
+                  std::invalid_argument);
+}
+
+TEST_CASE("each sector of eq. 3.19 admits exactly its octagon edge (sign-aware eq. 3.17)") {
+  const double R = 1.0 / kBarniDelta;  // vertex radius
+  for (int k = 0; k < 8; ++k) {
+    const auto rows = sector_rows(k);
+    auto feasible = [&](double c, double s) {
+      for (const auto& r : rows) {
+        const double v = r.a_c * c + r.a_s * s;
+        if (v < r.lo - 1e-12 || v > r.hi + 1e-12) return false;
+      }
+      return true;
+    };
+    const double a0 = k * kPi / 4, a1 = (k + 1) * kPi / 4;
+    const double v0c = R * std::cos(a0), v0s = R * std::sin(a0), v1c = R * std::cos(a1),
+                 v1s = R * std::sin(a1);
+    // Along the line through the two vertices, feasible exactly for the parameter in [0, 1].
+    for (int q = -40; q <= 140; ++q) {
+      const double t = q / 100.0;
+      const double c = v0c + t * (v1c - v0c), s = v0s + t * (v1s - v0s);
+      CHECK_MESSAGE(feasible(c, s) == (t >= -1e-12 && t <= 1 + 1e-12), "sector ", k, " t ", t);
+      if (t >= 0 && t <= 1) {
+        const double r = std::hypot(c, s);
+        CHECK(r >= 0.96193 - 1e-5);  // the octagon lies within [0.96194, 1.04120] of the unit circle
+        CHECK(r <= R + 1e-12);
+      }
+    }
+    // Points far off the edge (radius 2.5 in every direction) are infeasible: the printed eq. 3.17 admits
+    // some.
+    for (int a = 0; a < 64; ++a) CHECK(!feasible(2.5 * std::cos(a * kPi / 32), 2.5 * std::sin(a * kPi / 32)));
+  }
+  CHECK(1.0 / kBarniDelta == doctest::Approx(1.04120).epsilon(1e-5));
+  CHECK(std::cos(kPi / 8) / kBarniDelta == doctest::Approx(0.96194).epsilon(1e-5));
+}
+
+TEST_CASE("projection to SE(2) and singular values") {
+  const Transform2 t{2 * std::cos(0.3), -2 * std::sin(0.3), 2 * std::sin(0.3), 2 * std::cos(0.3), 1, 2};
+  double s1, s2;
+  singular_values(t, s1, s2);
+  CHECK(s1 == doctest::Approx(2.0));
+  CHECK(s2 == doctest::Approx(2.0));
+  const Rigid2 r = project_to_rigid(t, 3, -1);
+  CHECK(r.theta == doctest::Approx(0.3));
+  // The centroid (3, −1) maps to the same point under t and under the projection.
+  const double px = t.a11 * 3 + t.a12 * -1 + t.tx, py = t.a21 * 3 + t.a22 * -1 + t.ty;
+  CHECK(std::cos(r.theta) * 3 - std::sin(r.theta) * -1 + r.tx == doctest::Approx(px));
+  CHECK(std::sin(r.theta) * 3 + std::cos(r.theta) * -1 + r.ty == doctest::Approx(py));
+  CHECK(!approximately_valid(t, 0.05));
+  CHECK(approximately_valid({1.02, 0, 0, 0.99, 0, 0}, 0.05));
+  CHECK(!approximately_valid({1, 0, 0, -1, 0, 0}, 0.05));  // a reflection
+}
+
+TEST_CASE("an exact copy of the reference is aligned exactly (every method, global round)") {
+  // Angles where the octagon of the proposed method crosses the unit circle: φ = 22.5° ± acos(1 /
+  // (δ√(1+α2²))).
+  const double cross = kPi / 8 - std::acos(1.0 / (kBarniDelta * std::hypot(1.0, kBarniAlpha2)));
+  for (Method m : {Method::so_conv_hull, Method::symmetric, Method::affine, Method::proposed}) {
+    for (double theta : {cross + kPi / 2, cross - 3 * kPi / 4 + kPi / 4}) {
+      const double tx = 3.0, ty = -2.0;
+      const auto p = exact_copy(10, theta, tx, ty);
+      AlignOptions o;
+      o.method = m;
+      o.region.max_rounds = 0;
+      const auto r = align(p, o);
+      INFO(to_string(m), " theta ", theta);
+      CHECK(angle_error(r.rigid.theta, theta) < 1e-6);
+      CHECK(std::abs(r.raw.tx - tx) < 1e-6);
+      CHECK(std::abs(r.raw.ty - ty) < 1e-6);
+      CHECK(std::abs(r.cost) < 1e-6);
+    }
+  }
+}
+
+TEST_CASE("rounds of the shrinking region keep an exact copy exact; the result does not depend on threads") {
+  const auto p = exact_copy(14, 2.0, 1.0, 4.0, 3);
+  for (Method m : {Method::symmetric, Method::proposed}) {
+    AlignOptions o;
+    o.method = m;
+    o.region.max_rounds = 4;
+    o.region.min_half_width = 2.0;
+    o.threads = 1;
+    const auto a = align(p, o);
+    o.threads = 2;
+    const auto b = align(p, o);
+    CHECK(a.rounds.size() >= 2);
+    CHECK(a.raw.a11 == b.raw.a11);
+    CHECK(a.raw.a21 == b.raw.a21);
+    CHECK(a.raw.tx == b.raw.tx);
+    CHECK(a.raw.ty == b.raw.ty);
+    CHECK(a.cost == b.cost);
+    if (m == Method::symmetric) CHECK(angle_error(a.rigid.theta, 2.0) < 1e-6);
+    if (m == Method::proposed) CHECK(angle_error(a.rigid.theta, 2.0) < 0.05);
+  }
+}
+
+TEST_CASE("bad inputs give clear errors") {
+  auto p = exact_copy(5, 0.3, 0, 0);
+  AlignOptions o;
+  auto expect = [&](const AlignmentProblem& q, const char* msg) {
+    check_message([&] { (void)align(q, o); }, msg);
+  };
+  {
+    auto q = p;
+    q.ref_x.resize(2), q.ref_y.resize(2);
+    expect(q, "reference points (need at least 3)");
+  }
+  {
+    auto q = p;
+    q.query_y.pop_back();
+    expect(q, "query_y");
+  }
+  {
+    auto q = p;
+    q.ref_x[3] = NAN;
+    expect(q, "ref_x[3]");
+  }
+  {
+    auto q = p;
+    q.dissimilarity[7] = NAN;
+    expect(q, "dissimilarity C(");
+  }
+  {
+    auto q = p;
+    q.dissimilarity.pop_back();
+    expect(q, "dissimilarity has");
+  }
+  {
+    auto q = p;
+    for (auto& v : q.ref_y) v = 2 * q.ref_x[&v - q.ref_y.data()];  // collinear
+    expect(q, "collinear");
+  }
+  {
+    auto q = p;
+    for (auto& v : q.query_x) v *= 3;  // larger than the reference: cannot lie inside it
+    expect(q, "cannot lie inside the reference");
+  }
+  {
+    auto q = p;
+    q.ref_z.assign(q.ref_x.size(), 0.0);
+    expect(q, "depths given for one trajectory only");
+  }
+  o.region.shrink = 1.5;
+  check_message([&] { (void)align(p, o); }, "RegionOptions.shrink = 1.5");
+  CHECK_THROWS_AS((void)method_from_string("octagon"), std::invalid_argument);
+  CHECK(method_from_string("so_conv_hull") == Method::so_conv_hull);
+}

@@ -1,0 +1,47 @@
+// Lower convex hull of a dissimilarity point cloud (thesis §3.4.1, eqs. 3.3–3.4), from qhull's reentrant
+// interface.
+//
+// For one query point j the cloud is {(x_i, y_i, C_ij)} over the reference points i (eq. 3.3). Its lower hull
+// (the facets whose outward normal has a negative C component) is a set of planes C = r x + s y + t, and
+// c_j(x, y) = max_m (r_m x + s_m y + t_m) (eq. 3.4) is the largest convex function below every C_ij: a lower
+// bound on the dissimilarity of query point j at any position of the reference frame, exact at the hull
+// vertices.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace keel::align {
+
+// One plane of a lower hull: C = r x + s y + t.
+struct Plane {
+  double r = 0.0, s = 0.0, t = 0.0;
+  [[nodiscard]] double at(double x, double y) const { return r * x + s * y + t; }
+};
+
+struct HullOptions {
+  // Facets steeper than this (|∇C| = hypot(r, s), dissimilarity units per metre) are dropped: they are the
+  // near-vertical walls at the edge of the cloud, badly conditioned as LP rows. Dropping a plane keeps c_j a
+  // valid lower bound (a max over fewer planes).
+  double max_slope = 1e3;
+  // Planes whose (r, s, t) agree within this (relative to the cloud's scale) are kept once.
+  double duplicate_tolerance = 1e-9;
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+
+struct HullStats {
+  std::size_t facets = 0;      // lower facets qhull returned
+  std::size_t steep = 0;       // dropped as near-vertical
+  std::size_t duplicates = 0;  // dropped as duplicates
+  bool joggled = false;        // qhull needed 'QJ' (degenerate cloud, e.g. collinear positions)
+};
+
+// The planes of the lower hull of {(x[i], y[i], c[i])}. Needs at least 3 points that are not collinear in
+// (x, y); degenerate clouds (coplanar, duplicate points) are retried with qhull's joggle. Throws
+// std::runtime_error with qhull's reason when no hull can be built. Deterministic.
+[[nodiscard]] std::vector<Plane> lower_hull_planes(std::span<const double> x, std::span<const double> y,
+                                                   std::span<const double> c, const HullOptions& options = {},
+                                                   HullStats* stats = nullptr);
+
+}  // namespace keel::align

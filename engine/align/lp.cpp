@@ -1,0 +1,225 @@
+#include "align/lp.hpp"
+
+#include <coin/ClpSimplex.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace keel::align {
+
+namespace {
+
+// Coefficients of f_j = (A p + t)_x and g_j = (A p + t)_y on the parameter columns.
+struct Lin {
+  double v[6] = {0, 0, 0, 0, 0, 0};
+};
+
+void coordinate_rows(Parameterization kind, double x, double y, Lin& f, Lin& g) {
+  f = Lin{};
+  g = Lin{};
+  if (kind == Parameterization::affine) {  // (a11, a12, a21, a22, tx, ty)
+    f.v[0] = x, f.v[1] = y, f.v[4] = 1;
+    g.v[2] = x, g.v[3] = y, g.v[5] = 1;
+  } else {  // (c, s, tx, ty): f = c x − s y + tx, g = s x + c y + ty
+    f.v[0] = x, f.v[1] = -y, f.v[2] = 1;
+    g.v[0] = y, g.v[1] = x, g.v[3] = 1;
+  }
+}
+
+constexpr double kInf = std::numeric_limits<double>::max();
+
+}  // namespace
+
+HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::vector<double>& qy,
+               const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes,
+               const LpSettings& settings)
+    : kind_(kind),
+      qx_(qx),
+      qy_(qy),
+      planes_(planes),
+      settings_(settings),
+      model_(std::make_unique<ClpSimplex>()) {
+  const std::size_t nb = qx.size();
+  if (qy.size() != nb || planes.size() != nb || boxes.size() != nb)
+    throw std::invalid_argument(
+        "HullLp: query positions, planes and boxes must have one entry per query point");
+  const int k = static_cast<int>(parameter_count());
+  const int ncol = k + static_cast<int>(nb);
+  std::vector<double> collb(ncol, -kInf), colub(ncol, kInf), obj(ncol, 0.0);
+  std::vector<CoinBigIndex> start(ncol + 1, 0);
+  const int nmat = kind == Parameterization::affine ? 4 : 2;
+  for (int p = 0; p < nmat; ++p) collb[p] = -settings.matrix_bound, colub[p] = settings.matrix_bound;
+  for (std::size_t j = 0; j < nb; ++j) obj[k + j] = 1.0;
+  model_->setLogLevel(0);
+  model_->loadProblem(ncol, 0, start.data(), nullptr, nullptr, collb.data(), colub.data(), obj.data(),
+                      nullptr, nullptr);
+  model_->setOptimizationDirection(1.0);
+
+  // Box rows: lo ≤ f_j ≤ hi, lo ≤ g_j ≤ hi.
+  std::vector<double> lo, hi, el;
+  std::vector<int> col;
+  std::vector<CoinBigIndex> rs{0};
+  for (std::size_t j = 0; j < nb; ++j) {
+    Lin f, g;
+    coordinate_rows(kind, qx[j], qy[j], f, g);
+    for (int d = 0; d < 2; ++d) {
+      const Lin& l = d == 0 ? f : g;
+      for (int p = 0; p < k; ++p)
+        if (l.v[p] != 0) col.push_back(p), el.push_back(l.v[p]);
+      rs.push_back(static_cast<CoinBigIndex>(el.size()));
+      lo.push_back(d == 0 ? boxes[j].x_lo : boxes[j].y_lo);
+      hi.push_back(d == 0 ? boxes[j].x_hi : boxes[j].y_hi);
+    }
+  }
+  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+
+  // Initial planes: those maximal at the four corners and the centre of each box.
+  in_model_.resize(nb);
+  std::vector<std::pair<std::size_t, std::size_t>> init;
+  for (std::size_t j = 0; j < nb; ++j) {
+    if (planes[j].empty()) throw std::invalid_argument(fmt::format("HullLp: query point {} has no plane", j));
+    in_model_[j].assign(planes[j].size(), false);
+    const Box& b = boxes[j];
+    const double px[5] = {b.x_lo, b.x_hi, b.x_lo, b.x_hi, 0.5 * (b.x_lo + b.x_hi)};
+    const double py[5] = {b.y_lo, b.y_lo, b.y_hi, b.y_hi, 0.5 * (b.y_lo + b.y_hi)};
+    for (int q = 0; q < 5; ++q) {
+      std::size_t best = 0;
+      double bv = -kInf;
+      for (std::size_t m = 0; m < planes[j].size(); ++m) {
+        const double v = planes[j][m].at(px[q], py[q]);
+        if (v > bv) bv = v, best = m;
+      }
+      if (!in_model_[j][best]) {
+        in_model_[j][best] = true;
+        init.emplace_back(j, best);
+      }
+    }
+  }
+  for (auto& [j, m] : init) in_model_[j][m] = false;
+  add_planes(init);
+}
+
+HullLp::~HullLp() = default;
+
+void HullLp::add_planes(const std::vector<std::pair<std::size_t, std::size_t>>& rows) {
+  if (rows.empty()) return;
+  const int k = static_cast<int>(parameter_count());
+  std::vector<double> lo, hi, el;
+  std::vector<int> col;
+  std::vector<CoinBigIndex> rs{0};
+  for (const auto& [j, m] : rows) {
+    if (in_model_[j][m]) continue;
+    in_model_[j][m] = true;
+    const Plane& pl = planes_[j][m];
+    Lin f, g;
+    coordinate_rows(kind_, qx_[j], qy_[j], f, g);
+    for (int p = 0; p < k; ++p) {
+      const double v = pl.r * f.v[p] + pl.s * g.v[p];
+      if (v != 0) col.push_back(p), el.push_back(v);
+    }
+    col.push_back(k + static_cast<int>(j));
+    el.push_back(-1.0);
+    rs.push_back(static_cast<CoinBigIndex>(el.size()));
+    lo.push_back(-kInf);
+    hi.push_back(-pl.t);  // r f + s g − u ≤ −t
+    ++plane_rows_;
+  }
+  if (!lo.empty())
+    model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+}
+
+void HullLp::set_cs_rows(const std::vector<CsRow>& rows) {
+  if (kind_ != Parameterization::rotation_like)
+    throw std::logic_error("HullLp::set_cs_rows: only for the rotation-like parameterisation");
+  if (!cs_row_index_.empty())
+    model_->deleteRows(static_cast<int>(cs_row_index_.size()), cs_row_index_.data());
+  cs_row_index_.clear();
+  if (rows.empty()) return;
+  std::vector<double> lo, hi, el;
+  std::vector<int> col;
+  std::vector<CoinBigIndex> rs{0};
+  const int base = model_->numberRows();
+  for (const CsRow& r : rows) {
+    if (r.a_c != 0) col.push_back(0), el.push_back(r.a_c);
+    if (r.a_s != 0) col.push_back(1), el.push_back(r.a_s);
+    rs.push_back(static_cast<CoinBigIndex>(el.size()));
+    lo.push_back(r.lo);
+    hi.push_back(r.hi);
+    cs_row_index_.push_back(base + static_cast<int>(cs_row_index_.size()));
+  }
+  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+}
+
+void HullLp::fix_cs(double c, double s) {
+  model_->setColumnBounds(0, c, c);
+  model_->setColumnBounds(1, s, s);
+}
+
+void HullLp::free_cs() {
+  model_->setColumnBounds(0, -settings_.matrix_bound, settings_.matrix_bound);
+  model_->setColumnBounds(1, -settings_.matrix_bound, settings_.matrix_bound);
+}
+
+LpSolution HullLp::solve() {
+  LpSolution out;
+  const std::size_t nb = qx_.size();
+  const int k = static_cast<int>(parameter_count());
+  std::vector<std::pair<std::size_t, std::size_t>> add;
+  for (int round = 0; round <= settings_.max_generation_rounds; ++round) {
+    model_->dual();
+    ++out.solves;
+    if (model_->isProvenPrimalInfeasible()) {
+      out.status = LpStatus::infeasible;
+      return out;
+    }
+    if (!model_->isProvenOptimal()) {
+      out.status = LpStatus::failed;
+      return out;
+    }
+    const double* x = model_->primalColumnSolution();
+    add.clear();
+    for (std::size_t j = 0; j < nb; ++j) {
+      Lin f, g;
+      coordinate_rows(kind_, qx_[j], qy_[j], f, g);
+      double fx = 0, gx = 0;
+      for (int p = 0; p < k; ++p) fx += f.v[p] * x[p], gx += g.v[p] * x[p];
+      const double u = x[k + j];
+      std::size_t best = 0;
+      double bv = -kInf;
+      for (std::size_t m = 0; m < planes_[j].size(); ++m) {
+        const double v = planes_[j][m].at(fx, gx);
+        if (v > bv) bv = v, best = m;
+      }
+      if (bv - u > settings_.violation_tolerance * (1.0 + std::abs(u)) && !in_model_[j][best])
+        add.emplace_back(j, best);
+    }
+    bool cut = false;
+    if (settings_.disc_tolerance > 0 && kind_ == Parameterization::rotation_like) {
+      const double n = std::hypot(x[0], x[1]);
+      if (n > 1.0 + settings_.disc_tolerance) {  // tangent of the unit circle at the angle of (c, s)
+        const double a = std::atan2(x[1], x[0]);
+        const int cidx[2] = {0, 1};
+        const double cel[2] = {std::cos(a), std::sin(a)};
+        model_->addRow(2, cidx, cel, -kInf, 1.0);
+        ++cuts_;
+        cut = true;
+      }
+    }
+    if (add.empty() && !cut) {
+      out.status = LpStatus::optimal;
+      out.cost = model_->objectiveValue();
+      out.params.assign(x, x + k);
+      out.plane_rows = plane_rows_;
+      out.cuts = cuts_;
+      solved_once_ = true;
+      return out;
+    }
+    add_planes(add);
+  }
+  out.status = LpStatus::failed;
+  return out;
+}
+
+}  // namespace keel::align

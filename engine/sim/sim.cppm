@@ -1,8 +1,10 @@
 // keel.sim — the curated facade of engine/sim: data fabricated for experiments. The 1D world of §2.7.1,
 // two-robot scenarios split from a single-robot dataset with candidate inter-robot loop closures (inliers
 // from the dataset, perceptually aliased groups, random outliers; §2.7.2–2.7.3), measurement resampling about
-// the ground truth, and random consistency graphs. Facade rules (docs/DESIGN.md) as every area.
+// the ground truth, random consistency graphs, and the alignment worlds of chapter 3 (§3.7). Facade rules
+// (docs/DESIGN.md) as every area.
 module;
+#include "sim/alignment_world.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/world1d.hpp"
@@ -33,6 +35,13 @@ using keel::sim::SplitOptions;
 using keel::sim::TwoRobotScenario;
 using keel::sim::TwoRobotScenario2;
 using keel::sim::TwoRobotScenario3;
+// alignment worlds (§3.7)
+using keel::sim::AlignmentWorld;
+using keel::sim::AlignmentWorldOptions;
+using keel::sim::FeatureField;
+using keel::sim::lawn_mower;
+using keel::sim::LawnMower;
+using keel::sim::make_alignment_world;
 // random consistency graphs
 using keel::sim::random_graph;
 }  // namespace keel::sim

@@ -1,8 +1,12 @@
 // keel.sim — the curated facade of engine/sim: data fabricated for experiments. The 1D world of §2.7.1,
 // two-robot scenarios split from a single-robot dataset with candidate inter-robot loop closures (inliers
 // from the dataset, perceptually aliased groups, random outliers; §2.7.2–2.7.3), measurement resampling about
-// the ground truth, and random consistency graphs. Facade rules (docs/DESIGN.md) as every area.
+// the ground truth, random consistency graphs, the alignment worlds of chapter 3 (§3.7) and
+// a synthetic ship hull surveyed by an HAUV's DVL (substitute for the field data of §3.8). Facade rules
+// (docs/DESIGN.md) as every area.
 module;
+#include "sim/alignment_world.hpp"
+#include "sim/hull_world.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/world1d.hpp"
@@ -33,6 +37,23 @@ using keel::sim::SplitOptions;
 using keel::sim::TwoRobotScenario;
 using keel::sim::TwoRobotScenario2;
 using keel::sim::TwoRobotScenario3;
+// alignment worlds (§3.7)
+using keel::sim::AlignmentWorld;
+using keel::sim::AlignmentWorldOptions;
+using keel::sim::FeatureField;
+using keel::sim::lawn_mower;
+using keel::sim::LawnMower;
+using keel::sim::make_alignment_world;
+// ship-hull substitute (§3.8, Fig. 3.5)
+using keel::sim::DvlOptions;
+using keel::sim::fit_surface_curvature;
+using keel::sim::graph_curvature;
+using keel::sim::HullSurface;
+using keel::sim::HullSurfaceOptions;
+using keel::sim::HullWorld;
+using keel::sim::HullWorldOptions;
+using keel::sim::make_hull_world;
+using keel::sim::SurfaceCurvature;
 // random consistency graphs
 using keel::sim::random_graph;
 }  // namespace keel::sim

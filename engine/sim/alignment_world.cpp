@@ -1,0 +1,216 @@
+#include "sim/alignment_world.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "core/random.hpp"
+
+namespace keel::sim {
+
+namespace {
+
+template <class... A>
+[[noreturn]] void fail(fmt::format_string<A...> format, A&&... args) {
+  throw std::invalid_argument(fmt::format(format, std::forward<A>(args)...));
+}
+
+// Number of grid steps of `spacing` that fit in `length`, tolerant of rounding (60 / 2 = 30, not 29).
+int steps(double length, double spacing) {
+  return static_cast<int>(std::floor(length / spacing * (1.0 + 1e-9) + 1e-9));
+}
+
+// Fills the field with `bumps` random bumps per component over [lo, hi]² grown by the largest σ, then
+// rescales every component to unit RMS deviation about its mean over [lo, hi]² (sampled on a 64 × 64 grid).
+FeatureField random_field(const AlignmentWorldOptions& o, double lo, double hi, core::Rng& rng) {
+  FeatureField f;
+  f.dim = o.feature_dim;
+  f.per_component = o.bumps;
+  const std::size_t n = static_cast<std::size_t>(o.feature_dim) * o.bumps;
+  f.cx.resize(n);
+  f.cy.resize(n);
+  f.sigma.resize(n);
+  f.amplitude.resize(n);
+  const double margin = o.bump_sigma_max;
+  for (std::size_t b = 0; b < n; ++b) {
+    f.cx[b] = rng.uniform(lo - margin, hi + margin);
+    f.cy[b] = rng.uniform(lo - margin, hi + margin);
+    f.sigma[b] = rng.uniform(o.bump_sigma_min, o.bump_sigma_max);
+    const double sign = rng.uniform() < 0.5 ? -1.0 : 1.0;
+    f.amplitude[b] = sign * rng.uniform(0.5, 1.0);
+  }
+  constexpr int kGrid = 64;
+  std::vector<double> sum(f.dim, 0.0), sum2(f.dim, 0.0), v(f.dim);
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const double x = lo + (hi - lo) * (i + 0.5) / kGrid, y = lo + (hi - lo) * (j + 0.5) / kGrid;
+      f.value_into(x, y, v.data());
+      for (int k = 0; k < f.dim; ++k) {
+        sum[k] += v[k];
+        sum2[k] += v[k] * v[k];
+      }
+    }
+  }
+  const double m = static_cast<double>(kGrid) * kGrid;
+  for (int k = 0; k < f.dim; ++k) {
+    const double mean = sum[k] / m, var = std::max(0.0, sum2[k] / m - mean * mean);
+    const double scale = var > 0.0 ? 1.0 / std::sqrt(var) : 1.0;
+    for (int b = k * f.per_component; b < (k + 1) * f.per_component; ++b) f.amplitude[b] *= scale;
+  }
+  return f;
+}
+
+}  // namespace
+
+void AlignmentWorldOptions::validate() const {
+  auto positive = [](const char* name, double v) {
+    if (!(v > 0.0) || !std::isfinite(v))
+      fail("AlignmentWorldOptions.{} = {:g}: must be > 0 and finite", name, v);
+  };
+  auto non_negative = [](const char* name, double v) {
+    if (!(v >= 0.0) || !std::isfinite(v))
+      fail("AlignmentWorldOptions.{} = {:g}: must be >= 0 and finite", name, v);
+  };
+  positive("reference_size", reference_size);
+  positive("query_size", query_size);
+  if (query_size > reference_size)
+    fail(
+        "AlignmentWorldOptions.query_size = {:g}: must be <= reference_size = {:g} (the query lies inside "
+        "the "
+        "reference area)",
+        query_size, reference_size);
+  positive("track_spacing", track_spacing);
+  positive("sample_spacing", sample_spacing);
+  if (feature_dim < 1 || feature_dim > 64)
+    fail("AlignmentWorldOptions.feature_dim = {}: must be in [1, 64]", feature_dim);
+  if (bumps < 1) fail("AlignmentWorldOptions.bumps = {}: must be >= 1", bumps);
+  positive("bump_sigma_min", bump_sigma_min);
+  positive("bump_sigma_max", bump_sigma_max);
+  if (bump_sigma_max < bump_sigma_min)
+    fail("AlignmentWorldOptions.bump_sigma_max = {:g}: must be >= bump_sigma_min = {:g}", bump_sigma_max,
+         bump_sigma_min);
+  non_negative("feature_noise", feature_noise);
+  non_negative("position_noise", position_noise);
+  non_negative("max_translation", max_translation);
+  if (!(max_rotation >= 0.0) || !(max_rotation <= 3.14159265358979323846))
+    fail("AlignmentWorldOptions.max_rotation = {:g}: must be in [0, pi]", max_rotation);
+}
+
+void FeatureField::value_into(double x, double y, double* out) const {
+  for (int k = 0; k < dim; ++k) {
+    double v = offset;
+    for (int b = k * per_component; b < (k + 1) * per_component; ++b) {
+      const double dx = x - cx[b], dy = y - cy[b];
+      v += amplitude[b] * std::exp(-(dx * dx + dy * dy) / (2.0 * sigma[b] * sigma[b]));
+    }
+    out[k] = v;
+  }
+}
+
+std::vector<double> FeatureField::value(double x, double y) const {
+  std::vector<double> v(static_cast<std::size_t>(dim));
+  value_into(x, y, v.data());
+  return v;
+}
+
+LawnMower lawn_mower(double x0, double y0, double width, double height, double track_spacing,
+                     double sample_spacing) {
+  if (!std::isfinite(x0) || !std::isfinite(y0))
+    fail("lawn_mower: corner ({:g}, {:g}) must be finite", x0, y0);
+  if (!(width >= 0.0) || !(height >= 0.0) || !std::isfinite(width) || !std::isfinite(height))
+    fail("lawn_mower: width = {:g} and height = {:g} must be >= 0 and finite", width, height);
+  if (!(track_spacing > 0.0) || !(sample_spacing > 0.0) || !std::isfinite(track_spacing) ||
+      !std::isfinite(sample_spacing))
+    fail("lawn_mower: track_spacing = {:g} and sample_spacing = {:g} must be > 0 and finite", track_spacing,
+         sample_spacing);
+  LawnMower l;
+  l.tracks = steps(height, track_spacing) + 1;
+  l.per_track = steps(width, sample_spacing) + 1;
+  const std::size_t n = static_cast<std::size_t>(l.tracks) * l.per_track;
+  l.x.reserve(n);
+  l.y.reserve(n);
+  for (int k = 0; k < l.tracks; ++k) {
+    const double y = y0 + k * track_spacing;
+    for (int m = 0; m < l.per_track; ++m) {
+      const int mm = k % 2 == 0 ? m : l.per_track - 1 - m;
+      l.x.push_back(x0 + mm * sample_spacing);
+      l.y.push_back(y);
+    }
+  }
+  return l;
+}
+
+AlignmentWorld make_alignment_world(const AlignmentWorldOptions& o, std::uint64_t seed,
+                                    std::uint64_t stream) {
+  o.validate();
+  core::Rng root = core::Rng::stream(seed, stream);
+  // Independent sub-streams (drawn in this fixed order), so one option changes only its own part of the
+  // world.
+  core::Rng field_rng(root.next()), place_rng(root.next()), transform_rng(root.next()),
+      feature_rng(root.next()), position_rng(root.next());
+
+  AlignmentWorld w;
+  w.feature_dim = o.feature_dim;
+  const double half = 0.5 * o.reference_size;
+  w.field = random_field(o, -half, half, field_rng);
+
+  const LawnMower ref =
+      lawn_mower(-half, -half, o.reference_size, o.reference_size, o.track_spacing, o.sample_spacing);
+  w.ref_x = ref.x;
+  w.ref_y = ref.y;
+
+  // Query square: corner uniform so the square lies inside the reference square; optionally snapped to the
+  // reference's sampling grid (same tracklines, same along-track positions).
+  const double room = o.reference_size - o.query_size;
+  double qx0 = -half + place_rng.uniform(0.0, room), qy0 = -half + place_rng.uniform(0.0, room);
+  if (!o.query_track_offset) {
+    qx0 = -half + std::floor((qx0 + half) / o.sample_spacing) * o.sample_spacing;
+    qy0 = -half + std::floor((qy0 + half) / o.track_spacing) * o.track_spacing;
+  }
+  w.query_x0 = qx0;
+  w.query_y0 = qy0;
+  const LawnMower query = lawn_mower(qx0, qy0, o.query_size, o.query_size, o.track_spacing, o.sample_spacing);
+  w.query_true_x = query.x;
+  w.query_true_y = query.y;
+
+  w.theta = transform_rng.uniform(-o.max_rotation, o.max_rotation);
+  w.tx = transform_rng.uniform(-o.max_translation, o.max_translation);
+  w.ty = transform_rng.uniform(-o.max_translation, o.max_translation);
+  const double c = std::cos(w.theta), s = std::sin(w.theta);
+  const std::size_t nb = query.x.size(), na = ref.x.size();
+  w.query_x.resize(nb);
+  w.query_y.resize(nb);
+  for (std::size_t j = 0; j < nb; ++j) {  // p_b = R(θ)ᵀ (p_a − t)
+    const double dx = w.query_true_x[j] - w.tx, dy = w.query_true_y[j] - w.ty;
+    w.query_x[j] = c * dx + s * dy;
+    w.query_y[j] = -s * dx + c * dy;
+  }
+
+  // Features: the field at the true positions plus noise (reference first, then query).
+  const std::size_t d = static_cast<std::size_t>(o.feature_dim);
+  w.ref_features.resize(na * d);
+  w.query_features.resize(nb * d);
+  for (std::size_t i = 0; i < na; ++i) w.field.value_into(w.ref_x[i], w.ref_y[i], &w.ref_features[i * d]);
+  for (std::size_t j = 0; j < nb; ++j)
+    w.field.value_into(w.query_true_x[j], w.query_true_y[j], &w.query_features[j * d]);
+  if (o.feature_noise > 0.0) {
+    for (double& v : w.ref_features) v += o.feature_noise * feature_rng.normal();
+    for (double& v : w.query_features) v += o.feature_noise * feature_rng.normal();
+  }
+  if (o.position_noise > 0.0) {
+    for (std::size_t i = 0; i < na; ++i) {
+      w.ref_x[i] += o.position_noise * position_rng.normal();
+      w.ref_y[i] += o.position_noise * position_rng.normal();
+    }
+    for (std::size_t j = 0; j < nb; ++j) {
+      w.query_x[j] += o.position_noise * position_rng.normal();
+      w.query_y[j] += o.position_noise * position_rng.normal();
+    }
+  }
+  return w;
+}
+
+}  // namespace keel::sim

@@ -78,15 +78,14 @@ RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, cons
   settings.disc_tolerance = o.method == Method::so_conv_hull ? o.disc_tolerance : 0.0;
   RoundSolution out;
   if (o.method == Method::proposed) {
+    // The eight sectors in one model, in order, each warm-started from the previous optimum (the plane rows
+    // generated for one sector are valid for all). Sequential, so the answer does not depend on threads.
     std::vector<LpSolution> sols(8);
-    core::parallel_for(
-        8,
-        [&](std::size_t k) {
-          HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
-          lp.set_cs_rows(sector_rows(static_cast<int>(k)));
-          sols[k] = lp.solve();
-        },
-        o.threads);
+    HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
+    for (int k = 0; k < 8; ++k) {
+      lp.set_cs_rows(sector_rows(k));
+      sols[k] = lp.solve();
+    }
     for (int k = 0; k < 8; ++k) {
       out.solves += sols[k].solves;
       if (sols[k].status == LpStatus::failed)
@@ -299,7 +298,7 @@ Regions global_regions(const AlignmentProblem& p, const AlignOptions& o) {
   return reg;
 }
 
-AlignResult align(const AlignmentProblem& p, const AlignOptions& o) {
+AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Regions* global) {
   p.validate();
   o.validate();
   if (o.depth_gate > 0 && p.ref_z.empty())
@@ -311,7 +310,9 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o) {
   res.method = o.method;
 
   auto th = Clock::now();
-  Regions reg = global_regions(p, o);
+  Regions reg = global ? *global : global_regions(p, o);
+  if (reg.planes.size() != p.query_size() || reg.boxes.size() != p.query_size())
+    throw std::invalid_argument("align: the given global regions do not belong to this problem");
   RoundTrace tr;
   const Bounds b = bounding_box(p.ref_x, p.ref_y);
   const double w0 = 0.5 * std::max(b.x_hi - b.x_lo, b.y_hi - b.y_lo);
@@ -322,8 +323,9 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o) {
   RoundSolution sol = solve_round(p, o, reg);
   tr.lp_time_s = since(tl);
   tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
-  res.rounds.push_back(tr);
   Transform2 T = transform_from(kind, sol.lp.params);
+  tr.transform = T;
+  res.rounds.push_back(tr);
 
   const std::size_t nb = p.query_size();
   for (int r = 1; r <= o.region.max_rounds; ++r) {
@@ -361,8 +363,9 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o) {
     sol = solve_round(p, o, reg);
     tr.lp_time_s = since(tl);
     tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
-    res.rounds.push_back(tr);
     T = transform_from(kind, sol.lp.params);
+    tr.transform = T;
+    res.rounds.push_back(tr);
   }
   res.raw = T;
   res.cost = sol.lp.cost;

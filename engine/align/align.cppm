@@ -2,8 +2,11 @@
 // ch. 3). Facade rules (docs/DESIGN.md) as every area.
 module;
 #include "align/align.hpp"
+#include "align/certificate.hpp"
+#include "align/config.hpp"
 #include "align/hull.hpp"
 #include "align/lp.hpp"
+#include "align/studies.hpp"
 export module keel.align;
 
 export namespace keel::align {
@@ -32,4 +35,35 @@ using keel::align::lower_hull_planes;
 using keel::align::Plane;
 using keel::align::project_to_rigid;
 using keel::align::singular_values;
+using keel::align::sector_rows;
+// the LP itself, for custom rotation constraints
+using keel::align::Box;
+using keel::align::CsRow;
+using keel::align::HullLp;
+using keel::align::LpSolution;
+using keel::align::LpStatus;
+using keel::align::Parameterization;
+// beyond the thesis: certified global optimum over SO(2)
+using keel::align::Certificate;
+using keel::align::CertificateOptions;
+using keel::align::CertificateStatus;
+using keel::align::certify_rotation;
+using keel::align::global_regions;
+using keel::align::Regions;
+using keel::align::rigid_objective;
+// studies (§3.7, §3.8) and their config readers
+using keel::align::AlignmentStudyOptions;
+using keel::align::AlignmentStudyOutcome;
+using keel::align::CertificateOutcome;
+using keel::align::fenced_summary;
+using keel::align::FencedSummary;
+using keel::align::MethodOutcome;
+using keel::align::problem_of;
+using keel::align::read_align_options;
+using keel::align::read_alignment_world_options;
+using keel::align::read_certificate_options;
+using keel::align::read_hull_world_options;
+using keel::align::read_methods;
+using keel::align::run_alignment_study;
+using keel::align::score_alignment;
 }  // namespace keel::align

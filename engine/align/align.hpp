@@ -34,6 +34,8 @@
 
 namespace keel::align {
 
+struct Regions;
+
 enum class Method { proposed, so_conv_hull, symmetric, affine };
 [[nodiscard]] std::string_view to_string(Method m);
 [[nodiscard]] Method method_from_string(std::string_view text);  // throws std::invalid_argument
@@ -99,6 +101,7 @@ struct RoundTrace {
   int solves = 0;              // LP solves this round (all sectors)
   std::size_t kept_boxes = 0;  // query points whose box stayed (too few reference points)
   double hull_time_s = 0, lp_time_s = 0;
+  Transform2 transform;  // the round's estimate (raw)
 };
 
 struct AlignResult {
@@ -112,7 +115,10 @@ struct AlignResult {
   double time_s = 0;
 };
 
-[[nodiscard]] AlignResult align(const AlignmentProblem& problem, const AlignOptions& options);
+// `global` (optional): round 0's regions computed beforehand by global_regions with the same hull options and
+// depth gate (several methods on one problem share them).
+[[nodiscard]] AlignResult align(const AlignmentProblem& problem, const AlignOptions& options,
+                                const Regions* global = nullptr);
 
 // --- pieces, exposed for tests, certificates and figures
 // ------------------------------------------------------

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "align/align.hpp"
+#include "align/certificate.hpp"
 #include "align/hull.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
@@ -43,7 +44,9 @@ struct Field {
 
 // Reference: a grid of n × n points (spacing 1 m); query: a copy of the reference seen through the inverse of
 // (theta, tx, ty), so align must return (theta, tx, ty).
-AlignmentProblem exact_copy(int n, double theta, double tx, double ty, std::uint64_t seed = 7) {
+// With margin > 0 the query copies only the reference points at least `margin` from the grid's edge.
+AlignmentProblem exact_copy(int n, double theta, double tx, double ty, std::uint64_t seed = 7,
+                            int margin = 0) {
   Field field(seed, n - 1.0);
   AlignmentProblem p;
   std::vector<double> fa;
@@ -56,12 +59,17 @@ AlignmentProblem exact_copy(int n, double theta, double tx, double ty, std::uint
       fa.insert(fa.end(), f, f + 3);
     }
   const double c = std::cos(theta), s = std::sin(theta);
+  std::vector<double> fb;
   for (std::size_t i = 0; i < p.ref_x.size(); ++i) {  // p_query = Rᵀ (p_ref − t)
+    if (p.ref_x[i] < margin || p.ref_x[i] > n - 1 - margin || p.ref_y[i] < margin ||
+        p.ref_y[i] > n - 1 - margin)
+      continue;
     const double dx = p.ref_x[i] - tx, dy = p.ref_y[i] - ty;
     p.query_x.push_back(c * dx + s * dy);
     p.query_y.push_back(-s * dx + c * dy);
+    fb.insert(fb.end(), fa.begin() + 3 * i, fa.begin() + 3 * i + 3);
   }
-  p.dissimilarity = euclidean_dissimilarity(fa, fa, 3);
+  p.dissimilarity = euclidean_dissimilarity(fa, fb, 3);
   return p;
 }
 
@@ -279,4 +287,36 @@ TEST_CASE("bad inputs give clear errors") {
   check_message([&] { (void)align(p, o); }, "RegionOptions.shrink = 1.5");
   CHECK_THROWS_AS((void)method_from_string("octagon"), std::invalid_argument);
   CHECK(method_from_string("so_conv_hull") == Method::so_conv_hull);
+}
+
+TEST_CASE("the certificate finds the global optimum over SO(2): brute force over θ agrees") {
+  const auto p = exact_copy(12, 1.1, 0.5, -0.5, 5, 3);
+  AlignOptions o;
+  const Regions reg = global_regions(p, o);
+  const Certificate cert = certify_rotation(p, reg, o.lp, {});
+  CHECK(cert.status == CertificateStatus::optimal);
+  CHECK(cert.lower_bound <= cert.upper_bound);
+  CHECK(cert.upper_bound - cert.lower_bound <= 1e-6 * std::max(1.0, cert.upper_bound));
+  CHECK(std::abs(cert.upper_bound) < 1e-6);  // the exact copy has cost 0 at the true rotation
+  CHECK(angle_error(cert.theta, 1.1) < 1e-4);
+  // No θ on a fine grid beats the certified bound.
+  for (int k = 0; k < 90; ++k) {
+    const double th = -kPi + k * 2 * kPi / 90;
+    CHECK(rigid_objective(p, reg, o.lp, th) >= cert.lower_bound - 1e-9);
+  }
+}
+
+TEST_CASE("the certificate on a noisy problem: bound below every sampled θ, attained at its θ") {
+  auto p = exact_copy(12, -2.4, 0.0, 0.0, 9, 3);
+  Rng rng(3);
+  for (auto& c : p.dissimilarity) c += 0.3 * rng.uniform();
+  AlignOptions o;
+  const Regions reg = global_regions(p, o);
+  const Certificate cert = certify_rotation(p, reg, o.lp, {});
+  CHECK(cert.status == CertificateStatus::optimal);
+  CHECK(rigid_objective(p, reg, o.lp, cert.theta) == doctest::Approx(cert.upper_bound).epsilon(1e-9));
+  double best = 1e300;
+  for (int k = 0; k < 360; ++k) best = std::min(best, rigid_objective(p, reg, o.lp, -kPi + k * kPi / 180));
+  CHECK(best >= cert.lower_bound - 1e-9);
+  CHECK(best <= cert.upper_bound + 0.05 * std::abs(cert.upper_bound));
 }

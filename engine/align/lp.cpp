@@ -39,6 +39,7 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
       qx_(qx),
       qy_(qy),
       planes_(planes),
+      boxes_(boxes),
       settings_(settings),
       model_(std::make_unique<ClpSimplex>()) {
   const std::size_t nb = qx.size();
@@ -52,28 +53,27 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
   const int nmat = kind == Parameterization::affine ? 4 : 2;
   for (int p = 0; p < nmat; ++p) collb[p] = -settings.matrix_bound, colub[p] = settings.matrix_bound;
   for (std::size_t j = 0; j < nb; ++j) obj[k + j] = 1.0;
+  // Translation bounds implied by the boxes: t_x = f_j − (A p_j)_x with f_j in box j and |entries of A| ≤ B,
+  // so t_x ∈ [x_lo − B(|x_j| + |y_j|), x_hi + B(|x_j| + |y_j|)] for every j; the tightest j bounds the LP
+  // before its box rows arrive (one plane per point alone would leave it unbounded).
+  {
+    double tx_lo = -kInf, tx_hi = kInf, ty_lo = -kInf, ty_hi = kInf;
+    for (std::size_t j = 0; j < nb; ++j) {
+      const double reach = settings.matrix_bound * (std::abs(qx[j]) + std::abs(qy[j]));
+      tx_lo = std::max(tx_lo, boxes[j].x_lo - reach), tx_hi = std::min(tx_hi, boxes[j].x_hi + reach);
+      ty_lo = std::max(ty_lo, boxes[j].y_lo - reach), ty_hi = std::min(ty_hi, boxes[j].y_hi + reach);
+    }
+    const int tcol = k - 2;
+    collb[tcol] = tx_lo, colub[tcol] = tx_hi, collb[tcol + 1] = ty_lo, colub[tcol + 1] = ty_hi;
+  }
   model_->setLogLevel(0);
   model_->loadProblem(ncol, 0, start.data(), nullptr, nullptr, collb.data(), colub.data(), obj.data(),
                       nullptr, nullptr);
   model_->setOptimizationDirection(1.0);
 
-  // Box rows: lo ≤ f_j ≤ hi, lo ≤ g_j ≤ hi.
-  std::vector<double> lo, hi, el;
-  std::vector<int> col;
-  std::vector<CoinBigIndex> rs{0};
-  for (std::size_t j = 0; j < nb; ++j) {
-    Lin f, g;
-    coordinate_rows(kind, qx[j], qy[j], f, g);
-    for (int d = 0; d < 2; ++d) {
-      const Lin& l = d == 0 ? f : g;
-      for (int p = 0; p < k; ++p)
-        if (l.v[p] != 0) col.push_back(p), el.push_back(l.v[p]);
-      rs.push_back(static_cast<CoinBigIndex>(el.size()));
-      lo.push_back(d == 0 ? boxes[j].x_lo : boxes[j].y_lo);
-      hi.push_back(d == 0 ? boxes[j].x_hi : boxes[j].y_hi);
-    }
-  }
-  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+  // Box rows lo ≤ f_j ≤ hi, lo ≤ g_j ≤ hi are added lazily too, when the solution leaves a box: without them
+  // the LP is still bounded (each c_j is convex with its minimum inside its cloud, so u_j ≥ min_i C_ij).
+  box_in_model_.assign(2 * nb, false);
 
   // Initial planes: those maximal at the four corners and the centre of each box.
   in_model_.resize(nb);
@@ -84,7 +84,7 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
     const Box& b = boxes[j];
     const double px[5] = {b.x_lo, b.x_hi, b.x_lo, b.x_hi, 0.5 * (b.x_lo + b.x_hi)};
     const double py[5] = {b.y_lo, b.y_lo, b.y_hi, b.y_hi, 0.5 * (b.y_lo + b.y_hi)};
-    for (int q = 0; q < 5; ++q) {
+    for (int q = 4; q < 5; ++q) {  // the centre (corners too made the cold start four times slower)
       std::size_t best = 0;
       double bv = -kInf;
       for (std::size_t m = 0; m < planes[j].size(); ++m) {
@@ -130,9 +130,41 @@ void HullLp::add_planes(const std::vector<std::pair<std::size_t, std::size_t>>& 
     model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
 }
 
+void HullLp::add_box_rows(const std::vector<std::size_t>& which) {
+  if (which.empty()) return;
+  const int k = static_cast<int>(parameter_count());
+  std::vector<double> lo, hi, el;
+  std::vector<int> col;
+  std::vector<CoinBigIndex> rs{0};
+  for (std::size_t w : which) {
+    const std::size_t j = w / 2;
+    const bool is_x = w % 2 == 0;
+    box_in_model_[w] = true;
+    Lin f, g;
+    coordinate_rows(kind_, qx_[j], qy_[j], f, g);
+    const Lin& l = is_x ? f : g;
+    for (int p = 0; p < k; ++p)
+      if (l.v[p] != 0) col.push_back(p), el.push_back(l.v[p]);
+    rs.push_back(static_cast<CoinBigIndex>(el.size()));
+    lo.push_back(is_x ? boxes_[j].x_lo : boxes_[j].y_lo);
+    hi.push_back(is_x ? boxes_[j].x_hi : boxes_[j].y_hi);
+  }
+  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+}
+
 void HullLp::set_cs_rows(const std::vector<CsRow>& rows) {
   if (kind_ != Parameterization::rotation_like)
     throw std::logic_error("HullLp::set_cs_rows: only for the rotation-like parameterisation");
+  if (cs_row_index_.size() == rows.size()) {
+    // Same number of rows: change coefficients and bounds in place, so the basis (and with it the dual
+    // simplex's warm start) survives; the elements of (c, s) are kept even when zero.
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      model_->modifyCoefficient(cs_row_index_[k], 0, rows[k].a_c, true);
+      model_->modifyCoefficient(cs_row_index_[k], 1, rows[k].a_s, true);
+      model_->setRowBounds(cs_row_index_[k], rows[k].lo, rows[k].hi);
+    }
+    return;
+  }
   if (!cs_row_index_.empty())
     model_->deleteRows(static_cast<int>(cs_row_index_.size()), cs_row_index_.data());
   cs_row_index_.clear();
@@ -142,8 +174,8 @@ void HullLp::set_cs_rows(const std::vector<CsRow>& rows) {
   std::vector<CoinBigIndex> rs{0};
   const int base = model_->numberRows();
   for (const CsRow& r : rows) {
-    if (r.a_c != 0) col.push_back(0), el.push_back(r.a_c);
-    if (r.a_s != 0) col.push_back(1), el.push_back(r.a_s);
+    col.push_back(0), el.push_back(r.a_c);
+    col.push_back(1), el.push_back(r.a_s);
     rs.push_back(static_cast<CoinBigIndex>(el.size()));
     lo.push_back(r.lo);
     hi.push_back(r.hi);
@@ -167,6 +199,7 @@ LpSolution HullLp::solve() {
   const std::size_t nb = qx_.size();
   const int k = static_cast<int>(parameter_count());
   std::vector<std::pair<std::size_t, std::size_t>> add;
+  std::vector<std::size_t> box_add;
   for (int round = 0; round <= settings_.max_generation_rounds; ++round) {
     model_->dual();
     ++out.solves;
@@ -180,6 +213,7 @@ LpSolution HullLp::solve() {
     }
     const double* x = model_->primalColumnSolution();
     add.clear();
+    box_add.clear();
     for (std::size_t j = 0; j < nb; ++j) {
       Lin f, g;
       coordinate_rows(kind_, qx_[j], qy_[j], f, g);
@@ -194,6 +228,14 @@ LpSolution HullLp::solve() {
       }
       if (bv - u > settings_.violation_tolerance * (1.0 + std::abs(u)) && !in_model_[j][best])
         add.emplace_back(j, best);
+      const Box& b = boxes_[j];
+      const double tol = settings_.violation_tolerance;
+      if (!box_in_model_[2 * j] &&
+          (fx < b.x_lo - tol * (1 + std::abs(b.x_lo)) || fx > b.x_hi + tol * (1 + std::abs(b.x_hi))))
+        box_add.push_back(2 * j);
+      if (!box_in_model_[2 * j + 1] &&
+          (gx < b.y_lo - tol * (1 + std::abs(b.y_lo)) || gx > b.y_hi + tol * (1 + std::abs(b.y_hi))))
+        box_add.push_back(2 * j + 1);
     }
     bool cut = false;
     if (settings_.disc_tolerance > 0 && kind_ == Parameterization::rotation_like) {
@@ -207,7 +249,7 @@ LpSolution HullLp::solve() {
         cut = true;
       }
     }
-    if (add.empty() && !cut) {
+    if (add.empty() && box_add.empty() && !cut) {
       out.status = LpStatus::optimal;
       out.cost = model_->objectiveValue();
       out.params.assign(x, x + k);
@@ -217,6 +259,7 @@ LpSolution HullLp::solve() {
       return out;
     }
     add_planes(add);
+    add_box_rows(box_add);
   }
   out.status = LpStatus::failed;
   return out;

@@ -9,10 +9,11 @@
 // inside its region-of-interest box lo ≤ (f_j, g_j) ≤ hi (two ranged rows per point): the planes are lower
 // bounds of the dissimilarity only over the box their cloud was taken from.
 //
-// Rows of planes are generated lazily: the model starts with the planes that are maximal at the corners and
-// the centre of each box, and after each solve the most violated plane of every query point is added and the
-// LP re-solved warm by the dual simplex, until no plane is violated. The result is the optimum of the full LP
-// (every omitted row is satisfied). One ClpSimplex per instance: instances are not shared between threads.
+// Rows are generated lazily: the model starts with the plane of each query point that is maximal at the
+// centre of its box, and after each solve the most violated plane of every query point (and each box row the
+// solution violates) is added and the LP re-solved warm by the dual simplex, until nothing is violated. The
+// result is the optimum of the full LP (every omitted row is satisfied). One ClpSimplex per instance:
+// instances are not shared between threads.
 #pragma once
 
 #include <cstddef>
@@ -82,14 +83,17 @@ class HullLp {
  private:
   void add_plane_row(std::size_t j, std::size_t m);
   void add_planes(const std::vector<std::pair<std::size_t, std::size_t>>& rows);
+  void add_box_rows(const std::vector<std::size_t>& which);
 
   Parameterization kind_;
   const std::vector<double>& qx_;
   const std::vector<double>& qy_;
   const std::vector<std::vector<Plane>>& planes_;
+  const std::vector<Box>& boxes_;
   LpSettings settings_;
   std::unique_ptr<ClpSimplex> model_;
   std::vector<std::vector<bool>> in_model_;  // plane (j, m) has a row
+  std::vector<bool> box_in_model_;           // box row 2j (x) / 2j + 1 (y) is in the model
   std::size_t plane_rows_ = 0, cuts_ = 0;
   std::vector<int> cs_row_index_;  // rows holding the current CsRows
   bool solved_once_ = false;

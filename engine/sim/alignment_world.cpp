@@ -82,6 +82,16 @@ void AlignmentWorldOptions::validate() const {
         "the "
         "reference area)",
         query_size, reference_size);
+  if (query_random_heading && query_size * 1.4142135623730951 > reference_size)
+    throw std::invalid_argument(
+        fmt::format("AlignmentWorldOptions.query_size = {:g}: with query_random_heading the query square's "
+                    "diagonal must fit "
+                    "in reference_size = {:g}",
+                    query_size, reference_size));
+  if (query_random_heading && !query_track_offset)
+    throw std::invalid_argument(
+        "AlignmentWorldOptions.query_random_heading = true: needs query_track_offset = true (a rotated query "
+        "cannot be snapped to the reference's grid)");
   positive("track_spacing", track_spacing);
   positive("sample_spacing", sample_spacing);
   if (feature_dim < 1 || feature_dim > 64)
@@ -163,16 +173,36 @@ AlignmentWorld make_alignment_world(const AlignmentWorldOptions& o, std::uint64_
   w.ref_y = ref.y;
 
   // Query square: corner uniform so the square lies inside the reference square; optionally snapped to the
-  // reference's sampling grid (same tracklines, same along-track positions).
+  // reference's sampling grid (same tracklines, same along-track positions). With query_random_heading the
+  // query's tracklines run at a heading ψ ~ U[0, π) instead of along x (a second robot has no reason to
+  // survey along the first one's lines), and the rotated square's centre is uniform where the square fits.
   const double room = o.reference_size - o.query_size;
   double qx0 = -half + place_rng.uniform(0.0, room), qy0 = -half + place_rng.uniform(0.0, room);
   if (!o.query_track_offset) {
     qx0 = -half + std::floor((qx0 + half) / o.sample_spacing) * o.sample_spacing;
     qy0 = -half + std::floor((qy0 + half) / o.track_spacing) * o.track_spacing;
   }
+  LawnMower query;
+  if (o.query_random_heading) {
+    const double psi = place_rng.uniform(0.0, 3.14159265358979323846);
+    const double cp = std::cos(psi), sp = std::sin(psi);
+    const double q2 = 0.5 * o.query_size, extent = q2 * (std::abs(cp) + std::abs(sp));  // rotated half-extent
+    const double cx = place_rng.uniform(-half + extent, half - extent);
+    const double cy = place_rng.uniform(-half + extent, half - extent);
+    query = lawn_mower(-q2, -q2, o.query_size, o.query_size, o.track_spacing, o.sample_spacing);
+    for (std::size_t j = 0; j < query.x.size(); ++j) {
+      const double x = query.x[j], y = query.y[j];
+      query.x[j] = cx + cp * x - sp * y;
+      query.y[j] = cy + sp * x + cp * y;
+    }
+    w.query_heading = psi;
+    qx0 = cx + cp * -q2 - sp * -q2;  // the corner the lawn-mower starts from
+    qy0 = cy + sp * -q2 + cp * -q2;
+  } else {
+    query = lawn_mower(qx0, qy0, o.query_size, o.query_size, o.track_spacing, o.sample_spacing);
+  }
   w.query_x0 = qx0;
   w.query_y0 = qy0;
-  const LawnMower query = lawn_mower(qx0, qy0, o.query_size, o.query_size, o.track_spacing, o.sample_spacing);
   w.query_true_x = query.x;
   w.query_true_y = query.y;
 

@@ -50,8 +50,9 @@ struct AlignmentWorldOptions {
       0.0;  // std of Gaussian noise on every position coordinate (m), both trajectories, >= 0
   double max_translation = 30.0;                 // t components uniform in [−max, max] (m), >= 0
   double max_rotation = 3.14159265358979323846;  // θ uniform in [−max, max), in [0, π]
-  bool query_track_offset = true;  // query corner continuous (tracklines offset by a random fraction of the
-                                   // spacing); false: snapped to the reference's sampling grid
+  bool query_random_heading = true;  // query tracklines at a heading ψ ~ U[0, π) (not along the reference's)
+  bool query_track_offset = true;    // query corner continuous (tracklines offset by a random fraction of the
+                                     // spacing); false: snapped to the reference's sampling grid
   // Throws std::invalid_argument "AlignmentWorldOptions.<field> = <value>: <reason>".
   void validate() const;
 };
@@ -94,7 +95,8 @@ struct AlignmentWorld {
   // p_ref = R(theta) p_query + (tx, ty). Alignment methods estimate this.
   double theta = 0.0, tx = 0.0, ty = 0.0;
   FeatureField field;
-  double query_x0 = 0.0, query_y0 = 0.0;  // lower-left corner of the query's square, reference frame
+  double query_x0 = 0.0, query_y0 = 0.0;  // corner the query lawn-mower starts from, reference frame
+  double query_heading = 0.0;             // ψ of the query's tracklines in the reference frame (0: along x)
 };
 
 // World `stream` of experiment `seed` (validates the options).

@@ -93,10 +93,14 @@ TEST_CASE("ground truth: R(θ) p_query + t = p_true; the query lies inside the r
     }
     CHECK(err < 1e-12);
     CHECK(extent <= half);
-    CHECK(w.query_x0 >= -half);
-    CHECK(w.query_x0 + o.query_size <= half);
-    CHECK(w.query_y0 >= -half);
-    CHECK(w.query_y0 + o.query_size <= half);
+    // Tracklines run at the heading ψ: the first two positions of the first line are sample_spacing apart
+    // along it.
+    CHECK(w.query_true_x[1] - w.query_true_x[0] ==
+          doctest::Approx(o.sample_spacing * std::cos(w.query_heading)));
+    CHECK(w.query_true_y[1] - w.query_true_y[0] ==
+          doctest::Approx(o.sample_spacing * std::sin(w.query_heading)));
+    CHECK(w.query_heading >= 0);
+    CHECK(w.query_heading < kPi);
     min_theta = std::min(min_theta, w.theta);
     max_theta = std::max(max_theta, w.theta);
     max_t = std::max({max_t, std::fabs(w.tx), std::fabs(w.ty)});
@@ -104,6 +108,15 @@ TEST_CASE("ground truth: R(θ) p_query + t = p_true; the query lies inside the r
     CHECK(w.theta < o.max_rotation);
   }
   CHECK(min_theta < -0.9 * kPi);  // the full circle is covered
+  {
+    o.query_random_heading = false;  // axis-aligned query square inside the reference square
+    const auto w = make_alignment_world(o, 11, 0);
+    CHECK(w.query_heading == 0.0);
+    CHECK(w.query_x0 >= -half);
+    CHECK(w.query_x0 + o.query_size <= half);
+    CHECK(w.query_y0 >= -half);
+    CHECK(w.query_y0 + o.query_size <= half);
+  }
   CHECK(max_theta > 0.9 * kPi);
   CHECK(max_t <= o.max_translation);
   CHECK(max_t > 0.9 * o.max_translation);
@@ -144,6 +157,7 @@ TEST_CASE("query tracklines: offset by a random fraction of the spacing, or on t
   CHECK(fractions[50] == doctest::Approx(0.5).epsilon(0.2));
 
   o.query_track_offset = false;
+  o.query_random_heading = false;
   for (int s = 0; s < 20; ++s) {
     const auto w = make_alignment_world(o, 5, s);
     // Every true query position is a reference position with the same (noiseless) feature vector.

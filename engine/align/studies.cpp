@@ -1,0 +1,150 @@
+#include "align/studies.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/parallel.hpp"
+
+namespace keel::align {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+double wrap(double a) { return std::remainder(a, 2 * kPi); }
+
+double quantile(const std::vector<double>& sorted, double q) {
+  const double pos = q * static_cast<double>(sorted.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+}  // namespace
+
+AlignmentProblem problem_of(const sim::AlignmentWorld& w) {
+  AlignmentProblem p;
+  p.ref_x = w.ref_x, p.ref_y = w.ref_y;
+  p.query_x = w.query_x, p.query_y = w.query_y;
+  p.dissimilarity = euclidean_dissimilarity(w.ref_features, w.query_features, w.feature_dim);
+  return p;
+}
+
+AlignmentProblem problem_of(const sim::HullWorld& w) {
+  AlignmentProblem p;
+  p.ref_x = w.ref_x, p.ref_y = w.ref_y, p.ref_z = w.ref_z;
+  p.query_x = w.query_x, p.query_y = w.query_y, p.query_z = w.query_z;
+  p.dissimilarity = euclidean_dissimilarity(w.ref_features, w.query_features, w.feature_dim);
+  return p;
+}
+
+MethodOutcome score_alignment(const AlignmentProblem& p, const AlignResult& r, double theta, double tx,
+                              double ty, double valid_tolerance) {
+  MethodOutcome o;
+  o.raw = r.raw;
+  o.rigid = r.rigid;
+  o.cost = r.cost;
+  o.sector = r.sector;
+  o.rounds = static_cast<int>(r.rounds.size());
+  for (const auto& t : r.rounds) o.lp_solves += t.solves;
+  const double e = wrap(r.rigid.theta - theta);
+  o.rot_se = e * e;
+  double cx = 0, cy = 0;
+  for (std::size_t j = 0; j < p.query_size(); ++j) cx += p.query_x[j], cy += p.query_y[j];
+  cx /= static_cast<double>(p.query_size()), cy /= static_cast<double>(p.query_size());
+  const double ex = r.raw.a11 * cx + r.raw.a12 * cy + r.raw.tx,
+               ey = r.raw.a21 * cx + r.raw.a22 * cy + r.raw.ty;
+  const double c = std::cos(theta), s = std::sin(theta);
+  const double gx = c * cx - s * cy + tx, gy = s * cx + c * cy + ty;
+  o.trans_se = (ex - gx) * (ex - gx) + (ey - gy) * (ey - gy);
+  singular_values(r.raw, o.singular_max, o.singular_min);
+  o.valid = approximately_valid(r.raw, valid_tolerance);
+  o.time_s = r.time_s;
+  return o;
+}
+
+void AlignmentStudyOptions::validate() const {
+  world.validate();
+  align.validate();
+  certificate.validate();
+  if (methods.empty()) throw std::invalid_argument("AlignmentStudyOptions.methods: empty");
+  if (!(valid_tolerance > 0 && valid_tolerance < 1))
+    throw std::invalid_argument(
+        fmt::format("AlignmentStudyOptions.valid_tolerance = {}: must be in (0, 1)", valid_tolerance));
+  if (worlds < 1) throw std::invalid_argument("AlignmentStudyOptions.worlds = 0: must be >= 1");
+  if (certify && std::find(methods.begin(), methods.end(), Method::proposed) == methods.end())
+    throw std::invalid_argument("AlignmentStudyOptions.certify: needs the proposed method among the methods");
+}
+
+AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::Progress* progress) {
+  o.validate();
+  AlignmentStudyOutcome out;
+  out.methods = o.methods;
+  const std::size_t nm = o.methods.size();
+  out.outcomes.assign(nm, std::vector<MethodOutcome>(o.worlds));
+  out.world_theta.resize(o.worlds);
+  out.reference_points.resize(o.worlds);
+  out.query_points.resize(o.worlds);
+  if (o.certify) out.certificates.resize(o.worlds);
+  core::parallel_for(
+      o.worlds,
+      [&](std::size_t w) {
+        const sim::AlignmentWorld world = sim::make_alignment_world(o.world, o.seed, o.stream_base + w);
+        const AlignmentProblem p = problem_of(world);
+        out.world_theta[w] = world.theta;
+        out.reference_points[w] = p.reference_size();
+        out.query_points[w] = p.query_size();
+        AlignOptions ao = o.align;
+        ao.threads = 1;
+        const auto th = std::chrono::steady_clock::now();
+        const Regions global = global_regions(p, ao);
+        const double hull_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - th).count();
+        for (std::size_t m = 0; m < nm; ++m) {
+          ao.method = o.methods[m];
+          const AlignResult r = align(p, ao, &global);
+          MethodOutcome mo = score_alignment(p, r, world.theta, world.tx, world.ty, o.valid_tolerance);
+          mo.time_s += hull_time;
+          out.outcomes[m][w] = mo;
+          if (o.certify && ao.method == Method::proposed) {
+            CertificateOutcome& c = out.certificates[w];
+            c.certificate = certify_rotation(p, global, ao.lp, o.certificate);
+            const Transform2& t0 = r.rounds.front().transform;
+            c.sector_theta = std::atan2(t0.a21 - t0.a12, t0.a11 + t0.a22);
+            c.sector_objective = rigid_objective(p, global, ao.lp, c.sector_theta);
+            const double f = c.certificate.upper_bound;
+            c.relative_gap = (c.sector_objective - f) / std::max(1.0, std::abs(f));
+            c.theta_difference = std::abs(wrap(c.sector_theta - c.certificate.theta));
+          }
+        }
+      },
+      o.threads, progress);
+  return out;
+}
+
+FencedSummary fenced_summary(std::vector<double> v) {
+  FencedSummary s;
+  s.n = v.size();
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  s.median = quantile(v, 0.5);
+  const double q1 = quantile(v, 0.25), q3 = quantile(v, 0.75), iqr = q3 - q1;
+  const double lo = q1 - 1.5 * iqr, hi = q3 + 1.5 * iqr;
+  std::vector<double> kept;
+  for (double x : v) {
+    s.mean += x;
+    if (x >= lo && x <= hi) kept.push_back(x);
+  }
+  s.mean /= static_cast<double>(v.size());
+  s.dropped = v.size() - kept.size();
+  if (kept.size() > 1) {
+    double m = 0;
+    for (double x : kept) m += x;
+    m /= static_cast<double>(kept.size());
+    for (double x : kept) s.std += (x - m) * (x - m);
+    s.std = std::sqrt(s.std / static_cast<double>(kept.size() - 1));
+  }
+  return s;
+}
+
+}  // namespace keel::align

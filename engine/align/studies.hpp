@@ -1,0 +1,89 @@
+// Studies of thesis chapter 3 (§3.7, §3.8): the engine side of the ch3_* experiments. Drivers read their
+// config, call these, and write what comes back.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "align/align.hpp"
+#include "align/certificate.hpp"
+#include "sim/alignment_world.hpp"
+#include "sim/hull_world.hpp"
+
+namespace keel::core {
+class Progress;
+}
+
+namespace keel::align {
+
+// The problem of a simulated world: positions, and the Euclidean distance between feature vectors as the
+// dissimilarity (§3.4.1 leaves C_ij to the user).
+[[nodiscard]] AlignmentProblem problem_of(const sim::AlignmentWorld& world);
+// The known-depth problem of a hull world (eq. 3.9): positions with depths.
+[[nodiscard]] AlignmentProblem problem_of(const sim::HullWorld& world);
+
+// How one method did on one world. Errors are those of Table 3.1 as we define them (the thesis does not):
+// rotation SE = wrap(θ̂ − θ)² with θ̂ the polar projection of the estimate; translation SE = |T̂(p̄) − T(p̄)|²
+// at the query centroid p̄ (removes the lever arm of the rotation error).
+struct MethodOutcome {
+  Transform2 raw;
+  Rigid2 rigid;
+  double rot_se = 0, trans_se = 0;
+  double singular_min = 0, singular_max = 0;  // of the estimated A
+  bool valid = false;                         // approximately_valid(raw, valid_tolerance)
+  double cost = 0;
+  int sector = -1;
+  int rounds = 0, lp_solves = 0;
+  double time_s = 0;  // round-0 hulls (shared by the methods, counted for each) + align()
+};
+
+// The certificate of one world (beyond the thesis): the global optimum over SO(2) of round 0's hull
+// objective (every reference point), against the proposed method's round-0 answer.
+struct CertificateOutcome {
+  Certificate certificate;
+  double sector_theta = 0;      // polar angle of the 8-sector round-0 estimate
+  double sector_objective = 0;  // F(sector_theta): the exact objective at that rotation
+  double relative_gap = 0;      // (F(sector_theta) − F*) / max(1, |F*|), F* = certificate.upper_bound
+  double theta_difference = 0;  // |wrap(sector_theta − certificate.theta)|
+};
+
+struct AlignmentStudyOptions {
+  sim::AlignmentWorldOptions world;
+  std::vector<Method> methods{Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine};
+  AlignOptions align;  // method is set per method; align.threads is ignored (worlds run in parallel)
+  double valid_tolerance = 0.05;  // "approximately valid": both singular values within this of 1, det > 0
+  bool certify = false;           // run the certificate on every world (needs Method::proposed)
+  CertificateOptions certificate;
+  std::size_t worlds = 200;
+  std::uint64_t seed = 0;
+  std::uint64_t stream_base = 0;  // world w uses sim stream stream_base + w
+  unsigned threads = 0;           // worlds in parallel; results do not depend on it
+  void validate() const;
+};
+
+struct AlignmentStudyOutcome {
+  std::vector<Method> methods;
+  std::vector<std::vector<MethodOutcome>> outcomes;         // [method][world]
+  std::vector<CertificateOutcome> certificates;             // [world], when certify
+  std::vector<double> world_theta;                          // true rotations
+  std::vector<std::size_t> reference_points, query_points;  // [world]
+};
+
+[[nodiscard]] AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& options,
+                                                        keel::core::Progress* progress = nullptr);
+
+// Scores an alignment of a problem against a ground truth (θ, tx, ty).
+[[nodiscard]] MethodOutcome score_alignment(const AlignmentProblem& problem, const AlignResult& result,
+                                            double theta, double tx, double ty, double valid_tolerance);
+
+// The summary of Table 3.1: the median, and the standard deviation after dropping values outside the
+// 1.5·IQR fences [Q1 − 1.5 IQR, Q3 + 1.5 IQR] (quartiles by linear interpolation).
+struct FencedSummary {
+  double median = 0, std = 0, mean = 0;
+  std::size_t n = 0, dropped = 0;
+};
+[[nodiscard]] FencedSummary fenced_summary(std::vector<double> values);
+
+}  // namespace keel::align

@@ -39,7 +39,8 @@ void BM_SectorLp(benchmark::State& state) {
   int solves = 0;
   std::size_t rows = 0;
   for (auto _ : state) {
-    align::HullLp lp(align::Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, o.lp);
+    align::HullLp lp(align::Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes,
+                     o.lp);
     lp.set_cs_rows(align::sector_rows(static_cast<int>(state.range(0))));
     const auto s = lp.solve();
     solves = s.solves, rows = s.plane_rows;
@@ -52,23 +53,25 @@ BENCHMARK(BM_SectorLp)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
 
 // A whole alignment (round-0 hulls shared beforehand, as the study does), one thread. Arg: method index.
 void BM_AlignWorld(benchmark::State& state) {
-  const align::Method methods[] = {align::Method::proposed, align::Method::so_conv_hull, align::Method::symmetric,
-                                   align::Method::affine};
+  const align::Method methods[] = {align::Method::proposed, align::Method::so_conv_hull,
+                                   align::Method::symmetric, align::Method::affine};
   align::AlignOptions o;
   o.method = methods[state.range(0)];
   o.threads = static_cast<unsigned>(state.range(1));
   const auto reg = align::global_regions(problem(), o);
   double hull = 0, lp = 0;
-  int rounds = 0;
+  int rounds = 0, solves = 0;
   for (auto _ : state) {
     const auto r = align::align(problem(), o, &reg);
     hull = lp = 0;
-    for (const auto& t : r.rounds) hull += t.hull_time_s, lp += t.lp_time_s;
+    solves = 0;
+    for (const auto& t : r.rounds) hull += t.hull_time_s, lp += t.lp_time_s, solves += t.solves;
     rounds = static_cast<int>(r.rounds.size());
     benchmark::DoNotOptimize(r.cost);
   }
   state.SetLabel(std::string(align::to_string(o.method)));
   state.counters["rounds"] = rounds;
+  state.counters["solves"] = solves;
   state.counters["hull_s"] = hull;
   state.counters["lp_s"] = lp;
 }

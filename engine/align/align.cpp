@@ -71,11 +71,13 @@ struct RoundSolution {
   int solves = 0;
 };
 
-RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, const Regions& reg) {
+RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, const Regions& reg,
+                          bool global_round) {
   const Parameterization kind =
       o.method == Method::affine ? Parameterization::affine : Parameterization::rotation_like;
   LpSettings settings = o.lp;
   settings.disc_tolerance = o.method == Method::so_conv_hull ? o.disc_tolerance : 0.0;
+  settings.lazy_boxes = global_round;  // later rounds' boxes bind (and rule out far sectors at once)
   RoundSolution out;
   if (o.method == Method::proposed) {
     // The eight sectors in one model, in order, each warm-started from the previous optimum (the plane rows
@@ -320,7 +322,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   tr.hull_time_s = since(th);
   tr.planes = reg.plane_count;
   auto tl = Clock::now();
-  RoundSolution sol = solve_round(p, o, reg);
+  RoundSolution sol = solve_round(p, o, reg, true);
   tr.lp_time_s = since(tl);
   tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
   Transform2 T = transform_from(kind, sol.lp.params);
@@ -360,7 +362,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
     tr.planes = reg.plane_count;
     tr.kept_boxes = reg.kept;
     tl = Clock::now();
-    sol = solve_round(p, o, reg);
+    sol = solve_round(p, o, reg, false);
     tr.lp_time_s = since(tl);
     tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
     T = transform_from(kind, sol.lp.params);

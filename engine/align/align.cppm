@@ -6,6 +6,7 @@ module;
 #include "align/config.hpp"
 #include "align/hull.hpp"
 #include "align/lp.hpp"
+#include "align/sdp.hpp"
 #include "align/studies.hpp"
 export module keel.align;
 
@@ -66,4 +67,8 @@ using keel::align::read_hull_world_options;
 using keel::align::read_methods;
 using keel::align::run_alignment_study;
 using keel::align::score_alignment;
+using keel::align::SdpCheck;
+// SOConvHull as an SDP (DSDP), the check of the LP with tangent cuts
+using keel::align::so_conv_hull_sdp;
+using keel::align::SdpSolution;
 }  // namespace keel::align

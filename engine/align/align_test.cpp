@@ -10,6 +10,7 @@
 #include "align/align.hpp"
 #include "align/certificate.hpp"
 #include "align/hull.hpp"
+#include "align/sdp.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
 
@@ -319,4 +320,28 @@ TEST_CASE("the certificate on a noisy problem: bound below every sampled θ, att
   for (int k = 0; k < 360; ++k) best = std::min(best, rigid_objective(p, reg, o.lp, -kPi + k * kPi / 180));
   CHECK(best >= cert.lower_bound - 1e-9);
   CHECK(best <= cert.upper_bound + 0.05 * std::abs(cert.upper_bound));
+}
+
+TEST_CASE("SOConvHull: the LP with tangent cuts equals the PSD form solved by DSDP") {
+  for (std::uint64_t seed : {2u, 4u, 6u}) {
+    auto p = exact_copy(11, 0.7 * static_cast<double>(seed), 0.3, -0.2, seed, 3);
+    Rng rng(seed);
+    for (auto& c : p.dissimilarity) c += 0.4 * rng.uniform();  // the relaxation now shrinks (c, s)
+    AlignOptions o;
+    const Regions reg = global_regions(p, o);
+    LpSettings s = o.lp;
+    s.disc_tolerance = 1e-9;
+    HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, s);
+    const LpSolution cuts = lp.solve();
+    REQUIRE(cuts.status == LpStatus::optimal);
+    const SdpSolution sdp = so_conv_hull_sdp(p, reg);
+    INFO("seed ", seed, " LP ", cuts.cost, " SDP ", sdp.cost);
+    MESSAGE("seed ", seed, ": LP with cuts ", cuts.cost, " (c, s) = (", cuts.params[0], ", ", cuts.params[1],
+            "), DSDP ", sdp.cost, " (", sdp.params[0], ", ", sdp.params[1], "), ", sdp.iterations,
+            " iterations");
+    CHECK(sdp.converged);
+    CHECK(std::abs(sdp.cost - cuts.cost) <= 1e-6 * std::max(1.0, std::abs(cuts.cost)));
+    CHECK(std::hypot(sdp.params[0], sdp.params[1]) <= 1 + 1e-6);
+    CHECK(std::hypot(cuts.params[0], cuts.params[1]) <= 1 + 1e-9);
+  }
 }

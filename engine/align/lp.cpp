@@ -1,6 +1,8 @@
 #include "align/lp.hpp"
 
+#include <coin/ClpDualRowDantzig.hpp>
 #include <coin/ClpSimplex.hpp>
+#include <cstdlib>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -67,6 +69,11 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
     collb[tcol] = tx_lo, colub[tcol] = tx_hi, collb[tcol + 1] = ty_lo, colub[tcol + 1] = ty_hi;
   }
   model_->setLogLevel(0);
+  if (std::getenv("KEEL_CLP_DANTZIG")) {
+    ClpDualRowDantzig d;
+    model_->setDualRowPivotAlgorithm(d);
+  }
+  if (std::getenv("KEEL_CLP_NOSCALE")) model_->scaling(0);
   model_->loadProblem(ncol, 0, start.data(), nullptr, nullptr, collb.data(), colub.data(), obj.data(),
                       nullptr, nullptr);
   model_->setOptimizationDirection(1.0);
@@ -74,6 +81,11 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
   // Box rows lo ≤ f_j ≤ hi, lo ≤ g_j ≤ hi are added lazily too, when the solution leaves a box: without them
   // the LP is still bounded (each c_j is convex with its minimum inside its cloud, so u_j ≥ min_i C_ij).
   box_in_model_.assign(2 * nb, false);
+  if (!settings.lazy_boxes) {
+    std::vector<std::size_t> all(2 * nb);
+    for (std::size_t w = 0; w < all.size(); ++w) all[w] = w;
+    add_box_rows(all);
+  }
 
   // Initial planes: those maximal at the four corners and the centre of each box.
   in_model_.resize(nb);

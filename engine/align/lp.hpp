@@ -43,6 +43,8 @@ struct LpSettings {
       1e-9;                         // a plane is violated when it exceeds u_j by more than this × (1 + |u_j|)
   int max_generation_rounds = 500;  // re-solves allowed before giving up
   double matrix_bound = 10.0;       // |entries of A| ≤ this (the boxes bound them anyway; keeps LPs bounded)
+  bool lazy_boxes = true;           // box rows only once violated (false: all from the start; better when the
+                                    // boxes bind, as in the shrinking rounds)
   double disc_tolerance = 0.0;      // > 0: keep (c, s) in the unit disc by tangent cuts until
                                     // hypot(c, s) ≤ 1 + disc_tolerance (conv SO(2), eq. 3.12)
 };

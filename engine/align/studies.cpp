@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
+#include "align/sdp.hpp"
 #include "core/parallel.hpp"
 
 namespace keel::align {
@@ -87,6 +89,7 @@ AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::
   out.reference_points.resize(o.worlds);
   out.query_points.resize(o.worlds);
   if (o.certify) out.certificates.resize(o.worlds);
+  out.sdp_checks.resize(std::min(o.sdp_check_worlds, o.worlds));
   core::parallel_for(
       o.worlds,
       [&](std::size_t w) {
@@ -100,6 +103,19 @@ AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::
         const auto th = std::chrono::steady_clock::now();
         const Regions global = global_regions(p, ao);
         const double hull_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - th).count();
+        if (w < out.sdp_checks.size()) {
+          SdpCheck& chk = out.sdp_checks[w];
+          LpSettings s = ao.lp;
+          s.disc_tolerance = ao.disc_tolerance;
+          const auto tl = std::chrono::steady_clock::now();
+          HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, global.planes, global.boxes, s);
+          const LpSolution cuts = lp.solve();
+          chk.lp_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
+          if (cuts.status != LpStatus::optimal) throw std::runtime_error("SOConvHull LP check: not optimal");
+          chk.lp_cost = cuts.cost;
+          const SdpSolution sdp = so_conv_hull_sdp(p, global);
+          chk.sdp_cost = sdp.cost, chk.sdp_time_s = sdp.time_s, chk.sdp_converged = sdp.converged;
+        }
         for (std::size_t m = 0; m < nm; ++m) {
           ao.method = o.methods[m];
           const AlignResult r = align(p, ao, &global);

@@ -49,6 +49,14 @@ struct CertificateOutcome {
   double theta_difference = 0;  // |wrap(sector_theta − certificate.theta)|
 };
 
+// SOConvHull's round 0 solved two ways (beyond the thesis's description): the LP with tangent cuts keel uses,
+// and the 2 × 2 PSD block of eq. 3.12 by DSDP.
+struct SdpCheck {
+  double lp_cost = 0, sdp_cost = 0;
+  double lp_time_s = 0, sdp_time_s = 0;
+  bool sdp_converged = false;
+};
+
 struct AlignmentStudyOptions {
   sim::AlignmentWorldOptions world;
   std::vector<Method> methods{Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine};
@@ -56,6 +64,7 @@ struct AlignmentStudyOptions {
   double valid_tolerance = 0.05;  // "approximately valid": both singular values within this of 1, det > 0
   bool certify = false;           // run the certificate on every world (needs Method::proposed)
   CertificateOptions certificate;
+  std::size_t sdp_check_worlds = 0;  // the first this many worlds also solve SOConvHull's round 0 by DSDP
   std::size_t worlds = 200;
   std::uint64_t seed = 0;
   std::uint64_t stream_base = 0;  // world w uses sim stream stream_base + w
@@ -67,6 +76,7 @@ struct AlignmentStudyOutcome {
   std::vector<Method> methods;
   std::vector<std::vector<MethodOutcome>> outcomes;         // [method][world]
   std::vector<CertificateOutcome> certificates;             // [world], when certify
+  std::vector<SdpCheck> sdp_checks;                         // [world < sdp_check_worlds]
   std::vector<double> world_theta;                          // true rotations
   std::vector<std::size_t> reference_points, query_points;  // [world]
 };

@@ -2,7 +2,6 @@
 
 #include <coin/ClpDualRowDantzig.hpp>
 #include <coin/ClpSimplex.hpp>
-#include <cstdlib>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -69,11 +68,10 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
     collb[tcol] = tx_lo, colub[tcol] = tx_hi, collb[tcol + 1] = ty_lo, colub[tcol + 1] = ty_hi;
   }
   model_->setLogLevel(0);
-  if (std::getenv("KEEL_CLP_DANTZIG")) {
-    ClpDualRowDantzig d;
-    model_->setDualRowPivotAlgorithm(d);
+  {  // Dantzig's dual pricing: about 20 % faster than CLP's default (steepest edge) here (bench_align)
+    ClpDualRowDantzig pricing;
+    model_->setDualRowPivotAlgorithm(pricing);
   }
-  if (std::getenv("KEEL_CLP_NOSCALE")) model_->scaling(0);
   model_->loadProblem(ncol, 0, start.data(), nullptr, nullptr, collb.data(), colub.data(), obj.data(),
                       nullptr, nullptr);
   model_->setOptimizationDirection(1.0);

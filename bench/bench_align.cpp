@@ -36,18 +36,19 @@ void BM_SectorLp(benchmark::State& state) {
   align::AlignOptions o;
   const auto reg = align::global_regions(problem(), o);
   const auto& p = problem();
-  int solves = 0;
+  int solves = 0, iterations = 0;
   std::size_t rows = 0;
   for (auto _ : state) {
     align::HullLp lp(align::Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes,
                      o.lp);
     lp.set_cs_rows(align::sector_rows(static_cast<int>(state.range(0))));
     const auto s = lp.solve();
-    solves = s.solves, rows = s.plane_rows;
+    solves = s.solves, rows = s.plane_rows, iterations = s.iterations;
     benchmark::DoNotOptimize(s.cost);
   }
   state.counters["solves"] = solves;
   state.counters["plane_rows"] = static_cast<double>(rows);
+  state.counters["iterations"] = iterations;
 }
 BENCHMARK(BM_SectorLp)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
 

@@ -213,6 +213,7 @@ LpSolution HullLp::solve() {
   for (int round = 0; round <= settings_.max_generation_rounds; ++round) {
     model_->dual();
     ++out.solves;
+    out.iterations += model_->numberIterations();
     if (model_->isProvenPrimalInfeasible()) {
       out.status = LpStatus::infeasible;
       return out;

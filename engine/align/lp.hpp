@@ -56,6 +56,7 @@ struct LpSolution {
   double cost = 0.0;           // Σ u_j
   std::vector<double> params;  // (c, s, tx, ty) or (a11, a12, a21, a22, tx, ty)
   int solves = 0;              // LP solves (1 + generation rounds)
+  int iterations = 0;          // simplex iterations over all solves
   std::size_t plane_rows = 0;  // plane rows in the model at the end
   std::size_t cuts = 0;        // disc tangent cuts in the model at the end
 };
@@ -65,8 +66,7 @@ class HullLp {
   // `planes[j]` is the lower hull of query point j over its box `boxes[j]`; (qx, qy) are the query positions
   // in the query frame. Planes and boxes are referenced, not copied: they must outlive the instance.
   HullLp(Parameterization kind, const std::vector<double>& qx, const std::vector<double>& qy,
-         const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes,
-         const LpSettings& settings);
+         const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes, const LpSettings& settings);
   ~HullLp();
   HullLp(const HullLp&) = delete;
   HullLp& operator=(const HullLp&) = delete;

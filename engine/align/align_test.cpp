@@ -345,3 +345,53 @@ TEST_CASE("SOConvHull: the LP with tangent cuts equals the PSD form solved by DS
     CHECK(std::hypot(cuts.params[0], cuts.params[1]) <= 1 + 1e-9);
   }
 }
+
+TEST_CASE(
+    "known depth (eq. 3.9): the depth gate pairs query points with reference points at their depth only") {
+  // Reference: the grid at depth 0 and a copy of its positions at depth 5 with shuffled features (a decoy
+  // layer that matches every query feature somewhere else); query: the depth-0 layer, rotated and translated.
+  auto p = exact_copy(10, 0.9, 1.0, -1.0, 21, 2);
+  const std::size_t na = p.ref_x.size(), nb = p.query_size();
+  std::vector<double> dis(2 * na * nb);
+  Rng rng(5);
+  std::vector<std::size_t> perm(na);
+  for (std::size_t i = 0; i < na; ++i) perm[i] = i;
+  for (std::size_t i = na - 1; i > 0; --i)
+    std::swap(perm[i], perm[static_cast<std::size_t>(rng.uniform() * (i + 1))]);
+  for (std::size_t i = 0; i < na; ++i)
+    for (std::size_t j = 0; j < nb; ++j) {
+      dis[i * nb + j] = p.c(i, j);
+      dis[(na + i) * nb + j] = p.c(perm[i], j);
+    }
+  p.ref_x.insert(p.ref_x.end(), p.ref_x.begin(), p.ref_x.end());
+  p.ref_y.insert(p.ref_y.end(), p.ref_y.begin(), p.ref_y.end());
+  p.ref_z.assign(2 * na, 0.0);
+  for (std::size_t i = na; i < 2 * na; ++i) p.ref_z[i] = 5.0;
+  p.query_z.assign(nb, 0.0);
+  p.dissimilarity = dis;
+  AlignOptions o;
+  o.method = Method::symmetric;
+  o.region.max_rounds = 0;
+  o.depth_gate = 1.0;
+  const auto gated = align(p, o);
+  CHECK(angle_error(gated.rigid.theta, 0.9) < 1e-6);
+  CHECK(std::abs(gated.cost) < 1e-6);
+  // Without the gate every reference point enters each cloud: the envelope of a superset lies below.
+  const Regions with_gate = global_regions(p, o);
+  o.depth_gate = 0.0;
+  const Regions without = global_regions(p, o);
+  CHECK(with_gate.plane_count != without.plane_count);
+  std::size_t lower = 0;
+  for (std::size_t j = 0; j < nb; ++j)
+    for (double x = 0.5; x < 9; x += 2.0) {
+      double a = -1e300, b = -1e300;
+      for (const auto& pl : with_gate.planes[j]) a = std::max(a, pl.at(x, x));
+      for (const auto& pl : without.planes[j]) b = std::max(b, pl.at(x, x));
+      CHECK(b <= a + 1e-9);
+      lower += b < a - 1e-6;
+    }
+  CHECK(lower > 0);
+  AlignmentProblem flat = exact_copy(6, 0.1, 0, 0);
+  o.depth_gate = 1.0;
+  check_message([&] { (void)align(flat, o); }, "depth_gate > 0 needs depths");
+}

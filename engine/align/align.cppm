@@ -5,6 +5,7 @@ module;
 #include "align/certificate.hpp"
 #include "align/config.hpp"
 #include "align/hull.hpp"
+#include "align/hull_study.hpp"
 #include "align/lp.hpp"
 #include "align/studies.hpp"
 export module keel.align;
@@ -66,4 +67,10 @@ using keel::align::read_hull_world_options;
 using keel::align::read_methods;
 using keel::align::run_alignment_study;
 using keel::align::score_alignment;
+// the hull substitute of §3.8
+using keel::align::HullStudyOptions;
+using keel::align::HullStudyOutcome;
+using keel::align::reference_feature_scales;
+using keel::align::run_hull_study;
+using keel::align::standardized_problem_of;
 }  // namespace keel::align

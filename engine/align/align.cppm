@@ -5,6 +5,7 @@ module;
 #include "align/certificate.hpp"
 #include "align/config.hpp"
 #include "align/hull.hpp"
+#include "align/hull_study.hpp"
 #include "align/lp.hpp"
 #include "align/sdp.hpp"
 #include "align/studies.hpp"
@@ -35,8 +36,8 @@ using keel::align::kBarniDelta;
 using keel::align::lower_hull_planes;
 using keel::align::Plane;
 using keel::align::project_to_rigid;
-using keel::align::singular_values;
 using keel::align::sector_rows;
+using keel::align::singular_values;
 // the LP itself, for custom rotation constraints
 using keel::align::Box;
 using keel::align::CsRow;
@@ -69,6 +70,12 @@ using keel::align::run_alignment_study;
 using keel::align::score_alignment;
 using keel::align::SdpCheck;
 // SOConvHull as an SDP (DSDP), the check of the LP with tangent cuts
-using keel::align::so_conv_hull_sdp;
 using keel::align::SdpSolution;
+using keel::align::so_conv_hull_sdp;
+// the hull substitute of §3.8
+using keel::align::HullStudyOptions;
+using keel::align::HullStudyOutcome;
+using keel::align::reference_feature_scales;
+using keel::align::run_hull_study;
+using keel::align::standardized_problem_of;
 }  // namespace keel::align

@@ -1,0 +1,148 @@
+// Unit tests of the hull substitute of §3.8 (hull_study.hpp): the standardised known-depth problem and the
+// study over hull worlds.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "align/hull_study.hpp"
+#include "align/studies.hpp"
+#include "kit/test_kit.hpp"
+#include "sim/hull_world.hpp"
+
+using namespace keel::align;
+using keel::sim::HullWorld;
+using keel::sim::HullWorldOptions;
+
+namespace {
+
+// Three reference points and two query points with hand-picked features (dimension 3).
+HullWorld tiny_world() {
+  HullWorld w;
+  w.ref_x = {0, 4, 0}, w.ref_y = {0, 0, 3}, w.ref_z = {5, 5.2, 5.1};
+  w.query_x = {1, 2}, w.query_y = {1, 0.5}, w.query_z = {5.05, 5.15};
+  // component 0 spread 0.02 (κ-like), component 1 spread 0.1, component 2 spread 0.4 (slope-like)
+  w.ref_features = {-0.02, -0.1, 0.0,  //
+                    0.0,   0.0,  0.4,  //
+                    0.02,  0.1,  0.8};
+  w.query_features = {0.01,  -0.05, 0.2,  //
+                      -0.01, 0.05,  0.6};
+  return w;
+}
+
+double relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  REQUIRE(a.size() == b.size());
+  double worst = 0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    worst = std::max(worst, std::abs(a[k] - b[k]) / std::max(1.0, std::abs(b[k])));
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("reference_feature_scales is the population std of each component over the reference") {
+  const HullWorld w = tiny_world();
+  const auto s = reference_feature_scales(w);
+  REQUIRE(s.size() == 3);
+  // values {-a, 0, a}: population std = a·√(2/3)
+  CHECK(s[0] == doctest::Approx(0.02 * std::sqrt(2.0 / 3.0)).epsilon(1e-12));
+  CHECK(s[1] == doctest::Approx(0.1 * std::sqrt(2.0 / 3.0)).epsilon(1e-12));
+  CHECK(s[2] == doctest::Approx(0.4 * std::sqrt(2.0 / 3.0)).epsilon(1e-12));
+}
+
+TEST_CASE("standardized_problem_of divides every component by the reference's std, both surveys") {
+  const HullWorld w = tiny_world();
+  const AlignmentProblem p = standardized_problem_of(w);
+  CHECK(p.ref_x == w.ref_x);
+  CHECK(p.ref_y == w.ref_y);
+  CHECK(p.ref_z == w.ref_z);
+  CHECK(p.query_x == w.query_x);
+  CHECK(p.query_y == w.query_y);
+  CHECK(p.query_z == w.query_z);
+  REQUIRE(p.dissimilarity.size() == 3 * 2);
+  const auto s = reference_feature_scales(w);
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 2; ++j) {
+      double d2 = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double e = (w.ref_features[i * 3 + k] - w.query_features[j * 3 + k]) / s[k];
+        d2 += e * e;
+      }
+      CHECK(p.c(i, j) == doctest::Approx(std::sqrt(d2)).epsilon(1e-12));
+    }
+  // Unscaled, the slope-like component dominates; standardised, the differences (0.03, 0.05, 0.2) become
+  // (1.5, 0.5, 0.5) / √(2/3): the curvature-like component now counts most.
+  const AlignmentProblem raw = problem_of(w);
+  CHECK(raw.c(0, 0) == doctest::Approx(std::sqrt(0.03 * 0.03 + 0.05 * 0.05 + 0.2 * 0.2)).epsilon(1e-12));
+  CHECK(p.c(0, 0) == doctest::Approx(std::sqrt((2.25 + 0.25 + 0.25) * 1.5)).epsilon(1e-12));
+}
+
+TEST_CASE("standardisation is invariant to the units of each component and keeps zero-spread components") {
+  const HullWorld w = keel::sim::make_hull_world(HullWorldOptions{}, 3, 1);
+  const AlignmentProblem p = standardized_problem_of(w);
+  const AlignmentProblem raw = problem_of(w);
+  CHECK(p.ref_z == raw.ref_z);
+  CHECK(p.query_z == raw.query_z);
+  // Rescaling one component of both surveys (e.g. curvature in 1/cm instead of 1/m) changes nothing.
+  HullWorld scaled = w;
+  for (std::size_t n = 0; n < scaled.ref_features.size(); n += 3) scaled.ref_features[n + 1] *= 0.01;
+  for (std::size_t n = 0; n < scaled.query_features.size(); n += 3) scaled.query_features[n + 1] *= 0.01;
+  CHECK(relative_difference(standardized_problem_of(scaled).dissimilarity, p.dissimilarity) < 1e-12);
+  // The standardised reference features have unit spread.
+  for (double s : reference_feature_scales(w)) CHECK(s > 0);
+
+  // A component constant over the reference is left unscaled (no division by zero).
+  HullWorld flat = tiny_world();
+  for (std::size_t i = 0; i < 3; ++i) flat.ref_features[i * 3] = 0.5;
+  const auto s = reference_feature_scales(flat);
+  CHECK(s[0] == 0.0);
+  const AlignmentProblem q = standardized_problem_of(flat);
+  const double e0 = 0.5 - flat.query_features[0], e1 = (-0.1 - -0.05) / s[1], e2 = (0.0 - 0.2) / s[2];
+  CHECK(q.c(0, 0) == doctest::Approx(std::sqrt(e0 * e0 + e1 * e1 + e2 * e2)).epsilon(1e-12));
+  for (double v : q.dissimilarity) CHECK(std::isfinite(v));
+}
+
+TEST_CASE("standardized_problem_of rejects features that do not match the positions") {
+  HullWorld w = tiny_world();
+  w.query_features.pop_back();
+  CHECK_THROWS_AS((void)standardized_problem_of(w), std::invalid_argument);
+  HullWorld empty;
+  CHECK_THROWS_AS((void)reference_feature_scales(empty), std::invalid_argument);
+}
+
+TEST_CASE("run_hull_study scores every method on every world, independent of threads") {
+  HullStudyOptions o;
+  o.methods = {Method::proposed, Method::affine};
+  o.align.depth_gate = 1.0;
+  o.align.region.max_rounds = 2;
+  o.worlds = 2;
+  o.seed = 11;
+  o.threads = 1;
+  const HullStudyOutcome a = run_hull_study(o);
+  o.threads = 2;
+  const HullStudyOutcome b = run_hull_study(o);
+  REQUIRE(a.outcomes.size() == 2);
+  for (std::size_t m = 0; m < 2; ++m) {
+    REQUIRE(a.outcomes[m].size() == 2);
+    for (std::size_t w = 0; w < 2; ++w) {
+      CHECK(a.outcomes[m][w].rot_se == b.outcomes[m][w].rot_se);
+      CHECK(a.outcomes[m][w].trans_se == b.outcomes[m][w].trans_se);
+      CHECK(std::isfinite(a.outcomes[m][w].cost));
+      CHECK(a.outcomes[m][w].rounds >= 1);
+    }
+  }
+  // World w is make_hull_world(seed, stream_base + w), scored as score_alignment scores align's answer.
+  const HullWorld w1 = keel::sim::make_hull_world(o.world, o.seed, 1);
+  CHECK(a.world_theta[1] == w1.theta);
+  CHECK(a.query_points[1] == w1.query_x.size());
+  AlignOptions ao = o.align;
+  const AlignmentProblem p = standardized_problem_of(w1);
+  const MethodOutcome direct = score_alignment(p, align(p, ao), w1.theta, w1.tx, w1.ty, o.valid_tolerance);
+  CHECK(direct.rot_se == a.outcomes[0][1].rot_se);
+  CHECK(direct.trans_se == a.outcomes[0][1].trans_se);
+
+  o.worlds = 0;
+  CHECK_THROWS_AS((void)run_hull_study(o), std::invalid_argument);
+  CHECK(keel::testkit::contains(keel::testkit::message_of([&] { (void)run_hull_study(o); }),
+                                "HullStudyOptions.worlds"));
+}

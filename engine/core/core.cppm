@@ -47,6 +47,7 @@ using keel::core::ExperimentBody;
 using keel::core::Figure;
 using keel::core::git_describe;
 using keel::core::histogram_layer;
+using keel::core::ecdf_layer;
 using keel::core::hline_layer;
 using keel::core::Layer;
 using keel::core::level_tag;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -56,6 +57,18 @@ Layer histogram_layer(const std::vector<double>& bins, const std::vector<double>
     y.insert(y.end(), {0.0, freq[b], freq[b], 0.0});
   }
   return line_layer(std::move(x), std::move(y), std::move(label), std::move(color));
+}
+
+Layer ecdf_layer(std::vector<double> values, std::string label, std::string color, double floor,
+                 std::string linestyle) {
+  std::sort(values.begin(), values.end());
+  std::vector<double> frac(values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    frac[k] = static_cast<double>(k + 1) / static_cast<double>(values.size());
+    values[k] = std::max(values[k], floor);
+  }
+  return line_layer(std::move(values), std::move(frac), std::move(label), std::move(color), "",
+                    std::move(linestyle));
 }
 
 Layer hline_layer(double y, std::string label, std::string color, std::string linestyle) {

@@ -39,6 +39,10 @@ Layer hline_layer(double y, std::string label, std::string color, std::string li
 Layer histogram_layer(const std::vector<double>& bins, const std::vector<double>& freq, std::string label,
                       std::string color);
 
+// Empirical CDF of `values` as a line: sorted values against the fraction of values at or below each. Values
+// below `floor` are drawn at `floor` (log axes cannot show zeros).
+Layer ecdf_layer(std::vector<double> values, std::string label, std::string color, double floor = 0.0,
+                 std::string linestyle = "");
 struct Panel {
   std::string title, xlabel, ylabel;
   std::string xscale, yscale, aspect, legend, colorbar;

@@ -79,14 +79,9 @@ int main(int argc, char** argv) {
         r.metric(name + ".relocalised_rate", 100.0 * relocalised / n);
         r.timing(name + ".time_s", core::mean_std(time).mean);
         if (prefix.empty() && out.methods[m] == align::Method::proposed) proposed_median = tmed;
-        std::sort(rot.begin(), rot.end()), std::sort(trans.begin(), trans.end());
-        std::vector<double> frac;
-        for (std::size_t k = 0; k < rot.size(); ++k) frac.push_back((k + 1.0) / n);
-        for (auto* v : {&rot, &trans})
-          for (double& x : *v) x = std::max(x, 1e-6);  // log axis
         const std::string label = name.substr(prefix.size()) + (prefix.empty() ? "" : " (no gate)");
-        pr.layers.push_back(core::line_layer(rot, frac, label, colors[m % 4], "", style));
-        pt.layers.push_back(core::line_layer(trans, frac, label, colors[m % 4], "", style));
+        pr.layers.push_back(core::ecdf_layer(rot, label, colors[m % 4], 1e-6, style));  // log axes
+        pt.layers.push_back(core::ecdf_layer(trans, label, colors[m % 4], 1e-6, style));
       }
     };
     summarise(gated, "", "-");

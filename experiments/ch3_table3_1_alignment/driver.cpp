@@ -81,15 +81,8 @@ int main(int argc, char** argv) {
       r.metric(row.name + ".valid_rate", row.valid);
       r.timing(row.name + ".time_s", row.time_mean);
       r.timing(row.name + ".time_s.median", row.time_median);
-      std::sort(rot.begin(), rot.end());
-      std::sort(trans.begin(), trans.end());
-      std::vector<double> frac;
-      for (std::size_t k = 0; k < rot.size(); ++k)
-        frac.push_back((k + 1.0) / static_cast<double>(rot.size()));
-      for (auto& v : rot) v = std::max(v, 1e-12);  // log axis
-      for (auto& v : trans) v = std::max(v, 1e-12);
-      pr.layers.push_back(core::line_layer(rot, frac, row.name, colors[m % 4]));
-      pt.layers.push_back(core::line_layer(trans, frac, row.name, colors[m % 4]));
+      pr.layers.push_back(core::ecdf_layer(rot, row.name, colors[m % 4], 1e-12));  // log axes
+      pt.layers.push_back(core::ecdf_layer(trans, row.name, colors[m % 4], 1e-12));
       rows.push_back(row);
     }
     f.panels = {pr, pt};

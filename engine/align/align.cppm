@@ -56,6 +56,10 @@ using keel::align::rigid_objective;
 // studies (§3.7, §3.8) and their config readers
 using keel::align::AlignmentStudyOptions;
 using keel::align::AlignmentStudyOutcome;
+using keel::align::compare_methods;
+using keel::align::ComparisonOptions;
+using keel::align::read_comparison_options;
+using keel::align::WorldTruth;
 using keel::align::CertificateOutcome;
 using keel::align::fenced_summary;
 using keel::align::FencedSummary;

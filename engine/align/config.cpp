@@ -10,15 +10,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-template <class T>
-void validate_at(const T& value, const core::ConfigTable& t) {
-  try {
-    value.validate();
-  } catch (const std::invalid_argument& e) {
-    throw core::ConfigError(fmt::format("{}: [{}]: {}", t.file(), t.name(), e.what()));
-  }
-}
-
 int read_int(const core::ConfigTable& t, std::string_view key) { return static_cast<int>(t.integer(key)); }
 
 }  // namespace
@@ -41,7 +32,7 @@ sim::AlignmentWorldOptions read_alignment_world_options(const core::ConfigTable&
   w.max_rotation = t.number("max_rotation_deg") * kPi / 180.0;
   w.query_track_offset = t.boolean("query_track_offset");
   w.query_random_heading = t.boolean("query_random_heading");
-  validate_at(w, t);
+  t.validate(w);
   return w;
 }
 
@@ -59,7 +50,7 @@ sim::HullWorldOptions read_hull_world_options(const core::ConfigTable& t) {
   w.max_rotation = t.number("max_rotation_deg") * kPi / 180.0;
   w.dvl.range_noise = t.number("dvl_range_noise");
   w.dvl.dropout = t.number("dvl_dropout");
-  validate_at(w, t);
+  t.validate(w);
   return w;
 }
 
@@ -73,7 +64,7 @@ AlignOptions read_align_options(const core::ConfigTable& t) {
   o.lp.matrix_bound = t.number("matrix_bound");
   o.disc_tolerance = t.number("disc_tolerance");
   if (t.has("depth_gate")) o.depth_gate = t.number("depth_gate");
-  validate_at(o, t);
+  t.validate(o);
   return o;
 }
 
@@ -90,12 +81,26 @@ std::vector<Method> read_methods(const core::ConfigTable& t) {
   return out;
 }
 
+ComparisonOptions read_comparison_options(const core::ConfigTable& t) {
+  ComparisonOptions c;
+  c.methods = read_methods(t);
+  c.align = read_align_options(t);
+  c.valid_tolerance = t.number("valid_tolerance");
+  if (t.has("certify")) {
+    c.certify = t.boolean("certify");
+    c.certificate = read_certificate_options(t);
+  }
+  if (t.has("sdp_check_worlds")) c.sdp_check_worlds = static_cast<std::size_t>(t.integer("sdp_check_worlds"));
+  t.validate(c);
+  return c;
+}
+
 CertificateOptions read_certificate_options(const core::ConfigTable& t) {
   CertificateOptions c;
   c.relative_gap = t.number("certificate_relative_gap");
   c.max_nodes = t.count("certificate_max_nodes");
   c.initial_intervals = read_int(t, "certificate_initial_intervals");
-  validate_at(c, t);
+  t.validate(c);
   return c;
 }
 

@@ -7,6 +7,7 @@
 
 #include "align/align.hpp"
 #include "align/certificate.hpp"
+#include "align/studies.hpp"
 #include "core/config.hpp"
 #include "sim/alignment_world.hpp"
 #include "sim/hull_world.hpp"
@@ -29,6 +30,10 @@ namespace keel::align {
 
 // `methods = ["proposed", "so_conv_hull", "symmetric", "affine"]` (any subset, in table order).
 [[nodiscard]] std::vector<Method> read_methods(const core::ConfigTable& t);
+
+// `methods`, the keys of read_align_options, `valid_tolerance`, and when present `certify` (with the keys of
+// read_certificate_options) and `sdp_check_worlds`.
+[[nodiscard]] ComparisonOptions read_comparison_options(const core::ConfigTable& t);
 
 // `certificate_relative_gap`, `certificate_max_nodes`, `certificate_initial_intervals`.
 [[nodiscard]] CertificateOptions read_certificate_options(const core::ConfigTable& t);

@@ -56,46 +56,19 @@ AlignmentProblem standardized_problem_of(const sim::HullWorld& w) {
 
 void HullStudyOptions::validate() const {
   world.validate();
-  align.validate();
-  if (methods.empty()) throw std::invalid_argument("HullStudyOptions.methods: empty");
-  if (!(valid_tolerance > 0 && valid_tolerance < 1))
-    throw std::invalid_argument(
-        fmt::format("HullStudyOptions.valid_tolerance = {}: must be in (0, 1)", valid_tolerance));
+  compare.validate();
   if (worlds < 1) throw std::invalid_argument("HullStudyOptions.worlds = 0: must be >= 1");
 }
 
 HullStudyOutcome run_hull_study(const HullStudyOptions& o, core::Progress* progress) {
   o.validate();
-  HullStudyOutcome out;
-  out.methods = o.methods;
-  const std::size_t nm = o.methods.size();
-  out.outcomes.assign(nm, std::vector<MethodOutcome>(o.worlds));
-  out.world_theta.resize(o.worlds);
-  out.reference_points.resize(o.worlds);
-  out.query_points.resize(o.worlds);
-  core::parallel_for(
-      o.worlds,
+  return compare_methods(
+      o.compare, o.worlds, o.threads,
       [&](std::size_t w) {
         const sim::HullWorld world = sim::make_hull_world(o.world, o.seed, o.stream_base + w);
-        const AlignmentProblem p = standardized_problem_of(world);
-        out.world_theta[w] = world.theta;
-        out.reference_points[w] = p.reference_size();
-        out.query_points[w] = p.query_size();
-        AlignOptions ao = o.align;
-        ao.threads = 1;
-        const auto th = std::chrono::steady_clock::now();
-        const Regions global = global_regions(p, ao);
-        const double hull_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - th).count();
-        for (std::size_t m = 0; m < nm; ++m) {
-          ao.method = o.methods[m];
-          const AlignResult r = align(p, ao, &global);
-          MethodOutcome mo = score_alignment(p, r, world.theta, world.tx, world.ty, o.valid_tolerance);
-          mo.time_s += hull_time;
-          out.outcomes[m][w] = mo;
-        }
+        return WorldTruth{standardized_problem_of(world), world.theta, world.tx, world.ty};
       },
-      o.threads, progress);
-  return out;
+      progress);
 }
 
 }  // namespace keel::align

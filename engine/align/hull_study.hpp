@@ -36,23 +36,16 @@ namespace keel::align {
 
 struct HullStudyOptions {
   sim::HullWorldOptions world;
-  std::vector<Method> methods{Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine};
-  AlignOptions align;  // depth_gate is γ of §3.4.3 (0: no gate); method is set per method; threads ignored
-  double valid_tolerance = 0.05;  // "approximately valid", as AlignmentStudyOptions::valid_tolerance
+  ComparisonOptions compare;  // compare.align.depth_gate is γ of §3.4.3 (0: no gate)
   std::size_t worlds = 20;
   std::uint64_t seed = 0;
   std::uint64_t stream_base = 0;  // world w uses sim stream stream_base + w
   unsigned threads = 0;           // worlds in parallel; results do not depend on it
-  // Throws std::invalid_argument "HullStudyOptions.<field> = <value>: <reason>" (and validates world, align).
+  // Throws std::invalid_argument "HullStudyOptions.worlds = 0: ..." (and validates world, compare).
   void validate() const;
 };
 
-struct HullStudyOutcome {
-  std::vector<Method> methods;
-  std::vector<std::vector<MethodOutcome>> outcomes;         // [method][world], scored by score_alignment
-  std::vector<double> world_theta;                          // true rotations
-  std::vector<std::size_t> reference_points, query_points;  // [world]
-};
+using HullStudyOutcome = AlignmentStudyOutcome;
 
 // Every world (make_hull_world(options.world, seed, stream_base + w)) aligned by every method on its
 // standardized_problem_of, round 0's regions shared by the methods.

@@ -112,9 +112,9 @@ TEST_CASE("standardized_problem_of rejects features that do not match the positi
 
 TEST_CASE("run_hull_study scores every method on every world, independent of threads") {
   HullStudyOptions o;
-  o.methods = {Method::proposed, Method::affine};
-  o.align.depth_gate = 1.0;
-  o.align.region.max_rounds = 2;
+  o.compare.methods = {Method::proposed, Method::affine};
+  o.compare.align.depth_gate = 1.0;
+  o.compare.align.region.max_rounds = 2;
   o.worlds = 2;
   o.seed = 11;
   o.threads = 1;
@@ -135,9 +135,10 @@ TEST_CASE("run_hull_study scores every method on every world, independent of thr
   const HullWorld w1 = keel::sim::make_hull_world(o.world, o.seed, 1);
   CHECK(a.world_theta[1] == w1.theta);
   CHECK(a.query_points[1] == w1.query_x.size());
-  AlignOptions ao = o.align;
+  AlignOptions ao = o.compare.align;
   const AlignmentProblem p = standardized_problem_of(w1);
-  const MethodOutcome direct = score_alignment(p, align(p, ao), w1.theta, w1.tx, w1.ty, o.valid_tolerance);
+  const MethodOutcome direct =
+      score_alignment(p, align(p, ao), w1.theta, w1.tx, w1.ty, o.compare.valid_tolerance);
   CHECK(direct.rot_se == a.outcomes[0][1].rot_se);
   CHECK(direct.trans_se == a.outcomes[0][1].trans_se);
 

@@ -66,7 +66,8 @@ class HullLp {
   // `planes[j]` is the lower hull of query point j over its box `boxes[j]`; (qx, qy) are the query positions
   // in the query frame. Planes and boxes are referenced, not copied: they must outlive the instance.
   HullLp(Parameterization kind, const std::vector<double>& qx, const std::vector<double>& qy,
-         const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes, const LpSettings& settings);
+         const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes,
+         const LpSettings& settings);
   ~HullLp();
   HullLp(const HullLp&) = delete;
   HullLp& operator=(const HullLp&) = delete;

@@ -66,36 +66,76 @@ MethodOutcome score_alignment(const AlignmentProblem& p, const AlignResult& r, d
   return o;
 }
 
-void AlignmentStudyOptions::validate() const {
-  world.validate();
+void ComparisonOptions::validate() const {
   align.validate();
   certificate.validate();
-  if (methods.empty()) throw std::invalid_argument("AlignmentStudyOptions.methods: empty");
+  if (methods.empty()) throw std::invalid_argument("ComparisonOptions.methods: empty");
   if (!(valid_tolerance > 0 && valid_tolerance < 1))
     throw std::invalid_argument(
-        fmt::format("AlignmentStudyOptions.valid_tolerance = {}: must be in (0, 1)", valid_tolerance));
-  if (worlds < 1) throw std::invalid_argument("AlignmentStudyOptions.worlds = 0: must be >= 1");
+        fmt::format("ComparisonOptions.valid_tolerance = {}: must be in (0, 1)", valid_tolerance));
   if (certify && std::find(methods.begin(), methods.end(), Method::proposed) == methods.end())
-    throw std::invalid_argument("AlignmentStudyOptions.certify: needs the proposed method among the methods");
+    throw std::invalid_argument("ComparisonOptions.certify: needs the proposed method among the methods");
 }
 
-AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::Progress* progress) {
+void AlignmentStudyOptions::validate() const {
+  world.validate();
+  compare.validate();
+  if (worlds < 1) throw std::invalid_argument("AlignmentStudyOptions.worlds = 0: must be >= 1");
+}
+
+namespace {
+
+// SOConvHull's round 0 by the LP with tangent cuts and by DSDP.
+SdpCheck sdp_check(const AlignmentProblem& p, const Regions& global, const AlignOptions& ao) {
+  SdpCheck chk;
+  LpSettings s = ao.lp;
+  s.disc_tolerance = ao.disc_tolerance;
+  const auto tl = std::chrono::steady_clock::now();
+  HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, global.planes, global.boxes, s);
+  const LpSolution cuts = lp.solve();
+  chk.lp_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
+  if (cuts.status != LpStatus::optimal) throw std::runtime_error("SOConvHull LP check: not optimal");
+  chk.lp_cost = cuts.cost;
+  const SdpSolution sdp = so_conv_hull_sdp(p, global);
+  chk.sdp_cost = sdp.cost, chk.sdp_time_s = sdp.time_s, chk.sdp_converged = sdp.converged;
+  return chk;
+}
+
+// The certificate of round 0 and the score of the proposed method's round-0 answer against it.
+CertificateOutcome certificate_of(const AlignmentProblem& p, const Regions& global, const AlignOptions& ao,
+                                  const AlignResult& proposed, const CertificateOptions& options) {
+  CertificateOutcome c;
+  c.certificate = certify_rotation(p, global, ao.lp, options);
+  const Transform2& t0 = proposed.rounds.front().transform;
+  c.sector_theta = std::atan2(t0.a21 - t0.a12, t0.a11 + t0.a22);
+  c.sector_objective = rigid_objective(p, global, ao.lp, c.sector_theta);
+  const double f = c.certificate.upper_bound;
+  c.relative_gap = (c.sector_objective - f) / std::max(1.0, std::abs(f));
+  c.theta_difference = std::abs(wrap(c.sector_theta - c.certificate.theta));
+  return c;
+}
+
+}  // namespace
+
+AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t worlds, unsigned threads,
+                                      const std::function<WorldTruth(std::size_t)>& world,
+                                      core::Progress* progress) {
   o.validate();
   AlignmentStudyOutcome out;
   out.methods = o.methods;
   const std::size_t nm = o.methods.size();
-  out.outcomes.assign(nm, std::vector<MethodOutcome>(o.worlds));
-  out.world_theta.resize(o.worlds);
-  out.reference_points.resize(o.worlds);
-  out.query_points.resize(o.worlds);
-  if (o.certify) out.certificates.resize(o.worlds);
-  out.sdp_checks.resize(std::min(o.sdp_check_worlds, o.worlds));
+  out.outcomes.assign(nm, std::vector<MethodOutcome>(worlds));
+  out.world_theta.resize(worlds);
+  out.reference_points.resize(worlds);
+  out.query_points.resize(worlds);
+  if (o.certify) out.certificates.resize(worlds);
+  out.sdp_checks.resize(std::min(o.sdp_check_worlds, worlds));
   core::parallel_for(
-      o.worlds,
+      worlds,
       [&](std::size_t w) {
-        const sim::AlignmentWorld world = sim::make_alignment_world(o.world, o.seed, o.stream_base + w);
-        const AlignmentProblem p = problem_of(world);
-        out.world_theta[w] = world.theta;
+        const WorldTruth truth = world(w);
+        const AlignmentProblem& p = truth.problem;
+        out.world_theta[w] = truth.theta;
         out.reference_points[w] = p.reference_size();
         out.query_points[w] = p.query_size();
         AlignOptions ao = o.align;
@@ -103,39 +143,30 @@ AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::
         const auto th = std::chrono::steady_clock::now();
         const Regions global = global_regions(p, ao);
         const double hull_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - th).count();
-        if (w < out.sdp_checks.size()) {
-          SdpCheck& chk = out.sdp_checks[w];
-          LpSettings s = ao.lp;
-          s.disc_tolerance = ao.disc_tolerance;
-          const auto tl = std::chrono::steady_clock::now();
-          HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, global.planes, global.boxes, s);
-          const LpSolution cuts = lp.solve();
-          chk.lp_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
-          if (cuts.status != LpStatus::optimal) throw std::runtime_error("SOConvHull LP check: not optimal");
-          chk.lp_cost = cuts.cost;
-          const SdpSolution sdp = so_conv_hull_sdp(p, global);
-          chk.sdp_cost = sdp.cost, chk.sdp_time_s = sdp.time_s, chk.sdp_converged = sdp.converged;
-        }
+        if (w < out.sdp_checks.size()) out.sdp_checks[w] = sdp_check(p, global, ao);
         for (std::size_t m = 0; m < nm; ++m) {
           ao.method = o.methods[m];
           const AlignResult r = align(p, ao, &global);
-          MethodOutcome mo = score_alignment(p, r, world.theta, world.tx, world.ty, o.valid_tolerance);
+          MethodOutcome mo = score_alignment(p, r, truth.theta, truth.tx, truth.ty, o.valid_tolerance);
           mo.time_s += hull_time;
           out.outcomes[m][w] = mo;
-          if (o.certify && ao.method == Method::proposed) {
-            CertificateOutcome& c = out.certificates[w];
-            c.certificate = certify_rotation(p, global, ao.lp, o.certificate);
-            const Transform2& t0 = r.rounds.front().transform;
-            c.sector_theta = std::atan2(t0.a21 - t0.a12, t0.a11 + t0.a22);
-            c.sector_objective = rigid_objective(p, global, ao.lp, c.sector_theta);
-            const double f = c.certificate.upper_bound;
-            c.relative_gap = (c.sector_objective - f) / std::max(1.0, std::abs(f));
-            c.theta_difference = std::abs(wrap(c.sector_theta - c.certificate.theta));
-          }
+          if (o.certify && ao.method == Method::proposed)
+            out.certificates[w] = certificate_of(p, global, ao, r, o.certificate);
         }
       },
-      o.threads, progress);
+      threads, progress);
   return out;
+}
+
+AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::Progress* progress) {
+  o.validate();
+  return compare_methods(
+      o.compare, o.worlds, o.threads,
+      [&](std::size_t w) {
+        const sim::AlignmentWorld world = sim::make_alignment_world(o.world, o.seed, o.stream_base + w);
+        return WorldTruth{problem_of(world), world.theta, world.tx, world.ty};
+      },
+      progress);
 }
 
 FencedSummary fenced_summary(std::vector<double> v) {

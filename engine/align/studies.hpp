@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,14 +58,21 @@ struct SdpCheck {
   bool sdp_converged = false;
 };
 
-struct AlignmentStudyOptions {
-  sim::AlignmentWorldOptions world;
+// What a chapter-3 comparison runs on every world: the methods, how they are scored, and (beyond the thesis)
+// the certificate and the SDP check.
+struct ComparisonOptions {
   std::vector<Method> methods{Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine};
   AlignOptions align;  // method is set per method; align.threads is ignored (worlds run in parallel)
   double valid_tolerance = 0.05;  // "approximately valid": both singular values within this of 1, det > 0
   bool certify = false;           // run the certificate on every world (needs Method::proposed)
   CertificateOptions certificate;
   std::size_t sdp_check_worlds = 0;  // the first this many worlds also solve SOConvHull's round 0 by DSDP
+  void validate() const;             // throws std::invalid_argument naming ComparisonOptions.<field>
+};
+
+struct AlignmentStudyOptions {
+  sim::AlignmentWorldOptions world;
+  ComparisonOptions compare;
   std::size_t worlds = 200;
   std::uint64_t seed = 0;
   std::uint64_t stream_base = 0;  // world w uses sim stream stream_base + w
@@ -80,6 +88,20 @@ struct AlignmentStudyOutcome {
   std::vector<double> world_theta;                          // true rotations
   std::vector<std::size_t> reference_points, query_points;  // [world]
 };
+
+// One world: the problem and its ground truth p_ref = R(theta) p_query + (tx, ty).
+struct WorldTruth {
+  AlignmentProblem problem;
+  double theta = 0, tx = 0, ty = 0;
+};
+
+// Runs `compare` on worlds 0 … worlds − 1 made by `world(w)` (called from worker threads: it must be safe to
+// call concurrently), in parallel, round 0's regions computed once per world and shared by the methods.
+// Deterministic whatever the thread count.
+[[nodiscard]] AlignmentStudyOutcome compare_methods(const ComparisonOptions& compare, std::size_t worlds,
+                                                    unsigned threads,
+                                                    const std::function<WorldTruth(std::size_t)>& world,
+                                                    keel::core::Progress* progress = nullptr);
 
 [[nodiscard]] AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& options,
                                                         keel::core::Progress* progress = nullptr);

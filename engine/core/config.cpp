@@ -122,6 +122,10 @@ void ConfigTable::parse_error(std::string_view key, std::string_view what) const
   throw ConfigError(fmt::format("{}: {}", where(key), what));
 }
 
+void ConfigTable::table_error(std::string_view what) const {
+  throw ConfigError(fmt::format("{}: [{}]: {}", file(), name(), what));
+}
+
 void ConfigTable::type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const {
   throw ConfigError(fmt::format("{}: expected {}, got {}", where(key), expected, config_type_name(v)));
 }

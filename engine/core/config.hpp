@@ -72,6 +72,17 @@ class ConfigTable {
       parse_error(key, e.what());
     }
   }
+  // Runs value.validate() (an options struct read from this table) and turns its std::invalid_argument into a
+  // ConfigError located at the table: "x/experiment.toml: [params]: AlignOptions.shrink = 1.5: must be in (0,
+  // 1)".
+  template <class T>
+  void validate(const T& value) const {
+    try {
+      value.validate();
+    } catch (const std::invalid_argument& e) {
+      table_error(e.what());
+    }
+  }
   // The same, or `fallback` when the key is absent.
   template <class T, class F>
   T parse_or(std::string_view key, F&& from_string, T fallback) const {
@@ -93,6 +104,7 @@ class ConfigTable {
  private:
   const ConfigValue& get(std::string_view key, std::string_view expected) const;
   [[noreturn]] void parse_error(std::string_view key, std::string_view what) const;
+  [[noreturn]] void table_error(std::string_view what) const;
   [[noreturn]] void type_error(std::string_view key, std::string_view expected, const ConfigValue& v) const;
   std::string file_;
   std::string name_;

@@ -13,16 +13,6 @@ namespace keel::eval {
 
 namespace {
 
-// Runs validate() and reports its std::invalid_argument at the table.
-template <class T>
-void validate_at(const T& value, const core::ConfigTable& t) {
-  try {
-    value.validate();
-  } catch (const std::invalid_argument& e) {
-    throw core::ConfigError(fmt::format("{}: [{}]: {}", t.file(), t.name(), e.what()));
-  }
-}
-
 int read_int(const core::ConfigTable& t, std::string_view key) { return static_cast<int>(t.integer(key)); }
 
 }  // namespace
@@ -50,7 +40,7 @@ sim::CandidateOptions read_candidate_options(const core::ConfigTable& t) {
   std::tie(c.random_sigma_translation_min, c.random_sigma_translation_max) =
       read_range(t, "random_sigma_translation");
   std::tie(c.random_sigma_rotation_min, c.random_sigma_rotation_max) = read_range(t, "random_sigma_rotation");
-  validate_at(c, t);
+  t.validate(c);
   return c;
 }
 
@@ -72,7 +62,7 @@ std::vector<StudyMethod> read_methods(const core::ConfigTable& p) {
     m.method.scgp.affinity_scale = t.number_or("scgp_affinity_scale", m.method.scgp.affinity_scale);
     m.method.scgp.discretization =
         t.parse_or("scgp_discretization", pcm::scgp_discretization_from_string, m.method.scgp.discretization);
-    validate_at(m.method, t);
+    t.validate(m.method);
     out.push_back(m);
   }
   return out;
@@ -83,7 +73,7 @@ pcm::ScgpOptions read_scgp_options(const core::ConfigTable& t) {
   o.affinity_scale = t.number("scgp_affinity_scale");
   o.discretization = t.parse("scgp_discretization", pcm::scgp_discretization_from_string);
   o.min_eigen_ratio = t.number("scgp_min_eigen_ratio");
-  validate_at(o, t);
+  t.validate(o);
   return o;
 }
 
@@ -102,7 +92,7 @@ sim::World1DOptions read_world1d_options(const core::ConfigTable& t, bool with_c
   w.outlier_mean_range = t.number("outlier_mean_range");
   w.outlier_sigma_min = t.number("outlier_sigma_min");
   w.outlier_sigma_max = t.number("outlier_sigma_max");
-  if (with_counts) validate_at(w, t);
+  if (with_counts) t.validate(w);
   return w;
 }
 
@@ -121,7 +111,7 @@ MeasurementRegime read_regime(const core::ConfigTable& t, std::string name) {
     throw core::ConfigError(
         fmt::format("{}: expected \"dataset\" or \"resampled\"", t.where("measurements")));
   }
-  validate_at(g, t);
+  t.validate(g);
   return g;
 }
 

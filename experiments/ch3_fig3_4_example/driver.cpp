@@ -23,15 +23,13 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);
-    o.align = align::read_align_options(p);
-    o.methods = align::read_methods(p);
-    o.valid_tolerance = p.number("valid_tolerance");
+    o.compare = align::read_comparison_options(p);
     o.stream_base = static_cast<std::uint64_t>(p.integer("world_index"));
     const double grid = p.number("field_grid_spacing");
     ex.params_done();
     if (!(grid > 0)) throw core::ConfigError(fmt::format("{}: must be > 0", p.where("field_grid_spacing")));
     o.worlds = 1;
-    o.certify = false;
+    o.compare.certify = false;
     o.seed = ex.seed();
     o.threads = ex.threads();
 
@@ -61,7 +59,7 @@ int main(int argc, char** argv) {
       if (out.methods[m] == align::Method::proposed)
         r.check("the proposed estimate is an approximately valid rotation", mo.valid,
                 fmt::format("singular values {:.4f}, {:.4f} (valid: within {} of 1, det > 0)",
-                            mo.singular_max, mo.singular_min, o.valid_tolerance));
+                            mo.singular_max, mo.singular_min, o.compare.valid_tolerance));
     }
 
     r.figure(keel::experiments::fig3_4::example_figure(ex.id(), w, o, out, shape, grid));

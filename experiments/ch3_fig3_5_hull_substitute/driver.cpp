@@ -23,9 +23,7 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     align::HullStudyOptions o;
     o.world = align::read_hull_world_options(p);
-    o.align = align::read_align_options(p);
-    o.methods = align::read_methods(p);
-    o.valid_tolerance = p.number("valid_tolerance");
+    o.compare = align::read_comparison_options(p);
     o.worlds = p.count("worlds");
     const bool without_gate = p.boolean("compare_without_gate");
     const double within = p.number("relocalised_within");
@@ -38,14 +36,14 @@ int main(int argc, char** argv) {
     align::HullStudyOutcome ungated;
     if (without_gate) {
       align::HullStudyOptions u = o;
-      u.align.depth_gate = 0.0;
+      u.compare.align.depth_gate = 0.0;
       ungated = align::run_hull_study(u, &progress);
     }
     progress.finish();
 
     auto& r = ex.results();
     r.metric("worlds", static_cast<double>(o.worlds));
-    r.metric("depth_gate", o.align.depth_gate);
+    r.metric("depth_gate", o.compare.align.depth_gate);
     core::Figure cdf;
     cdf.file = ex.id() + "_errors.png";
     cdf.title =
@@ -93,7 +91,7 @@ int main(int argc, char** argv) {
                           within),
               proposed_median < within,
               fmt::format("median {:.3g} m over {} worlds, depth gate {:g} m", proposed_median, o.worlds,
-                          o.align.depth_gate));
+                          o.compare.align.depth_gate));
 
     // The Fig. 3.5 panels on world 0 (regenerated: same seed and stream).
     const auto it = std::find(gated.methods.begin(), gated.methods.end(), align::Method::proposed);

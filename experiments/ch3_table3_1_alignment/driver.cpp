@@ -20,12 +20,7 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);
-    o.align = align::read_align_options(p);
-    o.methods = align::read_methods(p);
-    o.valid_tolerance = p.number("valid_tolerance");
-    o.certify = p.boolean("certify");
-    o.certificate = align::read_certificate_options(p);
-    o.sdp_check_worlds = p.count("sdp_check_worlds");
+    o.compare = align::read_comparison_options(p);
     o.worlds = p.count("worlds");
     ex.params_done();
     o.seed = ex.seed();
@@ -106,7 +101,7 @@ int main(int argc, char** argv) {
       column("translation SE std (1.5·IQR fences)", [](const Row& x) { return x.trans.std; });
       r.check("Proposed returns an approximately valid rotation in 100 % of worlds", it->valid == 100.0,
               fmt::format("{:.1f} % (valid: singular values within {} of 1, det > 0)", it->valid,
-                          o.valid_tolerance));
+                          o.compare.valid_tolerance));
     }
 
     if (!out.sdp_checks.empty()) {  // SOConvHull: LP with tangent cuts vs the PSD block by DSDP (round 0)
@@ -124,7 +119,7 @@ int main(int argc, char** argv) {
       r.timing("so_conv_hull.sdp_check.lp_time_s", lp_time / n);
       r.timing("so_conv_hull.sdp_check.sdp_time_s", sdp_time / n);
     }
-    if (o.certify) {
+    if (o.compare.certify) {
       std::vector<double> gap, dtheta, nodes, ctime;
       std::size_t optimal = 0, within = 0;
       for (const auto& c : out.certificates) {

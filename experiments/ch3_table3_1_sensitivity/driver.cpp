@@ -19,16 +19,14 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);
-    o.align = align::read_align_options(p);
-    o.methods = align::read_methods(p);
-    o.valid_tolerance = p.number("valid_tolerance");
+    o.compare = align::read_comparison_options(p);
     o.worlds = p.count("worlds");
     const auto noises = p.numbers("noise_values"), sizes = p.numbers("query_sizes");
     ex.params_done();
     if (noises.empty())
       throw core::ConfigError(fmt::format("{}: must not be empty", p.where("noise_values")));
     if (sizes.empty()) throw core::ConfigError(fmt::format("{}: must not be empty", p.where("query_sizes")));
-    o.certify = false;
+    o.compare.certify = false;
     o.seed = ex.seed();
     o.stream_base = 0;  // every sweep point aligns the same worlds
     o.threads = ex.threads();
@@ -83,8 +81,8 @@ int main(int argc, char** argv) {
       pr.yscale = pt.yscale = "log";
       pt.legend = pv.legend = "none";
       pv.ylim = std::make_pair(-5.0, 105.0);
-      for (std::size_t m = 0; m < o.methods.size(); ++m) {
-        const std::string name(align::to_string(o.methods[m]));
+      for (std::size_t m = 0; m < o.compare.methods.size(); ++m) {
+        const std::string name(align::to_string(o.compare.methods[m]));
         std::vector<double> rot, trans, valid;
         for (double v : axis.values) {
           const auto& out = axis.noise ? study(v, base_size) : study(base_noise, v);

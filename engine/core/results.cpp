@@ -182,8 +182,8 @@ void Results::series(const std::string& name, std::vector<double> values) {
   if (name.empty()) throw std::invalid_argument("Results::series: empty name");
   series_[name] = std::move(values);
 }
-void Results::check(const std::string& name, bool passed, const std::string& detail) {
-  checks_.push_back({name, passed, detail});
+void Results::check(const std::string& name, bool passed, const std::string& detail, bool counted) {
+  checks_.push_back({name, passed, detail, counted});
 }
 void Results::figure(Figure f) {
   if (f.file.empty() || f.file.find('/') != std::string::npos || f.file.find("..") != std::string::npos) {
@@ -228,8 +228,11 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
   for (const auto& [k, v] : series_) s[k] = numbers(v);
   doc["series"] = s;
   json c = json::array();
-  for (const auto& ch : checks_)
-    c.push_back({{"name", ch.name}, {"passed", ch.passed}, {"detail", ch.detail}});
+  for (const auto& ch : checks_) {
+    json one = {{"name", ch.name}, {"passed", ch.passed}, {"detail", ch.detail}};
+    if (!ch.counted) one["counted"] = false;  // absent means counted (older result files stay as they were)
+    c.push_back(std::move(one));
+  }
   doc["checks"] = c;
   json f = json::array();
   for (const auto& fig : figures_) f.push_back(figure_json(fig));

@@ -56,11 +56,9 @@ using keel::align::rigid_objective;
 // studies (§3.7, §3.8) and their config readers
 using keel::align::AlignmentStudyOptions;
 using keel::align::AlignmentStudyOutcome;
+using keel::align::CertificateOutcome;
 using keel::align::compare_methods;
 using keel::align::ComparisonOptions;
-using keel::align::read_comparison_options;
-using keel::align::WorldTruth;
-using keel::align::CertificateOutcome;
 using keel::align::fenced_summary;
 using keel::align::FencedSummary;
 using keel::align::MethodOutcome;
@@ -68,11 +66,13 @@ using keel::align::problem_of;
 using keel::align::read_align_options;
 using keel::align::read_alignment_world_options;
 using keel::align::read_certificate_options;
+using keel::align::read_comparison_options;
 using keel::align::read_hull_world_options;
 using keel::align::read_methods;
 using keel::align::run_alignment_study;
 using keel::align::score_alignment;
 using keel::align::SdpCheck;
+using keel::align::WorldTruth;
 // SOConvHull as an SDP (DSDP), the check of the LP with tangent cuts
 using keel::align::SdpSolution;
 using keel::align::so_conv_hull_sdp;

@@ -41,13 +41,13 @@ using keel::core::Tolerance;
 // results, figures, experiment main
 using keel::core::Check;
 using keel::core::code_changed_since;
+using keel::core::ecdf_layer;
 using keel::core::Experiment;
 using keel::core::experiment_main;
 using keel::core::ExperimentBody;
 using keel::core::Figure;
 using keel::core::git_describe;
 using keel::core::histogram_layer;
-using keel::core::ecdf_layer;
 using keel::core::hline_layer;
 using keel::core::Layer;
 using keel::core::level_tag;

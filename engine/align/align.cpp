@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "core/names.hpp"
 #include "core/parallel.hpp"
+#include "core/timing.hpp"
 
 namespace keel::align {
 
@@ -20,9 +20,6 @@ constexpr core::NameTable<Method, 4> kMethodNames{"align::Method",
                                                     {Method::so_conv_hull, "so_conv_hull"},
                                                     {Method::symmetric, "symmetric"},
                                                     {Method::affine, "affine"}}}};
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -305,13 +302,13 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   o.validate();
   if (o.depth_gate > 0 && p.ref_z.empty())
     throw std::invalid_argument("align: depth_gate > 0 needs depths (ref_z, query_z)");
-  const auto t0 = Clock::now();
+  const auto t0 = core::Clock::now();
   const Parameterization kind =
       o.method == Method::affine ? Parameterization::affine : Parameterization::rotation_like;
   AlignResult res;
   res.method = o.method;
 
-  auto th = Clock::now();
+  auto th = core::Clock::now();
   Regions reg = global ? *global : global_regions(p, o);
   if (reg.planes.size() != p.query_size() || reg.boxes.size() != p.query_size())
     throw std::invalid_argument("align: the given global regions do not belong to this problem");
@@ -319,11 +316,11 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   const Bounds b = bounding_box(p.ref_x, p.ref_y);
   const double w0 = 0.5 * std::max(b.x_hi - b.x_lo, b.y_hi - b.y_lo);
   tr.half_width = w0;
-  tr.hull_time_s = since(th);
+  tr.hull_time_s = core::seconds_since(th);
   tr.planes = reg.plane_count;
-  auto tl = Clock::now();
+  auto tl = core::Clock::now();
   RoundSolution sol = solve_round(p, o, reg, true);
-  tr.lp_time_s = since(tl);
+  tr.lp_time_s = core::seconds_since(tl);
   tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
   Transform2 T = transform_from(kind, sol.lp.params);
   tr.transform = T;
@@ -333,7 +330,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   for (int r = 1; r <= o.region.max_rounds; ++r) {
     const double w = w0 * std::pow(o.region.shrink, r);
     if (w < o.region.min_half_width) break;
-    th = Clock::now();
+    th = core::Clock::now();
     Regions next;
     next.boxes.resize(nb);
     next.planes.resize(nb);
@@ -358,12 +355,12 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
     reg = std::move(next);
     tr = RoundTrace{};
     tr.half_width = w;
-    tr.hull_time_s = since(th);
+    tr.hull_time_s = core::seconds_since(th);
     tr.planes = reg.plane_count;
     tr.kept_boxes = reg.kept;
-    tl = Clock::now();
+    tl = core::Clock::now();
     sol = solve_round(p, o, reg, false);
-    tr.lp_time_s = since(tl);
+    tr.lp_time_s = core::seconds_since(tl);
     tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
     T = transform_from(kind, sol.lp.params);
     tr.transform = T;
@@ -375,7 +372,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   double cx = 0, cy = 0;
   for (std::size_t j = 0; j < nb; ++j) cx += p.query_x[j], cy += p.query_y[j];
   res.rigid = project_to_rigid(T, cx / static_cast<double>(nb), cy / static_cast<double>(nb));
-  res.time_s = since(t0);
+  res.time_s = core::seconds_since(t0);
   return res;
 }
 

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -11,6 +10,7 @@
 #include <vector>
 
 #include "core/names.hpp"
+#include "core/timing.hpp"
 
 namespace keel::align {
 
@@ -52,7 +52,7 @@ void CertificateOptions::validate() const {
 Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, const LpSettings& lp_settings,
                              const CertificateOptions& o) {
   o.validate();
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = core::Clock::now();
   LpSettings settings = lp_settings;
   settings.disc_tolerance = 0;
   HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
@@ -121,7 +121,7 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
   if (cert.upper_bound == kInf)
     throw std::runtime_error("certify_rotation: no rotation places every query point inside its box");
   cert.lower_bound = std::min({cert.upper_bound, dropped, open.empty() ? kInf : open.top().lb});
-  cert.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  cert.time_s = core::seconds_since(t0);
   return cert;
 }
 

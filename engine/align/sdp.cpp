@@ -5,10 +5,11 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <mutex>
 #include <stdexcept>
+
+#include "core/timing.hpp"
 
 extern "C" {
 #include <dsdp5.h>
@@ -50,7 +51,7 @@ void ok(int code, const char* what) {
 }  // namespace
 
 SdpSolution so_conv_hull_sdp(const AlignmentProblem& p, const Regions& reg, double gap_tolerance) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = core::Clock::now();
   const std::size_t nb = p.query_size();
   if (reg.planes.size() != nb || reg.boxes.size() != nb)
     throw std::invalid_argument("so_conv_hull_sdp: the regions do not belong to this problem");
@@ -128,7 +129,7 @@ SdpSolution so_conv_hull_sdp(const AlignmentProblem& p, const Regions& reg, doub
     throw;
   }
   DSDPDestroy(dsdp);
-  out.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.time_s = core::seconds_since(t0);
   return out;
 }
 

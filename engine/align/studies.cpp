@@ -3,13 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "align/sdp.hpp"
 #include "core/parallel.hpp"
+#include "core/timing.hpp"
 
 namespace keel::align {
 
@@ -90,10 +89,10 @@ SdpCheck sdp_check(const AlignmentProblem& p, const Regions& global, const Align
   SdpCheck chk;
   LpSettings s = ao.lp;
   s.disc_tolerance = ao.disc_tolerance;
-  const auto tl = std::chrono::steady_clock::now();
+  const auto tl = core::Clock::now();
   HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, global.planes, global.boxes, s);
   const LpSolution cuts = lp.solve();
-  chk.lp_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tl).count();
+  chk.lp_time_s = core::seconds_since(tl);
   if (cuts.status != LpStatus::optimal) throw std::runtime_error("SOConvHull LP check: not optimal");
   chk.lp_cost = cuts.cost;
   const SdpSolution sdp = so_conv_hull_sdp(p, global);
@@ -140,9 +139,9 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
         out.query_points[w] = p.query_size();
         AlignOptions ao = o.align;
         ao.threads = 1;
-        const auto th = std::chrono::steady_clock::now();
+        const auto th = core::Clock::now();
         const Regions global = global_regions(p, ao);
-        const double hull_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - th).count();
+        const double hull_time = core::seconds_since(th);
         if (w < out.sdp_checks.size()) out.sdp_checks[w] = sdp_check(p, global, ao);
         for (std::size_t m = 0; m < nm; ++m) {
           ao.method = o.methods[m];

@@ -73,5 +73,6 @@ using keel::core::write_report;
 using keel::core::Clock;
 using keel::core::mean_std;
 using keel::core::MeanStd;
+using keel::core::median;
 using keel::core::seconds_since;
 }  // namespace keel::core

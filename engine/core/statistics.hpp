@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace keel::core {
@@ -29,6 +30,15 @@ inline MeanStd mean_std(const std::vector<double>& v) {
     s.std = std::sqrt(s.std / static_cast<double>(v.size() - 1));
   }
   return s;
+}
+
+// Median (mean of the two middle values for an even count); 0 for an empty sample.
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2 == 1) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
 }
 
 }  // namespace keel::core

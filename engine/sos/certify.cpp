@@ -1,0 +1,116 @@
+#include "sos/certify.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/names.hpp"
+#include "core/timing.hpp"
+#include "pgo/optimize.hpp"
+
+namespace keel::sos {
+
+namespace {
+constexpr core::NameTable<CertificateStatus, 2> kStatusNames{
+    "sos::CertificateStatus",
+    {{{CertificateStatus::certified, "certified"}, {CertificateStatus::not_certified, "not_certified"}}}};
+
+// The cost is a χ² (units of the measurement noise), so below 1 the gap is measured absolutely: a gap of
+// 1e-6 at a zero-residual solution means 1e-6 σ², not an undefined ratio.
+double gap_of(double ub, double lb) { return std::max(0.0, ub - lb) / std::max(std::abs(ub), 1.0); }
+}  // namespace
+
+std::string_view to_string(CertificateStatus v) { return kStatusNames.name(v); }
+CertificateStatus certificate_status_from_string(std::string_view s) { return kStatusNames.parse(s); }
+
+void CertifyOptions::validate() const {
+  relaxation.validate();
+  polish.validate();
+  if (!(gap_tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("sos::CertifyOptions: gap_tolerance must be > 0 (got {})", gap_tolerance));
+  if (escalation_max_moments < 1)
+    throw std::invalid_argument(fmt::format(
+        "sos::CertifyOptions: escalation_max_moments must be >= 1 (got {})", escalation_max_moments));
+}
+
+CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const CertifyOptions& o) {
+  o.validate();
+  return solve_certified(graph, planar_problem(graph), o);
+}
+
+CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarProblem& p,
+                                  const CertifyOptions& o) {
+  o.validate();
+  const auto t0 = core::Clock::now();
+  CertifiedSolution out;
+  out.first = relax(p, o.relaxation);
+  out.relax_time_s = out.first.time_s;
+
+  // Round: rotations to the circle, then the translations and landmarks that are optimal for them.
+  const auto tp = core::Clock::now();
+  Eigen::VectorXd z = out.first.z;
+  project_rotations(p, z);
+  solve_translations(p, z);
+  out.rounded_cost = polynomial_cost(p, z);
+  // Polish with keel.pgo (pose 0 held at the identity), then on the thesis's own cost.
+  const PlanarEstimate rounded = estimate_of(p, z);
+  pgo::Options lm = o.polish;
+  lm.initial_guess = pgo::InitialGuess::supplied;
+  lm.constant_poses = {0};
+  const pgo::Estimate2D start{rounded.poses, rounded.landmarks};
+  graph::PoseGraph2D g = graph;
+  g.poses.resize(static_cast<std::size_t>(p.poses), lie::SE2::identity());
+  const pgo::Result2D polished = pgo::optimize(g, lm, &start);
+  Eigen::VectorXd zp = unknowns_of(p, polished.estimate.poses, polished.estimate.landmarks);
+  (void)refine(p, zp);
+  (void)refine(p, z);
+  out.z = polynomial_cost(p, zp) <= polynomial_cost(p, z) ? zp : z;
+  out.upper_bound = polynomial_cost(p, out.z);
+  out.estimate = estimate_of(p, out.z);
+  out.polish_time_s = core::seconds_since(tp);
+
+  out.lower_bound = out.first.lower_bound;
+  out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
+  if (out.relative_gap <= o.gap_tolerance) {
+    out.status = CertificateStatus::certified;
+    out.certified_order = out.first.order;
+  } else if (o.escalate && out.first.order == 1) {
+    const auto te = core::Clock::now();
+    RelaxationOptions second = o.relaxation;
+    second.structure = Structure::cliques;
+    second.order = 2;
+    second.max_moments = o.escalation_max_moments;
+    try {
+      out.second = relax(p, second);
+      out.escalated = true;
+      out.lower_bound = std::max(out.lower_bound, out.second.lower_bound);
+      // The order-2 estimate may round to a better solution than the order-1 one.
+      Eigen::VectorXd z2 = out.second.z;
+      project_rotations(p, z2);
+      solve_translations(p, z2);
+      (void)refine(p, z2);
+      if (polynomial_cost(p, z2) < out.upper_bound) {
+        out.z = z2;
+        out.upper_bound = polynomial_cost(p, z2);
+        out.estimate = estimate_of(p, z2);
+      }
+      out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
+      if (out.relative_gap <= o.gap_tolerance) {
+        out.status = CertificateStatus::certified;
+        out.certified_order = 2;
+      } else {
+        out.note = fmt::format("order 2 did not close the gap ({:.3g})", out.relative_gap);
+      }
+    } catch (const std::length_error& e) {
+      out.note = fmt::format("order 2 skipped: {}", e.what());
+    }
+    out.escalation_time_s = core::seconds_since(te);
+  }
+  out.time_s = core::seconds_since(t0);
+  return out;
+}
+
+}  // namespace keel::sos

@@ -80,8 +80,7 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
   } else if (o.escalate && out.first.order == 1) {
     const auto te = core::Clock::now();
     RelaxationOptions second = o.relaxation;
-    second.structure = Structure::cliques;
-    second.order = 2;
+    second.order = 2;  // same structure: dense = rotations only, translations minimised out; cliques = full
     second.max_moments = o.escalation_max_moments;
     try {
       out.second = relax(p, second);

@@ -51,6 +51,7 @@ ExactnessOptions read_exactness_options(const core::ConfigTable& t, const std::s
   ExactnessOptions o;
   o.certify = read_certify_options(t);
   const core::ConfigTable fams = t.table(families_table);
+  const int trials = static_cast<int>(t.integer("trials"));
   for (const std::string& name : t.strings("families")) {
     if (!fams.has(name))
       throw core::ConfigError(fmt::format("{}: no [{}.{}] table", t.where("families"), families_table, name));
@@ -63,7 +64,7 @@ ExactnessOptions read_exactness_options(const core::ConfigTable& t, const std::s
     fam.rotation_noise = f.number("rotation_noise");
     fam.translation_noise = f.number("translation_noise");
     fam.extent = f.number("extent");
-    fam.trials = static_cast<int>(f.integer("trials"));
+    fam.trials = trials;
     o.families.push_back(fam);
   }
   t.validate(o);

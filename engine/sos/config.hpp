@@ -31,7 +31,7 @@ struct PlanarDataset {
 
 // Keys: families (names), one [<table>.<name>] per family with poses, edge_probability, rotation_noise (rad),
 // optional rotation_noise_kind ("normal", or "uniform": rotation measurements uniform on the circle),
-// translation_noise, extent, trials; and read_certify_options's.
+// translation_noise, extent; trials (per family, one key for all); and read_certify_options's.
 [[nodiscard]] ExactnessOptions read_exactness_options(const core::ConfigTable& t,
                                                       const std::string& families_table);
 

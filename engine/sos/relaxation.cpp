@@ -26,7 +26,7 @@ using Poly = std::map<Mono, double>;
 // Reduction modulo s² = 1 − c² for every pose: while some s appears twice, m = s² m' → m' − c² m'.
 class Reducer {
  public:
-  explicit Reducer(const PlanarProblem& p) : p_(p) {}
+  explicit Reducer(const std::vector<char>& s_var) : s_var_(s_var) {}
 
   const Poly& operator()(const Mono& m) {
     if (auto it = cache_.find(m); it != cache_.end()) return it->second;
@@ -54,10 +54,10 @@ class Reducer {
     return cache_.emplace(m, std::move(out)).first->second;
   }
 
-  [[nodiscard]] bool is_s(int v) const { return p_.is_rotation(v) && v % 4 == 1; }
+  [[nodiscard]] bool is_s(int v) const { return s_var_[static_cast<std::size_t>(v)] != 0; }
 
  private:
-  const PlanarProblem& p_;
+  const std::vector<char>& s_var_;
   std::map<Mono, Poly> cache_;
 };
 
@@ -88,13 +88,35 @@ std::vector<Mono> basis(const std::vector<int>& vars, int order, const Reducer& 
   return out;
 }
 
-std::vector<int> clique_unknowns(const PlanarProblem& p, const std::vector<int>& clique) {
-  std::vector<int> vars;
-  for (int node : clique)
-    for (int k = 0; k < p.node_size(node); ++k) vars.push_back(p.node_offset(node) + k);
-  std::sort(vars.begin(), vars.end());
-  return vars;
+// A quadratic cost ‖a z + r‖² over unknowns z of which some pair up on the circle as (c, s) with s right
+// after c, and the unknowns of each moment block.
+struct MomentSpec {
+  Eigen::SparseMatrix<double> a;
+  Eigen::VectorXd r;
+  std::vector<char> rotation;  // per unknown: part of a (c, s) pair (|z_v| ≤ 1 on the feasible set)
+  std::vector<char> s_var;     // per unknown: the s of a pair
+  std::vector<std::vector<int>> blocks;
+};
+
+// The full problem (translations and landmarks kept) on the cliques of the chordal extension.
+MomentSpec clique_spec(const PlanarProblem& p) {
+  MomentSpec m;
+  m.a = p.a, m.r = p.r;
+  for (int v = 0; v < p.unknowns(); ++v) {
+    m.rotation.push_back(p.is_rotation(v) ? 1 : 0);
+    m.s_var.push_back(p.is_rotation(v) && v % 4 == 1 ? 1 : 0);
+  }
+  for (const auto& clique : chordal_cliques(p)) {
+    std::vector<int> vars;
+    for (int node : clique)
+      for (int k = 0; k < p.node_size(node); ++k) vars.push_back(p.node_offset(node) + k);
+    std::sort(vars.begin(), vars.end());
+    m.blocks.push_back(std::move(vars));
+  }
+  return m;
 }
+
+RelaxationResult relax_moments(const MomentSpec& spec, const RelaxationOptions& o);
 
 struct Eig {
   double top = 0.0, second = 0.0, smallest = 0.0;
@@ -161,6 +183,29 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
     q -= b.transpose() * ldlt.solve(b);
   }
   q = 0.5 * (q + q.transpose());
+  if (o.order > 1) {
+    // Higher orders: the moment form over the rotations alone, with the reduced cost written as a sum of
+    // squares (q = Lᵀ L from its eigen-decomposition, the rows of L as residuals). Every unknown is on the
+    // circle, so the lower bound's residual correction is rigorous.
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(q);
+    const Eigen::MatrixXd l =
+        es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+    MomentSpec spec;
+    spec.a = l.rightCols(nk - 1).sparseView();
+    spec.r = l.col(0);
+    spec.blocks.emplace_back();
+    for (Eigen::Index k = 0; k + 1 < nk; ++k) {
+      spec.rotation.push_back(1);
+      spec.s_var.push_back(k % 2 == 1 ? 1 : 0);
+      spec.blocks[0].push_back(static_cast<int>(k));
+    }
+    RelaxationResult out = relax_moments(spec, o);
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(p.unknowns());
+    for (std::size_t k = 0; k < rot.size(); ++k) z(rot[k]) = out.z(static_cast<Eigen::Index>(k));
+    out.z = z;
+    out.time_s = core::seconds_since(t0);
+    return out;
+  }
   const double qs = std::max(q.cwiseAbs().maxCoeff(), 1e-300);
 
   Sdp sdp;
@@ -208,15 +253,13 @@ struct MomentProgram {
   Sdp sdp;
   std::vector<Mono> moments;  // moment of SDP variable i
   std::map<Mono, int> index;  // monomial -> SDP variable
-  std::vector<std::vector<int>> cliques;
 };
 
-MomentProgram build_moments(const PlanarProblem& p, int order, bool with_matrices, long max_moments) {
+MomentProgram build_moments(const MomentSpec& spec, int order, bool with_matrices, long max_moments) {
   MomentProgram mp;
-  mp.cliques = chordal_cliques(p);
-  Reducer red(p);
-  for (std::size_t k = 0; k < mp.cliques.size(); ++k) {
-    const std::vector<Mono> bas = basis(clique_unknowns(p, mp.cliques[k]), order, red);
+  Reducer red(spec.s_var);
+  for (std::size_t k = 0; k < spec.blocks.size(); ++k) {
+    const std::vector<Mono> bas = basis(spec.blocks[k], order, red);
     const int blk = static_cast<int>(k);
     if (with_matrices) mp.sdp.block_sizes.push_back(static_cast<int>(bas.size()));
     for (std::size_t r = 0; r < bas.size(); ++r)
@@ -232,7 +275,7 @@ MomentProgram build_moments(const PlanarProblem& p, int order, bool with_matrice
             mp.moments.push_back(mono);
             if (static_cast<long>(mp.moments.size()) > max_moments)
               throw std::length_error(fmt::format(
-                  "sos::relax: the order-{} clique relaxation has more than {} moments (max_moments)", order,
+                  "sos::relax: the order-{} moment relaxation has more than {} moments (max_moments)", order,
                   max_moments));
             if (with_matrices) mp.sdp.a.emplace_back();
           }
@@ -245,18 +288,20 @@ MomentProgram build_moments(const PlanarProblem& p, int order, bool with_matrice
   return mp;
 }
 
-RelaxationResult relax_cliques(const PlanarProblem& p, const RelaxationOptions& o) {
+// The moment relaxation of `spec` at `order`; z of the result is over spec's unknowns.
+RelaxationResult relax_moments(const MomentSpec& spec, const RelaxationOptions& o) {
   const auto t0 = core::Clock::now();
-  MomentProgram mp = build_moments(p, o.order, true, o.max_moments);
-  Reducer red(p);
+  MomentProgram mp = build_moments(spec, o.order, true, o.max_moments);
+  Reducer red(spec.s_var);
+  const auto nu = static_cast<int>(spec.rotation.size());
   // The cost polynomial f = Σ_k (a_kᵀ z + r_k)², reduced.
   Poly f;
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> a = p.a;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> a = spec.a;
   for (Eigen::Index k = 0; k < a.rows(); ++k) {
     std::vector<std::pair<int, double>> row;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(a, k); it; ++it)
       row.emplace_back(static_cast<int>(it.col()), it.value());
-    const double rk = p.r(k);
+    const double rk = spec.r(k);
     f[{}] += rk * rk;
     for (const auto& [u, au] : row) {
       f[{u}] += 2.0 * rk * au;
@@ -278,14 +323,14 @@ RelaxationResult relax_cliques(const PlanarProblem& p, const RelaxationOptions& 
     auto it = mp.index.find(mono);
     if (it == mp.index.end())
       throw std::logic_error(
-          "sos::relax: a cost monomial lies in no clique (the chordal extension is wrong)");
+          "sos::relax: a cost monomial lies in no moment block (the chordal extension is wrong)");
     mp.sdp.b[static_cast<std::size_t>(it->second)] = -v / fs;
   }
   const SdpSolution sol = solve_sdp(mp.sdp, o.sdp);
   const SdpCheck chk = check_sdp(mp.sdp, sol);
 
   RelaxationResult out;
-  out.structure = Structure::cliques;
+  out.structure = o.structure;
   out.order = o.order;
   record(out, sol, chk);
   out.blocks = static_cast<int>(mp.sdp.block_sizes.size());
@@ -294,12 +339,12 @@ RelaxationResult relax_cliques(const PlanarProblem& p, const RelaxationOptions& 
   out.moments = static_cast<long>(mp.moments.size());
   out.value = f0 - fs * chk.dual_objective;
   // First-order moments and the monomial bound of the residual correction.
-  out.z = Eigen::VectorXd::Zero(p.unknowns());
-  for (int v = 0; v < p.unknowns(); ++v)
+  out.z = Eigen::VectorXd::Zero(nu);
+  for (int v = 0; v < nu; ++v)
     if (auto it = mp.index.find(Mono{v}); it != mp.index.end()) out.z(v) = sol.y(it->second);
   double tbound = 1.0;
-  for (int v = 0; v < p.unknowns(); ++v)
-    if (!p.is_rotation(v)) tbound = std::max(tbound, 2.0 * std::abs(out.z(v)));
+  for (int v = 0; v < nu; ++v)
+    if (!spec.rotation[static_cast<std::size_t>(v)]) tbound = std::max(tbound, 2.0 * std::abs(out.z(v)));
   // SOS side: X projected onto the PSD cone, then f ≥ f₀ − fs ⟨C, X⟩ − fs Σ_β |⟨A_β, X⟩ − b_β| · max|z^β|.
   SdpSolution projected = sol;
   for (auto& x : projected.x) x = psd_part(x);
@@ -315,7 +360,7 @@ RelaxationResult relax_cliques(const PlanarProblem& p, const RelaxationOptions& 
             projected.x[static_cast<std::size_t>(e.block)](e.row, e.col);
     double bound = 1.0;
     for (int v : mp.moments[i])
-      if (!p.is_rotation(v)) bound *= tbound;
+      if (!spec.rotation[static_cast<std::size_t>(v)]) bound *= tbound;
     correction += std::abs(ax - mp.sdp.b[i]) * bound;
   }
   out.bound_correction = fs * correction;
@@ -339,9 +384,6 @@ void RelaxationOptions::validate() const {
   if (order < 1 || order > 3)
     throw std::invalid_argument(
         fmt::format("sos::RelaxationOptions: order must be 1, 2 or 3 (got {})", order));
-  if (structure == Structure::dense && order != 1)
-    throw std::invalid_argument(fmt::format(
-        "sos::RelaxationOptions: order {} needs structure = cliques (the dense block is order 1)", order));
   if (max_moments < 1)
     throw std::invalid_argument(
         fmt::format("sos::RelaxationOptions: max_moments must be >= 1 (got {})", max_moments));
@@ -391,13 +433,15 @@ std::vector<std::vector<int>> chordal_cliques(const PlanarProblem& p) {
 }
 
 long moment_count(const PlanarProblem& p, int order) {
-  return static_cast<long>(build_moments(p, order, false, std::numeric_limits<long>::max()).moments.size());
+  return static_cast<long>(
+      build_moments(clique_spec(p), order, false, std::numeric_limits<long>::max()).moments.size());
 }
 
 RelaxationResult relax(const PlanarProblem& p, const RelaxationOptions& o) {
   o.validate();
   if (p.poses < 2) throw std::invalid_argument("sos::relax: the problem has no free pose");
-  return o.structure == Structure::dense ? relax_dense(p, o) : relax_cliques(p, o);
+  if (o.structure == Structure::cliques) return relax_moments(clique_spec(p), o);
+  return relax_dense(p, o);
 }
 
 }  // namespace keel::sos

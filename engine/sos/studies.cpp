@@ -134,7 +134,7 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
 void ExactnessOptions::validate() const {
   if (families.empty()) throw std::invalid_argument("sos::ExactnessOptions: no families");
   for (const auto& f : families) {
-    if (f.poses < 2 || f.trials < 1 || f.edge_probability < 0 || f.edge_probability > 1 || !(f.extent > 0) ||
+    if (f.poses < 2 || f.trials < 1 || f.edge_probability < 0 || f.edge_probability > 1 || f.extent < 0 ||
         f.translation_noise < 0 || (!f.uniform_rotations && f.rotation_noise < 0))
       throw std::invalid_argument(
           fmt::format("sos::ExactnessFamily '{}': needs poses >= 2, trials >= 1, edge_probability in [0, 1], "

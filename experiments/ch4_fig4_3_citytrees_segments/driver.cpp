@@ -1,0 +1,43 @@
+// Figs. 4.2–4.3 (§4.6): SBSOS-SLAM against Levenberg–Marquardt on 100-pose segments of CityTrees10000
+// (landmark SLAM, eq. 4.12) — thin driver over keel::sos::run_segment_study; metrics, checks and figures from
+// experiments/common/sos_segments.hpp.
+import keel.core;
+import keel.lie;
+import keel.sos;
+
+#include <fmt/format.h>
+
+#include <string>
+#include <vector>
+
+#include "common/sos_segments.hpp"
+
+namespace core = keel::core;
+namespace sos = keel::sos;
+
+int main(int argc, char** argv) {
+  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+    const auto& p = ex.params();
+    const sos::PlanarDataset data = sos::load_planar_dataset(p);
+    sos::SegmentStudyOptions o = sos::read_segment_study_options(p);
+    ex.params_done();
+    o.seed = ex.seed();
+    o.threads = ex.threads();
+
+    const int n = static_cast<int>(data.graph.poses.size());
+    const int count = o.max_segments > 0 ? std::min(o.max_segments, (n - o.segment_length) / o.stride + 1)
+                                         : (n - o.segment_length) / o.stride + 1;
+    core::Progress progress("CityTrees10000 segments", static_cast<std::size_t>(count));
+    const sos::SegmentStudyOutcome out =
+        sos::run_segment_study(data.graph, data.truth, data.truth_landmarks, o, &progress);
+    progress.finish();
+
+    auto& r = ex.results();
+    keel::experiments::record_segment_study(r, out, true);
+    r.figure(keel::experiments::segment_error_figure("ch4_fig4_3_citytrees_errors.png",
+                                                     "Fig. 4.3: pose error on CityTrees10000 segments", out));
+    r.figure(keel::experiments::segment_example_figure(
+        "ch4_fig4_2_citytrees_example.png", "Fig. 4.2: SBSOS-SLAM vs LM on a CityTrees10000 segment", out,
+        r));
+  });
+}

@@ -5,6 +5,7 @@ import keel.lie;
 import keel.pcm;
 import keel.sim;
 import keel.eval;
+import keel.sos;
 
 #include <doctest/doctest.h>
 
@@ -20,6 +21,7 @@ namespace core = keel::core;
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
 namespace eval = keel::eval;
+namespace sos = keel::sos;
 
 TEST_CASE("keel.lie facade: group round trip and the adjoint identity (eq. 5.10)") {
   lie::Vec6 xi;
@@ -117,4 +119,19 @@ TEST_CASE(
         eval::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
   }
   CHECK(ransac_inconsistent > 0);  // RANSAC does not enforce pairwise consistency (§2.7.1)
+}
+
+TEST_CASE("keel.sos facade: the counterexample is not tight at order 1 and certified at order 2") {
+  const auto g = sos::exactness_counterexample();
+  sos::CertifyOptions o;
+  o.escalate = false;
+  const sos::CertifiedSolution first = sos::solve_certified(g, o);
+  CHECK(first.status == sos::CertificateStatus::not_certified);
+  CHECK(first.lower_bound < first.upper_bound - 0.5);
+  o.escalate = true;
+  const sos::CertifiedSolution second = sos::solve_certified(g, o);
+  CHECK(second.status == sos::CertificateStatus::certified);
+  CHECK(second.certified_order == 2);
+  CHECK(second.upper_bound <= first.upper_bound + 1e-9);  // order 2 may also round to a better solution
+  CHECK(sos::to_string(second.status) == "certified");
 }

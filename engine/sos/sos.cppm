@@ -7,6 +7,7 @@ module;
 #include "sos/relaxation.hpp"
 #include "sos/sdp.hpp"
 #include "sos/studies.hpp"
+#include "sos/verify.hpp"
 export module keel.sos;
 
 export namespace keel::sos {
@@ -61,4 +62,19 @@ using keel::sos::run_segment_study;
 using keel::sos::SegmentOutcome;
 using keel::sos::SegmentStudyOptions;
 using keel::sos::SegmentStudyOutcome;
+// a dual certificate for a given solution of a whole data set (beyond the thesis) and its study
+using keel::sos::certify_solution;
+using keel::sos::GlobalCertificate;
+using keel::sos::GlobalCertificateDataset;
+using keel::sos::GlobalCertificateOptions;
+using keel::sos::GlobalCertificateOutcome;
+using keel::sos::GlobalCertificateRun;
+using keel::sos::GlobalCertificateStudyOptions;
+using keel::sos::GlobalCertificateStudyOutcome;
+using keel::sos::load_global_certificate_datasets;
+using keel::sos::read_global_certificate_study_options;
+using keel::sos::refine_solution;
+using keel::sos::RefineOptions;
+using keel::sos::RefineReport;
+using keel::sos::run_global_certificate_study;
 }  // namespace keel::sos

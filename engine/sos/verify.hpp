@@ -1,0 +1,151 @@
+// keel::sos — a dual certificate of global optimality for a given planar solution (beyond the thesis).
+//
+// The thesis certifies by solving the order-1 relaxation (relaxation.hpp), an SDP that only small problems
+// afford. The same relaxation can certify a candidate solution of a whole data set without solving it: the
+// duality-based verification of Carlone et al. (2016, "Planar pose graph optimization: duality, optimal
+// solutions, and verification") and Rosen et al. (SE-Sync, 2019). Here it is applied to the thesis's cost
+// f(z) = ‖A z + r‖² (eq. 4.6–4.11, problem.hpp; chordal rotation term, pose 0 the gauge):
+//
+//   v = [1; z],  Q = [rᵀr, rᵀA; Aᵀr, AᵀA]  (so f(z) = vᵀQv; sparse, (N + 1) × (N + 1)).
+//   Constraints: v₀² = 1 (multiplier λ₀) and c_i² + s_i² = 1 (eq. 4.4, multiplier λ_i).
+//   First-order conditions Q v = Λ v, Λ = diag(λ₀; λ_i at c_i and s_i; 0 at translations and landmarks):
+//   λ₀ = (Qv)₀ and λ_i = c_i (Qv)_{c_i} + s_i (Qv)_{s_i} (least squares on each 2-vector).
+//   S = Q − Λ. If S v = 0 and S ⪰ 0, then for every feasible v' (v'₀ = 1, circles satisfied)
+//   f(v') = v'ᵀ S v' + λ₀ + Σ λ_i ≥ λ₀ + Σ λ_i = f(z): z is a global minimizer of eq. 4.11/4.12 (and the
+//   order-1 relaxation is tight at it, its dual optimum being λ).
+//
+// Positive semidefiniteness is tested by a sparse Cholesky factorization of S + η I: success proves
+// λ_min(S) > −η. S has an exact zero eigenvalue (at v), so the shift must be strictly positive; the decision
+// uses η_tol = eta_relative · max_k Q_kk (Q's diagonal sets the scale of every entry of S, and a Cholesky
+// factorization's backward error is a small multiple of machine precision times that scale). The verdict is
+// "globally optimal" iff that factorization succeeds AND the stationarity residual ‖S v‖∞ / (max_k Q_kk ·
+// ‖v‖∞) is at most stationarity_tolerance: an inexact stationary point moves S's eigenvalues by about the
+// same relative amount, so stationarity_tolerance ≤ eta_relative is required. After the decision a few more
+// factorizations sharpen the reported bound (smaller shifts when the test passed, larger ones when it
+// failed); Gershgorin's bound is the fallback, so lambda_min_bound is always a proven lower bound (up to
+// rounding in the factorization, which η_tol dominates).
+//
+// The candidate must be a stationary point of f itself — keel.pgo minimizes the geodesic χ², whose
+// minimizer differs from f's by O(θ⁴) — so solutions from keel.pgo are refined on f first
+// (refine_solution below).
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/progress.hpp"
+#include "graph/pose_graph.hpp"
+#include "pgo/options.hpp"
+#include "sos/problem.hpp"
+
+namespace keel::sos {
+
+struct GlobalCertificateOptions {
+  double eta_relative = 1e-7;            // decisive shift η_tol = eta_relative · max_k Q_kk (> 0, < 1)
+  double stationarity_tolerance = 1e-8;  // ‖S v‖∞ / (max_k Q_kk ‖v‖∞) allowed (> 0, ≤ eta_relative)
+  int bound_factorizations = 6;  // extra factorizations that sharpen lambda_min_bound after the decision
+                                 // (≥ 0): shifts η_tol · 10^{∓k}
+  void validate() const;         // throws std::invalid_argument naming the field and value
+};
+
+struct GlobalCertificate {
+  bool certified = false;         // stationary to tolerance and S + η_tol I positive definite
+  bool stationary = false;        // stationarity ≤ stationarity_tolerance
+  bool psd = false;               // the factorization of S + η_tol I succeeded
+  double cost = 0.0;              // f(z) = vᵀQv, original units
+  double multiplier_sum = 0.0;    // λ₀ + Σ λ_i (= f(z) − vᵀSv; equals cost at a stationary point)
+  double stationarity = 0.0;      // ‖S v‖∞ / (scale ‖v‖∞)
+  double scale = 0.0;             // max_k Q_kk
+  double eta = 0.0;               // η_tol, the decisive shift
+  double lambda_min_bound = 0.0;  // proven: λ_min(S) > lambda_min_bound (−smallest successful shift, or
+                                  // Gershgorin's bound when no shift tried succeeded)
+  double failed_shift = 0.0;  // the largest shift tried whose factorization failed (0: none): λ_min(S) ≲ −it
+  double min_rotation_multiplier = 0.0;  // min_i λ_i (0 without free poses), for the record
+  int factorizations = 0;
+  long factor_nonzeros = 0;  // nonzeros of the Cholesky factor (fill-reducing AMD ordering)
+  double factor_time_s = 0.0, time_s = 0.0;
+};
+
+// Certifies z (unknowns as problem.hpp lays them out; rotations must lie on their circles to 1e-9,
+// translations in units of length_scale). Throws std::invalid_argument for bad options, a z of the wrong size
+// or with non-finite entries, or rotations off the circle.
+[[nodiscard]] GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd& z,
+                                                 const GlobalCertificateOptions& options = {});
+
+// Newton's method on f over (θ_i, translations, landmarks) from z, with backtracking, until its gradient is
+// small enough for a certificate: ‖∇f‖∞ / max_k Q_kk ≤ gradient_tolerance (θ and scaled translations), no
+// step lowers the cost, or max_iterations steps were taken. The Hessian is problem.hpp's Gauss–Newton
+// matrix plus the multiplier term −2 diag(λ_i) of the circle (Gauss–Newton where that is not positive
+// definite): refine() converges only linearly on non-zero-residual data sets (46 steps, 8.6 s on
+// Manhattan3500 from keel.pgo's answer), too slowly for whole data sets.
+struct RefineOptions {
+  int max_iterations = 200;           // Newton (or Gauss–Newton) steps in all (≥ 1)
+  double gradient_tolerance = 1e-10;  // stop when ‖∇f‖∞ / max_k Q_kk is at most this (> 0)
+  void validate() const;
+};
+struct RefineReport {
+  int iterations = 0;
+  double initial_cost = 0.0, final_cost = 0.0;
+  double gradient = 0.0;  // ‖∇f‖∞ / max_k Q_kk at the end
+  double time_s = 0.0;
+};
+[[nodiscard]] RefineReport refine_solution(const PlanarProblem& p, Eigen::VectorXd& z,
+                                           const RefineOptions& options = {});
+
+// The study: per data set, keel.pgo's Levenberg–Marquardt from chained odometry and from a random
+// initialization, each refined on f and certified.
+struct GlobalCertificateDataset {
+  std::string name;  // a label for results
+  std::string file;  // as given in the config (for messages)
+  graph::PoseGraph2D graph;
+};
+
+struct GlobalCertificateStudyOptions {
+  pgo::Options lm;                       // both LM runs (initial guess and seed set per run)
+  double random_extent = 50.0;           // LM random: translations uniform in ±extent m, angles uniform (> 0)
+  RefineOptions refine;                  // refinement on f before certifying
+  GlobalCertificateOptions certificate;  // the certificate
+  std::uint64_t seed = 0;                // LM random: data set k uses pgo seed `seed + k`
+  void validate() const;
+};
+
+struct GlobalCertificateRun {
+  bool failed = false;  // LM, refinement or the certificate threw (message in `error`)
+  std::string error;
+  double lm_cost = 0.0;  // f at keel.pgo's answer, before refinement
+  int lm_iterations = 0;
+  RefineReport refine;
+  GlobalCertificate certificate;
+  double solve_time_s = 0.0;  // keel.pgo's LM (the refinement is in refine.time_s)
+};
+
+struct GlobalCertificateOutcome {
+  std::string name;
+  int poses = 0, edges = 0, landmarks = 0, unknowns = 0;
+  bool failed = false;  // planar_problem refused the data set (message in `error`); no run was made
+  std::string error;
+  GlobalCertificateRun odometry, random;
+};
+
+struct GlobalCertificateStudyOutcome {
+  std::vector<GlobalCertificateOutcome> datasets;
+};
+
+// Data sets are processed one after another (each certificate is one large factorization).
+[[nodiscard]] GlobalCertificateStudyOutcome run_global_certificate_study(
+    const std::vector<GlobalCertificateDataset>& datasets, const GlobalCertificateStudyOptions& options,
+    core::Progress* progress = nullptr);
+
+// Config readers of the study. Keys: lm_max_iterations, random_extent, refine_max_iterations,
+// refine_gradient_tolerance, eta_relative, stationarity_tolerance, bound_factorizations.
+[[nodiscard]] GlobalCertificateStudyOptions read_global_certificate_study_options(const core::ConfigTable& t);
+// Keys: datasets (names) and a table graph_files with one key per name: the graph file, resolved by
+// keel::graph::resolve_dataset_file(name, file) and read by keel::graph::read_pose_graph_2d (every entry
+// of graph_files must be a string; only the listed data sets are read).
+[[nodiscard]] std::vector<GlobalCertificateDataset> load_global_certificate_datasets(
+    const core::ConfigTable& t);
+
+}  // namespace keel::sos

@@ -2,13 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <mutex>
 #include <stdexcept>
 
+#include "core/quiet.hpp"
 #include "core/timing.hpp"
 
 extern "C" {
@@ -18,33 +16,8 @@ extern "C" {
 namespace keel::align {
 
 namespace {
-// DSDP keeps global state and prints a line about its Schur matrix with printf: calls are serialised, and
-// stdout is pointed at /dev/null while one runs (progress and logs of keel go to stderr).
-std::mutex dsdp_mutex;
-
-class QuietStdout {
- public:
-  QuietStdout() {
-    std::fflush(stdout);
-    saved_ = ::dup(STDOUT_FILENO);
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, STDOUT_FILENO);
-    if (null >= 0) ::close(null);
-  }
-  ~QuietStdout() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, STDOUT_FILENO);
-      ::close(saved_);
-    }
-  }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
-
- private:
-  int saved_ = -1;
-};
-
+// DSDP keeps global state and prints with printf: calls are serialised with every other area's DSDP calls
+// (core::library_mutex("dsdp")), and stdout points at /dev/null while one runs.
 void ok(int code, const char* what) {
   if (code != 0) throw std::runtime_error(fmt::format("so_conv_hull_sdp: DSDP {} returned {}", what, code));
 }
@@ -89,8 +62,8 @@ SdpSolution so_conv_hull_sdp(const AlignmentProblem& p, const Regions& reg, doub
     ik.push_back(static_cast<int>(cols.size()));
   }
 
-  std::lock_guard<std::mutex> lock(dsdp_mutex);
-  QuietStdout quiet;
+  std::lock_guard<std::mutex> lock(core::library_mutex("dsdp"));
+  core::QuietStdout quiet;
   DSDP dsdp;
   ok(DSDPCreate(m, &dsdp), "DSDPCreate");
   SdpSolution out;

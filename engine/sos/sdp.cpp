@@ -1,8 +1,6 @@
 #include "sos/sdp.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -13,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/names.hpp"
+#include "core/quiet.hpp"
 #include "core/timing.hpp"
 
 extern "C" {
@@ -42,33 +41,8 @@ void check_entries(const std::vector<int>& sizes, const std::vector<SdpEntry>& e
   }
 }
 
-// DSDP keeps global state and prints with printf: calls are serialised, and stdout points at /dev/null while
-// one runs (keel's progress and logs go to stderr).
-std::mutex dsdp_mutex;
-
-class QuietStdout {
- public:
-  QuietStdout() {
-    std::fflush(stdout);
-    saved_ = ::dup(STDOUT_FILENO);
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, STDOUT_FILENO);
-    if (null >= 0) ::close(null);
-  }
-  ~QuietStdout() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, STDOUT_FILENO);
-      ::close(saved_);
-    }
-  }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
-
- private:
-  int saved_ = -1;
-};
-
+// DSDP keeps global state and prints with printf: calls are serialised with every other area's DSDP calls
+// (core::library_mutex("dsdp")), and stdout points at /dev/null while one runs.
 void ok(int code, const char* what) {
   if (code != 0) throw std::runtime_error(fmt::format("sos::solve_sdp: DSDP {} returned {}", what, code));
 }
@@ -198,10 +172,10 @@ SdpSolution solve_with_dsdp(const Sdp& sdp, const SdpSettings& settings) {
       for (const auto& [idx, x] : merged[k][v])
         if (x != 0.0) ind[k][v].push_back(idx), val[k][v].push_back(x);
 
-  std::lock_guard<std::mutex> lock(dsdp_mutex);
+  std::lock_guard<std::mutex> lock(core::library_mutex("dsdp"));
   const double setup_s = core::seconds_since(t0);  // building the arrays, before waiting for the lock
   t0 = core::Clock::now();
-  QuietStdout quiet;
+  core::QuietStdout quiet;
   DSDP dsdp;
   ok(DSDPCreate(m, &dsdp), "DSDPCreate");
   SdpSolution out;

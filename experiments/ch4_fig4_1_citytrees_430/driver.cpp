@@ -21,21 +21,11 @@ namespace pgo = keel::pgo;
 
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
-    const auto& p = ex.params();
-    const sos::PlanarDataset data = sos::load_planar_dataset(p);
-    sos::SegmentStudyOptions o = sos::read_segment_study_options(p);
-    ex.params_done();
-    o.seed = ex.seed();
-    o.threads = 1;
-    o.max_segments = 1;
-    o.stride = o.segment_length;
-
-    const sos::SegmentStudyOutcome out =
-        sos::run_segment_study(data.graph, data.truth, data.truth_landmarks, o);
-    const sos::SegmentOutcome& s = out.segments.at(0);
+    const auto run = keel::experiments::run_segments(ex, "CityTrees10000, first segment");
+    const sos::SegmentStudyOptions& o = run.options;
+    const sos::SegmentOutcome& s = run.outcome.segments.at(0);
     // The random start of the LM run (run_segment_study draws segment 0's from pgo seed `seed`).
-    const sos::Segment seg =
-        sos::extract_segment(data.graph, 0, o.segment_length, data.truth, data.truth_landmarks);
+    const sos::Segment seg = sos::extract_segment(run.data.graph, 0, o.segment_length);
     pgo::Options start_options = o.lm;
     start_options.initial_guess = pgo::InitialGuess::random;
     start_options.seed = o.seed;

@@ -17,22 +17,8 @@ namespace sos = keel::sos;
 
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
-    const auto& p = ex.params();
-    const sos::PlanarDataset data = sos::load_planar_dataset(p);
-    sos::SegmentStudyOptions o = sos::read_segment_study_options(p);
-    ex.params_done();
-    o.seed = ex.seed();
-    // One segment at a time: DSDP calls are serialised, so a second thread would only wait for the lock and
-    // the per-segment times (the thesis's comparison) would include that wait.
-    o.threads = 1;
-
-    const int n = static_cast<int>(data.graph.poses.size());
-    const int count = o.max_segments > 0 ? std::min(o.max_segments, (n - o.segment_length) / o.stride + 1)
-                                         : (n - o.segment_length) / o.stride + 1;
-    core::Progress progress("Manhattan3500 segments", static_cast<std::size_t>(count));
-    const sos::SegmentStudyOutcome out = sos::run_segment_study(data.graph, data.truth, {}, o, &progress);
-    progress.finish();
-
+    const sos::SegmentStudyOutcome out =
+        keel::experiments::run_segments(ex, "Manhattan3500 segments").outcome;
     auto& r = ex.results();
     keel::experiments::record_segment_study(r, out, false);
     r.figure(keel::experiments::segment_error_figure("ch4_fig4_4_m3500_errors.png",

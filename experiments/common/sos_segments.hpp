@@ -28,6 +28,34 @@ inline const std::vector<SegmentMethod>& segment_methods() {
   return m;
 }
 
+// Reads the data set and the study options from [params], then runs the segment study one segment at a time
+// with a progress bar: DSDP calls are serialised, so a second thread would only wait for the lock and the
+// per-segment times (the thesis's comparison) would include that wait. Landmarks are used when the data set
+// has them.
+struct SegmentRun {
+  keel::sos::PlanarDataset data;
+  keel::sos::SegmentStudyOptions options;
+  keel::sos::SegmentStudyOutcome outcome;
+};
+inline SegmentRun run_segments(keel::core::Experiment& ex, const std::string& label) {
+  const auto& p = ex.params();
+  SegmentRun run;
+  run.data = keel::sos::load_planar_dataset(p);
+  const auto& data = run.data;
+  keel::sos::SegmentStudyOptions& o = run.options;
+  o = keel::sos::read_segment_study_options(p);
+  ex.params_done();
+  o.seed = ex.seed();
+  o.threads = 1;
+  const int n = static_cast<int>(data.graph.poses.size());
+  int count = n >= o.segment_length ? (n - o.segment_length) / o.stride + 1 : 0;
+  if (o.max_segments > 0) count = std::min(count, o.max_segments);
+  keel::core::Progress progress(label, static_cast<std::size_t>(count));
+  run.outcome = keel::sos::run_segment_study(data.graph, data.truth, data.truth_landmarks, o, &progress);
+  progress.finish();
+  return run;
+}
+
 // A local minimum: the method's cost above the certified SBSOS cost by more than 1e-4 relative (χ² units, at
 // least 1e-4 absolute).
 inline bool above_sbsos(const keel::sos::SegmentOutcome& s, const keel::sos::MethodOutcome& m) {
@@ -109,8 +137,9 @@ inline void record_segment_study(keel::core::Results& r, const keel::sos::Segmen
                       core::median(te_lr), core::median(re_sb), core::median(re_lr)));
   std::vector<double> lm_time;
   for (const auto& s : segs) lm_time.push_back(s.lm_random.time_s);
+  // The detail names the timing rather than printing it: result files are compared across runs and threads.
   r.check("Levenberg–Marquardt takes under a second on average", core::mean_std(lm_time).mean < 1.0,
-          fmt::format("mean {:.3f} s from a random initialization", core::mean_std(lm_time).mean));
+          "mean time from a random initialization: timing lm_random.time_s.mean");
 }
 
 // Fig. 4.3 / 4.4: per-segment translational and rotational error of the three methods (empirical CDFs), and

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/names.hpp"
@@ -19,7 +20,16 @@ constexpr core::NameTable<CertificateStatus, 2> kStatusNames{
 
 // The cost is a χ² (units of the measurement noise), so below 1 the gap is measured absolutely: a gap of
 // 1e-6 at a zero-residual solution means 1e-6 σ², not an undefined ratio.
-double gap_of(double ub, double lb) { return std::max(0.0, ub - lb) / std::max(std::abs(ub), 1.0); }
+// Non-finite bounds give an infinite gap (std::max(0.0, NaN) would be 0).
+double gap_of(double ub, double lb) {
+  if (!std::isfinite(ub) || !std::isfinite(lb)) return std::numeric_limits<double>::infinity();
+  return std::max(0.0, ub - lb) / std::max(std::abs(ub), 1.0);
+}
+// A lower bound above the solution's cost by more than the tolerance is not a bound (a numerical failure): it
+// must not read as a zero gap.
+bool bound_is_valid(double ub, double lb, double tol) {
+  return std::isfinite(ub) && std::isfinite(lb) && lb <= ub + tol * std::max(std::abs(ub), 1.0);
+}
 }  // namespace
 
 std::string_view to_string(CertificateStatus v) { return kStatusNames.name(v); }
@@ -74,7 +84,12 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
 
   out.lower_bound = out.first.lower_bound;
   out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
-  if (out.relative_gap <= o.gap_tolerance) {
+  const bool first_valid = bound_is_valid(out.upper_bound, out.lower_bound, o.gap_tolerance);
+  if (!first_valid)
+    out.note =
+        fmt::format("order-{} bound {} is not finite or exceeds the solution's cost {}: not a valid bound",
+                    out.first.order, out.lower_bound, out.upper_bound);
+  if (first_valid && out.relative_gap <= o.gap_tolerance) {
     out.status = CertificateStatus::certified;
     out.certified_order = out.first.order;
   } else if (o.escalate && out.first.order == 1) {
@@ -85,7 +100,9 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
     try {
       out.second = relax(p, second);
       out.escalated = true;
-      out.lower_bound = std::max(out.lower_bound, out.second.lower_bound);
+      if (!first_valid) out.lower_bound = -std::numeric_limits<double>::infinity();
+      if (std::isfinite(out.second.lower_bound))
+        out.lower_bound = std::max(out.lower_bound, out.second.lower_bound);
       // The order-2 estimate may round to a better solution than the order-1 one.
       Eigen::VectorXd z2 = out.second.z;
       project_rotations(p, z2);
@@ -97,14 +114,19 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
         out.estimate = estimate_of(p, z2);
       }
       out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
-      if (out.relative_gap <= o.gap_tolerance) {
+      if (bound_is_valid(out.upper_bound, out.lower_bound, o.gap_tolerance) &&
+          out.relative_gap <= o.gap_tolerance) {
         out.status = CertificateStatus::certified;
         out.certified_order = 2;
+        out.note.clear();
       } else {
-        out.note = fmt::format("order 2 did not close the gap ({:.3g})", out.relative_gap);
+        out.note += fmt::format("{}order 2 did not close the gap ({:.3g})", out.note.empty() ? "" : "; ",
+                                out.relative_gap);
       }
     } catch (const std::length_error& e) {
-      out.note = fmt::format("order 2 skipped: {}", e.what());
+      out.note += fmt::format("{}order 2 skipped: {}", out.note.empty() ? "" : "; ", e.what());
+    } catch (const std::exception& e) {  // a solver failure at order 2 keeps the order-1 result
+      out.note += fmt::format("{}order 2 failed: {}", out.note.empty() ? "" : "; ", e.what());
     }
     out.escalation_time_s = core::seconds_since(te);
   }

@@ -6,8 +6,9 @@
 // the polished solution, relative gap (UB − LB) / max(UB, 1) (the cost is a χ², so below one σ² the gap is
 // absolute). The answer is certified optimal only if that gap is within `gap_tolerance`; the lower bound is
 // built from the returned matrices (relaxation.hpp), never from the solver's status word. When order 1 is not
-// tight, the next level of the hierarchy (order-2 moments on the cliques) is tried if its moment count is
-// affordable, and the report says whether it certifies.
+// tight, the next level of the hierarchy (order-2 moments on the same structure: for the dense one, over the
+// rotations with the translations minimised out) is tried if its moment count is affordable, and the report
+// says whether it certifies.
 //
 // Theorems 4.5.3–4.5.4 claim order 1 is always exact; it is not (the order-1 feasible set is the convex hull
 // of the circle, and the circle enters only through a concave constraint), which is why every answer carries
@@ -36,7 +37,7 @@ struct CertifyOptions {
   pgo::Options polish;  // Levenberg–Marquardt polish of the rounded solution (initial guess: supplied)
   double gap_tolerance =
       1e-6;  // relative gap (UB − LB) / max(UB, 1) at or below which the answer is certified (> 0)
-  bool escalate = true;                // try order 2 on the cliques when order 1 does not certify
+  bool escalate = true;                // try order 2 (same structure) when order 1 does not certify
   long escalation_max_moments = 4000;  // order 2 is attempted only up to this many moments (DSDP's Schur
                                        // complement is dense in the moments)
   void validate() const;

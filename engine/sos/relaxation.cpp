@@ -200,6 +200,11 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
       spec.blocks[0].push_back(static_cast<int>(k));
     }
     RelaxationResult out = relax_moments(spec, o);
+    // LᵀL ⪰ q when q has (rounding-level) negative eigenvalues: the relaxed cost is then above the true one
+    // by at most (1 + Σ (c² + s²)) |λ_min(q)| = poses · |λ_min(q)| on the feasible set.
+    const double clipped = es.eigenvalues()(0) < 0.0 ? -es.eigenvalues()(0) : 0.0;
+    out.bound_correction += static_cast<double>(p.poses) * clipped;
+    out.lower_bound -= static_cast<double>(p.poses) * clipped;
     Eigen::VectorXd z = Eigen::VectorXd::Zero(p.unknowns());
     for (std::size_t k = 0; k < rot.size(); ++k) z(rot[k]) = out.z(static_cast<Eigen::Index>(k));
     out.z = z;
@@ -230,7 +235,8 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
   record(out, sol, chk);
   out.blocks = 1, out.largest_block = n, out.constraints = sdp.constraints();
   const double trace = static_cast<double>(p.poses);  // X₀₀ + Σ (X_cc + X_ss) at any feasible rank-one X
-  out.bound_correction = -qs * trace * std::min(0.0, chk.s_min_eigenvalue);
+  // (λ ≥ 0 ? 0 : λ) rather than std::min(0, λ), so that a NaN eigenvalue reaches the bound
+  out.bound_correction = -qs * trace * (chk.s_min_eigenvalue >= 0.0 ? 0.0 : chk.s_min_eigenvalue);
   out.lower_bound = qs * chk.dual_objective - out.bound_correction;
   out.value = qs * chk.primal_objective;
   const Eig e = eig(sol.x[0]);

@@ -23,7 +23,8 @@
 //   carry. Each cost term lies in one clique (its nodes are adjacent). The SOS side (DSDP's primal X,
 //   projected onto the PSD cone) gives the lower bound f₀ − ⟨C, X⟩, corrected by the recomputed equality
 //   residuals times a bound on the monomials
-//   (|c|, |s| ≤ 1; translations: twice the largest first-order moment, at least 1).
+//   (|c|, |s| ≤ 1; translations: twice the largest first-order moment, at least 1 — a box, not a proof, so
+//   this bound is rigorous only up to that box; the dense bound is rigorous).
 //   Order 2 is the next level of the hierarchy (the escalation when order 1 is not tight).
 //
 // Tightness: the relaxation is exact when every moment block has rank one; `rank_ratio` = max over blocks of

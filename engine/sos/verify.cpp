@@ -62,6 +62,9 @@ void GlobalCertificateOptions::validate() const {
   if (bound_factorizations < 0)
     throw std::invalid_argument(fmt::format(
         "sos::GlobalCertificateOptions.bound_factorizations must be >= 0 (got {})", bound_factorizations));
+  if (!(gap_tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("sos::GlobalCertificateOptions.gap_tolerance must be > 0 (got {})", gap_tolerance));
 }
 
 void RefineOptions::validate() const {
@@ -139,23 +142,22 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   out.stationarity = sv.cwiseAbs().maxCoeff() / (out.scale * v.cwiseAbs().maxCoeff());
   out.stationary = out.stationarity <= o.stationarity_tolerance;
 
-  // Gershgorin: a lower bound on λ_min(S) that needs no factorization.
-  double gershgorin = std::numeric_limits<double>::infinity();
-  {
-    Eigen::VectorXd off = Eigen::VectorXd::Zero(n + 1), diag = Eigen::VectorXd::Zero(n + 1);
-    for (int c = 0; c < s.outerSize(); ++c)
-      for (SpMat::InnerIterator it(s, c); it; ++it) {
-        if (it.row() == c)
-          diag(c) = it.value();
-        else
-          off(c) += std::abs(it.value());
-      }
-    gershgorin = (diag - off).minCoeff();
-  }
-
-  // Positive definiteness of S + η I by sparse Cholesky (AMD ordering, one symbolic analysis).
+  // Positive definiteness of S + η D by sparse Cholesky (AMD ordering, one symbolic analysis), with D the
+  // diagonal that is 1 on v₀ and the rotations and 0 on translations and landmarks: every feasible v' has
+  // v'ᵀ D v' = poses, so success proves f(v') = v'ᵀ S v' + Σλ ≥ Σλ − η · poses for every feasible v' — a
+  // lower bound on the minimum, whatever the translations. (S's translation block AᵀA is positive definite
+  // for a connected graph, so the shift is needed only where the circles are.)
   SpMat identity(n + 1, n + 1);
-  identity.setIdentity();
+  {
+    std::vector<Triplet> d;
+    d.emplace_back(0, 0, 1.0);
+    for (int k = 0; k < n; ++k)
+      if (p.is_rotation(k)) d.emplace_back(k + 1, k + 1, 1.0);
+    identity.setFromTriplets(d.begin(), d.end());
+  }
+  double rotation_scale = q.coeff(0, 0);
+  for (int k = 0; k < n; ++k)
+    if (p.is_rotation(k)) rotation_scale = std::max(rotation_scale, q.coeff(k + 1, k + 1));
   Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
   const auto tf = core::Clock::now();
   llt.analyzePattern(s);
@@ -166,7 +168,7 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
     if (ok) out.factor_nonzeros = static_cast<long>(llt.matrixL().nestedExpression().nonZeros());
     return ok;
   };
-  out.eta = o.eta_relative * out.scale;
+  out.eta = o.eta_relative * rotation_scale;
   out.psd = positive_definite(out.eta);
   double best = std::numeric_limits<double>::infinity();  // smallest successful shift
   if (out.psd) {
@@ -193,8 +195,14 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
     }
   }
   out.factor_time_s = core::seconds_since(tf);
-  out.lambda_min_bound = std::max(gershgorin, std::isfinite(best) ? -best : gershgorin);
-  out.certified = out.stationary && out.psd;
+  out.lambda_min_bound = std::isfinite(best) ? -best : -std::numeric_limits<double>::infinity();
+  const double poses = static_cast<double>(p.poses);
+  out.lower_bound =
+      std::isfinite(best) ? out.multiplier_sum - best * poses : -std::numeric_limits<double>::infinity();
+  out.relative_gap = std::isfinite(out.lower_bound) && std::isfinite(out.cost)
+                         ? std::max(0.0, out.cost - out.lower_bound) / std::max(std::abs(out.cost), 1.0)
+                         : std::numeric_limits<double>::infinity();
+  out.certified = out.stationary && out.psd && out.relative_gap <= o.gap_tolerance;
   out.time_s = core::seconds_since(t0);
   return out;
 }
@@ -338,6 +346,7 @@ GlobalCertificateStudyOptions read_global_certificate_study_options(const core::
   o.refine.gradient_tolerance = t.number("refine_gradient_tolerance");
   o.certificate.eta_relative = t.number("eta_relative");
   o.certificate.stationarity_tolerance = t.number("stationarity_tolerance");
+  o.certificate.gap_tolerance = t.number("gap_tolerance");
   o.certificate.bound_factorizations = static_cast<int>(t.integer("bound_factorizations"));
   t.validate(o);
   return o;

@@ -14,16 +14,15 @@
 //   f(v') = v'ᵀ S v' + λ₀ + Σ λ_i ≥ λ₀ + Σ λ_i = f(z): z is a global minimizer of eq. 4.11/4.12 (and the
 //   order-1 relaxation is tight at it, its dual optimum being λ).
 //
-// Positive semidefiniteness is tested by a sparse Cholesky factorization of S + η I: success proves
-// λ_min(S) > −η. S has an exact zero eigenvalue (at v), so the shift must be strictly positive; the decision
-// uses η_tol = eta_relative · max_k Q_kk (Q's diagonal sets the scale of every entry of S, and a Cholesky
-// factorization's backward error is a small multiple of machine precision times that scale). The verdict is
-// "globally optimal" iff that factorization succeeds AND the stationarity residual ‖S v‖∞ / (max_k Q_kk ·
-// ‖v‖∞) is at most stationarity_tolerance: an inexact stationary point moves S's eigenvalues by about the
-// same relative amount, so stationarity_tolerance ≤ eta_relative is required. After the decision a few more
-// factorizations sharpen the reported bound (smaller shifts when the test passed, larger ones when it
-// failed); Gershgorin's bound is the fallback, so lambda_min_bound is always a proven lower bound (up to
-// rounding in the factorization, which η_tol dominates).
+// Positive semidefiniteness is tested by sparse Cholesky factorizations of S + η D, D = diag(1 on v₀ and the
+// rotations, 0 on translations and landmarks): success proves v'ᵀ S v' ≥ −η v'ᵀ D v' = −η · poses for every
+// feasible v', hence min f ≥ Σλ − η · poses (a bound that needs no bound on the translations; S's translation
+// block AᵀA is positive definite for a connected graph). S has an exact zero eigenvalue at v, so η > 0. The
+// decisive shift is η_tol = eta_relative × the largest diagonal entry of Q on v₀ and the rotations; after it
+// succeeds, smaller shifts η_tol · 10^{−k} sharpen the bound (larger ones after a failure measure how far S
+// is from PSD). The verdict is "globally optimal" iff the candidate is stationary (‖S v‖∞ / (max_k Q_kk ‖v‖∞)
+// ≤ stationarity_tolerance), S + η_tol D factors, and the proven gap (f(z) − (Σλ − η_best · poses)) /
+// max(f(z), 1) is at most gap_tolerance.
 //
 // The candidate must be a stationary point of f itself — keel.pgo minimizes the geodesic χ², whose
 // minimizer differs from f's by O(θ⁴) — so solutions from keel.pgo are refined on f first
@@ -46,22 +45,25 @@ namespace keel::sos {
 struct GlobalCertificateOptions {
   double eta_relative = 1e-7;            // decisive shift η_tol = eta_relative · max_k Q_kk (> 0, < 1)
   double stationarity_tolerance = 1e-8;  // ‖S v‖∞ / (max_k Q_kk ‖v‖∞) allowed (> 0, ≤ eta_relative)
+  double gap_tolerance = 1e-6;           // certified only if (f(z) − lower_bound) / max(f(z), 1) ≤ this (> 0)
   int bound_factorizations = 6;  // extra factorizations that sharpen lambda_min_bound after the decision
                                  // (≥ 0): shifts η_tol · 10^{∓k}
   void validate() const;         // throws std::invalid_argument naming the field and value
 };
 
 struct GlobalCertificate {
-  bool certified = false;         // stationary to tolerance and S + η_tol I positive definite
-  bool stationary = false;        // stationarity ≤ stationarity_tolerance
-  bool psd = false;               // the factorization of S + η_tol I succeeded
-  double cost = 0.0;              // f(z) = vᵀQv, original units
-  double multiplier_sum = 0.0;    // λ₀ + Σ λ_i (= f(z) − vᵀSv; equals cost at a stationary point)
-  double stationarity = 0.0;      // ‖S v‖∞ / (scale ‖v‖∞)
-  double scale = 0.0;             // max_k Q_kk
-  double eta = 0.0;               // η_tol, the decisive shift
-  double lambda_min_bound = 0.0;  // proven: λ_min(S) > lambda_min_bound (−smallest successful shift, or
-                                  // Gershgorin's bound when no shift tried succeeded)
+  bool certified = false;       // stationary, S + η_tol D positive definite, and relative_gap ≤ gap_tolerance
+  bool stationary = false;      // stationarity ≤ stationarity_tolerance
+  bool psd = false;             // the factorization of S + η_tol D succeeded
+  double cost = 0.0;            // f(z) = vᵀQv, original units
+  double multiplier_sum = 0.0;  // λ₀ + Σ λ_i (= f(z) − vᵀSv; equals cost at a stationary point)
+  double stationarity = 0.0;    // ‖S v‖∞ / (scale ‖v‖∞)
+  double scale = 0.0;           // max_k Q_kk
+  double eta = 0.0;             // η_tol = eta_relative × the largest diagonal entry of Q on v₀ and rotations
+  double lambda_min_bound = 0.0;  // proven: S + |lambda_min_bound| D ≻ 0 (−smallest successful shift; −inf
+                                  // when none succeeded)
+  double lower_bound = 0.0;       // proven lower bound on min f: Σλ − (smallest successful shift) · poses
+  double relative_gap = 0.0;      // (f(z) − lower_bound) / max(f(z), 1); +inf without a bound
   double failed_shift = 0.0;  // the largest shift tried whose factorization failed (0: none): λ_min(S) ≲ −it
   double min_rotation_multiplier = 0.0;  // min_i λ_i (0 without free poses), for the record
   int factorizations = 0;

@@ -107,7 +107,9 @@ inline void record_segment_study(keel::core::Results& r, const keel::sos::Segmen
     r.metric(k + ".rot_error.median", core::median(re));
     r.metric(k + ".rot_error.mean", core::mean_std(re).mean);
     if (landmarks) r.metric(k + ".landmark_error.median", core::median(le));
-    if (k != "sbsos") r.metric(k + ".local_minimum_rate", 100.0 * above / n);
+    // among the segments SBSOS solved (the only ones with a certified cost to compare with)
+    if (k != "sbsos")
+      r.metric(k + ".local_minimum_rate", te.empty() ? 0.0 : 100.0 * above / static_cast<double>(te.size()));
     r.series(k + ".trans_error", te);
     r.series(k + ".rot_error", re);
     r.series(k + ".cost", cost);

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/SparseCholesky>
+#include "sos/eigen_sparse.hpp"
 #include <algorithm>
 #include <cmath>
 #include <map>

@@ -22,7 +22,7 @@
 #pragma once
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCore>
+#include "sos/eigen_sparse.hpp"
 #include <vector>
 
 #include "graph/pose_graph.hpp"

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
+#include "sos/eigen_sparse.hpp"
 #include <algorithm>
 #include <cmath>
 #include <map>

@@ -34,6 +34,49 @@ void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
   if (i == j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", i));
 }
 
+Edge2 parse_edge_se2(detail::RecordScanner& sc) {
+  sc.expect(kEdgeSE2);
+  Edge2 e;
+  e.i = sc.id(1);
+  e.j = sc.id(2);
+  double v[9];
+  sc.numbers(3, 11, v);
+  e.measurement = SE2(v[0], v[1], v[2]);
+  e.information = detail::symmetric_from_upper<3>(v + 3);
+  if (auto why = detail::information_problem(e.information); !why.empty()) {
+    sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
+  }
+  e.line = sc.line();
+  return e;
+}
+
+Edge3 parse_edge_se3(detail::RecordScanner& sc) {
+  sc.expect(kEdgeSE3);
+  Edge3 e;
+  e.i = sc.id(1);
+  e.j = sc.id(2);
+  double v[28];
+  sc.numbers(3, 30, v);
+  Mat3 R;
+  std::string why;
+  if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
+  e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
+  const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
+  if (auto p = detail::information_problem(w_g2o); !p.empty())
+    sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
+  // (t, q_vec) -> (t, φ): q_vec ≈ φ/2, J = diag(I, ½I), Ω = Jᵀ Ω_g2o J.
+  Mat6 W = w_g2o;
+  W.block<3, 3>(0, 3) *= 0.5;
+  W.block<3, 3>(3, 0) *= 0.5;
+  W.block<3, 3>(3, 3) *= 0.25;
+  if (auto p = detail::information_problem(W); !p.empty()) {
+    sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
+  }
+  e.information = W;
+  e.line = sc.line();
+  return e;
+}
+
 PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
   detail::RecordScanner sc(text, name);
   PoseGraph2D g;
@@ -48,19 +91,8 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
       sc.numbers(2, 4, v);
       vertices.push_back({id, SE2(v[0], v[1], v[2]), sc.line()});
     } else if (tag == "EDGE_SE2") {
-      sc.expect(kEdgeSE2);
-      Edge2 e;
-      e.i = sc.id(1);
-      e.j = sc.id(2);
+      const Edge2 e = parse_edge_se2(sc);
       check_edge_ids(sc, e.i, e.j);
-      double v[9];
-      sc.numbers(3, 11, v);
-      e.measurement = SE2(v[0], v[1], v[2]);
-      e.information = detail::symmetric_from_upper<3>(v + 3);
-      if (auto why = detail::information_problem(e.information); !why.empty()) {
-        sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
-      }
-      e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_3d_tag(tag)) {
       sc.fail(fmt::format(
@@ -92,29 +124,8 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
       if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(5, 8, why);
       vertices.push_back({id, SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2])), sc.line()});
     } else if (tag == "EDGE_SE3:QUAT") {
-      sc.expect(kEdgeSE3);
-      Edge3 e;
-      e.i = sc.id(1);
-      e.j = sc.id(2);
+      const Edge3 e = parse_edge_se3(sc);
       check_edge_ids(sc, e.i, e.j);
-      double v[28];
-      sc.numbers(3, 30, v);
-      Mat3 R;
-      if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
-      e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
-      const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
-      if (auto p = detail::information_problem(w_g2o); !p.empty())
-        sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
-      // (t, q_vec) -> (t, φ): q_vec ≈ φ/2, J = diag(I, ½I), Ω = Jᵀ Ω_g2o J.
-      Mat6 W = w_g2o;
-      W.block<3, 3>(0, 3) *= 0.5;
-      W.block<3, 3>(3, 0) *= 0.5;
-      W.block<3, 3>(3, 3) *= 0.25;
-      if (auto p = detail::information_problem(W); !p.empty()) {
-        sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
-      }
-      e.information = W;
-      e.line = sc.line();
       g.edges.push_back(e);
     } else if (is_2d_tag(tag)) {
       sc.fail(fmt::format(
@@ -132,6 +143,52 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
 void put(std::string& s, double v) {
   s += ' ';
   s += detail::fmt17(v);
+}
+
+void put_edge(std::string& s, const Edge2& e) {
+  s += fmt::format("EDGE_SE2 {} {}", e.i, e.j);
+  put(s, e.measurement.translation().x());
+  put(s, e.measurement.translation().y());
+  put(s, e.measurement.angle());
+  for (int r = 0; r < 3; ++r)
+    for (int c = r; c < 3; ++c) put(s, e.information(r, c));
+  s += '\n';
+}
+
+void put_edge(std::string& s, const Edge3& e) {
+  double q[4];
+  s += fmt::format("EDGE_SE3:QUAT {} {}", e.i, e.j);
+  for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
+  detail::quaternion_from_rotation(e.measurement.rotation(), q);
+  for (double x : q) put(s, x);
+  // (t, φ) -> (t, q_vec): Ω_g2o = K Ω K, K = diag(I, 2I).
+  Mat6 W = e.information;
+  W.block<3, 3>(0, 3) *= 2.0;
+  W.block<3, 3>(3, 0) *= 2.0;
+  W.block<3, 3>(3, 3) *= 4.0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c) put(s, W(r, c));
+  s += '\n';
+}
+
+// Edge-only files (read_g2o_edges_*): every record is an edge of the one tag; ids are not checked against
+// each other (the two ids live in different id spaces).
+template <class Edge>
+std::vector<Edge> parse_g2o_edges(std::string_view text, const std::string& name, std::string_view edge_tag,
+                                  Edge (*parse)(detail::RecordScanner&)) {
+  detail::RecordScanner sc(text, name);
+  std::vector<Edge> edges;
+  while (sc.next()) {
+    const std::string_view tag = sc.tag();
+    if (tag != edge_tag) {
+      sc.fail(
+          fmt::format("unexpected tag {}: an edge file holds {} records only (no vertices, no other edges)",
+                      detail::quote_token(tag), edge_tag));
+    }
+    edges.push_back(parse(sc));
+  }
+  if (edges.empty()) detail::fail_at(name, 0, fmt::format("no {} record (an empty edge file)", edge_tag));
+  return edges;
 }
 
 std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
@@ -153,15 +210,7 @@ std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
       s += '\n';
     }
   }
-  for (const auto& e : g.edges) {
-    s += fmt::format("EDGE_SE2 {} {}", e.i, e.j);
-    put(s, e.measurement.translation().x());
-    put(s, e.measurement.translation().y());
-    put(s, e.measurement.angle());
-    for (int r = 0; r < 3; ++r)
-      for (int c = r; c < 3; ++c) put(s, e.information(r, c));
-    s += '\n';
-  }
+  for (const auto& e : g.edges) put_edge(s, e);
   return s;
 }
 
@@ -180,20 +229,7 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
       s += '\n';
     }
   }
-  for (const auto& e : g.edges) {
-    s += fmt::format("EDGE_SE3:QUAT {} {}", e.i, e.j);
-    for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
-    detail::quaternion_from_rotation(e.measurement.rotation(), q);
-    for (double x : q) put(s, x);
-    // (t, φ) -> (t, q_vec): Ω_g2o = K Ω K, K = diag(I, 2I).
-    Mat6 W = e.information;
-    W.block<3, 3>(0, 3) *= 2.0;
-    W.block<3, 3>(3, 0) *= 2.0;
-    W.block<3, 3>(3, 3) *= 4.0;
-    for (int r = 0; r < 6; ++r)
-      for (int c = r; c < 6; ++c) put(s, W(r, c));
-    s += '\n';
-  }
+  for (const auto& e : g.edges) put_edge(s, e);
   return s;
 }
 
@@ -210,6 +246,29 @@ PoseGraph3D read_g2o_3d(const std::filesystem::path& file) {
 }
 PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name) {
   return parse_g2o_3d(detail::read_stream_text(in, name), name);
+}
+
+std::vector<Edge2> read_g2o_edges_2d(const std::filesystem::path& file) {
+  return parse_g2o_edges<Edge2>(detail::read_file_text(file), file.string(), "EDGE_SE2", parse_edge_se2);
+}
+std::vector<Edge2> read_g2o_edges_2d(std::istream& in, const std::string& name) {
+  return parse_g2o_edges<Edge2>(detail::read_stream_text(in, name), name, "EDGE_SE2", parse_edge_se2);
+}
+std::vector<Edge3> read_g2o_edges_3d(const std::filesystem::path& file) {
+  return parse_g2o_edges<Edge3>(detail::read_file_text(file), file.string(), "EDGE_SE3:QUAT", parse_edge_se3);
+}
+std::vector<Edge3> read_g2o_edges_3d(std::istream& in, const std::string& name) {
+  return parse_g2o_edges<Edge3>(detail::read_stream_text(in, name), name, "EDGE_SE3:QUAT", parse_edge_se3);
+}
+void write_g2o_edges(const std::vector<Edge2>& edges, const std::filesystem::path& file) {
+  std::string s;
+  for (const auto& e : edges) put_edge(s, e);
+  detail::write_file_atomically(file, s);
+}
+void write_g2o_edges(const std::vector<Edge3>& edges, const std::filesystem::path& file) {
+  std::string s;
+  for (const auto& e : edges) put_edge(s, e);
+  detail::write_file_atomically(file, s);
 }
 
 void write_g2o(const PoseGraph2D& graph, std::ostream& out, const G2oWriteOptions& options) {

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "graph/pose_graph.hpp"
 
@@ -44,5 +45,18 @@ void write_g2o(const PoseGraph2D& graph, const std::filesystem::path& file,
                const G2oWriteOptions& options = {});
 void write_g2o(const PoseGraph3D& graph, const std::filesystem::path& file,
                const G2oWriteOptions& options = {});
+
+/// Edge-only g2o files: the inter-robot candidate loop closures of `keel pcm` (docs/USING.md). Every record
+/// is an `EDGE_SE2` (2D) or `EDGE_SE3:QUAT` (3D) line in the format above; `i` is a pose id of robot a and
+/// `j` a pose id of robot b (two id spaces, so i = j is allowed), and the edge measures z ≈ (T^a_i)⁻¹ T^b_j
+/// with the information of its residual as in pose_graph.hpp. Throws ParseError (file, line, field) for a
+/// malformed record, any other tag, or a file without edges.
+std::vector<Edge2> read_g2o_edges_2d(const std::filesystem::path& file);
+std::vector<Edge2> read_g2o_edges_2d(std::istream& in, const std::string& name);
+std::vector<Edge3> read_g2o_edges_3d(const std::filesystem::path& file);
+std::vector<Edge3> read_g2o_edges_3d(std::istream& in, const std::string& name);
+/// Writes the edges in the same format (%.17g: a read gives back every field to the last bit), atomically.
+void write_g2o_edges(const std::vector<Edge2>& edges, const std::filesystem::path& file);
+void write_g2o_edges(const std::vector<Edge3>& edges, const std::filesystem::path& file);
 
 }  // namespace keel::graph

@@ -33,7 +33,10 @@ using keel::graph::ParseError;
 using keel::graph::G2oWriteOptions;
 using keel::graph::read_g2o_2d;
 using keel::graph::read_g2o_3d;
+using keel::graph::read_g2o_edges_2d;
+using keel::graph::read_g2o_edges_3d;
 using keel::graph::write_g2o;
+using keel::graph::write_g2o_edges;
 // iSAM text and ground truth
 using keel::graph::GroundTruth2D;
 using keel::graph::GroundTruth3D;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -562,4 +563,57 @@ TEST_CASE("ground truth of a synthetic grid: snapping makes the chain exact") {
   CHECK(exact.max_edge_rotation_error < 1e-15);
   CHECK(exact.poses[2].translation() == Vec2(1, 1));
   CHECK(exact.landmarks[0] == Vec2(0.5, 1.5));  // pose 2 = (1, 1, π)
+}
+
+TEST_CASE("edge-only g2o files (inter-robot candidates): exact round trip, two id spaces, located errors") {
+  namespace fs = std::filesystem;
+  keel::core::Rng rng(11);
+  const PoseGraph2D g2 = random_graph_2d(rng, 12, 6, 0);
+  const PoseGraph3D g3 = random_graph_3d(rng, 12, 6);
+  std::vector<Edge2> e2 = g2.edges;
+  std::vector<Edge3> e3 = g3.edges;
+  e2[0].j = e2[0].i;  // the ids are in two id spaces: (i, i) is a valid candidate
+  e3[0].j = e3[0].i;
+  const fs::path f2 = fs::temp_directory_path() / "keel_edges_2d.g2o";
+  const fs::path f3 = fs::temp_directory_path() / "keel_edges_3d.g2o";
+  write_g2o_edges(e2, f2);
+  write_g2o_edges(e3, f3);
+  const auto b2 = read_g2o_edges_2d(f2);
+  const auto b3 = read_g2o_edges_3d(f3);
+  REQUIRE(b2.size() == e2.size());
+  REQUIRE(b3.size() == e3.size());
+  for (std::size_t k = 0; k < e2.size(); ++k) {
+    CHECK(b2[k].i == e2[k].i);
+    CHECK(b2[k].j == e2[k].j);
+    CHECK(b2[k].line == static_cast<int>(k) + 1);
+    CHECK((b2[k].measurement.log() - e2[k].measurement.log()).norm() == 0.0);
+    // The writer stores the upper triangle (the generator's lower one may differ in the last bit).
+    const Mat3 d = b2[k].information - e2[k].information;
+    CHECK(d.triangularView<Eigen::Upper>().toDenseMatrix().norm() == 0.0);
+  }
+  for (std::size_t k = 0; k < e3.size(); ++k) {
+    CHECK(b3[k].i == e3[k].i);
+    CHECK(b3[k].j == e3[k].j);
+    CHECK((b3[k].measurement.matrix() - e3[k].measurement.matrix()).norm() <= 1e-14);
+    CHECK((b3[k].information - e3[k].information).norm() <= 1e-12 * e3[k].information.norm());
+  }
+  fs::remove(f2);
+  fs::remove(f3);
+
+  auto edges2 = [](const std::string& text) {
+    return error_of([&] {
+      std::istringstream in(text);
+      (void)read_g2o_edges_2d(in, "cand.g2o");
+    });
+  };
+  CHECK_CONTAINS(edges2("VERTEX_SE2 0 0 0 0\n"),
+                 "cand.g2o:1: unexpected tag 'VERTEX_SE2': an edge file holds EDGE_SE2 records only");
+  CHECK_CONTAINS(edges2("# nothing\n"), "cand.g2o: no EDGE_SE2 record (an empty edge file)");
+  CHECK_CONTAINS(edges2("EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n"), "cand.g2o:1: EDGE_SE2: expected 11 fields");
+  CHECK_CONTAINS(edges2("EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n"), "cand.g2o:1: EDGE_SE2 fields 6-11");
+  const std::string m3 = error_of([] {
+    std::istringstream in("EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n");
+    (void)read_g2o_edges_3d(in, "cand3.g2o");
+  });
+  CHECK_CONTAINS(m3, "cand3.g2o:1: unexpected tag 'EDGE_SE2': an edge file holds EDGE_SE3:QUAT records only");
 }

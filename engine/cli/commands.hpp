@@ -1,0 +1,34 @@
+// The `keel` command's pieces: the reproduction commands (repro.cpp) and the commands that run keel on a
+// user's files (tools.cpp). Included after the importing file's `import`s (DESIGN rule 4).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <stdexcept>
+#include <string>
+
+namespace keel::cli {
+
+// Exit codes of every subcommand (documented in `keel --help` and docs/USING.md).
+enum Exit : int {
+  ok = 0,         // done
+  failed = 1,     // the work ran and its answer is "no": a solver failed, results differ or leave tolerance
+  usage = 2,      // bad command line or experiment config
+  bad_input = 3,  // an input file that cannot be read or parsed, or values the engine refuses
+};
+
+// Thrown by a command whose work ran to completion with a negative answer (exit 1); the message is printed.
+struct CommandFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Options every file command takes.
+struct Common {
+  bool quiet = false;  // no progress lines on stderr
+  bool json = false;   // machine-readable output on stdout
+};
+
+void add_repro_commands(CLI::App& app);
+void add_tool_commands(CLI::App& app);
+
+}  // namespace keel::cli

@@ -148,9 +148,9 @@ void run_check(const CheckArgs& a) {
         s.components, s.largest_component, s.poses + s.landmarks);
   }
   fmt::print(
-      "information  symmetric positive definite (checked on reading); {} edges with cross terms; condition "
-      "number ≤ {:.3g}\n",
-      s.cross_term_edges, s.condition_max);
+      "information  symmetric positive definite (checked on reading); cross terms in {} of {} edges; "
+      "condition number ≤ {:.3g}\n",
+      s.cross_term_edges, s.edges, s.condition_max);
   fmt::print("noise        σ translation {:.4g} … {:.4g} m, σ rotation {:.4g} … {:.4g} rad (√diag Ω⁻¹)\n",
              s.sigma_translation_min, s.sigma_translation_max, s.sigma_rotation_min, s.sigma_rotation_max);
 }
@@ -418,7 +418,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage)
   }
   if (sa.common.json) {
     if (sa.out.empty())
-      fmt::print("{}\n", out.dump(1));
+      fmt::print("{}\n", out.dump());
     else
       fmt::print("{}\n", json{{"out", sa.out}, {"solve", out["solve"]}}.dump(1));
     return;

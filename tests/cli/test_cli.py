@@ -1,0 +1,220 @@
+"""Tests of the `keel` command on a user's files (check, solve, marginals, pcm, split).
+
+Run by CTest (cli.tools) with KEEL set to the binary; from this folder: KEEL=../../build/release/keel
+/usr/bin/python3 -m unittest -v test_cli. Golden outputs are in golden/, small synthetic graphs in data/; the
+City10000 and parking-garage files come from the data sets keel's experiments use (found like keel.graph finds
+them: $KEEL_DATASETS, <repo>/datasets/cache, <repo>/../shared/datasets).
+"""
+import json
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+KEEL = os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel"))
+
+
+def dataset(name, path):
+    roots = [os.environ.get("KEEL_DATASETS"), os.path.join(REPO, "datasets", "cache"),
+             os.path.join(REPO, "..", "shared", "datasets")]
+    for root in roots:
+        if root and os.path.exists(os.path.join(root, name, path)):
+            return os.path.join(root, name, path)
+    raise unittest.SkipTest(f"data set file {name}/{path} not found in {roots}")
+
+
+def keel(*args, expect=0):
+    """Runs keel from this folder; checks the exit code; returns (stdout, stderr)."""
+    p = subprocess.run([KEEL, *args], cwd=HERE, capture_output=True, text=True, timeout=300)
+    if p.returncode != expect:
+        raise AssertionError(f"keel {' '.join(args)}: exit {p.returncode}, expected {expect}\n"
+                             f"stdout:\n{p.stdout}\nstderr:\n{p.stderr}")
+    return p.stdout, p.stderr
+
+
+def keel_json(*args):
+    out, _ = keel(*args, "--json", "--quiet")
+    return json.loads(out)
+
+
+def se2_matrix(x, y, th):
+    c, s = math.cos(th), math.sin(th)
+    return np.array([[c, -s, x], [s, c, y], [0, 0, 1.0]])
+
+
+class Check(unittest.TestCase):
+    def test_golden_text(self):
+        for name in ("square", "islands"):
+            out, _ = keel("check", f"data/{name}.g2o")
+            with open(os.path.join(HERE, "golden", f"check_{name}.txt")) as f:
+                self.assertEqual(out, f.read(), name)
+
+    def test_json_3d(self):
+        s = keel_json("check", dataset("parking-garage", "se-sync/parking-garage.g2o"))
+        self.assertEqual((s["dimension"], s["format"], s["poses"], s["components"]), (3, "g2o", 1661, 1))
+        self.assertEqual(s["edges"], s["odometry"] + s["loop_closures"])
+
+
+class Solve(unittest.TestCase):
+    def test_summary_and_round_trip(self):
+        s = keel_json("solve", "data/square.g2o")["summary"]
+        self.assertEqual(s["termination"], "converged")
+        self.assertAlmostEqual(s["final_chi2"], 2 * s["final_cost"], places=12)
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "solved.g2o")
+            keel("solve", "data/square.g2o", "--out", out, "--quiet")
+            # Started at its own solution, the solve has nothing left to do: the same cost, to rounding.
+            again = keel_json("solve", out, "--init", "as-read")["summary"]
+            self.assertAlmostEqual(again["initial_cost"], s["final_cost"], delta=1e-9 * s["final_cost"])
+            self.assertLessEqual(again["final_cost"], s["final_cost"] * (1 + 1e-9))
+            # The input's format for an unknown extension; iSAM text for .txt.
+            keel("solve", "data/square.g2o", "--out", os.path.join(d, "solved.sol"), "--quiet")
+            with open(os.path.join(d, "solved.sol")) as f:
+                self.assertTrue(f.readline().startswith("VERTEX_SE2 0 "))
+            keel("solve", "data/square.g2o", "--out", os.path.join(d, "solved.txt"), "--quiet")
+            self.assertEqual(keel_json("check", os.path.join(d, "solved.txt"))["format"], "isam")
+
+    def test_robust_and_init_options_reach_the_solver(self):
+        plain = keel_json("solve", "data/square.g2o")["summary"]
+        dcs = keel_json("solve", "data/square.g2o", "--robust", "dcs", "--robust-param", "0.01")["summary"]
+        self.assertLess(dcs["final_cost"], plain["final_cost"])  # DCS down-weights the loop closures
+        rnd = keel_json("solve", "data/square.g2o", "--init", "random", "--seed", "3")["summary"]
+        self.assertNotEqual(rnd["initial_cost"], plain["initial_cost"])
+
+    def test_3d(self):
+        s = keel_json("solve", dataset("parking-garage", "se-sync/parking-garage.g2o"))["summary"]
+        self.assertEqual(s["termination"], "converged")
+
+
+class Marginals(unittest.TestCase):
+    def test_closed_form_of_one_edge(self):
+        # Pose 0 fixed at the identity, one edge z with residual information Ω: T1 = z exp(r) with r ~ N(0, Ω⁻¹),
+        # so the left-perturbation covariance of T1 is Ad(z) Ω⁻¹ Ad(z)ᵀ.
+        m = keel_json("marginals", "data/pair.g2o", "--poses", "1")
+        x, y, th = 1.5, -0.5, 0.7
+        W = np.array([[40, 3, 1], [3, 25, -2], [1, -2, 90.0]])
+        R = se2_matrix(0, 0, th)[:2, :2]
+        Ad = np.eye(3)
+        Ad[:2, :2] = R
+        Ad[:2, 2] = [y, -x]
+        expected = Ad @ np.linalg.inv(W) @ Ad.T
+        np.testing.assert_allclose(np.array(m["covariance"]), expected, rtol=1e-9, atol=1e-15)
+
+    def test_pairs_agree_with_the_joint_of_their_poses(self):
+        m_pairs = keel_json("marginals", "data/square.g2o", "--pairs", "2:6,7:3")
+        m_joint = keel_json("marginals", "data/square.g2o", "--poses", "2,6")
+        a = np.array(m_pairs["pairs"][0]["covariance"])
+        np.testing.assert_allclose(a, np.array(m_joint["covariance"]), rtol=1e-10, atol=1e-16)
+        np.testing.assert_allclose(a, a.T, rtol=0, atol=1e-16)
+        self.assertGreater(np.linalg.eigvalsh(a).min(), 0)
+        # The gauge pose has no uncertainty.
+        g = np.array(keel_json("marginals", "data/square.g2o", "--pairs", "0:5")["pairs"][0]["covariance"])
+        self.assertEqual(np.abs(g[:3, :]).max(), 0.0)
+
+    def test_pair_file_and_out(self):
+        with tempfile.TemporaryDirectory() as d:
+            pairs = os.path.join(d, "pairs.txt")
+            with open(pairs, "w") as f:
+                f.write("# i j\n1 2\n3 7\n")
+            out = os.path.join(d, "m.json")
+            keel("marginals", "data/square.g2o", "--pairs", pairs, "--out", out, "--quiet")
+            with open(out) as f:
+                m = json.load(f)
+            self.assertEqual([(p["i"], p["j"]) for p in m["pairs"]], [(1, 2), (3, 7)])
+            self.assertEqual(np.array(m["pairs"][1]["covariance"]).shape, (6, 6))
+
+    def test_3d_pairs(self):
+        garage = dataset("parking-garage", "se-sync/parking-garage.g2o")
+        m = keel_json("marginals", garage, "--pairs", "10:500")
+        a = np.array(m["pairs"][0]["covariance"])
+        self.assertEqual(a.shape, (12, 12))
+        self.assertGreater(np.linalg.eigvalsh(a).min(), 0)
+
+
+class Pcm(unittest.TestCase):
+    def test_city_split_golden(self):
+        city = dataset("city10000", "isam/city10000.txt")
+        truth = dataset("city10000", "derived/city10000_groundtruth_poses.txt")
+        with tempfile.TemporaryDirectory() as d:
+            split = keel_json("split", city, "--ground-truth", truth, "--out-dir", d, "--seed", "1")
+            self.assertEqual((split["candidates"], split["inliers"]), (115, 15))
+            merged = os.path.join(d, "merged.g2o")
+            r = keel_json("pcm", "--a", f"{d}/a.g2o", "--b", f"{d}/b.g2o", "--candidates", f"{d}/candidates.g2o",
+                          "--labels", f"{d}/labels.txt", "--merged", merged, "--out", f"{d}/pcm.json")
+            with open(os.path.join(HERE, "golden", "pcm_city_seed1.json")) as f:
+                golden = json.load(f)
+            for key in ("candidates", "selected", "status", "upper_bound", "consistent_pairs", "true_positives",
+                        "false_positives"):
+                self.assertEqual(r[key], golden[key], key)
+            self.assertAlmostEqual(r["gamma"], 6.033327, places=5)  # F⁻¹_χ²(3)(0.89)
+            # Every selected pair is consistent (eq. 2.3), read back from Q in --out.
+            with open(f"{d}/pcm.json") as f:
+                full = json.load(f)
+            q = np.array(full["q"]).reshape(r["candidates"], r["candidates"])
+            sel = [s["candidate"] for s in r["selected"]]
+            for u in sel:
+                for v in sel:
+                    if u != v:
+                        self.assertLessEqual(q[u, v], r["gamma"])
+            # The merged map holds both robots and is connected through the selected candidates.
+            c = keel_json("check", merged)
+            self.assertEqual((c["poses"], c["components"]), (1500, 1))
+            # Independent composition (the ablation of Table 2.1) runs on the same files.
+            ind = keel_json("pcm", "--a", f"{d}/a.g2o", "--b", f"{d}/b.g2o", "--candidates",
+                            f"{d}/candidates.g2o", "--composition", "independent")
+            self.assertEqual(ind["composition"], "independent")
+
+
+class BadInput(unittest.TestCase):
+    def error(self, code, text, *args):
+        _, err = keel(*args, expect=code)
+        self.assertIn(text, err)
+
+    def test_every_class_gives_a_located_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            bad = os.path.join(d, "bad.g2o")
+            with open(bad, "w") as f:
+                f.write("VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 1 1 0 abc 1 0 0 1 0 1\n")
+            self.error(3, f"{bad}:2: EDGE_SE2 field 5 (dtheta): 'abc' is not a number", "check", bad)
+            self.error(3, f"{bad}:2: EDGE_SE2 field 5 (dtheta)", "solve", bad)
+            self.error(3, "cannot open file", "solve", os.path.join(d, "missing.g2o"))
+            self.error(3, "unknown pgo::InitialGuess 'lm'", "solve", "data/square.g2o", "--init", "lm")
+            self.error(3, "unknown pgo::RobustKernel 'tukey'", "solve", "data/square.g2o", "--robust", "tukey")
+            self.error(2, "--bogus", "solve", "data/square.g2o", "--bogus")
+            self.error(2, "file is required", "solve")
+            self.error(2, "give exactly one of --pairs and --poses", "marginals", "data/square.g2o")
+            self.error(3, "--pairs: pose 8 is not in the graph (it has 8 poses: 0 … 7)", "marginals",
+                       "data/square.g2o", "--pairs", "1:8")
+            self.error(3, "--pairs: '1-2' is not a pair 'i:j'", "marginals", "data/square.g2o", "--pairs", "1-2")
+            self.error(3, "has no edge between poses 2 and 3", "marginals", "data/islands.g2o", "--poses", "1")
+            self.error(1, "not positive definite", "marginals", "data/islands.g2o", "--poses", "1", "--init",
+                       "as-read")
+            cand = os.path.join(d, "cand.g2o")
+            with open(cand, "w") as f:
+                f.write("EDGE_SE2 0 9 1 0 0 1 0 0 1 0 1\n")
+            self.error(3, "candidate 0 (line 1): robot b has no pose 9 (it has 8 poses: 0 … 7)", "pcm", "--a",
+                       "data/square.g2o", "--b", "data/square.g2o", "--candidates", cand)
+            with open(cand, "w") as f:
+                f.write("VERTEX_SE2 0 0 0 0\n")
+            self.error(3, f"{cand}:1: unexpected tag 'VERTEX_SE2'", "pcm", "--a", "data/square.g2o", "--b",
+                       "data/square.g2o", "--candidates", cand)
+            with open(cand, "w") as f:
+                f.write("EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 2 3 1 0 0 1 0 0 1 0 1\n")
+            self.error(3, "app::PcmOptions: p must be in (0, 1) (got 1.5)", "pcm", "--a", "data/square.g2o",
+                       "--b", "data/square.g2o", "--candidates", cand, "--p", "1.5")
+            labels = os.path.join(d, "labels.txt")
+            with open(labels, "w") as f:
+                f.write("0 inlier -1\n1 outlier -1\n")
+            self.error(3, f"{labels}:2: label field 2 (kind)", "pcm", "--a", "data/square.g2o", "--b",
+                       "data/square.g2o", "--candidates", cand, "--labels", labels)
+            self.error(3, "keel split supports 2D graphs", "split",
+                       dataset("parking-garage", "se-sync/parking-garage.g2o"), "--ground-truth", bad, "--out-dir", d)
+
+
+if __name__ == "__main__":
+    unittest.main()

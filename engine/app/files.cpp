@@ -84,23 +84,33 @@ void count_components(GraphSummary& s, Components& cc, int variables) {
   for (const auto& [root, n] : size) s.largest_component = std::max(s.largest_component, n);
 }
 
+// Poses of a graph: its initial estimate, or (for a graph built in memory without one) 1 + the largest id an
+// edge names.
+template <class Graph>
+int pose_count(const Graph& g) {
+  int n = static_cast<int>(g.poses.size());
+  for (const auto& e : g.edges) n = std::max({n, e.i + 1, e.j + 1});
+  return n;
+}
+
 template <class G, class Edge, class Graph>
 std::vector<pcm::InterRobotMeasurement<G>> candidates_from_edges(const Graph& a, const Graph& b,
                                                                  const std::vector<Edge>& edges) {
   if (edges.empty()) throw std::invalid_argument("run_pcm: the candidate list is empty");
+  const int na = pose_count(a), nb = pose_count(b);
   std::vector<pcm::InterRobotMeasurement<G>> out;
   out.reserve(edges.size());
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const Edge& e = edges[k];
     const std::string where =
         e.line > 0 ? fmt::format("candidate {} (line {})", k, e.line) : fmt::format("candidate {}", k);
-    if (e.i < 0 || e.i >= static_cast<int>(a.poses.size())) {
-      throw std::invalid_argument(fmt::format("{}: robot a has no pose {} (it has {} poses: 0 … {})", where,
-                                              e.i, a.poses.size(), a.poses.size() - 1));
+    if (e.i < 0 || e.i >= na) {
+      throw std::invalid_argument(
+          fmt::format("{}: robot a has no pose {} (it has {} poses: 0 … {})", where, e.i, na, na - 1));
     }
-    if (e.j < 0 || e.j >= static_cast<int>(b.poses.size())) {
-      throw std::invalid_argument(fmt::format("{}: robot b has no pose {} (it has {} poses: 0 … {})", where,
-                                              e.j, b.poses.size(), b.poses.size() - 1));
+    if (e.j < 0 || e.j >= nb) {
+      throw std::invalid_argument(
+          fmt::format("{}: robot b has no pose {} (it has {} poses: 0 … {})", where, e.j, nb, nb - 1));
     }
     pcm::InterRobotMeasurement<G> m;
     m.pose_a = e.i;
@@ -125,9 +135,9 @@ PcmRun<G> run_pcm_impl(const Graph& ga, const Graph& gb, const std::vector<Edge>
   };
   PcmRun<G> run;
   run.candidates = candidates_from_edges<G>(ga, gb, edges);
-  say(fmt::format("solving robot a ({} poses, {} edges)", ga.poses.size(), ga.edges.size()));
+  say(fmt::format("solving robot a ({} poses, {} edges)", pose_count(ga), ga.edges.size()));
   run.a = eval::solve_local(ga, o.local);
-  say(fmt::format("solving robot b ({} poses, {} edges)", gb.poses.size(), gb.edges.size()));
+  say(fmt::format("solving robot b ({} poses, {} edges)", pose_count(gb), gb.edges.size()));
   run.b = eval::solve_local(gb, o.local);
   say(fmt::format("joint marginals of the poses {} candidates touch", run.candidates.size()));
   const auto maps = eval::local_maps(run.a, run.b, run.candidates);
@@ -253,8 +263,17 @@ sim::CandidateSet2 split_files(const graph::PoseGraph2D& graph, const std::vecto
   const auto scenario = sim::split_two_robots(graph, ground_truth, options.split);
   auto set = sim::generate_candidates(scenario, options.candidates, options.seed, 0);
   std::filesystem::create_directories(dir);
-  graph::write_pose_graph(scenario.robot_a, dir / "a.g2o");
-  graph::write_pose_graph(scenario.robot_b, dir / "b.g2o");
+  // The local graphs with vertices: the input's poses re-expressed (split_two_robots), or chained odometry.
+  auto with_poses = [](graph::PoseGraph2D g) {
+    if (g.poses.empty()) {
+      pgo::Options o;
+      o.initial_guess = pgo::InitialGuess::odometry;
+      g.poses = pgo::initial_estimate(g, o).poses;
+    }
+    return g;
+  };
+  graph::write_pose_graph(with_poses(scenario.robot_a), dir / "a.g2o");
+  graph::write_pose_graph(with_poses(scenario.robot_b), dir / "b.g2o");
   std::vector<graph::Edge2> edges;
   std::string labels = "# candidate kind group (written by keel split; inlier = a true loop closure)\n";
   for (std::size_t k = 0; k < set.candidates.size(); ++k) {

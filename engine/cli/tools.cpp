@@ -427,7 +427,8 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage)
   fmt::print(
       "marginals    {} ({}), gauge pose 0 fixed, left perturbation; factorization {:.3f} s, extraction "
       "{:.3f} s\n",
-      pairs.empty() ? fmt::format("joint of {} poses", ids.size()) : fmt::format("{} pairs", pairs.size()),
+      pairs.empty() ? fmt::format("joint of {} poses", ids.size())
+                    : fmt::format("{} pair{}", pairs.size(), pairs.size() == 1 ? "" : "s"),
       planar ? "ξ = (ρx, ρy, θ)" : "ξ = (ρ, φ)", out["factorization_time_s"].get<double>(),
       extraction_time_s);
   // The first block on screen; all of them in --out.

@@ -49,8 +49,8 @@ void quaternion_of(const lie::SE3& T, double* xyzw);
 Array poses_to_array(const std::vector<lie::SE2>& poses);
 Array poses_to_array(const std::vector<lie::SE3>& poses);
 /// Throws std::invalid_argument naming `who` unless the array is (n, 3) (resp. (n, 7)) and finite.
-std::vector<lie::SE2> poses2_from_array(const py::array& a, const std::string& who);
-std::vector<lie::SE3> poses3_from_array(const py::array& a, const std::string& who);
+std::vector<lie::SE2> poses2_from_array(const py::object& a, const std::string& who);
+std::vector<lie::SE3> poses3_from_array(const py::object& a, const std::string& who);
 
 // ---- edges
 // ----------------------------------------------------------------------------------------------------
@@ -71,9 +71,9 @@ Array edge_information(const std::vector<graph::Edge2>& edges);   // (m, 3, 3)
 Array edge_information(const std::vector<graph::Edge3>& edges);   // (m, 6, 6)
 /// Edges from (m, 2) ids, (m, 3|7) measurements and (m, d, d) information (None: identity). Throws
 /// std::invalid_argument naming `who` on a shape mismatch, a negative id or a non-finite number.
-std::vector<graph::Edge2> edges2_from_arrays(const py::array& ids, const py::array& measurements,
+std::vector<graph::Edge2> edges2_from_arrays(const py::object& ids, const py::object& measurements,
                                              const py::object& information, const std::string& who);
-std::vector<graph::Edge3> edges3_from_arrays(const py::array& ids, const py::array& measurements,
+std::vector<graph::Edge3> edges3_from_arrays(const py::object& ids, const py::object& measurements,
                                              const py::object& information, const std::string& who);
 
 /// (m, 2) int array or sequence of pairs -> pairs; throws std::invalid_argument naming `who`.

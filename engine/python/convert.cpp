@@ -13,7 +13,7 @@ namespace keel::python {
 namespace {
 
 // A C-ordered float64 copy of `a` with the given number of dimensions, or std::invalid_argument.
-Array as_array(const py::array& a, int ndim, const std::string& who, const char* what) {
+Array as_array(const py::object& a, int ndim, const std::string& who, const char* what) {
   Array out = Array::ensure(a);
   if (!out) {
     PyErr_Clear();
@@ -67,7 +67,7 @@ Array poses_to_array(const std::vector<lie::SE3>& poses) {
   return out;
 }
 
-std::vector<lie::SE2> poses2_from_array(const py::array& a, const std::string& who) {
+std::vector<lie::SE2> poses2_from_array(const py::object& a, const std::string& who) {
   const Array p = as_array(a, 2, who, "2D poses");
   if (p.shape(1) != 3)
     throw std::invalid_argument(
@@ -82,7 +82,7 @@ std::vector<lie::SE2> poses2_from_array(const py::array& a, const std::string& w
   return out;
 }
 
-std::vector<lie::SE3> poses3_from_array(const py::array& a, const std::string& who) {
+std::vector<lie::SE3> poses3_from_array(const py::object& a, const std::string& who) {
   const Array p = as_array(a, 2, who, "3D poses");
   if (p.shape(1) != 7)
     throw std::invalid_argument(fmt::format(
@@ -128,7 +128,7 @@ Array edge_information(const std::vector<graph::Edge3>& edges) {
 namespace {
 
 template <class Edge, class G, int D>
-std::vector<Edge> edges_from_arrays(const py::array& ids_in, const std::vector<G>& z,
+std::vector<Edge> edges_from_arrays(const py::object& ids_in, const std::vector<G>& z,
                                     const py::object& information, const std::string& who) {
   IntArray ids = IntArray::ensure(ids_in);
   if (!ids || ids.ndim() != 2 || ids.shape(1) != 2) {
@@ -149,7 +149,7 @@ std::vector<Edge> edges_from_arrays(const py::array& ids_in, const std::vector<G
     out[k].measurement = z[k];
   }
   if (!information.is_none()) {
-    const Array w = as_array(information.cast<py::array>(), 3, who, "information");
+    const Array w = as_array(information, 3, who, "information");
     if (static_cast<std::size_t>(w.shape(0)) != m || w.shape(1) != D || w.shape(2) != D)
       throw std::invalid_argument(fmt::format("{}: information must be an ({}, {}, {}) array", who, m, D, D));
     auto r = w.unchecked<3>();
@@ -165,13 +165,13 @@ std::vector<Edge> edges_from_arrays(const py::array& ids_in, const std::vector<G
 
 }  // namespace
 
-std::vector<graph::Edge2> edges2_from_arrays(const py::array& ids, const py::array& measurements,
+std::vector<graph::Edge2> edges2_from_arrays(const py::object& ids, const py::object& measurements,
                                              const py::object& information, const std::string& who) {
   return edges_from_arrays<graph::Edge2, lie::SE2, 3>(
       ids, poses2_from_array(measurements, who + " (measurements)"), information, who);
 }
 
-std::vector<graph::Edge3> edges3_from_arrays(const py::array& ids, const py::array& measurements,
+std::vector<graph::Edge3> edges3_from_arrays(const py::object& ids, const py::object& measurements,
                                              const py::object& information, const std::string& who) {
   return edges_from_arrays<graph::Edge3, lie::SE3, 6>(
       ids, poses3_from_array(measurements, who + " (measurements)"), information, who);

@@ -60,7 +60,7 @@ void bind_graph(py::module_& m) {
       m, "Graph2D",
       fmt::format(fmt::runtime(kGraphDoc), "2D", "2D r = (x_E, y_E, theta_E), theta wrapped to (-pi, pi]", 3)
           .c_str())
-      .def(py::init([](const py::array& poses, const py::array& edges, const py::array& measurements,
+      .def(py::init([](const py::object& poses, const py::object& edges, const py::object& measurements,
                        const py::object& information) {
              PoseGraph2D g;
              g.poses = poses2_from_array(poses, "Graph2D");
@@ -73,7 +73,7 @@ void bind_graph(py::module_& m) {
            "(None: identity). Ids are checked when the graph is solved or written.")
       .def_property(
           "poses", [](const PoseGraph2D& g) { return poses_to_array(g.poses); },
-          [](PoseGraph2D& g, const py::array& a) {
+          [](PoseGraph2D& g, const py::object& a) {
             auto p = poses2_from_array(a, "Graph2D.poses");
             if (!g.poses.empty() && p.size() != g.poses.size())
               throw std::invalid_argument(
@@ -112,7 +112,7 @@ void bind_graph(py::module_& m) {
       m, "Graph3D",
       fmt::format(fmt::runtime(kGraphDoc), "3D", "3D r = (t_E, Log R_E), translation then rotation vector", 7)
           .c_str())
-      .def(py::init([](const py::array& poses, const py::array& edges, const py::array& measurements,
+      .def(py::init([](const py::object& poses, const py::object& edges, const py::object& measurements,
                        const py::object& information) {
              PoseGraph3D g;
              g.poses = poses3_from_array(poses, "Graph3D");
@@ -125,7 +125,7 @@ void bind_graph(py::module_& m) {
            "information over (t, phi) (None: identity).")
       .def_property(
           "poses", [](const PoseGraph3D& g) { return poses_to_array(g.poses); },
-          [](PoseGraph3D& g, const py::array& a) {
+          [](PoseGraph3D& g, const py::object& a) {
             auto p = poses3_from_array(a, "Graph3D.poses");
             if (!g.poses.empty() && p.size() != g.poses.size())
               throw std::invalid_argument(
@@ -163,16 +163,19 @@ void bind_graph(py::module_& m) {
 Candidate inter-robot loop closures (edge-only g2o files, `keel pcm`): edge k = (i, j) is a pose id i of robot a
 and a pose id j of robot b (two id spaces, so i = j is allowed) and measures z ~ (T^a_i)^-1 T^b_j, with the
 information of its residual as in a graph's edges. `dim` is 2 or 3; the arrays are as in Graph2D / Graph3D.)doc")
-      .def(py::init([](const py::array& edges, const py::array& measurements, const py::object& information) {
-             Candidates c;
-             const py::ssize_t cols = measurements.ndim() == 2 ? measurements.shape(1) : 0;
-             if (cols == 7) {
-               c.edges = edges3_from_arrays(edges, measurements, information, "Candidates");
-             } else {
-               c.edges = edges2_from_arrays(edges, measurements, information, "Candidates");
-             }
-             return c;
-           }),
+      .def(py::init(
+               [](const py::object& edges, const py::object& measurements, const py::object& information) {
+                 Candidates c;
+                 const Array z = Array::ensure(measurements);
+                 PyErr_Clear();
+                 const py::ssize_t cols = z && z.ndim() == 2 ? z.shape(1) : 0;
+                 if (cols == 7) {
+                   c.edges = edges3_from_arrays(edges, measurements, information, "Candidates");
+                 } else {
+                   c.edges = edges2_from_arrays(edges, measurements, information, "Candidates");
+                 }
+                 return c;
+               }),
            py::arg("edges"), py::arg("measurements"), py::arg("information") = py::none(),
            "From (m, 2) ids [pose of a, pose of b], (m, 3) or (m, 7) measurements (which decides dim) and "
            "(m, d, d) information (None: identity).")
@@ -232,7 +235,7 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
         if (py::isinstance<PoseGraph2D>(g)) {
           PoseGraph2D copy = g.cast<PoseGraph2D>();
           if (!poses.is_none()) {
-            copy.poses = poses2_from_array(poses.cast<py::array>(), "write_graph");
+            copy.poses = poses2_from_array(poses, "write_graph");
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;
@@ -240,7 +243,7 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
         } else if (py::isinstance<PoseGraph3D>(g)) {
           PoseGraph3D copy = g.cast<PoseGraph3D>();
           if (!poses.is_none()) {
-            copy.poses = poses3_from_array(poses.cast<py::array>(), "write_graph");
+            copy.poses = poses3_from_array(poses, "write_graph");
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;

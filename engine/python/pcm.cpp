@@ -47,7 +47,7 @@ pcm::ConsistencyMatrix consistency(const Graph& a, const Graph& b, const std::ve
   return pcm::consistency_matrix(maps.a, maps.b, candidates, options);
 }
 
-pcm::ConsistencyMatrix q_from_array(const py::array& in, int dof) {
+pcm::ConsistencyMatrix q_from_array(const py::object& in, int dof) {
   const Array a = Array::ensure(in);
   if (!a || a.ndim() != 2 || a.shape(0) != a.shape(1)) {
     PyErr_Clear();
@@ -148,7 +148,7 @@ For inliers q_uv ~ chi2(dof), dof = 3 (2D) or 6 (3D).)doc");
 
   m.def(
       "pcm_select",
-      [](const py::array& q, double p, const std::optional<double>& gamma, int dof,
+      [](const py::object& q, double p, const std::optional<double>& gamma, int dof,
          const std::string& algorithm, const std::optional<double>& time_limit_s) {
         pcm::ConsistencyMatrix Q = q_from_array(q, dof);
         const pcm::CliqueAlgorithm alg = pcm::clique_algorithm_from_string(algorithm);
@@ -173,7 +173,7 @@ means never consistent.)doc");
 
   m.def(
       "max_clique",
-      [](const py::array& adjacency, const std::string& algorithm,
+      [](const py::object& adjacency, const std::string& algorithm,
          const std::optional<double>& time_limit_s) {
         py::array_t<bool, py::array::c_style | py::array::forcecast> a = py::array_t < bool,
                                                                      py::array::c_style |

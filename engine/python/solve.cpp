@@ -94,7 +94,7 @@ std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, con
   if (py::isinstance<PoseGraph2D>(g)) {
     const auto& graph = g.cast<const PoseGraph2D&>();
     std::optional<std::vector<lie::SE2>> at;
-    if (!poses.is_none()) at = poses2_from_array(poses.cast<py::array>(), "marginals (poses)");
+    if (!poses.is_none()) at = poses2_from_array(poses, "marginals (poses)");
     py::gil_scoped_release release;
     return std::make_unique<cov::MarginalCovariance>(
         cov::information_matrix(graph, at ? *at : graph.poses, graph.landmarks), options);
@@ -102,7 +102,7 @@ std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, con
   if (py::isinstance<PoseGraph3D>(g)) {
     const auto& graph = g.cast<const PoseGraph3D&>();
     std::optional<std::vector<lie::SE3>> at;
-    if (!poses.is_none()) at = poses3_from_array(poses.cast<py::array>(), "marginals (poses)");
+    if (!poses.is_none()) at = poses3_from_array(poses, "marginals (poses)");
     py::gil_scoped_release release;
     return std::make_unique<cov::MarginalCovariance>(cov::information_matrix(graph, at ? *at : graph.poses),
                                                      options);
@@ -244,12 +244,12 @@ convention: cost = 1/2 sum rho(chi2_e), chi2_e = r_e^T Omega_e r_e.)doc")
         const bool supplied = !py::isinstance<py::str>(init);
         if (py::isinstance<PoseGraph2D>(g)) {
           std::optional<pgo::Estimate2D> est;
-          if (supplied) est = pgo::Estimate2D{poses2_from_array(init.cast<py::array>(), "solve (init)"), {}};
+          if (supplied) est = pgo::Estimate2D{poses2_from_array(init, "solve (init)"), {}};
           return solve_graph(g.cast<const PoseGraph2D&>(), o, est);
         }
         if (py::isinstance<PoseGraph3D>(g)) {
           std::optional<pgo::Estimate3D> est;
-          if (supplied) est = pgo::Estimate3D{poses3_from_array(init.cast<py::array>(), "solve (init)")};
+          if (supplied) est = pgo::Estimate3D{poses3_from_array(init, "solve (init)")};
           return solve_graph(g.cast<const PoseGraph3D&>(), o, est);
         }
         throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");

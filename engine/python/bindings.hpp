@@ -16,6 +16,7 @@
 #include <pybind11/stl.h>
 
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -83,19 +84,22 @@ std::vector<std::pair<int, int>> pairs_from_object(const py::object& o, const st
 template <class M>
 Array matrix_to_array(const M& m) {
   Array out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
-  auto r = out.mutable_unchecked<2>();
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index j = 0; j < m.cols(); ++j) r(i, j) = m(i, j);
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(out.mutable_data(),
+                                                                                     m.rows(), m.cols()) = m;
   return out;
 }
-/// (k, rows, cols) from k equally sized matrices.
+/// (k, rows, cols) from k matrices of that size (row-major copies; one strided copy per matrix).
 template <class M>
 Array matrices_to_array(const std::vector<M>& ms, py::ssize_t rows, py::ssize_t cols) {
   Array out({static_cast<py::ssize_t>(ms.size()), rows, cols});
-  auto r = out.mutable_unchecked<3>();
-  for (std::size_t k = 0; k < ms.size(); ++k)
-    for (py::ssize_t i = 0; i < rows; ++i)
-      for (py::ssize_t j = 0; j < cols; ++j) r(k, i, j) = ms[k](i, j);
+  double* p = out.mutable_data();
+  using RowMajor = Eigen::Matrix<double, M::RowsAtCompileTime, M::ColsAtCompileTime,
+                                 M::ColsAtCompileTime == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+  for (const M& m : ms) {
+    if (m.rows() != rows || m.cols() != cols) throw std::logic_error("matrices_to_array: size mismatch");
+    Eigen::Map<RowMajor>(p, rows, cols) = m;
+    p += rows * cols;
+  }
   return out;
 }
 

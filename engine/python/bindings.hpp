@@ -102,5 +102,19 @@ Array matrices_to_array(const std::vector<M>& ms, py::ssize_t rows, py::ssize_t 
   }
   return out;
 }
+/// (k, rows, cols) view of k fixed-size matrices without copying: the vector is moved into a capsule that the
+/// array owns, and the strides read each column-major matrix in place (so the array is not C-contiguous).
+template <class M>
+py::array matrices_as_array(std::vector<M>&& ms) {
+  static_assert(M::RowsAtCompileTime > 0 && M::ColsAtCompileTime > 0 && !M::IsRowMajor);
+  static_assert(sizeof(M) == sizeof(double) * M::RowsAtCompileTime * M::ColsAtCompileTime);
+  auto* holder = new std::vector<M>(std::move(ms));
+  py::capsule owner(holder, [](void* p) { delete static_cast<std::vector<M>*>(p); });
+  constexpr auto d = static_cast<py::ssize_t>(sizeof(double));
+  return py::array_t<double>({static_cast<py::ssize_t>(holder->size()), py::ssize_t{M::RowsAtCompileTime},
+                              py::ssize_t{M::ColsAtCompileTime}},
+                             {static_cast<py::ssize_t>(sizeof(M)), d, d * M::RowsAtCompileTime},
+                             holder->empty() ? nullptr : holder->front().data(), owner);
+}
 
 }  // namespace keel::python

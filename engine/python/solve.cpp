@@ -112,7 +112,7 @@ std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, con
 
 bool is_2d(const cov::MarginalCovariance& mc) { return mc.num_poses() == 0 || mc.variable_dim(0) == 3; }
 
-Array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj, unsigned threads) {
+py::array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj, unsigned threads) {
   const auto pairs = pairs_from_object(pairs_obj, "marginals");
   if (is_2d(mc)) {
     std::vector<lie::Mat6> out;
@@ -120,7 +120,7 @@ Array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj,
       py::gil_scoped_release release;
       out = cov::pair_marginals_2d(mc, pairs, threads);
     }
-    return matrices_to_array(out, 6, 6);
+    return matrices_as_array(std::move(out));  // no copy of the (m, 6, 6) result
   }
   std::vector<std::vector<int>> queries;
   queries.reserve(pairs.size());
@@ -309,7 +309,7 @@ keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run fro
         std::vector<int> id_list;
         if (!ids.is_none()) id_list = ids.cast<std::vector<int>>();
         const auto mc = make_marginals(g, poses, {});
-        return pairs.is_none() ? ids_query(*mc, id_list) : pair_query(*mc, pairs, threads);
+        return pairs.is_none() ? py::array(ids_query(*mc, id_list)) : pair_query(*mc, pairs, threads);
       },
       py::arg("graph"), py::arg("poses") = py::none(), py::arg("pairs") = py::none(),
       py::arg("ids") = py::none(), py::arg("threads") = 1, kMarginalsDoc);

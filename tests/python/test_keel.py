@@ -349,5 +349,24 @@ class TestErrors(unittest.TestCase):
             keel.max_clique(np.triu(np.ones((3, 3))))
 
 
+class TestDocs(unittest.TestCase):
+    def test_every_public_name_has_a_docstring(self):
+        self.assertTrue(keel.__doc__.strip())
+        missing = []
+        for name in dir(keel):
+            if name.startswith("_"):
+                continue
+            obj = getattr(keel, name)
+            if not (obj.__doc__ or "").strip():
+                missing.append(name)
+            if isinstance(obj, type) and not issubclass(obj, Exception):
+                for attr, value in vars(obj).items():
+                    # pybind11 starts a method's docstring with its signature: ask for text after it
+                    lines = [l for l in (getattr(value, "__doc__", None) or "").splitlines() if l.strip()]
+                    if not attr.startswith("_") and len(lines) < (1 if isinstance(value, property) else 2):
+                        missing.append(f"{name}.{attr}")
+        self.assertEqual(missing, [])
+
+
 if __name__ == "__main__":
     unittest.main()

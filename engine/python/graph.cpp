@@ -6,6 +6,8 @@
 #include <string>
 #include <variant>
 
+#include <pybind11/stl/filesystem.h>
+
 #include "bindings.hpp"
 #include "candidates.hpp"
 #include "graph/datasets.hpp"
@@ -206,7 +208,8 @@ information of its residual as in a graph's edges. `dim` is 2 or 3; the arrays a
   // ---- files ----
   m.def(
       "read_graph",
-      [](const std::string& path, const py::object& dim_obj) -> py::object {
+      [](const std::filesystem::path& file, const py::object& dim_obj) -> py::object {
+        const std::string path = file.string();
         const int dim = dim_of(dim_obj, "read_graph");
         std::variant<PoseGraph2D, PoseGraph3D> g;
         {
@@ -231,7 +234,8 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
 
   m.def(
       "write_graph",
-      [](const py::object& g, const std::string& path, const py::object& poses) {
+      [](const py::object& g, const std::filesystem::path& file, const py::object& poses) {
+        const std::string path = file.string();
         if (py::isinstance<PoseGraph2D>(g)) {
           PoseGraph2D copy = g.cast<PoseGraph2D>();
           if (!poses.is_none()) {
@@ -260,7 +264,8 @@ to a temporary name and renamed.)doc");
 
   m.def(
       "read_candidates",
-      [](const std::string& path, const py::object& dim_obj) {
+      [](const std::filesystem::path& file, const py::object& dim_obj) {
+        const std::string path = file.string();
         const int dim = dim_of(dim_obj, "read_candidates");
         Candidates c;
         c.source = path;
@@ -282,7 +287,8 @@ record, any other tag, or a file without edges.)doc");
 
   m.def(
       "write_candidates",
-      [](const Candidates& c, const std::string& path) {
+      [](const Candidates& c, const std::filesystem::path& file) {
+        const std::string path = file.string();
         py::gil_scoped_release release;
         std::visit([&](const auto& e) { graph::write_g2o_edges(e, path); }, c.edges);
       },
@@ -293,7 +299,8 @@ record, any other tag, or a file without edges.)doc");
 
   m.def(
       "read_poses",
-      [](const std::string& path, int dim) {
+      [](const std::filesystem::path& file, int dim) {
+        const std::string path = file.string();
         if (dim == 2) {
           std::vector<lie::SE2> p;
           {

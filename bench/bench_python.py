@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""Overhead of the Python bindings (engine/python) against the C++ Google Benchmarks that do the same work.
+
+Run from the repository root after building the module (and, for the comparison, the C++ benchmarks):
+
+    cmake --build build/release --target keel_python bench_pgo bench_cov -j2
+    PYTHONPATH=build/release/python /usr/bin/python3 bench/bench_python.py [--repeat N] [--threads 1 2]
+
+Each line times the same engine work as one C++ benchmark, with the same inputs and options, and prints the
+median (and min) of N wall-clock repetitions (time.perf_counter) in milliseconds. Compare with the C++ medians of
+
+    build/release/bench/bench_pgo --benchmark_filter='BM_Manhattan3500/<threads>/' --benchmark_repetitions=N
+    build/release/bench/bench_cov --benchmark_filter='BM_Factorize|BM_AllPairMarginals' --benchmark_repetitions=N
+
+(`--benchmark_report_aggregates_only=true` prints the median directly):
+
+  python line                            C++ benchmark                                  work
+  solve manhattan3500 threads=T          BM_Manhattan3500/T/real_time (bench_pgo)       pgo::optimize of
+                                                                                        manhattanOlson3500.txt,
+                                                                                        initial_guess = odometry,
+                                                                                        threads = T, other options
+                                                                                        default
+  factorize (MarginalCovariance)         BM_Factorize (bench_cov)                       information matrix at the
+                                                                                        ground truth + CHOLMOD
+                                                                                        analysis/factorization,
+                                                                                        default CovarianceOptions
+  pairs config=C threads=T               BM_AllPairMarginals/config:C/threads:T/        pair_marginals_2d of the
+                                         real_time (bench_cov)                          44 425 pairs (i, i+k),
+                                                                                        k in {5,..,50,100,200,500},
+                                                                                        on a factor made once;
+                                                                                        config 0 = defaults,
+                                                                                        1 = METIS, 2 = solve
+  marginals (one call) threads=T         BM_Factorize + BM_AllPairMarginals/config:0/   keel.marginals: both of the
+                                         threads:T                                      above in one call
+
+The Python timings include what the bindings add: argument conversion (numpy -> engine types, e.g. the ground-
+truth poses and the 44 425 pairs), releasing/re-acquiring the GIL, and building the numpy results (the solution
+poses; the (44 425, 6, 6) array, 12.8 MB). The C++ BM_AllPairMarginals keeps its std::vector<Mat6> result, so
+the copy into numpy is overhead that the bindings add. Inputs are read once, outside the timed region, as the C++
+benchmarks do. On a shared or busy machine run both programs back to back, several times.
+"""
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import keel
+
+KS = (5, 10, 15, 20, 25, 30, 35, 40, 45, 50, 100, 200, 500)
+
+
+def timed(fn, repeat):
+    fn()  # warm-up (first touch of memory, CHOLMOD workspaces), as Google Benchmark's first iterations
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), min(times)
+
+
+def report(name, compare, result):
+    med, best = result
+    print(f"{name:<40} median {med * 1e3:9.2f} ms   min {best * 1e3:9.2f} ms   vs {compare}", flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repeat", type=int, default=5, help="timed repetitions per line (median reported)")
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2], help="thread counts (as the C++ args)")
+    ap.add_argument("--configs", type=int, nargs="+", default=[0, 1, 2], help="BM_AllPairMarginals configs")
+    ap.add_argument("--skip-solve", action="store_true")
+    ap.add_argument("--skip-marginals", action="store_true")
+    a = ap.parse_args()
+
+    graph = keel.read_graph(keel.dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"))
+
+    if not a.skip_solve:
+        for t in a.threads:
+            r = keel.solve(graph, init="odometry", threads=t)
+            report(f"solve manhattan3500 threads={t}", f"bench_pgo BM_Manhattan3500/{t}/real_time",
+                   timed(lambda: keel.solve(graph, init="odometry", threads=t), a.repeat))
+            print(f"{'':40} iterations {r.iterations}, final cost {r.cost:.6f}, {r.termination}")
+
+    if not a.skip_marginals:
+        truth = keel.read_poses(
+            keel.dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"), dim=2)
+        n = truth.shape[0]
+        pairs = np.array([(i, i + k) for k in KS for i in range(n - k)], dtype=np.int64)
+        assert pairs.shape == (44425, 2), pairs.shape
+        report("factorize (MarginalCovariance)", "bench_cov BM_Factorize",
+               timed(lambda: keel.MarginalCovariance(graph, poses=truth), a.repeat))
+        configs = {0: {}, 1: {"ordering": "metis"}, 2: {"extraction": "solve"}}
+        for c in a.configs:
+            opts = configs[c]
+            mc = keel.MarginalCovariance(graph, poses=truth, **opts)
+            for t in a.threads:
+                report(f"pairs config={c} threads={t}",
+                       f"bench_cov BM_AllPairMarginals/config:{c}/threads:{t}/real_time",
+                       timed(lambda: mc.pairs(pairs, threads=t), a.repeat))
+        for t in a.threads:
+            report(f"marginals (one call) threads={t}", f"bench_cov BM_Factorize + AllPairMarginals/config:0/threads:{t}",
+                   timed(lambda: keel.marginals(graph, poses=truth, pairs=pairs, threads=t), a.repeat))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,318 @@
+// keel Python module — batch solve (keel::pgo) and joint marginal covariances (keel::cov).
+#include <fmt/format.h>
+
+#include <chrono>
+#include <optional>
+#include <variant>
+
+#include "bindings.hpp"
+#include "cov/information.hpp"
+#include "cov/marginal_covariance.hpp"
+#include "pgo/optimize.hpp"
+#include "pgo/options.hpp"
+
+namespace keel::python {
+
+namespace {
+
+using graph::PoseGraph2D;
+using graph::PoseGraph3D;
+
+struct SolveResult {
+  py::object graph;  // a Graph2D / Graph3D: the input with the solution as its poses
+  Array poses;
+  pgo::Summary summary;
+  Array edge_chi2;     // per edge, χ² = rᵀΩr at the solution
+  Array edge_weights;  // per edge, the kernel's weight ρ'(χ²)
+  double solve_time_s = 0.0;
+};
+
+// The options of `keel solve`: pgo's defaults with only these fields set.
+pgo::Options solve_options(const py::object& init, const std::string& robust, double robust_param,
+                           std::uint64_t seed, unsigned threads, int max_iterations) {
+  pgo::Options o;
+  if (py::isinstance<py::str>(init)) {
+    std::string text = init.cast<std::string>();
+    if (text == "as-read") text = "as_read";
+    o.initial_guess = pgo::initial_guess_from_string(text);
+  } else {
+    o.initial_guess = pgo::InitialGuess::supplied;
+  }
+  o.robust_kernel = pgo::robust_kernel_from_string(robust);
+  o.robust_parameter = robust_param;
+  o.seed = seed;
+  o.threads = threads;
+  o.max_iterations = max_iterations;
+  o.validate();
+  return o;
+}
+
+template <class Result>
+Array edge_field(const Result& r, double pgo::EdgeReport::* field) {
+  Array out(static_cast<py::ssize_t>(r.edges.size()));
+  auto w = out.mutable_unchecked<1>();
+  for (std::size_t k = 0; k < r.edges.size(); ++k) w(k) = r.edges[k].*field;
+  return out;
+}
+
+template <class Graph, class Estimate>
+SolveResult solve_graph(const Graph& g, const pgo::Options& o, const std::optional<Estimate>& supplied) {
+  decltype(pgo::optimize(g, o)) r;
+  double wall = 0.0;
+  {
+    py::gil_scoped_release release;
+    const auto t0 = std::chrono::steady_clock::now();
+    r = pgo::optimize(g, o, supplied ? &*supplied : nullptr);
+    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  Graph copy = g;
+  copy.poses = r.estimate.poses;
+  if constexpr (std::is_same_v<Graph, PoseGraph2D>) copy.landmarks = r.estimate.landmarks;
+  SolveResult out;
+  out.poses = poses_to_array(copy.poses);
+  out.graph = py::cast(std::move(copy));
+  out.summary = r.summary;
+  out.edge_chi2 = edge_field(r, &pgo::EdgeReport::chi2);
+  out.edge_weights = edge_field(r, &pgo::EdgeReport::weight);
+  out.solve_time_s = wall;
+  return out;
+}
+
+// ---- marginal covariances
+// -------------------------------------------------------------------------------------
+
+cov::CovarianceOptions covariance_options(const std::string& ordering, const std::string& extraction) {
+  cov::CovarianceOptions o;
+  o.ordering = cov::ordering_from_string(ordering);
+  o.extraction = cov::extraction_from_string(extraction);
+  o.validate();
+  return o;
+}
+
+std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, const py::object& poses,
+                                                        const cov::CovarianceOptions& options) {
+  if (py::isinstance<PoseGraph2D>(g)) {
+    const auto& graph = g.cast<const PoseGraph2D&>();
+    std::optional<std::vector<lie::SE2>> at;
+    if (!poses.is_none()) at = poses2_from_array(poses, "marginals (poses)");
+    py::gil_scoped_release release;
+    return std::make_unique<cov::MarginalCovariance>(
+        cov::information_matrix(graph, at ? *at : graph.poses, graph.landmarks), options);
+  }
+  if (py::isinstance<PoseGraph3D>(g)) {
+    const auto& graph = g.cast<const PoseGraph3D&>();
+    std::optional<std::vector<lie::SE3>> at;
+    if (!poses.is_none()) at = poses3_from_array(poses, "marginals (poses)");
+    py::gil_scoped_release release;
+    return std::make_unique<cov::MarginalCovariance>(cov::information_matrix(graph, at ? *at : graph.poses),
+                                                     options);
+  }
+  throw py::type_error("marginals: graph must be a keel.Graph2D or keel.Graph3D");
+}
+
+bool is_2d(const cov::MarginalCovariance& mc) { return mc.num_poses() == 0 || mc.variable_dim(0) == 3; }
+
+py::array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj, unsigned threads) {
+  const auto pairs = pairs_from_object(pairs_obj, "marginals");
+  if (is_2d(mc)) {
+    std::vector<lie::Mat6> out;
+    {
+      py::gil_scoped_release release;
+      out = cov::pair_marginals_2d(mc, pairs, threads);
+    }
+    return matrices_as_array(std::move(out));  // no copy of the (m, 6, 6) result
+  }
+  std::vector<std::vector<int>> queries;
+  queries.reserve(pairs.size());
+  for (const auto& [i, j] : pairs) queries.push_back({i, j});
+  std::vector<lie::MatX> out;
+  {
+    py::gil_scoped_release release;
+    out = mc.joint_many(queries, threads);
+  }
+  return matrices_to_array(out, 12, 12);
+}
+
+Array ids_query(const cov::MarginalCovariance& mc, const std::vector<int>& ids) {
+  lie::MatX out;
+  {
+    py::gil_scoped_release release;
+    out = mc.joint(ids);
+  }
+  return matrix_to_array(out);
+}
+
+py::dict factor_summary(const cov::FactorSummary& s) {
+  py::dict d;
+  d["ordering"] = s.ordering;
+  d["supernodal"] = s.supernodal;
+  d["extraction"] = s.extraction;
+  d["size"] = s.size;
+  d["nnz_h"] = s.nnz_h;
+  d["nnz_l"] = s.nnz_l;
+  d["factor_flops"] = s.factor_flops;
+  d["num_supernodes"] = s.num_supernodes;
+  d["analyze_time_s"] = s.analyze_time_s;
+  d["factorize_time_s"] = s.factorize_time_s;
+  return d;
+}
+
+const char* kMarginalsDoc = R"doc(
+Joint marginal covariances of poses of a graph in the Lie algebra of the LEFT perturbation T = exp(xi^) T_bar
+(thesis eq. 5.14; the joint Sigma_1:n of eq. 5.28 taken from a MAP solution, section 5.8.2), from the sparse
+information matrix H = sum A^T Omega A linearized at `poses` (default: the graph's poses), gauge = pose 0 fixed
+(its covariance and cross-covariances are zero), factorized once with CHOLMOD (default options: CHOLMOD's
+ordering, supernodal, forward extraction).
+
+Exactly one of:
+  pairs  (m, 2) ints or a list of (i, j): 2D -> (m, 6, 6) joint covariances [S_ii S_ij; S_ji S_jj]
+         (cov::pair_marginals_2d); 3D -> (m, 12, 12) (MarginalCovariance::joint_many). `threads` spreads the
+         work; the result does not depend on it.
+  ids    a list of pose ids (repeats allowed): the (d k, d k) joint covariance, blocks in the order given.
+An id out of range raises IndexError; a graph that is not connected to pose 0 raises RuntimeError naming the
+variable where the factorization broke down.)doc";
+
+}  // namespace
+
+void bind_solve(py::module_& m) {
+  py::class_<SolveResult>(m, "SolveResult", R"doc(
+The result of keel.solve: the solution, and the solver's summary (pgo::Summary). Costs follow Ceres'
+convention: cost = 1/2 sum rho(chi2_e), chi2_e = r_e^T Omega_e r_e.)doc")
+      .def_readonly("poses", &SolveResult::poses, "The solution: (n, 3) [x, y, theta] or (n, 7) [t, q].")
+      .def_readonly("graph", &SolveResult::graph, "A copy of the input graph with the solution as its poses.")
+      .def_property_readonly(
+          "cost", [](const SolveResult& r) { return r.summary.final_cost; },
+          "1/2 sum rho(chi2) at the solution.")
+      .def_property_readonly(
+          "initial_cost", [](const SolveResult& r) { return r.summary.initial_cost; },
+          "1/2 sum rho(chi2) at the initial estimate.")
+      .def_property_readonly(
+          "chi2", [](const SolveResult& r) { return r.summary.final_chi2; },
+          "sum chi2 at the solution without the kernel (= 2 cost when no kernel applies).")
+      .def_property_readonly(
+          "normalized_chi2", [](const SolveResult& r) { return r.summary.normalized_chi2; },
+          "2 cost / (residual dimension - free parameter dimension): ~1 when the noise model is right "
+          "(thesis "
+          "section 2.7 'Chi2'); NaN without degrees of freedom.")
+      .def_property_readonly(
+          "residual_dimension", [](const SolveResult& r) { return r.summary.residual_dimension; },
+          "Sum of the residual sizes.")
+      .def_property_readonly(
+          "free_parameter_dimension", [](const SolveResult& r) { return r.summary.free_parameter_dimension; },
+          "Tangent dimensions of the free unknowns.")
+      .def_property_readonly(
+          "iterations", [](const SolveResult& r) { return r.summary.iterations; },
+          "Trust-region iterations (successful + unsuccessful steps).")
+      .def_property_readonly(
+          "successful_steps", [](const SolveResult& r) { return r.summary.successful_steps; },
+          "Accepted steps.")
+      .def_property_readonly(
+          "termination",
+          [](const SolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },
+          "'converged', 'no_convergence' or 'failure' (pgo::Termination).")
+      .def_property_readonly(
+          "message", [](const SolveResult& r) { return r.summary.message; },
+          "The solver's reason for stopping.")
+      .def_property_readonly(
+          "report", [](const SolveResult& r) { return r.summary.report; }, "The solver's one-line report.")
+      .def_readonly("solve_time_s", &SolveResult::solve_time_s,
+                    "Wall time of pgo::optimize in seconds (initial estimate, problem set-up and solve).")
+      .def_property_readonly(
+          "solver_time_s", [](const SolveResult& r) { return r.summary.total_time_s; },
+          "The solver's own total time in seconds (Summary::total_time_s).")
+      .def_property_readonly(
+          "linear_solver_time_s", [](const SolveResult& r) { return r.summary.linear_solver_time_s; },
+          "Time in the linear solves, seconds.")
+      .def_property_readonly(
+          "jacobian_evaluation_time_s",
+          [](const SolveResult& r) { return r.summary.jacobian_evaluation_time_s; },
+          "Time evaluating residuals and Jacobians, seconds.")
+      .def_readonly("edge_chi2", &SolveResult::edge_chi2,
+                    "(m,) chi2 = r^T Omega r of each edge at the solution.")
+      .def_readonly("edge_weights", &SolveResult::edge_weights,
+                    "(m,) weight rho'(chi2) the kernel gives each edge (1 where no kernel applies).")
+      .def("__repr__", [](const SolveResult& r) {
+        return fmt::format("SolveResult(termination='{}', cost={:.17g}, iterations={})",
+                           pgo::to_string(r.summary.termination), r.summary.final_cost, r.summary.iterations);
+      });
+
+  m.def(
+      "solve",
+      [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
+         std::uint64_t seed, unsigned threads, int max_iterations) {
+        const pgo::Options o = solve_options(init, robust, robust_param, seed, threads, max_iterations);
+        const bool supplied = !py::isinstance<py::str>(init);
+        if (py::isinstance<PoseGraph2D>(g)) {
+          std::optional<pgo::Estimate2D> est;
+          if (supplied) est = pgo::Estimate2D{poses2_from_array(init, "solve (init)"), {}};
+          return solve_graph(g.cast<const PoseGraph2D&>(), o, est);
+        }
+        if (py::isinstance<PoseGraph3D>(g)) {
+          std::optional<pgo::Estimate3D> est;
+          if (supplied) est = pgo::Estimate3D{poses3_from_array(init, "solve (init)")};
+          return solve_graph(g.cast<const PoseGraph3D&>(), o, est);
+        }
+        throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");
+      },
+      py::arg("graph"), py::arg("init") = "odometry", py::arg("robust") = "none",
+      py::arg("robust_param") = 5.0, py::arg("seed") = 0, py::arg("threads") = 1,
+      py::arg("max_iterations") = 100, R"doc(
+Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
+sparse normal Cholesky (CHOLMOD), pose 0 held constant. The options are pgo's defaults with ONLY these set,
+exactly as the CLI `keel solve` does (same inputs give bit-identical results):
+  init            initial guess: 'odometry' (chain the odometry edges from pose 0), 'as_read' (or 'as-read':
+                  the graph's poses), 'random' (uniform from `seed`), or an (n, 3) / (n, 7) array of poses
+                  (InitialGuess::supplied). Unknown text raises ValueError "unknown pgo::InitialGuess ...".
+  robust          kernel on the loop closures: 'none', 'huber', 'cauchy', 'dcs' (pgo::RobustKernel)
+  robust_param    Huber/Cauchy a or DCS phi (> 0)
+  seed            seed of init='random'
+  threads         Ceres threads for residuals/Jacobians (0 = all); results differ in the last bits between
+                  thread counts (Ceres reduces per thread), so keep it fixed where results are compared
+  max_iterations  trust-region iterations (>= 0)
+Returns a SolveResult. Graphs with inconsistent edges raise ValueError naming the edge; a solver failure is
+reported in SolveResult.termination / message, not raised.)doc");
+
+  py::class_<cov::MarginalCovariance>(m, "MarginalCovariance", R"doc(
+The factorized information matrix of a graph at given poses (keel::cov::MarginalCovariance), to query joint
+marginal covariances repeatedly; keel.marginals is one construction plus one query. Same conventions as
+keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run from several Python threads.)doc")
+      .def(py::init([](const py::object& g, const py::object& poses, const std::string& ordering,
+                       const std::string& extraction) {
+             return make_marginals(g, poses, covariance_options(ordering, extraction));
+           }),
+           py::arg("graph"), py::arg("poses") = py::none(), py::arg("ordering") = "auto",
+           py::arg("extraction") = "auto",
+           "Builds H at `poses` (default the graph's) and factorizes it. ordering: 'auto', 'amd', 'metis', "
+           "'nesdis', 'natural'; extraction: 'auto', 'forward', 'solve' (cov::CovarianceOptions).")
+      .def(
+          "pairs",
+          [](const cov::MarginalCovariance& mc, const py::object& pairs, unsigned threads) {
+            return pair_query(mc, pairs, threads);
+          },
+          py::arg("pairs"), py::arg("threads") = 1,
+          "Joint covariances of pairs: (m, 6, 6) for 2D, (m, 12, 12) for 3D (see keel.marginals).")
+      .def(
+          "joint",
+          [](const cov::MarginalCovariance& mc, const std::vector<int>& ids) { return ids_query(mc, ids); },
+          py::arg("ids"), "The joint covariance of the variables `ids` (poses first, then 2D landmarks).")
+      .def_property_readonly("num_poses", &cov::MarginalCovariance::num_poses, "Number of poses.")
+      .def_property_readonly(
+          "summary", [](const cov::MarginalCovariance& mc) { return factor_summary(mc.summary()); },
+          "What the factorization did (ordering, sizes, nonzeros of L, times in seconds), as a dict.");
+
+  m.def(
+      "marginals",
+      [](const py::object& g, const py::object& poses, const py::object& pairs, const py::object& ids,
+         unsigned threads) {
+        if (pairs.is_none() == ids.is_none())
+          throw std::invalid_argument("marginals: give exactly one of pairs and ids");
+        std::vector<int> id_list;
+        if (!ids.is_none()) id_list = ids.cast<std::vector<int>>();
+        const auto mc = make_marginals(g, poses, {});
+        return pairs.is_none() ? py::array(ids_query(*mc, id_list)) : pair_query(*mc, pairs, threads);
+      },
+      py::arg("graph"), py::arg("poses") = py::none(), py::arg("pairs") = py::none(),
+      py::arg("ids") = py::none(), py::arg("threads") = 1, kMarginalsDoc);
+}
+
+}  // namespace keel::python

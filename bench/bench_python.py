@@ -5,6 +5,11 @@ Run from the repository root after building the module (and, for the comparison,
 
     cmake --build build/release --target keel_python bench_pgo bench_cov -j2
     PYTHONPATH=build/release/python /usr/bin/python3 bench/bench_python.py [--repeat N] [--threads 1 2]
+    PYTHONPATH=build/release/python /usr/bin/python3 bench/bench_python.py --cpp build/release/bench
+
+With --cpp DIR each line first runs its C++ benchmark from DIR (Google Benchmark, --benchmark_repetitions=N,
+median of the repetitions), then the Python timing, and prints both side by side with the overhead of the
+bindings, (Python − C++) / C++: one run, one machine, interleaved so that a drift of the machine's speed hits both.
 
 Each line times the same engine work as one C++ benchmark, with the same inputs and options, and prints the
 median (and min) of N wall-clock repetitions (time.perf_counter) in milliseconds. Compare with the C++ medians of
@@ -41,7 +46,11 @@ benchmarks do. On a shared or busy machine run both programs back to back, sever
 """
 
 import argparse
+import json
+import os
 import statistics
+import subprocess
+import tempfile
 import time
 
 import numpy as np
@@ -61,9 +70,49 @@ def timed(fn, repeat):
     return statistics.median(times), min(times)
 
 
-def report(name, compare, result):
-    med, best = result
-    print(f"{name:<40} median {med * 1e3:9.2f} ms   min {best * 1e3:9.2f} ms   vs {compare}", flush=True)
+UNITS = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+
+
+def cpp_median(cpp_dir, program, names, repeat):
+    """Median real time in seconds of the C++ benchmarks `names` (summed) of build/.../bench/<program>."""
+    pattern = "^(" + "|".join(names) + ")$"
+    with tempfile.NamedTemporaryFile(suffix=".json") as f:
+        subprocess.run([os.path.join(cpp_dir, program), f"--benchmark_filter={pattern}",
+                        f"--benchmark_repetitions={repeat}", "--benchmark_report_aggregates_only=true",
+                        f"--benchmark_out={f.name}", "--benchmark_out_format=json"], capture_output=True, check=True)
+        results = json.load(open(f.name))["benchmarks"]
+    medians = {b["run_name"]: b["real_time"] * UNITS[b["time_unit"]]
+               for b in results if b.get("aggregate_name") == "median"}
+    missing = [n for n in names if n not in medians]
+    if missing:
+        raise SystemExit(f"{program}: no result for {missing} (got {sorted(medians)})")
+    return sum(medians[n] for n in names)
+
+
+class Reporter:
+    def __init__(self, cpp_dir, repeat):
+        self.cpp_dir, self.repeat, self.rows = cpp_dir, repeat, []
+
+    def __call__(self, name, compare, result, cpp=None):
+        """cpp: (program, [benchmark names]) run before printing when --cpp is given."""
+        med, best = result
+        line = f"{name:<40} median {med * 1e3:9.2f} ms   min {best * 1e3:9.2f} ms"
+        if self.cpp_dir and cpp:
+            c = cpp_median(self.cpp_dir, cpp[0], cpp[1], self.repeat)
+            overhead = (med - c) / c
+            self.rows.append((name, med, c, overhead))
+            line += f"   C++ {c * 1e3:9.2f} ms   overhead {overhead * 100:+6.1f} %   ({' + '.join(cpp[1])})"
+        else:
+            line += f"   vs {compare}"
+        print(line, flush=True)
+
+    def summary(self):
+        if not self.rows:
+            return
+        print("\nside by side (medians, ms):")
+        print(f"  {'work':<38} {'Python':>9} {'C++':>9} {'overhead':>9}")
+        for name, py, c, o in self.rows:
+            print(f"  {name:<38} {py * 1e3:9.2f} {c * 1e3:9.2f} {o * 100:+8.1f} %")
 
 
 def main():
@@ -73,7 +122,9 @@ def main():
     ap.add_argument("--configs", type=int, nargs="+", default=[0, 1, 2], help="BM_AllPairMarginals configs")
     ap.add_argument("--skip-solve", action="store_true")
     ap.add_argument("--skip-marginals", action="store_true")
+    ap.add_argument("--cpp", metavar="DIR", help="run the C++ benchmarks from DIR beside each line (bench_pgo, bench_cov)")
     a = ap.parse_args()
+    report = Reporter(a.cpp, a.repeat)
 
     graph = keel.read_graph(keel.dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"))
 
@@ -81,7 +132,8 @@ def main():
         for t in a.threads:
             r = keel.solve(graph, init="odometry", threads=t)
             report(f"solve manhattan3500 threads={t}", f"bench_pgo BM_Manhattan3500/{t}/real_time",
-                   timed(lambda: keel.solve(graph, init="odometry", threads=t), a.repeat))
+                   timed(lambda: keel.solve(graph, init="odometry", threads=t), a.repeat),
+                   ("bench_pgo", [f"BM_Manhattan3500/{t}/real_time"]))
             print(f"{'':40} iterations {r.iterations}, final cost {r.cost:.6f}, {r.termination}")
 
     if not a.skip_marginals:
@@ -91,7 +143,7 @@ def main():
         pairs = np.array([(i, i + k) for k in KS for i in range(n - k)], dtype=np.int64)
         assert pairs.shape == (44425, 2), pairs.shape
         report("factorize (MarginalCovariance)", "bench_cov BM_Factorize",
-               timed(lambda: keel.MarginalCovariance(graph, poses=truth), a.repeat))
+               timed(lambda: keel.MarginalCovariance(graph, poses=truth), a.repeat), ("bench_cov", ["BM_Factorize"]))
         configs = {0: {}, 1: {"ordering": "metis"}, 2: {"extraction": "solve"}}
         for c in a.configs:
             opts = configs[c]
@@ -99,10 +151,13 @@ def main():
             for t in a.threads:
                 report(f"pairs config={c} threads={t}",
                        f"bench_cov BM_AllPairMarginals/config:{c}/threads:{t}/real_time",
-                       timed(lambda: mc.pairs(pairs, threads=t), a.repeat))
+                       timed(lambda: mc.pairs(pairs, threads=t), a.repeat),
+                       ("bench_cov", [f"BM_AllPairMarginals/config:{c}/threads:{t}/real_time"]))
         for t in a.threads:
             report(f"marginals (one call) threads={t}", f"bench_cov BM_Factorize + AllPairMarginals/config:0/threads:{t}",
-                   timed(lambda: keel.marginals(graph, poses=truth, pairs=pairs, threads=t), a.repeat))
+                   timed(lambda: keel.marginals(graph, poses=truth, pairs=pairs, threads=t), a.repeat),
+                   ("bench_cov", ["BM_Factorize", f"BM_AllPairMarginals/config:0/threads:{t}/real_time"]))
+    report.summary()
 
 
 if __name__ == "__main__":

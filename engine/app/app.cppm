@@ -6,6 +6,7 @@ export module keel.app;
 export namespace keel::app {
 using keel::app::graph_dimension;
 using keel::app::GraphSummary;
+using keel::app::inter_robot_candidates;
 using keel::app::merged_graph;
 using keel::app::PcmOptions;
 using keel::app::PcmRun;

@@ -96,7 +96,7 @@ int pose_count(const Graph& g) {
 template <class G, class Edge, class Graph>
 std::vector<pcm::InterRobotMeasurement<G>> candidates_from_edges(const Graph& a, const Graph& b,
                                                                  const std::vector<Edge>& edges) {
-  if (edges.empty()) throw std::invalid_argument("run_pcm: the candidate list is empty");
+  if (edges.empty()) throw std::invalid_argument("inter-robot candidates: the candidate list is empty");
   const int na = pose_count(a), nb = pose_count(b);
   std::vector<pcm::InterRobotMeasurement<G>> out;
   out.reserve(edges.size());
@@ -192,12 +192,15 @@ Graph merged_graph_impl(const PcmRun<G>& run) {
 
 }  // namespace
 
-int graph_dimension(const std::filesystem::path& file) {
-  const std::string text = graph::detail::read_file_text(file);
-  graph::detail::RecordScanner sc(text, file.string());
-  if (!sc.next()) graph::detail::fail_at(file.string(), 0, "the file holds no record");
+int graph_dimension(std::string_view text, const std::string& name) {
+  graph::detail::RecordScanner sc(text, name);
+  if (!sc.next()) return 2;
   const std::string_view tag = sc.tag();
   return (tag == "EDGE_SE3:QUAT" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE3") ? 3 : 2;
+}
+
+int graph_dimension(const std::filesystem::path& file) {
+  return graph_dimension(graph::detail::read_file_text(file), file.string());
 }
 
 GraphSummary summarize(const std::filesystem::path& file) {
@@ -238,6 +241,17 @@ void PcmOptions::validate() const {
   }
   local.validate();
   merge_options.validate();
+}
+
+std::vector<pcm::InterRobotMeasurement2> inter_robot_candidates(const graph::PoseGraph2D& a,
+                                                                const graph::PoseGraph2D& b,
+                                                                const std::vector<graph::Edge2>& edges) {
+  return candidates_from_edges<lie::SE2>(a, b, edges);
+}
+std::vector<pcm::InterRobotMeasurement3> inter_robot_candidates(const graph::PoseGraph3D& a,
+                                                                const graph::PoseGraph3D& b,
+                                                                const std::vector<graph::Edge3>& edges) {
+  return candidates_from_edges<lie::SE3>(a, b, edges);
 }
 
 PcmRun2 run_pcm(const graph::PoseGraph2D& a, const graph::PoseGraph2D& b,

@@ -26,9 +26,11 @@
 namespace keel::app {
 
 /// 2 or 3: the dimension of a pose-graph file, from the tag of its first record (EDGE_SE3:QUAT,
-/// VERTEX_SE3:QUAT and EDGE3 are 3D; everything else is read as 2D, whose reader names an unknown tag).
-/// Throws graph::ParseError for an unreadable or empty file.
+/// VERTEX_SE3:QUAT and EDGE3 are 3D; everything else, and a file without records, is read as 2D, whose reader
+/// then names what is wrong). The file variant throws graph::ParseError for an unreadable file.
 [[nodiscard]] int graph_dimension(const std::filesystem::path& file);
+/// The same for a file's text (`name` for messages).
+[[nodiscard]] int graph_dimension(std::string_view text, const std::string& name);
 
 /// What `keel check` prints about a graph file.
 struct GraphSummary {
@@ -84,6 +86,15 @@ struct PcmRun {
 };
 using PcmRun2 = PcmRun<lie::SE2>;
 using PcmRun3 = PcmRun<lie::SE3>;
+
+/// The candidate edges as keel.pcm needs them: each id checked against its robot (the message names the
+/// candidate index and source line), the left covariance from the residual information
+/// (pcm::left_covariance_from_information). Throws std::invalid_argument for an empty list, an id out of
+/// range or an information that is not positive definite.
+[[nodiscard]] std::vector<pcm::InterRobotMeasurement2> inter_robot_candidates(
+    const graph::PoseGraph2D& a, const graph::PoseGraph2D& b, const std::vector<graph::Edge2>& edges);
+[[nodiscard]] std::vector<pcm::InterRobotMeasurement3> inter_robot_candidates(
+    const graph::PoseGraph3D& a, const graph::PoseGraph3D& b, const std::vector<graph::Edge3>& edges);
 
 /// §2.6 steps i–iii (and iv with options.merge) on two robots' graphs and a candidate list whose edges
 /// measure z ≈ (T^a_i)⁻¹ T^b_j with residual information Ω (graph::read_g2o_edges_*). Throws

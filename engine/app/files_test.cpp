@@ -117,7 +117,7 @@ TEST_CASE("bad candidates and options are refused with the candidate and its lin
   CHECK(contains(message_of([&] { (void)app::run_pcm(scenario.robot_a, scenario.robot_b, {e}); }),
                  "candidate 0 (line 7): robot a has no pose -1"));
   CHECK(contains(message_of([&] { (void)app::run_pcm(scenario.robot_a, scenario.robot_b, {}); }),
-                 "the candidate list is empty"));
+                 "inter-robot candidates: the candidate list is empty"));
   app::PcmOptions o;
   o.p = 0.0;
   e.i = 1;
@@ -152,8 +152,10 @@ TEST_CASE("graph summary: counts, duplicates, components, dimension") {
   CHECK(s.sigma_rotation_min == doctest::Approx(0.05));
   CHECK(s.has_initial_poses);
   write_text(dir / "e.g2o", "# only a comment\n");
-  CHECK(testkit::throws_with<graph::ParseError>([&] { (void)app::graph_dimension(dir / "e.g2o"); },
-                                                "e.g2o: the file holds no record"));
+  CHECK(app::graph_dimension(dir / "e.g2o") == 2);  // the 2D reader then says what is missing
+  CHECK(app::graph_dimension("# 3D\nEDGE3 0 1", "mem") == 3);
+  CHECK(testkit::throws_with<graph::ParseError>([&] { (void)app::graph_dimension(dir / "missing.g2o"); },
+                                                "missing.g2o: cannot open file"));
   write_text(dir / "l.txt", "0 inlier -1\n2 random -1\n");
   CHECK(testkit::throws_with<graph::ParseError>([&] { (void)app::read_labels(dir / "l.txt"); },
                                                 "l.txt:2: label field 1 (candidate): expected candidate 1"));

@@ -10,8 +10,39 @@ import keel.graph;
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 
 #include "commands.hpp"
+
+namespace {
+
+// Prints "keel <command>: <message>" and returns the exit code of the error's class (Exit in commands.hpp).
+int report_error(const char* command, std::exception_ptr error) {
+  using namespace keel::cli;
+  auto say = [&](const std::string& prefix, const std::exception& e, int code) {
+    fmt::print(stderr, "keel {}: {}{}\n", command, prefix, e.what());
+    return code;
+  };
+  try {
+    std::rethrow_exception(error);
+  } catch (const CommandFailed& e) {
+    return say("", e, Exit::failed);
+  } catch (const keel::core::ConfigError& e) {
+    return say("config error: ", e, Exit::usage);
+  } catch (const keel::graph::ParseError& e) {  // file, line, field
+    return say("", e, Exit::bad_input);
+  } catch (const keel::graph::DatasetError& e) {  // a data-set file missing or not verified
+    return say("", e, Exit::bad_input);
+  } catch (const std::filesystem::filesystem_error& e) {
+    return say("", e, Exit::bad_input);
+  } catch (const std::logic_error& e) {  // invalid_argument, out_of_range: values the engine refuses
+    return say("", e, Exit::bad_input);
+  } catch (const std::exception& e) {  // a solver or factorization that failed
+    return say("", e, Exit::failed);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace keel::cli;
@@ -31,29 +62,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? Exit::ok : Exit::usage;
-  } catch (const CommandFailed& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::failed;
-  } catch (const keel::core::ConfigError& e) {
-    fmt::print(stderr, "keel {}: config error: {}\n", command, e.what());
-    return Exit::usage;
-  } catch (const keel::graph::ParseError& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::bad_input;
-  } catch (const keel::graph::DatasetError& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::bad_input;
-  } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::bad_input;
-  } catch (const std::out_of_range& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::bad_input;
-  } catch (const std::filesystem::filesystem_error& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::bad_input;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "keel {}: {}\n", command, e.what());
-    return Exit::failed;
+  } catch (...) {
+    return report_error(command, std::current_exception());
   }
 }

@@ -11,6 +11,7 @@
 #include "bindings.hpp"
 #include "candidates.hpp"
 #include "graph/datasets.hpp"
+#include "app/files.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/text_records.hpp"
@@ -22,16 +23,6 @@ namespace {
 
 using graph::PoseGraph2D;
 using graph::PoseGraph3D;
-
-// The dimension of a graph file from its first record's tag (the tag that detect_graph_format uses for the
-// format): VERTEX_SE3:QUAT, EDGE_SE3:QUAT (g2o) and EDGE3 (iSAM) are 3D, anything else 2D (a file of another
-// kind is then reported by the 2D reader).
-bool first_record_is_3d(const std::string& text, const std::string& name) {
-  graph::detail::RecordScanner sc(text, name);
-  if (!sc.next()) return false;
-  const std::string_view t = sc.tag();
-  return t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT" || t == "EDGE3";
-}
 
 int dim_of(const py::object& dim, const char* who) {
   if (dim.is_none()) return 0;
@@ -215,7 +206,7 @@ information of its residual as in a graph's edges. `dim` is 2 or 3; the arrays a
         {
           py::gil_scoped_release release;
           const std::string text = graph::detail::read_file_text(path);
-          const bool is3d = dim == 0 ? first_record_is_3d(text, path) : dim == 3;
+          const bool is3d = dim == 0 ? app::graph_dimension(text, path) == 3 : dim == 3;
           std::istringstream in(text);
           if (is3d) {
             g = graph::read_pose_graph_3d(in, path);
@@ -271,7 +262,7 @@ to a temporary name and renamed.)doc");
         c.source = path;
         py::gil_scoped_release release;
         const std::string text = graph::detail::read_file_text(path);
-        const bool is3d = dim == 0 ? first_record_is_3d(text, path) : dim == 3;
+        const bool is3d = dim == 0 ? app::graph_dimension(text, path) == 3 : dim == 3;
         std::istringstream in(text);
         if (is3d) {
           c.edges = graph::read_g2o_edges_3d(in, path);

@@ -6,6 +6,7 @@
 
 #include "bindings.hpp"
 #include "candidates.hpp"
+#include "app/files.hpp"
 #include "eval/merge.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
@@ -22,25 +23,10 @@ struct PcmSelection {
   double time_s = 0.0;
 };
 
-template <class G, class Edge>
-std::vector<pcm::InterRobotMeasurement<G>> measurements_of(const std::vector<Edge>& edges) {
-  std::vector<pcm::InterRobotMeasurement<G>> out;
-  out.reserve(edges.size());
-  for (const auto& e : edges) {
-    pcm::InterRobotMeasurement<G> c;
-    c.pose_a = e.i;
-    c.pose_b = e.j;
-    c.z = e.measurement;
-    c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
-    out.push_back(c);
-  }
-  return out;
-}
-
 template <class G, class Graph, class Edge>
 pcm::ConsistencyMatrix consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges,
                                    const pcm::ConsistencyOptions& options) {
-  const auto candidates = measurements_of<G>(edges);
+  const auto candidates = app::inter_robot_candidates(a, b, edges);
   const auto la = eval::solve_local(a);
   const auto lb = eval::solve_local(b);
   const auto maps = eval::local_maps(la, lb, candidates);

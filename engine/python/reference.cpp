@@ -18,10 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "app/files.hpp"
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
 #include "eval/merge.hpp"
 #include "graph/build.hpp"
+#include "app/files.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/text_records.hpp"
@@ -58,13 +60,7 @@ std::string row(const lie::SE3& T) {
                      num(q[2]), num(q[3]));
 }
 
-bool is_3d(const std::string& file) {
-  const std::string text = graph::detail::read_file_text(file);
-  graph::detail::RecordScanner sc(text, file);
-  if (!sc.next()) return false;
-  const std::string_view t = sc.tag();
-  return t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT" || t == "EDGE3";
-}
+bool is_3d(const std::string& file) { return app::graph_dimension(file) == 3; }
 
 template <class Graph>
 void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pairs) {
@@ -101,15 +97,7 @@ void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pair
 
 template <class G, class Graph, class Edge>
 void consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges) {
-  std::vector<pcm::InterRobotMeasurement<G>> candidates;
-  for (const auto& e : edges) {
-    pcm::InterRobotMeasurement<G> c;
-    c.pose_a = e.i;
-    c.pose_b = e.j;
-    c.z = e.measurement;
-    c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
-    candidates.push_back(c);
-  }
+  const auto candidates = app::inter_robot_candidates(a, b, edges);
   const auto la = eval::solve_local(a);
   const auto lb = eval::solve_local(b);
   const auto maps = eval::local_maps(la, lb, candidates);

@@ -6,6 +6,8 @@
 //                           factor made once; config 0 = defaults (CHOLMOD's ordering, forward extraction),
 //                           1 = METIS ordering + forward, 2 = CHOLMOD's ordering + multi-column solves
 //                           (solve)
+//   BM_MarginalsOneCall     information matrix + factorization + all 44 425 pairs in one iteration (one
+//                           `keel marginals` / keel.marginals call; bench/bench_python.py compares with it)
 //   BM_JointSingle          one joint() query of three poses
 //   BM_Subset{Keel,Ceres}   200 of those pairs, keel.cov vs ceres::Covariance on the same residuals with the
 //   poses on a
@@ -106,6 +108,21 @@ void BM_AllPairMarginals(benchmark::State& state) {
   state.counters["pairs"] = static_cast<double>(m.pairs.size());
   state.counters["pairs_per_s"] =
       benchmark::Counter(static_cast<double>(m.pairs.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// What one `keel marginals --pairs` or Python keel.marginals(pairs=…) call does: information matrix,
+// factorization and every pair, in one iteration (the counterpart of bench/bench_python.py's one-call line;
+// BM_Factorize + BM_AllPairMarginals time the two halves apart, without the interference of CHOLMOD's BLAS
+// threads with the extraction threads that one call has).
+void BM_MarginalsOneCall(benchmark::State& state) {
+  const Manhattan& m = manhattan();
+  if (!m.error.empty()) return state.SkipWithError(m.error.c_str());
+  const unsigned threads = static_cast<unsigned>(state.range(0));
+  for (auto _ : state) {
+    const cov::MarginalCovariance mc(cov::information_matrix(m.graph, m.truth));
+    benchmark::DoNotOptimize(cov::pair_marginals_2d(mc, m.pairs, threads).data());
+  }
+  state.counters["pairs"] = static_cast<double>(m.pairs.size());
 }
 
 // One small query (3 poses far apart): a forward substitution along three paths of the elimination tree.
@@ -260,6 +277,12 @@ BENCHMARK(BM_Factorize)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AllPairMarginals)
     ->ArgsProduct({{0, 1, 2}, {1, 2}})
     ->ArgNames({"config", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_MarginalsOneCall)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_JointSingle)->Unit(benchmark::kMicrosecond);

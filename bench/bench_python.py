@@ -35,8 +35,12 @@ median (and min) of N wall-clock repetitions (time.perf_counter) in milliseconds
                                                                                         on a factor made once;
                                                                                         config 0 = defaults,
                                                                                         1 = METIS, 2 = solve
-  marginals (one call) threads=T         BM_Factorize + BM_AllPairMarginals/config:0/   keel.marginals: both of the
-                                         threads:T                                      above in one call
+  marginals (one call) threads=T         BM_MarginalsOneCall/threads:T/real_time        keel.marginals: both of the
+                                         (bench_cov)                                    above in one call (with two
+                                                                                        threads CHOLMOD's BLAS
+                                                                                        threads, still spinning after
+                                                                                        the factorization, slow the
+                                                                                        extraction down in C++ too)
 
 The Python timings include what the bindings add: argument conversion (numpy -> engine types, e.g. the ground-
 truth poses and the 44 425 pairs), releasing/re-acquiring the GIL, and building the numpy results (the solution
@@ -90,29 +94,36 @@ def cpp_median(cpp_dir, program, names, repeat):
 
 
 class Reporter:
-    def __init__(self, cpp_dir, repeat):
-        self.cpp_dir, self.repeat, self.rows = cpp_dir, repeat, []
+    """Prints one line per piece of work. With --cpp DIR: `rounds` times, the C++ benchmark (median of `repeat`
+    repetitions) and then the Python timing (median of `repeat`), alternately, so that a drift of the machine's
+    speed hits both; the overhead is the median over the rounds of (Python − C++) / C++, with its range."""
 
-    def __call__(self, name, compare, result, cpp=None):
-        """cpp: (program, [benchmark names]) run before printing when --cpp is given."""
-        med, best = result
-        line = f"{name:<40} median {med * 1e3:9.2f} ms   min {best * 1e3:9.2f} ms"
-        if self.cpp_dir and cpp:
-            c = cpp_median(self.cpp_dir, cpp[0], cpp[1], self.repeat)
-            overhead = (med - c) / c
-            self.rows.append((name, med, c, overhead))
-            line += f"   C++ {c * 1e3:9.2f} ms   overhead {overhead * 100:+6.1f} %   ({' + '.join(cpp[1])})"
-        else:
-            line += f"   vs {compare}"
-        print(line, flush=True)
+    def __init__(self, cpp_dir, repeat, rounds):
+        self.cpp_dir, self.repeat, self.rounds, self.rows = cpp_dir, repeat, rounds, []
+
+    def __call__(self, name, compare, fn, cpp=None):
+        if not (self.cpp_dir and cpp):
+            med, best = timed(fn, self.repeat)
+            print(f"{name:<40} median {med * 1e3:9.2f} ms   min {best * 1e3:9.2f} ms   vs {compare}", flush=True)
+            return
+        py, c, ratio = [], [], []
+        for _ in range(self.rounds):
+            c.append(cpp_median(self.cpp_dir, cpp[0], cpp[1], self.repeat))
+            py.append(timed(fn, self.repeat)[0])
+            ratio.append(py[-1] / c[-1] - 1.0)
+        row = (name, statistics.median(py), statistics.median(c), statistics.median(ratio), min(ratio), max(ratio))
+        self.rows.append(row)
+        print(f"{name:<40} Python {row[1] * 1e3:9.2f} ms   C++ {row[2] * 1e3:9.2f} ms   overhead "
+              f"{row[3] * 100:+6.1f} % ({row[4] * 100:+.1f} … {row[5] * 100:+.1f} % over {self.rounds} rounds)   "
+              f"[{' + '.join(cpp[1])}]", flush=True)
 
     def summary(self):
         if not self.rows:
             return
-        print("\nside by side (medians, ms):")
-        print(f"  {'work':<38} {'Python':>9} {'C++':>9} {'overhead':>9}")
-        for name, py, c, o in self.rows:
-            print(f"  {name:<38} {py * 1e3:9.2f} {c * 1e3:9.2f} {o * 100:+8.1f} %")
+        print(f"\nside by side (medians over {self.rounds} rounds of {self.repeat} repetitions, ms):")
+        print(f"  {'work':<38} {'Python':>9} {'C++':>9} {'overhead':>9}   range over the rounds")
+        for name, py, c, o, lo, hi in self.rows:
+            print(f"  {name:<38} {py * 1e3:9.2f} {c * 1e3:9.2f} {o * 100:+8.1f} %   {lo * 100:+.1f} … {hi * 100:+.1f} %")
 
 
 def main():
@@ -122,9 +133,10 @@ def main():
     ap.add_argument("--configs", type=int, nargs="+", default=[0, 1, 2], help="BM_AllPairMarginals configs")
     ap.add_argument("--skip-solve", action="store_true")
     ap.add_argument("--skip-marginals", action="store_true")
+    ap.add_argument("--rounds", type=int, default=3, help="with --cpp: alternating C++/Python rounds per line")
     ap.add_argument("--cpp", metavar="DIR", help="run the C++ benchmarks from DIR beside each line (bench_pgo, bench_cov)")
     a = ap.parse_args()
-    report = Reporter(a.cpp, a.repeat)
+    report = Reporter(a.cpp, a.repeat, a.rounds)
 
     graph = keel.read_graph(keel.dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"))
 
@@ -132,7 +144,7 @@ def main():
         for t in a.threads:
             r = keel.solve(graph, init="odometry", threads=t)
             report(f"solve manhattan3500 threads={t}", f"bench_pgo BM_Manhattan3500/{t}/real_time",
-                   timed(lambda: keel.solve(graph, init="odometry", threads=t), a.repeat),
+                   lambda: keel.solve(graph, init="odometry", threads=t),
                    ("bench_pgo", [f"BM_Manhattan3500/{t}/real_time"]))
             print(f"{'':40} iterations {r.iterations}, final cost {r.cost:.6f}, {r.termination}")
 
@@ -143,7 +155,7 @@ def main():
         pairs = np.array([(i, i + k) for k in KS for i in range(n - k)], dtype=np.int64)
         assert pairs.shape == (44425, 2), pairs.shape
         report("factorize (MarginalCovariance)", "bench_cov BM_Factorize",
-               timed(lambda: keel.MarginalCovariance(graph, poses=truth), a.repeat), ("bench_cov", ["BM_Factorize"]))
+               lambda: keel.MarginalCovariance(graph, poses=truth), ("bench_cov", ["BM_Factorize"]))
         configs = {0: {}, 1: {"ordering": "metis"}, 2: {"extraction": "solve"}}
         for c in a.configs:
             opts = configs[c]
@@ -151,12 +163,12 @@ def main():
             for t in a.threads:
                 report(f"pairs config={c} threads={t}",
                        f"bench_cov BM_AllPairMarginals/config:{c}/threads:{t}/real_time",
-                       timed(lambda: mc.pairs(pairs, threads=t), a.repeat),
+                       lambda: mc.pairs(pairs, threads=t),
                        ("bench_cov", [f"BM_AllPairMarginals/config:{c}/threads:{t}/real_time"]))
         for t in a.threads:
-            report(f"marginals (one call) threads={t}", f"bench_cov BM_Factorize + AllPairMarginals/config:0/threads:{t}",
-                   timed(lambda: keel.marginals(graph, poses=truth, pairs=pairs, threads=t), a.repeat),
-                   ("bench_cov", ["BM_Factorize", f"BM_AllPairMarginals/config:0/threads:{t}/real_time"]))
+            report(f"marginals (one call) threads={t}", f"bench_cov BM_MarginalsOneCall/threads:{t}",
+                   lambda: keel.marginals(graph, poses=truth, pairs=pairs, threads=t),
+                   ("bench_cov", [f"BM_MarginalsOneCall/threads:{t}/real_time"]))
     report.summary()
 
 

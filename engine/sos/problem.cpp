@@ -216,6 +216,14 @@ void project_rotations(const PlanarProblem& p, Eigen::VectorXd& z) {
   }
 }
 
+Eigen::SparseMatrix<double> columns_of(const Eigen::SparseMatrix<double>& a, const std::vector<int>& cols) {
+  Eigen::SparseMatrix<double> sel(a.cols(), static_cast<Eigen::Index>(cols.size()));
+  std::vector<Triplet> t;
+  for (std::size_t k = 0; k < cols.size(); ++k) t.emplace_back(cols[k], static_cast<int>(k), 1.0);
+  sel.setFromTriplets(t.begin(), t.end());
+  return a * sel;
+}
+
 void solve_translations(const PlanarProblem& p, Eigen::VectorXd& z) {
   // Columns of the translation and landmark unknowns, and the residual of the rotations alone.
   std::vector<int> cols;
@@ -224,11 +232,7 @@ void solve_translations(const PlanarProblem& p, Eigen::VectorXd& z) {
   Eigen::VectorXd zr = z;
   for (int v : cols) zr(v) = 0.0;
   const Eigen::VectorXd rhs = -(p.a * zr + p.r);
-  Eigen::SparseMatrix<double> sel(p.unknowns(), static_cast<Eigen::Index>(cols.size()));
-  std::vector<Triplet> t;
-  for (std::size_t k = 0; k < cols.size(); ++k) t.emplace_back(cols[k], static_cast<int>(k), 1.0);
-  sel.setFromTriplets(t.begin(), t.end());
-  const Eigen::SparseMatrix<double> at = p.a * sel;
+  const Eigen::SparseMatrix<double> at = columns_of(p.a, cols);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Eigen::SparseMatrix<double>(at.transpose() * at));
   if (ldlt.info() != Eigen::Success)
     throw std::runtime_error("sos::solve_translations: the translation system is singular");

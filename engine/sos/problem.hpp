@@ -84,6 +84,11 @@ void project_rotations(const PlanarProblem& p, Eigen::VectorXd& z);
 // For fixed rotations, the translations and landmarks that minimise f (a linear least-squares solve; exact).
 void solve_translations(const PlanarProblem& p, Eigen::VectorXd& z);
 
+// The columns `cols` of A (in that order) as a sparse matrix: A · S with the selection matrix S(cols[k], k)
+// = 1.
+[[nodiscard]] Eigen::SparseMatrix<double> columns_of(const Eigen::SparseMatrix<double>& a,
+                                                     const std::vector<int>& cols);
+
 // Gauss–Newton on f over (θ_i, translations, landmarks) from z, with a backtracking step: the local minimum
 // of the thesis's own cost near z (keel.pgo minimizes the geodesic χ², whose minimum differs from f's by
 // O(θ⁴)).

@@ -161,21 +161,10 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
   // G = [r, A_rot] (dense), A_T sparse.
   Eigen::MatrixXd g(rows, nk);
   g.col(0) = p.r;
-  const Eigen::MatrixXd a_dense_rot = [&] {
-    Eigen::SparseMatrix<double> sel(p.unknowns(), nk - 1);
-    std::vector<Eigen::Triplet<double>> t;
-    for (std::size_t k = 0; k < rot.size(); ++k) t.emplace_back(rot[k], static_cast<int>(k), 1.0);
-    sel.setFromTriplets(t.begin(), t.end());
-    return Eigen::MatrixXd(p.a * sel);
-  }();
-  g.rightCols(nk - 1) = a_dense_rot;
+  g.rightCols(nk - 1) = Eigen::MatrixXd(columns_of(p.a, rot));
   Eigen::MatrixXd q = g.transpose() * g;
   if (!rest.empty()) {
-    Eigen::SparseMatrix<double> sel(p.unknowns(), static_cast<Eigen::Index>(rest.size()));
-    std::vector<Eigen::Triplet<double>> t;
-    for (std::size_t k = 0; k < rest.size(); ++k) t.emplace_back(rest[k], static_cast<int>(k), 1.0);
-    sel.setFromTriplets(t.begin(), t.end());
-    const Eigen::SparseMatrix<double> at = p.a * sel;
+    const Eigen::SparseMatrix<double> at = columns_of(p.a, rest);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Eigen::SparseMatrix<double>(at.transpose() * at));
     if (ldlt.info() != Eigen::Success)
       throw std::runtime_error("sos::relax: the translation block is singular (is every pose constrained?)");

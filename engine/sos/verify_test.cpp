@@ -69,14 +69,26 @@ double dense_lambda_min(const PlanarProblem& p, const Eigen::VectorXd& z) {
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(s, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
 }
 
+// A noisy walk of `poses` poses and `loops` loop closures (seed 3), its problem and its certified solution.
+struct CertifiedWalk {
+  PoseGraph2D g;
+  PlanarProblem p;
+  CertifiedSolution s;
+};
+CertifiedWalk certified_walk(int poses, int loops) {
+  Rng rng(3);
+  CertifiedWalk w;
+  w.g = noisy_walk(rng, poses, loops, 0.1);
+  w.p = planar_problem(w.g);
+  w.s = solve_certified(w.g);
+  REQUIRE(w.s.status == CertificateStatus::certified);
+  return w;
+}
+
 }  // namespace
 
 TEST_CASE("a solution certified by the relaxation is certified by its dual certificate") {
-  Rng rng(3);
-  const PoseGraph2D g = noisy_walk(rng, 14, 8, 0.1);
-  const PlanarProblem p = planar_problem(g);
-  const CertifiedSolution s = solve_certified(g);
-  REQUIRE(s.status == CertificateStatus::certified);
+  const auto [g, p, s] = certified_walk(14, 8);
   REQUIRE(s.certified_order == 1);
   Eigen::VectorXd z = s.z;
   const RefineReport rr = refine_solution(p, z);
@@ -97,11 +109,7 @@ TEST_CASE("a solution certified by the relaxation is certified by its dual certi
 }
 
 TEST_CASE("a perturbed solution is not certified, even with its translations re-solved") {
-  Rng rng(3);
-  const PoseGraph2D g = noisy_walk(rng, 14, 8, 0.1);
-  const PlanarProblem p = planar_problem(g);
-  const CertifiedSolution s = solve_certified(g);
-  REQUIRE(s.status == CertificateStatus::certified);
+  const auto [g, p, s] = certified_walk(14, 8);
   Eigen::VectorXd z = s.z;
   const int i = 6;  // rotate pose 6 by 0.3 rad
   const double th = std::atan2(z(4 * (i - 1) + 1), z(4 * (i - 1))) + 0.3;
@@ -119,11 +127,7 @@ TEST_CASE("a perturbed solution is not certified, even with its translations re-
 }
 
 TEST_CASE("local minima of Levenberg-Marquardt from random starts are rejected") {
-  Rng rng(3);
-  const PoseGraph2D g = noisy_walk(rng, 60, 30, 0.1);
-  const PlanarProblem p = planar_problem(g);
-  const CertifiedSolution s = solve_certified(g);
-  REQUIRE(s.status == CertificateStatus::certified);
+  const auto [g, p, s] = certified_walk(60, 30);
   int local = 0, stationary_local = 0, global = 0;
   for (std::uint64_t seed = 0; seed < 10; ++seed) {
     keel::pgo::Options lm;

@@ -15,6 +15,7 @@ using keel::app::PcmRun3;
 using keel::app::Progress;
 using keel::app::read_labels;
 using keel::app::run_pcm;
+using keel::app::solve_options;
 using keel::app::split_files;
 using keel::app::SplitFilesOptions;
 using keel::app::summarize;

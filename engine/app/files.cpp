@@ -203,6 +203,20 @@ int graph_dimension(const std::filesystem::path& file) {
   return graph_dimension(graph::detail::read_file_text(file), file.string());
 }
 
+pgo::Options solve_options(std::string init, std::string_view robust, double robust_parameter,
+                           std::uint64_t seed, unsigned threads, int max_iterations) {
+  std::replace(init.begin(), init.end(), '-', '_');
+  pgo::Options o;
+  o.initial_guess = pgo::initial_guess_from_string(init);
+  o.robust_kernel = pgo::robust_kernel_from_string(robust);
+  o.robust_parameter = robust_parameter;
+  o.seed = seed;
+  o.threads = threads;
+  o.max_iterations = max_iterations;
+  o.validate();
+  return o;
+}
+
 GraphSummary summarize(const std::filesystem::path& file) {
   GraphSummary s;
   s.file = file.string();

@@ -21,6 +21,7 @@
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
+#include "pgo/options.hpp"
 #include "sim/two_robot.hpp"
 
 namespace keel::app {
@@ -31,6 +32,12 @@ namespace keel::app {
 [[nodiscard]] int graph_dimension(const std::filesystem::path& file);
 /// The same for a file's text (`name` for messages).
 [[nodiscard]] int graph_dimension(std::string_view text, const std::string& name);
+
+/// The solver options of `keel solve` and Python's keel.solve: pgo's defaults with only these fields set, so
+/// the two give bit-identical results. `init` names a pgo::InitialGuess ('-' may stand for '_': "as-read"),
+/// `robust` a pgo::RobustKernel. Throws std::invalid_argument for an unknown name or an invalid value.
+[[nodiscard]] pgo::Options solve_options(std::string init, std::string_view robust, double robust_parameter,
+                                         std::uint64_t seed, unsigned threads, int max_iterations);
 
 /// What `keel check` prints about a graph file.
 struct GraphSummary {

@@ -20,7 +20,6 @@ import keel.app;
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -43,32 +42,23 @@ using nlohmann::json;
 // Stage lines on stderr: "keel solve [0.4 s] solving …".
 class Stages {
  public:
-  Stages(const char* command, bool quiet)
-      : command_(command), quiet_(quiet), t0_(std::chrono::steady_clock::now()) {}
+  Stages(const char* command, bool quiet) : command_(command), quiet_(quiet), t0_(core::Clock::now()) {}
   void operator()(std::string_view stage) const {
     if (quiet_) return;
     fmt::print(stderr, "keel {} [{:.1f} s] {}\n", command_, elapsed(), stage);
     std::fflush(stderr);
   }
-  double elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
+  double elapsed() const { return core::seconds_since(t0_); }
 
  private:
   const char* command_;
   bool quiet_;
-  std::chrono::steady_clock::time_point t0_;
+  core::Clock::time_point t0_;
 };
 
 void add_common(CLI::App* c, Common& o) {
   c->add_flag("--quiet,-q", o.quiet, "no progress lines on stderr");
   c->add_flag("--json", o.json, "print one JSON document on stdout instead of the text summary");
-}
-
-// "as-read" and "as_read" are both accepted for enum names with underscores.
-std::string enum_text(std::string s) {
-  std::replace(s.begin(), s.end(), '-', '_');
-  return s;
 }
 
 void write_json(const fs::path& file, const json& j) {
@@ -181,17 +171,8 @@ void add_solve_options(CLI::App* c, SolveArgs& a) {
   c->add_option("--max-iterations", a.max_iterations, "trust-region iterations")->capture_default_str();
 }
 
-// The options the Python module's keel.solve builds from the same arguments (bit-identical results).
 pgo::Options solver_options(const SolveArgs& a) {
-  pgo::Options o;
-  o.initial_guess = pgo::initial_guess_from_string(enum_text(a.init));
-  o.robust_kernel = pgo::robust_kernel_from_string(a.robust);
-  o.robust_parameter = a.robust_param;
-  o.seed = a.seed;
-  o.threads = a.threads;
-  o.max_iterations = a.max_iterations;
-  o.validate();
-  return o;
+  return app::solve_options(a.init, a.robust, a.robust_param, a.seed, a.threads, a.max_iterations);
 }
 
 void check_solved(const pgo::Summary& s) {
@@ -383,7 +364,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage)
               {"perturbation", planar ? "left, T = exp(ξ^) T̄, ξ = (ρx, ρy, θ)"
                                       : "left, T = exp(ξ^) T̄, ξ = (ρ, φ) (translation part first)"},
               {"solve", summary_json(r.summary)}};
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = core::Clock::now();
   if (!pairs.empty()) {
     stage(fmt::format("joint marginals of {} pairs", pairs.size()));
     json list = json::array();
@@ -408,8 +389,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage)
     out["poses"] = ids;
     out["covariance"] = matrix_json(covariance.joint(ids));
   }
-  const double extraction_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double extraction_time_s = core::seconds_since(t0);
   out["factorization_time_s"] = covariance.summary().analyze_time_s + covariance.summary().factorize_time_s;
   out["extraction_time_s"] = extraction_time_s;
   if (!sa.out.empty()) {

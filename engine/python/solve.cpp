@@ -5,6 +5,7 @@
 #include <optional>
 #include <variant>
 
+#include "app/files.hpp"
 #include "bindings.hpp"
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
@@ -27,24 +28,11 @@ struct SolveResult {
   double solve_time_s = 0.0;
 };
 
-// The options of `keel solve`: pgo's defaults with only these fields set.
+// The options of `keel solve` (app::solve_options); an array as `init` is a supplied initial guess.
 pgo::Options solve_options(const py::object& init, const std::string& robust, double robust_param,
                            std::uint64_t seed, unsigned threads, int max_iterations) {
-  pgo::Options o;
-  if (py::isinstance<py::str>(init)) {
-    std::string text = init.cast<std::string>();
-    if (text == "as-read") text = "as_read";
-    o.initial_guess = pgo::initial_guess_from_string(text);
-  } else {
-    o.initial_guess = pgo::InitialGuess::supplied;
-  }
-  o.robust_kernel = pgo::robust_kernel_from_string(robust);
-  o.robust_parameter = robust_param;
-  o.seed = seed;
-  o.threads = threads;
-  o.max_iterations = max_iterations;
-  o.validate();
-  return o;
+  const std::string text = py::isinstance<py::str>(init) ? init.cast<std::string>() : "supplied";
+  return app::solve_options(text, robust, robust_param, seed, threads, max_iterations);
 }
 
 template <class Result>

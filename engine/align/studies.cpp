@@ -8,6 +8,7 @@
 
 #include "align/sdp.hpp"
 #include "core/parallel.hpp"
+#include "core/shard.hpp"
 #include "core/timing.hpp"
 
 namespace keel::align {
@@ -129,7 +130,21 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
   out.query_points.resize(worlds);
   if (o.certify) out.certificates.resize(worlds);
   out.sdp_checks.resize(std::min(o.sdp_check_worlds, worlds));
-  core::parallel_for(
+  // One trial per world; its record is everything the world wrote (all plain structs).
+  const auto save = [&](core::Writer& wr, std::size_t w) {
+    core::save(wr, std::tie(out.world_theta[w], out.reference_points[w], out.query_points[w]));
+    for (std::size_t m = 0; m < nm; ++m) core::save(wr, out.outcomes[m][w]);
+    if (o.certify) core::save(wr, out.certificates[w]);
+    if (w < out.sdp_checks.size()) core::save(wr, out.sdp_checks[w]);
+  };
+  const auto load = [&](core::Reader& rd, std::size_t w) {
+    auto head = std::tie(out.world_theta[w], out.reference_points[w], out.query_points[w]);
+    core::load(rd, head);
+    for (std::size_t m = 0; m < nm; ++m) core::load(rd, out.outcomes[m][w]);
+    if (o.certify) core::load(rd, out.certificates[w]);
+    if (w < out.sdp_checks.size()) core::load(rd, out.sdp_checks[w]);
+  };
+  core::trial_loop(
       worlds,
       [&](std::size_t w) {
         const WorldTruth truth = world(w);
@@ -153,7 +168,7 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
             out.certificates[w] = certificate_of(p, global, ao, r, o.certificate);
         }
       },
-      threads, progress);
+      save, load, threads, progress);
   return out;
 }
 

@@ -341,6 +341,7 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   c.reproduces = root.string("reproduces");
   c.description = root.string_or("description", "");
   c.discussion = root.string_or("discussion", "");
+  c.runs_whole = root.string_or("runs_whole", "");
   const std::int64_t seed = root.integer("seed");
   if (seed < 0) throw ConfigError(fmt::format("{}: must be >= 0", root.where("seed")));
   c.seed = static_cast<std::uint64_t>(seed);

@@ -11,6 +11,7 @@ module;
 #include "core/progress.hpp"
 #include "core/random.hpp"
 #include "core/report.hpp"
+#include "core/shard.hpp"
 #include "core/results.hpp"
 #include "core/statistics.hpp"
 #include "core/timing.hpp"
@@ -29,6 +30,12 @@ using keel::core::default_threads;
 using keel::core::format_duration;
 using keel::core::parallel_for;
 using keel::core::Progress;
+// sharded trial loops (--slice / --merge) and their per-trial records
+using keel::core::load;
+using keel::core::Reader;
+using keel::core::save;
+using keel::core::trial_loop;
+using keel::core::Writer;
 // strict configuration
 using keel::core::config_type_name;
 using keel::core::ConfigError;

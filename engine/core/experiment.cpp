@@ -8,12 +8,15 @@
 #include <cctype>
 #include <cstring>
 #include <optional>
+#include <string_view>
+#include <vector>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
+#include "core/shard.hpp"
 
 namespace keel::core {
 
@@ -42,7 +45,9 @@ std::string shell_quote(const std::string& s) {
 void usage(const char* prog) {
   fmt::print(stderr,
              "usage: {} --config experiments/<id>/experiment.toml [--profile quick|full] "
-             "[--out results/<id>/latest.json] [--threads N]\n",
+             "[--out results/<id>/latest.json] [--threads N]\n"
+             "       [--slice k/N --partial FILE]   run shard k of N of the trials, write a partial file\n"
+             "       [--merge FILE...]              merge the N partial files into the results\n",
              prog);
 }
 
@@ -80,7 +85,9 @@ bool code_changed_since(const std::string& sha, const std::string& id) {
 }
 
 int experiment_main(int argc, char** argv, const ExperimentBody& body) {
-  std::string config_path, profile = "quick", out_path;
+  std::string config_path, profile = "quick", out_path, slice_text, partial_path;
+  std::vector<std::string> merge_paths;
+  bool merge = false;
   unsigned threads = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -107,6 +114,14 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
         return 2;
       }
       threads = static_cast<unsigned>(t);
+    } else if (a == "--slice") {
+      slice_text = need("k/N");
+    } else if (a == "--partial") {
+      partial_path = need("a path");
+    } else if (a == "--merge") {
+      merge = true;
+      while (i + 1 < argc && std::string_view(argv[i + 1]).substr(0, 2) != "--")
+        merge_paths.emplace_back(argv[++i]);
     } else if (a == "--help" || a == "-h") {
       usage(argv[0]);
       return 0;
@@ -121,6 +136,23 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
     usage(argv[0]);
     return 2;
   }
+  std::optional<Slice> slice;
+  if (!slice_text.empty() || !partial_path.empty()) {
+    if (slice_text.empty() || partial_path.empty() || merge) {
+      fmt::print(stderr, "error: a shard run needs both --slice k/N and --partial FILE, and no --merge\n");
+      return 2;
+    }
+    try {
+      slice = Slice::parse(slice_text);
+    } catch (const std::invalid_argument& e) {
+      fmt::print(stderr, "error: {}\n", e.what());
+      return 2;
+    }
+  }
+  if (merge && merge_paths.empty()) {
+    fmt::print(stderr, "error: --merge needs the partial files of every shard\n");
+    return 2;
+  }
   if (threads == 0) threads = default_threads();
 
   std::optional<Experiment> ex;
@@ -131,24 +163,108 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
     return 2;
   }
   if (out_path.empty()) out_path = fmt::format("results/{}/latest.json", ex->id());
+  const std::string sha = git_describe(std::filesystem::absolute(config_path).parent_path().string());
+
+  const bool sharded = slice || merge;
+  if (sharded && !ex->config().runs_whole.empty() && !(slice && slice->count == 1)) {
+    fmt::print(stderr, "error: {} runs whole ({}): run it without --slice/--merge\n", ex->id(),
+               ex->config().runs_whole);
+    return 2;
+  }
+  std::size_t shards = 0;
+  try {
+    if (slice) {
+      set_slice(*slice);
+    } else if (merge) {
+      std::vector<Partial> partials;
+      for (const auto& f : merge_paths) partials.push_back(Partial::read(f));
+      set_merge(std::move(partials));
+      shards = merge_paths.size();
+    } else {
+      set_whole();
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  }
+  if (merge) {
+    // The partials must come from this experiment, profile, configuration, seed and commit.
+    const auto& h = merged_header();
+    std::string why;
+    if (h.id != ex->id())
+      why = fmt::format("they are of experiment '{}'", h.id);
+    else if (h.profile != profile)
+      why = fmt::format("they ran profile '{}'", h.profile);
+    else if (h.config_hash != ex->config().hash)
+      why = "they ran another version of the configuration file";
+    else if (h.seed != ex->seed())
+      why = fmt::format("they ran seed {}", h.seed);
+    else if (h.git_sha != sha)
+      why = fmt::format("they were written at commit {}, this tree is {}", h.git_sha, sha);
+    if (!why.empty()) {
+      fmt::print(stderr, "error: cannot merge these partials into {} [{}]: {}\n", ex->id(), profile, why);
+      return 2;
+    }
+  }
 
   const auto start = std::chrono::steady_clock::now();
   try {
     body(*ex);
     ex->params_done();
+    check_merge_complete();
   } catch (const ConfigError& e) {
     fmt::print(stderr, "config error: {}\n", e.what());
     return 2;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "{}: run failed: {}\n", ex->id(), e.what());
-    return 1;
+    // A shard's own reduction runs on stand-in values for the other shards' trials and is discarded; if it
+    // stops after the trial loops began, the partial keeps the loops run so far, and a merge that needs more
+    // loops than a partial holds refuses it, naming the shard.
+    if (slice && trial_loops_run() > 0) {
+      fmt::print(stderr,
+                 "{}: note: shard {}/{} stopped after {} trial loop(s) in its discarded reduction: {}\n",
+                 ex->id(), slice->index, slice->count, trial_loops_run(), e.what());
+    } else {
+      fmt::print(stderr, "{}: run failed: {}\n", ex->id(), e.what());
+      return 1;
+    }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (slice) {
+    Partial p;
+    p.header.id = ex->id();
+    p.header.profile = profile;
+    p.header.git_sha = sha;
+    p.header.config_hash = ex->config().hash;
+    p.header.seed = ex->seed();
+    p.header.slice = *slice;
+    p.loops = take_slice_records();
+    if (p.loops.empty()) {
+      fmt::print(stderr,
+                 "error: {} ran no trial loop, so a shard would repeat the whole run; declare runs_whole = "
+                 "\"<why>\" in {}\n",
+                 ex->id(), config_path);
+      return 2;
+    }
+    try {
+      p.write(partial_path);
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "{}: cannot write the partial file: {}\n", ex->id(), e.what());
+      return 1;
+    }
+    std::size_t trials = 0, total = 0;
+    for (const auto& l : p.loops) trials += l.end - l.begin, total += l.n;
+    fmt::print(stderr, "{} [{}] shard {}/{}: {} of {} trials in {} trial loop(s) in {} -> {}\n", ex->id(),
+               profile, slice->index, slice->count, trials, total, p.loops.size(), format_duration(wall),
+               partial_path);
+    return 0;
+  }
 
   Results::Provenance prov;
   prov.id = ex->id();
   prov.profile = profile;
-  prov.git_sha = git_describe(std::filesystem::absolute(config_path).parent_path().string());
+  prov.git_sha = sha;
+  prov.shards = shards;
 #if defined(__clang__)
   prov.compiler = fmt::format("clang {}", __clang_version__);
 #elif defined(__GNUC__)

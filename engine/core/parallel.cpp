@@ -21,6 +21,12 @@ unsigned default_threads() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+namespace {
+thread_local int worker_depth = 0;  // > 0 while this thread runs parallel_for bodies
+}  // namespace
+
+bool inside_parallel_for() { return worker_depth > 0; }
+
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& body, unsigned threads,
                   Progress* progress) {
   if (threads == 0) threads = default_threads();
@@ -32,6 +38,10 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t)>& body, u
   // Small chunks keep the load balanced when trial costs vary (sweeps over trajectory length).
   const std::size_t chunk = std::max<std::size_t>(1, n / (static_cast<std::size_t>(threads) * 64));
   auto worker = [&] {
+    ++worker_depth;
+    struct Leave {
+      ~Leave() { --worker_depth; }
+    } leave;
     while (!failed.load(std::memory_order_relaxed)) {
       const std::size_t begin = next.fetch_add(chunk);
       if (begin >= n) return;

@@ -20,4 +20,8 @@ unsigned default_threads();
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& body, unsigned threads = 0,
                   Progress* progress = nullptr);
 
+// Whether the calling thread is running a body of parallel_for (a nested loop; core/shard.hpp shards only the
+// outermost trial loop).
+bool inside_parallel_for();
+
 }  // namespace keel::core

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -45,6 +46,11 @@ void Progress::advance(std::size_t n) {
   if (now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
   draw(false);
+}
+
+void Progress::skip(std::size_t n) {
+  std::lock_guard lock(mutex_);
+  total_ -= std::min(n, total_);
 }
 
 void Progress::finish() {

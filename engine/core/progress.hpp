@@ -20,6 +20,9 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   void advance(std::size_t n = 1);
+  // Removes n units of work from the total: trials another shard of a sharded run computes (core/shard.hpp),
+  // so that the bar and the time left describe this process's share.
+  void skip(std::size_t n);
   // Prints the final line (100 %, total time) and stops drawing. Called by the destructor if not called
   // before.
   void finish();

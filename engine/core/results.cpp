@@ -252,6 +252,7 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
                        {"profile", prov.profile},
                        {"wall_time_s", round_significant(prov.wall_time_s, 4)},
                        {"threads", prov.threads}};
+  if (prov.shards > 0) doc["provenance"]["merged_shards"] = prov.shards;
   write_file_atomic(path, doc.dump(1) + "\n");
 }
 

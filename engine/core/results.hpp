@@ -87,6 +87,7 @@ class Results {
     std::uint64_t config_hash = 0, seed = 0;
     double wall_time_s = 0;
     unsigned threads = 0;
+    std::size_t shards = 0;  // > 0: merged from this many partials (core/shard.hpp); wall time is the merge's
   };
   // Writes the JSON document atomically (temporary file + rename), creating parent folders.
   void write(const std::filesystem::path& path, const Provenance& prov) const;

@@ -26,6 +26,7 @@
 // of both robots and b's anchor T_ab are expressed there, like the scenario's ground truth (scenario.hpp).
 #pragma once
 
+#include <tuple>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -126,6 +127,13 @@ struct MergeResult {
   double chi2 = 0.0;                         // Σ χ² over all edges, unweighted
   std::vector<pgo::EdgeReport> inter_robot;  // one per selected candidate (order of `selected`)
   double time_s = 0.0;                       // wall time of the merged solve
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() {
+    return std::tie(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s);
+  }
+  auto fields() const {
+    return std::tie(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s);
+  }
 };
 using MergeResult2 = MergeResult<lie::SE2>;
 using MergeResult3 = MergeResult<lie::SE3>;
@@ -252,6 +260,9 @@ struct MethodOutcome {
   MergeMetrics metrics;       // against the NO-OUT solve of the same data set
   double solve_time_s = 0.0;  // merged solve
   MergeResult<G> merged;      // the merged solve, only with keep_solutions
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(selection, metrics, solve_time_s, merged); }
+  auto fields() const { return std::tie(selection, metrics, solve_time_s, merged); }
 };
 
 template <class G>
@@ -261,6 +272,13 @@ struct MergeDataset {
   double covariance_time_s = 0.0;         // local_maps (joint marginals of the touched poses, both robots)
   double matrix_time_s = 0.0;  // consistency_matrix with Composition::joint (0 if no method uses it)
   double matrix_independent_time_s = 0.0;  // with Composition::independent (0 if no method uses it)
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() {
+    return std::tie(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s);
+  }
+  auto fields() const {
+    return std::tie(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s);
+  }
 };
 using MergeDataset2 = MergeDataset<lie::SE2>;
 using MergeDataset3 = MergeDataset<lie::SE3>;

@@ -10,6 +10,7 @@
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/results.hpp"
+#include "core/shard.hpp"
 #include "graph/residuals.hpp"
 #include "pcm/consistency.hpp"
 
@@ -86,12 +87,12 @@ std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& 
                                                 std::size_t count, unsigned threads, std::size_t keep,
                                                 core::Progress* progress) {
   std::vector<MergeDataset<G>> runs(count);
-  core::parallel_for(
+  core::trial_loop(  // one trial per data set; its record is the MergeDataset
       count,
       [&](std::size_t i) {
         runs[i] = run_merge_dataset(scenario, local.a, local.b, candidates, methods, seed, i, i == keep);
       },
-      threads, progress);
+      threads, progress, runs);
   return runs;
 }
 
@@ -103,12 +104,12 @@ std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& sc
                                               std::uint64_t seed, std::size_t index, unsigned threads,
                                               core::Progress* progress) {
   std::vector<MergeDataset<G>> sweep(method_sets.size());
-  core::parallel_for(
+  core::trial_loop(  // one trial per method set, all on data set `index`
       method_sets.size(),
       [&](std::size_t k) {
         sweep[k] = run_merge_dataset(scenario, local.a, local.b, candidates, method_sets[k], seed, index);
       },
-      threads, progress);
+      threads, progress, sweep);
   return sweep;
 }
 

@@ -11,6 +11,7 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
+#include "core/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/gaussian.hpp"
@@ -116,7 +117,7 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
     }
   }
   std::vector<PairRecord> out(pairs.size());
-  core::parallel_for(
+  core::trial_loop(  // one trial per pair; its record is the PairRecord
       pairs.size(),
       [&](std::size_t k) {
         core::Rng rng = core::Rng::stream(setup.seed, k);
@@ -130,7 +131,7 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
         out[k].i = i;
         out[k].j = j;
       },
-      setup.threads, progress);
+      setup.threads, progress, out);
   return out;
 }
 

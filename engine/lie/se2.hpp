@@ -1,6 +1,8 @@
 // keel::lie — SE(2), planar rigid motions.  Tangent: [rho_x, rho_y, theta].
 #pragma once
 
+#include <tuple>
+
 #include "so2.hpp"
 #include "types.hpp"
 
@@ -55,6 +57,10 @@ class SE2 {
   const Vec2& translation() const { return t_; }
   double angle() const { return rot_.angle(); }
   bool is_approx(const SE2& other, double tol = 1e-9) const;
+
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(rot_, t_); }
+  auto fields() const { return std::tie(rot_, t_); }
 
  private:
   SO2 rot_;

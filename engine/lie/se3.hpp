@@ -1,6 +1,8 @@
 // keel::lie — SE(3), rigid motions (eq. 5.1).  Tangent: xi = [rho; phi] (eq. 5.6).
 #pragma once
 
+#include <tuple>
+
 #include "so3.hpp"
 #include "types.hpp"
 
@@ -58,6 +60,10 @@ class SE3 {
   const SO3& so3() const { return rot_; }
   const Vec3& translation() const { return t_; }
   bool is_approx(const SE3& other, double tol = 1e-9) const;
+
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(rot_, t_); }
+  auto fields() const { return std::tie(rot_, t_); }
 
  private:
   SO3 rot_;

@@ -1,6 +1,8 @@
 // keel::lie — SO(2), planar rotations.  Tangent: theta (1-vector).
 #pragma once
 
+#include <tuple>
+
 #include "types.hpp"
 
 namespace keel::lie {
@@ -46,6 +48,10 @@ class SO2 {
   double cos_angle() const { return c_; }
   double sin_angle() const { return s_; }
   bool is_approx(const SO2& other, double tol = 1e-9) const;
+
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(c_, s_); }
+  auto fields() const { return std::tie(c_, s_); }
 
  private:
   double c_ = 1.0;

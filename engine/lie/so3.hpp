@@ -1,6 +1,8 @@
 // keel::lie — SO(3), 3D rotations.  Tangent: phi (rotation vector).
 #pragma once
 
+#include <tuple>
+
 #include "types.hpp"
 
 namespace keel::lie {
@@ -54,6 +56,10 @@ class SO3 {
   const MatrixType& matrix() const { return R_; }
   const Mat3& rotation() const { return R_; }
   bool is_approx(const SO3& other, double tol = 1e-9) const;
+
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(R_); }
+  auto fields() const { return std::tie(R_); }
 
  private:
   explicit SO3(const Mat3& R) : R_(R) {}

@@ -12,6 +12,7 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
+#include "core/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/fourth_order_joint.hpp"
@@ -132,7 +133,7 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   // Monte Carlo: trajectory i draws from its own stream, so the result does not depend on the thread count.
   const std::size_t m = s.trajectories;
   std::vector<SE3> ends(m);
-  core::parallel_for(
+  core::trial_loop(  // one trial per trajectory; its record is the end pose
       m,
       [&](std::size_t i) {
         core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);
@@ -144,7 +145,7 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         }
         ends[i] = T;
       },
-      s.threads, progress);
+      s.threads, progress, ends);
 
   const Whitener w_joint(lie_joint.cov, "lie_joint"), w_ind(lie_ind.cov, "lie_independent"),
       w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"),
@@ -230,7 +231,16 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
   const SE3 mean_inv = out.mean.inverse();
   std::vector<Vec6> xs(s.samples);
   std::vector<SE3> poses(s.keep_samples ? s.samples : 0);
-  core::parallel_for(
+  // One trial per sample; its record is ξ_i, and the relative pose when the samples are kept.
+  const auto save = [&](core::Writer& w, std::size_t i) {
+    core::save(w, xs[i]);
+    if (s.keep_samples) core::save(w, poses[i]);
+  };
+  const auto load = [&](core::Reader& r, std::size_t i) {
+    core::load(r, xs[i]);
+    if (s.keep_samples) core::load(r, poses[i]);
+  };
+  core::trial_loop(
       s.samples,
       [&](std::size_t i) {
         core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);
@@ -243,7 +253,7 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
         xs[i] = (Tm * mean_inv).log();     // eq. 5.59
         if (s.keep_samples) poses[i] = Tm;
       },
-      s.threads, progress);
+      save, load, s.threads, progress);
   Mat6 acc = Mat6::Zero();  // eq. 5.57, summed in trial order
   for (const auto& x : xs) acc += x * x.transpose();
   out.cov_mc = acc / static_cast<double>(s.samples);

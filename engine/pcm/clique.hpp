@@ -7,6 +7,7 @@
 // ties by vertex id.
 #pragma once
 
+#include <tuple>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -87,6 +88,9 @@ struct CliqueResult {
   long long nodes_explored = 0;
   double time_s = 0.0;
   bool proven_optimal() const { return status == SearchStatus::optimal; }
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
+  auto fields() const { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
 };
 
 [[nodiscard]] CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions& options = {});

@@ -37,6 +37,7 @@
 // here.
 #pragma once
 
+#include <tuple>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +64,9 @@ struct InterRobotMeasurement {
   int pose_b = 0;  // k, index into robot b's poses
   G z;
   typename G::Jacobian covariance = G::Jacobian::Identity();
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(pose_a, pose_b, z, covariance); }
+  auto fields() const { return std::tie(pose_a, pose_b, z, covariance); }
 };
 using InterRobotMeasurement2 = InterRobotMeasurement<lie::SE2>;
 using InterRobotMeasurement3 = InterRobotMeasurement<lie::SE3>;

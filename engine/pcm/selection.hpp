@@ -16,6 +16,7 @@
 //           definition used.
 #pragma once
 
+#include <tuple>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,6 +34,9 @@ struct Selection {
   // degeneracy bound max core + 1), status and ties (CliqueOptions::report_ties); empty for RANSAC and SCGP.
   std::optional<CliqueResult> search;
   bool proven_optimal() const { return search && search->proven_optimal(); }
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(selected, time_s, search); }
+  auto fields() const { return std::tie(selected, time_s, search); }
 };
 
 // Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() !=

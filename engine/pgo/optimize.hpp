@@ -15,6 +15,7 @@
 // the edge (and its source line); solver failures come back in Summary::termination / message.
 #pragma once
 
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -105,6 +106,21 @@ struct Summary {
   double jacobian_evaluation_time_s = 0.0;
   std::vector<IterationRecord> trace;  // per-iteration record, iteration 0 first
   std::string report;                  // the solver's one-line report
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() {
+    return std::tie(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
+                    free_parameter_dimension, normalized_chi2, iterations, successful_steps,
+                    unsuccessful_steps, total_time_s, preprocessor_time_s, minimizer_time_s,
+                    postprocessor_time_s, linear_solver_time_s, residual_evaluation_time_s,
+                    jacobian_evaluation_time_s, trace, report);
+  }
+  auto fields() const {
+    return std::tie(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
+                    free_parameter_dimension, normalized_chi2, iterations, successful_steps,
+                    unsuccessful_steps, total_time_s, preprocessor_time_s, minimizer_time_s,
+                    postprocessor_time_s, linear_solver_time_s, residual_evaluation_time_s,
+                    jacobian_evaluation_time_s, trace, report);
+  }
 };
 
 struct Result2D {

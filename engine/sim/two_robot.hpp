@@ -55,6 +55,7 @@
 // 4–5 s); split (500, 1250, 2000) halves those times, also with a pool of 50.
 #pragma once
 
+#include <tuple>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -168,6 +169,9 @@ struct CandidateSet {
     for (int k = 0; k < static_cast<int>(candidates.size()); ++k) v.push_back(k);
     return v;
   }
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(candidates, information, labels, false_anchors); }
+  auto fields() const { return std::tie(candidates, information, labels, false_anchors); }
 };
 using CandidateSet2 = CandidateSet<lie::SE2>;
 using CandidateSet3 = CandidateSet<lie::SE3>;

@@ -8,6 +8,7 @@
 
 #include "core/parallel.hpp"
 #include "core/random.hpp"
+#include "core/shard.hpp"
 #include "core/timing.hpp"
 #include "pgo/optimize.hpp"
 
@@ -79,7 +80,7 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
         fmt::format("sos::run_segment_study: no segment of {} poses fits in {} poses", o.segment_length, n));
   SegmentStudyOutcome out;
   out.segments.resize(static_cast<std::size_t>(count));
-  core::parallel_for(
+  core::trial_loop(  // one trial per segment; its record is the SegmentOutcome
       static_cast<std::size_t>(count),
       [&](std::size_t k) {
         SegmentOutcome& s = out.segments[k];
@@ -98,7 +99,6 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
         } catch (const std::exception& e) {
           s.failed = true;
           s.error = e.what();
-          if (progress) progress->advance();
           return;
         }
         try {
@@ -135,9 +135,8 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
           (which == 0 ? s.lm_random : s.lm_odometry) =
               score(p, r.estimate.poses, r.estimate.landmarks, s.truth, s.truth_landmarks, dt);
         }
-        if (progress) progress->advance();
       },
-      o.threads);
+      o.threads, progress, out.segments);
   return out;
 }
 
@@ -178,7 +177,14 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, core::Progress* 
     out.trials.emplace_back(static_cast<std::size_t>(o.families[f].trials));
     for (int t = 0; t < o.families[f].trials; ++t) jobs.emplace_back(f, static_cast<std::size_t>(t));
   }
-  core::parallel_for(
+  // One trial per (family, trial) job; its record is the ExactnessTrial.
+  const auto save = [&](core::Writer& w, std::size_t j) {
+    core::save(w, out.trials[jobs[j].first][jobs[j].second]);
+  };
+  const auto load = [&](core::Reader& r, std::size_t j) {
+    core::load(r, out.trials[jobs[j].first][jobs[j].second]);
+  };
+  core::trial_loop(
       jobs.size(),
       [&](std::size_t j) {
         const auto [f, t] = jobs[j];
@@ -214,9 +220,8 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, core::Progress* 
         r.escalated = c.escalated;
         r.escalation_skipped = !r.tight_order1 && !c.escalated;
         r.rank_ratio = c.first.rank_ratio;
-        if (progress) progress->advance();
       },
-      o.threads);
+      save, load, o.threads, progress);
   return out;
 }
 

@@ -10,6 +10,7 @@
 // order-1 relaxation with escalation; the share where order 1 is tight and where order 2 certifies the rest.
 #pragma once
 
+#include <tuple>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -41,6 +42,11 @@ struct MethodOutcome {
   double time_s = 0.0;
   std::vector<lie::SE2> poses;
   std::vector<lie::Vec2> landmarks;
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() { return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks); }
+  auto fields() const {
+    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks);
+  }
 };
 
 struct SegmentOutcome {
@@ -57,6 +63,19 @@ struct SegmentOutcome {
   double sdp_time_s = 0.0;  // the SDP solver call of the first relaxation
   std::vector<lie::SE2> truth;
   std::vector<lie::Vec2> truth_landmarks;
+  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  auto fields() {
+    return std::tie(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
+                    lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound,
+                    primal_residual, s_min_eigenvalue, solver_claims_optimal, escalated, note, sdp_time_s,
+                    truth, truth_landmarks);
+  }
+  auto fields() const {
+    return std::tie(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
+                    lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound,
+                    primal_residual, s_min_eigenvalue, solver_claims_optimal, escalated, note, sdp_time_s,
+                    truth, truth_landmarks);
+  }
 };
 
 struct SegmentStudyOutcome {

@@ -30,7 +30,7 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
   f.width = 22.0;
   f.height = 5.5 * f.rows;
   for (std::size_t k = 0; k < methods.size(); ++k) {
-    const auto& o = d.methods[k];
+    const auto& o = d.methods.at(k);
     const auto& m = o.merged;
     core::Panel panel;
     panel.title = fmt::format("{}: TP {}, FP {}", methods[k].label, o.metrics.classification.tp,
@@ -55,7 +55,7 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
     panel.layers.push_back(la);
     panel.layers.push_back(lb);
     std::vector<char> chosen(d.candidates.candidates.size(), 0);
-    for (int u : o.selection.selected) chosen[static_cast<std::size_t>(u)] = 1;
+    for (int u : o.selection.selected) chosen.at(static_cast<std::size_t>(u)) = 1;
     // Drawing order: rejected outliers, rejected inliers, accepted inliers, accepted outliers (on top).
     const struct {
       bool accepted, inlier;
@@ -75,8 +75,8 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
       for (std::size_t u = 0; u < d.candidates.candidates.size(); ++u) {
         if ((chosen[u] != 0) != g.accepted || d.candidates.labels[u].is_inlier() != g.inlier) continue;
         const auto& c = d.candidates.candidates[u];
-        const auto& pa = m.poses_a[static_cast<std::size_t>(c.pose_a)].translation();
-        const auto& pb = m.poses_b[static_cast<std::size_t>(c.pose_b)].translation();
+        const auto& pa = m.poses_a.at(static_cast<std::size_t>(c.pose_a)).translation();
+        const auto& pb = m.poses_b.at(static_cast<std::size_t>(c.pose_b)).translation();
         l.x0.push_back(pa(ax));
         l.y0.push_back(pa(ay));
         l.x1.push_back(pb(ax));

@@ -13,6 +13,7 @@
 # Success is read from these files, not from Slurm's accounting (often disabled): a step succeeded when its status
 # file says 0 (and, for a shard, its partial file exists). A job that Slurm killed (time limit, cancel, node failure)
 # writes no status and counts as failed.
+# shellcheck shell=bash disable=SC2154  # the variables above are assigned by scripts/reproduce, which sources this file
 
 # q ARGS...: the arguments shell-quoted and joined by spaces, as they are pasted into job scripts and commands.
 q() {

@@ -34,7 +34,9 @@ namespace keel::core {
 
 class Writer {
  public:
-  void bytes(const void* p, std::size_t n) { buffer_.append(static_cast<const char*>(p), n); }
+  void bytes(const void* p, std::size_t n) {
+    if (n > 0) buffer_.append(static_cast<const char*>(p), n);  // an empty vector's data() may be null
+  }
   const std::string& buffer() const { return buffer_; }
   std::string take() { return std::move(buffer_); }
 
@@ -46,6 +48,7 @@ class Reader {
  public:
   explicit Reader(std::string_view data) : data_(data) {}
   void bytes(void* p, std::size_t n) {
+    if (n == 0) return;  // an empty vector's data() may be null: no memcpy
     if (n > data_.size() - pos_)
       throw std::runtime_error(
           "partial record: read past the end (the file is truncated or of another layout)");

@@ -187,22 +187,19 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;
   }
+  // What identifies this run; a shard writes it into its partial, a merge requires it of every partial.
+  PartialHeader run;
+  run.id = ex->id();
+  run.profile = profile;
+  run.git_sha = sha;
+  run.config_hash = ex->config().hash;
+  run.seed = ex->seed();
+  if (slice) run.slice = *slice;
   if (merge) {
-    // The partials must come from this experiment, profile, configuration, seed and commit.
-    const auto& h = merged_header();
-    std::string why;
-    if (h.id != ex->id())
-      why = fmt::format("they are of experiment '{}'", h.id);
-    else if (h.profile != profile)
-      why = fmt::format("they ran profile '{}'", h.profile);
-    else if (h.config_hash != ex->config().hash)
-      why = "they ran another version of the configuration file";
-    else if (h.seed != ex->seed())
-      why = fmt::format("they ran seed {}", h.seed);
-    else if (h.git_sha != sha)
-      why = fmt::format("they were written at commit {}, this tree is {}", h.git_sha, sha);
-    if (!why.empty()) {
-      fmt::print(stderr, "error: cannot merge these partials into {} [{}]: {}\n", ex->id(), profile, why);
+    if (const auto d = header_difference(run, merged_header())) {
+      fmt::print(stderr,
+                 "error: cannot merge these partials into {} [{}]: they are of {} '{}', this run's is '{}'\n",
+                 ex->id(), profile, d->what, d->b, d->a);
       return 2;
     }
   }
@@ -232,12 +229,7 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
 
   if (slice) {
     Partial p;
-    p.header.id = ex->id();
-    p.header.profile = profile;
-    p.header.git_sha = sha;
-    p.header.config_hash = ex->config().hash;
-    p.header.seed = ex->seed();
-    p.header.slice = *slice;
+    p.header = run;
     p.loops = take_slice_records();
     if (p.loops.empty()) {
       fmt::print(stderr,

@@ -102,6 +102,17 @@ Partial Partial::read(const std::filesystem::path& path) {
   return p;
 }
 
+std::optional<HeaderDifference> header_difference(const PartialHeader& a, const PartialHeader& b) {
+  if (a.id != b.id) return HeaderDifference{"experiment", a.id, b.id};
+  if (a.profile != b.profile) return HeaderDifference{"profile", a.profile, b.profile};
+  if (a.git_sha != b.git_sha) return HeaderDifference{"commit", a.git_sha, b.git_sha};
+  if (a.config_hash != b.config_hash)
+    return HeaderDifference{"configuration hash", fmt::format("{:016x}", a.config_hash),
+                            fmt::format("{:016x}", b.config_hash)};
+  if (a.seed != b.seed) return HeaderDifference{"seed", std::to_string(a.seed), std::to_string(b.seed)};
+  return std::nullopt;
+}
+
 ShardMode shard_mode() { return state().mode; }
 
 void set_whole() {
@@ -123,19 +134,12 @@ void set_merge(std::vector<Partial> partials) {
   const PartialHeader& h = partials.front().header;
   for (const auto& p : partials) {
     const PartialHeader& o = p.header;
-    auto differ = [&](const char* what, const std::string& a, const std::string& b) {
+    std::optional<HeaderDifference> d = header_difference(h, o);
+    if (!d && o.slice.count != h.slice.count)
+      d = HeaderDifference{"shard count", std::to_string(h.slice.count), std::to_string(o.slice.count)};
+    if (d)
       throw std::invalid_argument(fmt::format("partials of different runs: {} has {} '{}', {} has '{}'",
-                                              describe(partials.front()), what, a, describe(p), b));
-    };
-    if (o.id != h.id) differ("experiment", h.id, o.id);
-    if (o.profile != h.profile) differ("profile", h.profile, o.profile);
-    if (o.git_sha != h.git_sha) differ("commit", h.git_sha, o.git_sha);
-    if (o.config_hash != h.config_hash)
-      differ("configuration hash", fmt::format("{:016x}", h.config_hash),
-             fmt::format("{:016x}", o.config_hash));
-    if (o.seed != h.seed) differ("seed", std::to_string(h.seed), std::to_string(o.seed));
-    if (o.slice.count != h.slice.count)
-      differ("shard count", std::to_string(h.slice.count), std::to_string(o.slice.count));
+                                              describe(partials.front()), d->what, d->a, describe(p), d->b));
   }
   std::sort(partials.begin(), partials.end(),
             [](const Partial& a, const Partial& b) { return a.header.slice.index < b.header.slice.index; });

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,13 @@ struct PartialHeader {
   std::uint64_t config_hash = 0, seed = 0;
   Slice slice;
 };
+
+// The first field in which two headers differ, with both values as text ("experiment", "profile", "commit",
+// "configuration hash", "seed"; the slice is not compared): what a merge names when it refuses partials.
+struct HeaderDifference {
+  std::string what, a, b;
+};
+std::optional<HeaderDifference> header_difference(const PartialHeader& a, const PartialHeader& b);
 
 // One trial loop's records in a partial: n trials in all, [begin, end) saved.
 struct LoopRecords {

@@ -118,6 +118,22 @@ void add_repro_commands(CLI::App& app) {
   repro_command(app, "eta", "baseline wall time per experiment (seconds)", *a, true)->callback([a] {
     for (const auto& id : resolve_ids(*a)) fmt::print("{} {:.3f}\n", id, baseline_wall(*a, id));
   });
+  auto* prose = app.add_subcommand(
+      "prose-check", "fail on numbers typed by hand in the discussions (thesis numbers and settings aside)");
+  prose->group("Reproduction");
+  auto prose_ids = std::make_shared<std::vector<std::string>>();
+  prose->add_option("ids", *prose_ids, "experiments (default: all)");
+  prose->callback([prose_ids] {
+    const auto ids = prose_ids->empty() ? keel::core::list_experiments("experiments") : *prose_ids;
+    std::size_t count = 0;
+    for (const auto& id : ids) {
+      const auto cfg =
+          keel::core::ExperimentConfig::load(fmt::format("experiments/{}/experiment.toml", id), "full");
+      for (const auto& p : keel::core::prose_number_problems(cfg)) fmt::print("{}\n", p), ++count;
+    }
+    if (count > 0) throw CommandFailed(fmt::format("{} number(s) typed by hand in the discussions", count));
+    fmt::print("no number typed by hand in {} discussion(s)\n", ids.size());
+  });
   auto* same = app.add_subcommand("same", "exit 0 when two result files agree except for provenance");
   same->group("Reproduction");
   auto files = std::make_shared<std::vector<std::string>>();

@@ -10,6 +10,7 @@ module;
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/random.hpp"
+#include "core/prose.hpp"
 #include "core/report.hpp"
 #include "core/shard.hpp"
 #include "core/results.hpp"
@@ -73,6 +74,7 @@ using keel::core::DiffRow;
 using keel::core::format_diff;
 using keel::core::latest_path;
 using keel::core::list_experiments;
+using keel::core::prose_number_problems;
 using keel::core::ReportOptions;
 using keel::core::same_results;
 using keel::core::write_report;

@@ -8,9 +8,14 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <vector>
 
 #include "core/config.hpp"
 #include "core/experiment.hpp"
+#include "core/prose.hpp"
 #include "core/results.hpp"
 
 namespace keel::core {
@@ -57,6 +62,69 @@ struct Section {
   std::string id, reproduces, title, verdict, body;
   double wall = 0;
 };
+
+// Placeholders of the discussion (core/prose.hpp): this run's metrics, timings and series, the toml's
+// [thesis.values], and other experiments' results read from the same results folder.
+ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r,
+                         const std::filesystem::path& results_dir) {
+  auto others = std::make_shared<std::map<std::string, json>>();
+  auto doc_of = [&r, others, results_dir](const std::string& id) -> const json* {
+    if (id.empty()) return &r;
+    auto it = others->find(id);
+    if (it == others->end()) {
+      std::ifstream in(results_dir / id / "latest.json");
+      it = others->emplace(id, in ? json::parse(in) : json()).first;
+    }
+    return it->second.is_null() ? nullptr : &it->second;
+  };
+  ProseLookup l;
+  l.value = [&cfg, doc_of](const ProseRef& ref) -> std::optional<double> {
+    if (ref.kind == "thesis") {
+      if (!cfg.thesis.has("values")) return std::nullopt;
+      const ConfigTable values = cfg.thesis.table("values");
+      if (!values.has(ref.key)) return std::nullopt;
+      const ConfigValue& v = values.value(ref.key);
+      if (auto d = std::get_if<double>(&v.data)) return *d;
+      if (auto i = std::get_if<std::int64_t>(&v.data)) return static_cast<double>(*i);
+      return std::nullopt;
+    }
+    const json* doc = doc_of(ref.experiment);
+    if (!doc) return std::nullopt;
+    const char* section = ref.kind == "metric" ? "metrics" : ref.kind == "timing" ? "timings_s" : "series";
+    if (!doc->contains(section) || !(*doc)[section].contains(ref.key)) return std::nullopt;
+    const json& v = (*doc)[section][ref.key];
+    if (ref.kind != "series") return json_number(v);
+    std::vector<double> xs;
+    for (const auto& x : v) xs.push_back(json_number(x));
+    if (ref.selector == "size") return static_cast<double>(xs.size());
+    if (xs.empty()) return std::nullopt;
+    if (ref.selector == "min") return *std::min_element(xs.begin(), xs.end());
+    if (ref.selector == "max") return *std::max_element(xs.begin(), xs.end());
+    if (ref.selector == "mean")
+      return std::accumulate(xs.begin(), xs.end(), 0.0) / static_cast<double>(xs.size());
+    if (ref.selector == "median") {
+      std::sort(xs.begin(), xs.end());
+      const std::size_t m = xs.size() / 2;
+      return xs.size() % 2 ? xs[m] : 0.5 * (xs[m - 1] + xs[m]);
+    }
+    const std::size_t k = std::stoul(ref.selector);
+    if (k >= xs.size()) return std::nullopt;
+    return xs[k];
+  };
+  l.keys = [&cfg, doc_of](const std::string& id, const std::string& kind) {
+    std::vector<std::string> keys;
+    if (kind == "thesis") {
+      if (cfg.thesis.has("values")) keys = cfg.thesis.table("values").keys();
+      return keys;
+    }
+    const json* doc = doc_of(id);
+    const char* section = kind == "metric" ? "metrics" : kind == "timing" ? "timings_s" : "series";
+    if (doc && doc->contains(section))
+      for (auto it = (*doc)[section].begin(); it != (*doc)[section].end(); ++it) keys.push_back(it.key());
+    return keys;
+  };
+  return l;
+}
 
 Section render(const ExperimentConfig& cfg, const std::filesystem::path& results_dir) {
   Section s{cfg.id, cfg.reproduces, cfg.title, "", "", 0};
@@ -180,7 +248,10 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   fmt::format_to(os, "**Verdict: {}.**", s.verdict);
   if (!stale.empty()) fmt::format_to(os, " {}; run `scripts/reproduce {}`.", stale, cfg.id);
   text += "\n\n";
-  if (!cfg.discussion.empty()) fmt::format_to(os, "{}\n\n", cfg.discussion);
+  if (!cfg.discussion.empty())
+    fmt::format_to(os, "{}\n\n",
+                   expand_prose(cfg.discussion, prose_lookup(cfg, r, results_dir),
+                                fmt::format("{} [discussion]", cfg.file.string())));
 
   // Key metrics not covered above.
   if (r.contains("metrics") && !r["metrics"].empty()) {
@@ -212,6 +283,41 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
 }
 
 }  // namespace
+
+namespace {
+void collect_numbers(const ConfigValue& v, std::vector<double>& out) {
+  if (auto d = std::get_if<double>(&v.data)) out.push_back(*d);
+  if (auto i = std::get_if<std::int64_t>(&v.data)) out.push_back(static_cast<double>(*i));
+  if (auto a = std::get_if<std::vector<ConfigValue>>(&v.data))
+    for (const auto& x : *a) collect_numbers(x, out);
+  if (auto t = std::get_if<std::shared_ptr<ConfigTableData>>(&v.data))
+    if (*t)
+      for (const auto& [k, x] : **t) collect_numbers(x, out);
+}
+}  // namespace
+
+std::vector<std::string> prose_number_problems(const ExperimentConfig& cfg) {
+  std::vector<double> allowed;
+  const ConfigTable& th = cfg.thesis;
+  if (th.has("values")) collect_numbers(th.value("values"), allowed);
+  for (const char* k : {"claim", "source"})
+    if (th.has(k))
+      for (const auto& n : literal_numbers(th.string(k))) allowed.push_back(n.value);
+  for (const auto& k : cfg.params.keys()) collect_numbers(cfg.params.value(k), allowed);
+  std::vector<std::string> problems;
+  for (const auto& n : literal_numbers(cfg.discussion)) {
+    if (std::any_of(allowed.begin(), allowed.end(), [&](double a) { return literal_matches(n, a); }))
+      continue;
+    const std::size_t from = n.offset > 40 ? n.offset - 40 : 0;
+    std::string context = cfg.discussion.substr(from, n.offset - from + n.text.size() + 20);
+    std::replace(context.begin(), context.end(), '\n', ' ');
+    problems.push_back(
+        fmt::format("{} [discussion]: '{}' in \"…{}…\" is neither a thesis number nor a setting: "
+                    "write a placeholder such as {{metric:KEY}}",
+                    cfg.file.string(), n.text, context));
+  }
+  return problems;
+}
 
 std::filesystem::path write_report(const ReportOptions& o) {
   std::vector<std::string> ids = o.ids.empty() ? list_experiments(o.experiments_dir) : o.ids;

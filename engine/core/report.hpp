@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/config.hpp"
+
 namespace keel::core {
 
 struct ReportOptions {
@@ -18,6 +20,12 @@ struct ReportOptions {
 
 // Writes <paper_dir>/REPRODUCTION.md atomically and returns its path. Throws on malformed [thesis] tables.
 std::filesystem::path write_report(const ReportOptions& options);
+
+// The literal numbers of an experiment's `discussion` that are neither a thesis number ([thesis] values, or a
+// number in its claim or source) nor a setting (a number of [params] with the profile laid over it), one
+// message each with its context: such a number must come from the results through a placeholder
+// (core/prose.hpp).
+std::vector<std::string> prose_number_problems(const ExperimentConfig& config);
 
 // Every experiment id (folder with an experiment.toml), sorted.
 std::vector<std::string> list_experiments(const std::filesystem::path& experiments_dir);

@@ -159,6 +159,10 @@ std::string expand_prose(std::string_view text, const ProseLookup& lookup, std::
     std::string format;
     parse_placeholder(body, r, format, where, whole);
     const std::optional<double> v = lookup.value(r);
+    if (!v && !lookup.missing_text.empty()) {
+      out += lookup.missing_text;
+      return;
+    }
     if (!v) {
       std::string hint;
       if (lookup.keys) {
@@ -281,9 +285,18 @@ std::vector<LiteralNumber> literal_numbers(std::string_view text) {
     const bool glued_right = j < t.size() &&
                              (std::isalpha(static_cast<unsigned char>(t[j])) != 0 || t[j] == '_') &&
                              !dimension && t[j] != 'e' && t.compare(j, 1, "×") != 0;
+    // "PCM-Exact-11 %", "order-1": a hyphen after a letter joins a label, it is not a minus sign.
+    const bool label = i >= 2 && t[i - 1] == '-' && std::isalpha(static_cast<unsigned char>(t[i - 2])) != 0;
+    // "6×6" (a matrix size) and "π/2" (a constant fraction).
+    const bool times =
+        (t.compare(j, 2, "×") == 0 && j + 2 < t.size() &&
+         std::isdigit(static_cast<unsigned char>(t[j + 2])) != 0) ||
+        (i >= 3 && t.compare(i - 2, 2, "×") == 0 && std::isdigit(static_cast<unsigned char>(t[i - 3])) != 0);
+    const bool fraction = i >= 3 && t[i - 1] == '/' && t.compare(i - 3, 2, "π") == 0;
     const bool chained = chains(structural_end, i);
     if (after_structural || chained) structural_end = j;
-    if (!(after_structural || tag || group || dimension || glued_right || chained)) {
+    if (!(after_structural || tag || group || dimension || glued_right || chained || label || times ||
+          fraction)) {
       LiteralNumber n;
       n.text = std::string(text.substr(i, j - i));
       n.value = std::strtod(digits.c_str(), nullptr);

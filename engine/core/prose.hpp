@@ -33,6 +33,9 @@ struct ProseRef {
 struct ProseLookup {
   std::function<std::optional<double>(const ProseRef&)> value;
   std::function<std::vector<std::string>(const std::string& experiment, const std::string& kind)> keys;
+  // Written for a placeholder whose key does not resolve, instead of an error (a quick-profile report: the
+  // discussion names points only the full profile computes). Empty: an unresolved key is an error.
+  std::string missing_text;
 };
 
 // Replaces every placeholder of `text`. Throws std::invalid_argument "<where>: placeholder '{…}': <reason>".

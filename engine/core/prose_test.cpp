@@ -93,6 +93,11 @@ TEST_CASE("a placeholder that does not resolve is an error naming it and the nea
                        doctest::Contains("unclosed placeholder"), std::invalid_argument);
   CHECK_THROWS_WITH_AS((void)expand_prose("{other/thesis:x}", l, "t"),
                        doctest::Contains("this experiment only"), std::invalid_argument);
+  auto lenient = l;
+  lenient.missing_text = "n/a";
+  CHECK(expand_prose("TPR {metric:missing} here", lenient, "t") == "TPR n/a here");
+  CHECK_THROWS_WITH_AS((void)expand_prose("{metrik:chi2}", lenient, "t"), doctest::Contains("unknown kind"),
+                       std::invalid_argument);
   CHECK(prose_placeholders("{a/metric:x} and {series:y[min]|.2f}", "t").size() == 2);
 }
 
@@ -117,6 +122,9 @@ TEST_CASE("literal numbers: values are found, structural references are not") {
   CHECK(literals("the key `s0_12.tpr` and x1, m0020") == std::vector<std::string>{});
   CHECK(literals("{metric:chi2} and {{ 4 }}") == std::vector<std::string>{"4"});
   CHECK(literals("a 2-core machine, 8× less noise") == std::vector<std::string>{"2", "8"});
+  CHECK(literals("PCM-Exact-11 % and RANSAC-1 %, an order-1 bound") == std::vector<std::string>{});
+  CHECK(literals("a 6×6 block, headings at multiples of π/2, 3 × 4") == std::vector<std::string>{"3", "4"});
+  CHECK(literal_numbers("x = -0.5")[0].value == -0.5);
 }
 
 TEST_CASE("a literal matches a value to its own precision, or as a percentage") {

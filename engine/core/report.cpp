@@ -123,6 +123,8 @@ ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r,
       for (auto it = (*doc)[section].begin(); it != (*doc)[section].end(); ++it) keys.push_back(it.key());
     return keys;
   };
+  // A quick-profile report: the discussion is written for the full profile's results.
+  if (cfg.profile != "full") l.missing_text = "n/a (full profile)";
   return l;
 }
 

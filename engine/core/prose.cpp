@@ -208,9 +208,12 @@ std::vector<LiteralNumber> literal_numbers(std::string_view text) {
     for (auto& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     return w;
   };
-  static const std::vector<std::string> structural = {
-      "table", "tables", "fig.",    "figs.", "figure",  "figures", "eq.",   "eqs.",
-      "§",     "§§",     "chapter", "ch.",   "theorem", "section", "lemma", "algorithm"};
+  static const std::vector<std::string> structural = {"table",     "tables", "fig.",    "figs.",   "figure",
+                                                      "figures",   "eq.",    "eqs.",    "§",       "§§",
+                                                      "chapter",   "ch.",    "theorem", "section", "lemma",
+                                                      "algorithm", "order"};  // a relaxation or expansion
+                                                                              // order names a method, as a
+                                                                              // figure number names a figure
   std::vector<LiteralNumber> out;
   std::size_t i = 0;
   // End of the last structural number: "Tables 5.1 and 5.2", "Figs. 5.10–5.14", "eqs. 5.39, 5.40" chain on.

@@ -56,8 +56,9 @@ struct LiteralNumber {
 };
 
 // The literal numbers of `text` that are not structural references: numbers after "Table", "Fig.", "Figs.",
-// "eq.", "eqs.", "§", "chapter", "ch." or "Theorem"; "(1)"-style equation tags; group and dimension names
-// (SE(3), SO(2), 1D, 3D); and digits inside identifiers or `code` spans. Ranges "2–39" give two numbers.
+// "eq.", "eqs.", "§", "chapter", "ch.", "Theorem" or "order" (a relaxation order); "(1)"-style equation tags;
+// group and dimension names (SE(3), SO(2), 1D, 3D); and digits inside identifiers or `code` spans. Ranges
+// "2–39" give two numbers.
 [[nodiscard]] std::vector<LiteralNumber> literal_numbers(std::string_view text);
 
 // Whether a literal is `value` as written to its own precision (0.941 matches 0.94074; "94 %" and "94" match

@@ -123,6 +123,7 @@ TEST_CASE("literal numbers: values are found, structural references are not") {
   CHECK(literals("{metric:chi2} and {{ 4 }}") == std::vector<std::string>{"4"});
   CHECK(literals("a 2-core machine, 8× less noise") == std::vector<std::string>{"2", "8"});
   CHECK(literals("PCM-Exact-11 % and RANSAC-1 %, an order-1 bound") == std::vector<std::string>{});
+  CHECK(literals("escalation to order 2, then 3 more") == std::vector<std::string>{"3"});
   CHECK(literals("a 6×6 block, headings at multiples of π/2, 3 × 4") == std::vector<std::string>{"3", "4"});
   CHECK(literal_numbers("x = -0.5")[0].value == -0.5);
 }

@@ -184,7 +184,17 @@ inline void record(core::Results& r, const Summary& s, const std::vector<Regime>
       for (std::size_t j = 0; j < setup.gammas.size(); ++j)
         record_values(r, fmt::format("{}.pair_fail_{}.{}", rn, setup.p_tags[j], kComposition[c]),
                       s.fail[g][c][j]);
-      record_values(r, fmt::format("{}.pair_q_mean.{}", rn, kComposition[c]), s.q_mean[g][c]);
+      const std::string q = fmt::format("{}.pair_q_mean.{}", rn, kComposition[c]);
+      record_values(r, q, s.q_mean[g][c]);
+      // The calibration of Q: a consistent pair's q is χ²(3), mean 3. The standard error is over the
+      // realizations; excess is the relative bias of the mean squared distance, z its distance from 3 in
+      // standard errors.
+      const auto st = core::mean_std(s.q_mean[g][c]);
+      const double se =
+          st.std / std::sqrt(static_cast<double>(std::max<std::size_t>(s.q_mean[g][c].size(), 1)));
+      r.metric(q + ".se", se);
+      r.metric(q + ".excess", st.mean / 3.0 - 1.0);
+      if (se > 0) r.metric(q + ".z", (st.mean - 3.0) / se);
     }
     record_values(r, rn + ".local.a.chi2", s.local_a[g]);
     record_values(r, rn + ".local.b.chi2", s.local_b[g]);

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     o.world = align::read_alignment_world_options(p);
     o.compare = align::read_comparison_options(p);
     o.worlds = p.count("worlds");
+    const double near_gap = p.number("certificate_near_gap");
     ex.params_done();
     o.seed = ex.seed();
     o.threads = ex.threads();
@@ -128,12 +129,12 @@ int main(int argc, char** argv) {
         gap.push_back(c.relative_gap), dtheta.push_back(c.theta_difference);
         nodes.push_back(static_cast<double>(c.certificate.nodes)), ctime.push_back(c.certificate.time_s);
         optimal += c.certificate.status == align::CertificateStatus::optimal;
-        within += c.relative_gap <= 1e-3;
+        within += c.relative_gap <= near_gap;
       }
       const auto g = align::fenced_summary(gap);
       r.metric("certificate.optimal_rate",
                100.0 * static_cast<double>(optimal) / static_cast<double>(o.worlds));
-      r.metric("certificate.within_1e-3_rate",
+      r.metric(fmt::format("certificate.within_{:g}_rate", near_gap),
                100.0 * static_cast<double>(within) / static_cast<double>(o.worlds));
       r.metric("certificate.relative_gap.median", g.median);
       r.metric("certificate.relative_gap.max", *std::max_element(gap.begin(), gap.end()));

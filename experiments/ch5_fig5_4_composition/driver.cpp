@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
                  e_joint = std::fabs(joint - level);
     // Monte-Carlo standard error of a fraction at the nominal level.
     const double se = std::sqrt(level * (1.0 - level) / static_cast<double>(s.trajectories));
+    r.metric(fmt::format("{}.mc_3se", tag), 3 * se);
     r.check(
         "the joint Lie-algebra prediction is the closest of SSC / independent / joint to the nominal level",
         e_joint < e_ind && e_joint < e_ssc,

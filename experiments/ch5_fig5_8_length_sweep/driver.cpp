@@ -64,6 +64,11 @@ int main(int argc, char** argv) {
     r.series(fmt::format("{}.lie_fourth_order", tag), fourth);
     r.series("N_joint_fourth_order", n_j4);
     r.series(fmt::format("{}.lie_joint_fourth_order", tag), joint4);
+    // The first N from which the fourth-order (independent) compounding keeps more samples inside than the
+    // first-order joint method at every longer N; absent if it never does.
+    std::size_t cross = ns.size();
+    while (cross > 0 && fourth[cross - 1] > joint[cross - 1]) --cross;
+    if (cross < ns.size()) r.metric("crossover.fourth_order_over_joint.N", ns[cross]);
 
     // "Closest" allows a tie within two Monte-Carlo standard errors of a fraction at the nominal level.
     const double tie = 2.0 * std::sqrt(level * (1.0 - level) / static_cast<double>(base.trajectories));

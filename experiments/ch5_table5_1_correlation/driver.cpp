@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     for (const auto& rec : s.records) joint_lower += rec.error_joint < rec.error_independent ? 1 : 0;
     r.metric("cov_error.ratio", ind.mean / joint.mean);  // mean ε ignoring correlation / mean ε with it
     r.metric("joint_better_rate",
-             static_cast<double>(joint_lower) / static_cast<double>(s.records.size()));  // pairs where joint ε is lower
+             static_cast<double>(joint_lower) /
+                 static_cast<double>(s.records.size()));  // pairs where joint ε is lower
     r.check("ignoring correlation raises the mean covariance error by more than two orders of magnitude",
             ind.mean > 100.0 * joint.mean,
             fmt::format("mean ε: joint {:.4g}, ignoring correlation {:.4g} (ratio {:.0f}; thesis 305)",

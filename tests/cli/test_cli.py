@@ -273,5 +273,30 @@ class BadInput(unittest.TestCase):
                        dataset("parking-garage", "se-sync/parking-garage.g2o"), "--ground-truth", bad, "--out-dir", d)
 
 
+class ProseCheck(unittest.TestCase):
+    TOML = (
+        'id = "x_prose"\ntitle = "prose fixture"\nreproduces = "Table 9.9"\ndescription = "d"\n'
+        'discussion = """{}"""\nseed = 1\n[params]\nlevel = 0.95\n[profiles.quick]\n[profiles.full]\n'
+        '[thesis]\nsource = "Table 9.9"\nclaim = "a TPR of 0.997"\n')
+
+    def check(self, discussion, expect):
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "experiments", "x_prose"))
+            with open(os.path.join(d, "experiments", "x_prose", "experiment.toml"), "w") as f:
+                f.write(self.TOML.format(discussion))
+            p = subprocess.run([KEEL, "prose-check"], cwd=d, capture_output=True, text=True, timeout=60)
+            self.assertEqual(p.returncode, expect, p.stdout + p.stderr)
+            return p.stdout + p.stderr
+
+    def test_a_hand_typed_number_fails_with_its_context(self):
+        out = self.check("PCM keeps TPR 0.941 and an MSE of 0.45 m².", 1)
+        self.assertIn("'0.941'", out)
+        self.assertIn("'0.45'", out)
+        self.assertIn("2 number(s) typed by hand", out)
+
+    def test_placeholders_thesis_numbers_settings_and_references_pass(self):
+        self.check("TPR {metric:tpr|.3f} (thesis 0.997) at level = 0.95, as in Table 9.9 and SE(3).", 0)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -24,6 +24,7 @@ namespace {
 
 struct ReproArgs {
   std::string profile = "full";
+  std::string from = "latest";  // report: latest.json or the committed baselines
   std::string experiments = "experiments", results = "results", paper = "paper";
   std::vector<std::string> ids;
 };
@@ -103,8 +104,13 @@ void add_repro_commands(CLI::App& app) {
           fmt::print("blessed {}\n", keel::core::baseline_path(a->results, id, a->profile).string());
         }
       });
-  repro_command(app, "report", "render paper/REPRODUCTION.md from the results", *a, true)
-      ->add_option("--paper", a->paper, "output folder")
+  auto* report = repro_command(app, "report", "render paper/REPRODUCTION.md from the results", *a, true);
+  report->add_option("--paper", a->paper, "output folder")->capture_default_str();
+  report
+      ->add_option("--from", a->from,
+                   "latest: this machine's last runs (results/<id>/latest.json); baseline: the committed "
+                   "baselines (results/<id>/baseline.<profile>.json), the report a clone regenerates")
+      ->check(CLI::IsMember({"latest", "baseline"}))
       ->capture_default_str();
   app.get_subcommand("report")->callback([a] {
     keel::core::ReportOptions o;
@@ -113,6 +119,7 @@ void add_repro_commands(CLI::App& app) {
     o.paper_dir = a->paper;
     o.profile = a->profile;
     o.ids = a->ids;
+    o.from_baseline = a->from == "baseline";
     fmt::print("wrote {}\n", keel::core::write_report(o).string());
   });
   repro_command(app, "eta", "baseline wall time per experiment (seconds)", *a, true)->callback([a] {

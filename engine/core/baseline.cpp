@@ -187,7 +187,14 @@ void bless(const ExperimentConfig& config, const std::filesystem::path& results_
     throw std::runtime_error(fmt::format("{}: was produced with profile '{}', not '{}'", lp.string(),
                                          latest.value("profile", "?"), config.profile));
   }
-  latest.erase("figures");
+  // The figure data stay out of the baseline (megabytes of samples); an index of the figures (file and
+  // title) stays, so a report rendered from the baseline links the PNGs drawn from the same run.
+  if (latest.contains("figures")) {
+    json index = json::array();
+    for (const auto& f : latest["figures"])
+      index.push_back({{"file", f.value("file", "")}, {"title", f.value("title", "")}});
+    latest["figures"] = index;
+  }
   write_file_atomic(baseline_path(results_dir, config.id, config.profile), latest.dump(1) + "\n");
 }
 

@@ -347,7 +347,23 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   c.seed = static_cast<std::uint64_t>(seed);
 
   ConfigTable params = root.table("params");
-  ConfigTable profiles = root.table("profiles");
+  // params_from = "<id>": a variant of another experiment. Its [params] are the base that this file's
+  // [params] override key by key, and its [profiles] apply unless this file has its own. One level only, so a
+  // variant's settings are always found in two files at most.
+  std::optional<ConfigTable> from;
+  if (root.has("params_from")) {
+    const std::string from_id = root.string("params_from");
+    const auto from_file =
+        std::filesystem::absolute(file).parent_path().parent_path() / from_id / "experiment.toml";
+    if (!std::filesystem::exists(from_file))
+      throw ConfigError(fmt::format("{}: no experiment '{}' ({} is missing)", root.where("params_from"),
+                                    from_id, from_file.string()));
+    from = load_toml(from_file);
+    if (from->has("params_from"))
+      throw ConfigError(fmt::format("{}: '{}' is itself a variant (params_from); name its base instead",
+                                    root.where("params_from"), from_id));
+  }
+  ConfigTable profiles = root.has("profiles") || !from ? root.table("profiles") : from->table("profiles");
   c.profiles = profiles.keys();
   if (!profiles.has(profile)) {
     throw ConfigError(fmt::format("{}: [profiles] has no profile '{}' (defined: {})", file.string(), profile,
@@ -357,7 +373,9 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   // must not hide typos until their own run: every profile key must either override a [params] key or be set
   // by every profile (then the driver reads it whichever profile runs).
   const auto& pv = root.value("params");
-  const auto& base = *std::get<std::shared_ptr<ConfigTableData>>(pv.data);
+  const auto base = from ? *overlay(*std::get<std::shared_ptr<ConfigTableData>>(from->value("params").data),
+                                    *std::get<std::shared_ptr<ConfigTableData>>(pv.data))
+                         : *std::get<std::shared_ptr<ConfigTableData>>(pv.data);
   std::shared_ptr<const ConfigTableData> selected;
   std::vector<ConfigTable> profile_tables;
   for (const auto& p : c.profiles) {

@@ -1,6 +1,7 @@
 #include "core/report.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include "core/config.hpp"
 #include "core/experiment.hpp"
+#include "core/grading.hpp"
 #include "core/prose.hpp"
 #include "core/results.hpp"
 
@@ -65,14 +67,14 @@ struct Section {
 
 // Placeholders of the discussion (core/prose.hpp): this run's metrics, timings and series, the toml's
 // [thesis.values], and other experiments' results read from the same results folder.
-ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r,
-                         const std::filesystem::path& results_dir) {
+ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r, const std::filesystem::path& results_dir,
+                         const std::string& file_name) {
   auto others = std::make_shared<std::map<std::string, json>>();
-  auto doc_of = [&r, others, results_dir](const std::string& id) -> const json* {
+  auto doc_of = [&r, others, results_dir, file_name](const std::string& id) -> const json* {
     if (id.empty()) return &r;
     auto it = others->find(id);
     if (it == others->end()) {
-      std::ifstream in(results_dir / id / "latest.json");
+      std::ifstream in(results_dir / id / file_name);
       it = others->emplace(id, in ? json::parse(in) : json()).first;
     }
     return it->second.is_null() ? nullptr : &it->second;
@@ -128,7 +130,10 @@ ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r,
   return l;
 }
 
-Section render(const ExperimentConfig& cfg, const std::filesystem::path& results_dir) {
+// Renders one section from results/<id>/<file_name>: latest.json (this machine's last run) or a committed
+// baseline, baseline.<profile>.json (from_baseline).
+Section render(const ExperimentConfig& cfg, const std::filesystem::path& results_dir, bool from_baseline) {
+  const std::string file_name = from_baseline ? fmt::format("baseline.{}.json", cfg.profile) : "latest.json";
   Section s{cfg.id, cfg.reproduces, cfg.title, "", "", 0};
   std::string text;
   auto os = std::back_inserter(text);
@@ -140,7 +145,7 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   if (!cfg.description.empty()) fmt::format_to(os, " {}", cfg.description);
   text += "\n\n";
 
-  const auto latest_file = results_dir / cfg.id / "latest.json";
+  const auto latest_file = results_dir / cfg.id / file_name;
   std::ifstream in(latest_file);
   if (!in) {
     s.verdict = "not run";
@@ -160,7 +165,9 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     stale = fmt::format("the latest run used the `{}` profile", run_profile);
   } else if (r["provenance"].value("config_hash", "") != hash) {
     stale = "experiment.toml changed since this result was produced";
-  } else if (code_changed_since(run_sha, cfg.id)) {
+  } else if (!from_baseline && code_changed_since(run_sha, cfg.id)) {
+    // A baseline is checked against the code by CI (every quick baseline is diffed against a fresh run), so a
+    // report from baselines is stale only where the configuration moved.
     stale = fmt::format("the result was produced from code ({}) that differs from the working tree", run_sha);
   }
 
@@ -168,76 +175,172 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   std::string source = th.has("source") ? th.string("source") : cfg.reproduces;
   if (th.has("claim")) fmt::format_to(os, "**Thesis ({}) claims:** {}\n\n", source, th.string("claim"));
 
+  // Grading (docs/GRADING.md): each counted row agrees or disagrees; rows true by construction, circular, on
+  // another scale or not claimed by the thesis are shown with their reason and not counted.
   int agree = 0, disagree = 0;
+  std::vector<std::string> central = th.has("central") ? th.strings("central") : std::vector<std::string>{};
+  std::vector<std::string> central_failed;
+  auto tally = [&](const std::string& row, bool ok) {
+    (ok ? agree : disagree)++;
+    if (!ok && std::find(central.begin(), central.end(), row) != central.end()) central_failed.push_back(row);
+  };
+  auto ours_value = [&r](const std::string& key) -> std::optional<double> {
+    if (r["metrics"].contains(key)) return json_number(r["metrics"][key]);
+    // A published time is set beside this run's timing of the same name (shown; timings are never diffed).
+    if (r.contains("timings_s") && r["timings_s"].contains(key)) return json_number(r["timings_s"][key]);
+    return std::nullopt;
+  };
+  auto thesis_number = [](const ConfigValue& tv) -> std::optional<double> {
+    if (auto d = std::get_if<double>(&tv.data)) return *d;
+    if (auto i = std::get_if<std::int64_t>(&tv.data)) return static_cast<double>(*i);
+    return std::nullopt;
+  };
+  ConfigTable values = th.has("values") ? th.table("values") : ConfigTable();
   // Published numbers next to ours.
   if (th.has("values")) {
-    ConfigTable values = th.table("values");
     ConfigTable agreement = th.has("agreement") ? th.table("agreement") : ConfigTable();
     text += "| quantity | thesis | ours | agreement rule | verdict |\n|---|---|---|---|---|\n";
     for (const auto& key : values.keys()) {
       const ConfigValue& tv = values.value(key);
       std::string thesis_text;
-      std::optional<double> thesis_num;
-      if (auto d = std::get_if<double>(&tv.data)) {
-        thesis_num = *d;
-        thesis_text = number_text(*d);
-      } else if (auto i = std::get_if<std::int64_t>(&tv.data)) {
-        thesis_num = static_cast<double>(*i);
-        thesis_text = number_text(static_cast<double>(*i));
+      const std::optional<double> thesis_num = thesis_number(tv);
+      if (thesis_num) {
+        thesis_text = number_text(*thesis_num);
       } else if (auto str = std::get_if<std::string>(&tv.data)) {
         thesis_text = *str;
       } else {
         throw ConfigError(fmt::format("{}: thesis value must be a number or a string", values.where(key)));
       }
-      std::optional<double> ours;
-      if (r["metrics"].contains(key)) ours = json_number(r["metrics"][key]);
-      // A published time is set beside this run's timing of the same name (shown; timings are never diffed).
-      else if (r.contains("timings_s") && r["timings_s"].contains(key))
-        ours = json_number(r["timings_s"][key]);
+      const std::optional<double> ours = ours_value(key);
       Tolerance rule;
-      bool has_rule = false, by_construction = false;
+      bool has_rule = false;
+      std::string not_counted;  // why the row is shown but not counted
+      std::optional<ConfigTable> binomial;
       for (const std::string& k : {key, std::string("default")}) {
         if (agreement.has(k)) {
           ConfigTable t = agreement.table(k);
           if (t.has("abs")) rule.abs = t.number("abs");
           if (t.has("rel")) rule.rel = t.number("rel");
-          // by_construction = true: our method or setup guarantees the value; shown, not counted.
-          if (t.has("by_construction")) by_construction = t.boolean("by_construction");
+          // by_construction = true: our method or setup guarantees the value.
+          if (t.has("by_construction") && t.boolean("by_construction")) not_counted = "true by construction";
+          // circular = "why": the value was used to set up the run that reproduces it.
+          if (t.has("circular")) not_counted = "circular: " + t.string("circular");
+          // scale = "why": the magnitudes are not comparable; [thesis.orderings] compares the order instead.
+          if (t.has("scale")) not_counted = "scale differs: " + t.string("scale");
+          if (t.has("binomial")) binomial = t.table("binomial");
           has_rule = true;
           break;
         }
       }
-      std::string verdict = "—";
+      std::string verdict = "—", rule_text = has_rule ? rule.describe() : "—";
       if (ours && thesis_num && has_rule) {
-        const bool ok = rule.accepts(*ours, *thesis_num);
-        if (!by_construction) (ok ? agree : disagree)++;
+        bool ok = false;
+        if (binomial) {
+          // binomial = { n = <trials, or a metric that counts them>, per = <trials per counted unit>,
+          //              n_thesis = <trials>, z = 2 }.
+          double n = 0;
+          if (const ConfigValue& nv = binomial->value("n"); std::holds_alternative<std::string>(nv.data)) {
+            const auto nk = std::get<std::string>(nv.data);
+            const auto m = ours_value(nk);
+            if (!m)
+              throw ConfigError(fmt::format("{}: binomial n names metric '{}', which the results lack",
+                                            agreement.where(key), nk));
+            // per = k: the metric counts units (data sets) of k trials each.
+            n = *m * binomial->number_or("per", 1.0);
+          } else {
+            n = binomial->number("n");
+          }
+          const double z = binomial->number_or("z", 2.0);
+          // printed = the unit of the thesis's last printed digit (0.001 for "0.997"): half of it is
+          // rounding.
+          const auto c = compare_rates(*ours, n, *thesis_num, binomial->number("n_thesis"), z,
+                                       0.5 * binomial->number_or("printed", 0.0));
+          ok = c.agrees;
+          rule_text = fmt::format("binomial, {:g} SE (n {:g} / {:g}): ±{}", z, n,
+                                  binomial->number("n_thesis"), number_text(c.allowed));
+        } else {
+          ok = rule.accepts(*ours, *thesis_num);
+        }
+        if (not_counted.empty()) tally(key, ok);
         const double ratio = *thesis_num != 0 ? *ours / *thesis_num : std::nan("");
-        verdict = ok ? "reproduces" : fmt::format("differs (ours/thesis = {})", number_text(ratio));
-        if (by_construction) verdict += " (true by construction; not counted)";
+        verdict = ok                 ? std::string("reproduces")
+                  : *thesis_num != 0 ? fmt::format("differs (ours/thesis = {})", number_text(ratio))
+                                     : std::string("differs");
+        if (!not_counted.empty()) verdict += fmt::format(" ({}; not counted)", not_counted);
       } else if (!ours) {
         verdict = "not measured";
-        disagree++;
+        tally(key, false);
       }
       fmt::format_to(os, "| `{}` | {} | {} | {} | {} |\n", key, escape_cell(thesis_text),
-                     ours ? number_text(*ours) : "—", has_rule ? rule.describe() : "—", verdict);
+                     ours ? number_text(*ours) : "—", escape_cell(rule_text), escape_cell(verdict));
     }
     for (const auto& k : agreement.keys()) (void)agreement.value(k);
     text += "\n";
   }
-  // Claim checks computed by the driver from the measured numbers.
-  if (r.contains("checks") && !r["checks"].empty()) {
-    text += "| claim checked on our numbers | holds? | measured |\n|---|---|---|\n";
-    for (const auto& c : r["checks"]) {
-      const bool passed = c.value("passed", false), counted = c.value("counted", true);
-      if (counted) (passed ? agree : disagree)++;
-      fmt::format_to(os, "| {} | {}{} | {} |\n", escape_cell(c.value("name", "")), passed ? "yes" : "**no**",
-                     counted ? "" : " (true by construction; not counted)",
-                     escape_cell(c.value("detail", "")));
+  // Quantities the thesis and we measure on different scales: compared by the order they put the methods in.
+  if (th.has("orderings")) {
+    const ConfigTable orderings = th.table("orderings");
+    text += "| ordering of | thesis | ours | verdict |\n|---|---|---|---|\n";
+    for (const auto& name : orderings.keys()) {
+      const auto keys = orderings.strings(name);
+      std::vector<double> t, o;
+      std::vector<std::string> labels;
+      for (const auto& k : keys) {
+        const auto tn = values.has(k) ? thesis_number(values.value(k)) : std::nullopt;
+        if (!tn)
+          throw ConfigError(fmt::format("{}: '{}' has no numeric [thesis.values] entry to order",
+                                        orderings.where(name), k));
+        const auto on = ours_value(k);
+        if (!on) throw ConfigError(fmt::format("{}: the results lack '{}'", orderings.where(name), k));
+        t.push_back(*tn), o.push_back(*on), labels.push_back(k.substr(0, k.find('.')));
+      }
+      const auto reversed = ordering_reversals(labels, t, o);
+      tally(name, reversed.empty());
+      fmt::format_to(os, "| {} | {} | {} | {} |\n", escape_cell(name), escape_cell(ordering_text(labels, t)),
+                     escape_cell(ordering_text(labels, o)),
+                     reversed.empty() ? std::string("same order")
+                                      : fmt::format("**reversed**: {}", fmt::join(reversed, ", ")));
     }
     text += "\n";
   }
+  // Claim checks computed by the driver from the measured numbers. [thesis.checks] names those that are not a
+  // claim of the thesis (or repeat another row), with the reason; the driver marks the ones true by
+  // construction.
+  if (r.contains("checks") && !r["checks"].empty()) {
+    const ConfigTable reasons = th.has("checks") ? th.table("checks") : ConfigTable();
+    std::vector<std::string> unknown = reasons.keys();
+    text += "| claim checked on our numbers | holds? | measured |\n|---|---|---|\n";
+    for (const auto& c : r["checks"]) {
+      const std::string name = c.value("name", "");
+      const bool passed = c.value("passed", false);
+      std::string why = c.value("counted", true) ? "" : "true by construction";
+      if (reasons.has(name)) {
+        why = reasons.string(name);
+        unknown.erase(std::remove(unknown.begin(), unknown.end(), name), unknown.end());
+      }
+      if (why.empty()) tally(name, passed);
+      fmt::format_to(os, "| {} | {}{} | {} |\n", escape_cell(name), passed ? "yes" : "**no**",
+                     why.empty() ? "" : fmt::format(" ({}; not counted)", why),
+                     escape_cell(c.value("detail", "")));
+    }
+    if (!unknown.empty())
+      throw ConfigError(fmt::format("{}: [thesis.checks] names no check of the results: '{}'",
+                                    cfg.file.string(), fmt::join(unknown, "', '")));
+    text += "\n";
+  }
+  for (const auto& row : central) {
+    bool found = values.has(row) || (th.has("orderings") && th.table("orderings").has(row));
+    if (r.contains("checks"))
+      for (const auto& c : r["checks"]) found = found || c.value("name", "") == row;
+    if (!found)
+      throw ConfigError(
+          fmt::format("{}: [thesis] central names no row of the report: '{}'", cfg.file.string(), row));
+  }
   if (!stale.empty()) {
     s.verdict = "stale: rerun";
+  } else if (!central_failed.empty()) {
+    // The thesis's central claim fails: the section does not reproduce, however many side rows agree.
+    s.verdict = th.has("explained") ? "does not reproduce (explained)" : "does not reproduce";
   } else if (agree + disagree == 0) {
     s.verdict = "no comparison";
   } else if (disagree == 0) {
@@ -247,12 +350,21 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   } else {
     s.verdict = fmt::format("partly reproduces ({} of {})", agree, agree + disagree);
   }
+  // scope = "beyond the thesis" / "substitute data": what kind of comparison the counts are.
+  if (stale.empty() && th.has("scope")) s.verdict = fmt::format("{}: {}", th.string("scope"), s.verdict);
   fmt::format_to(os, "**Verdict: {}.**", s.verdict);
   if (!stale.empty()) fmt::format_to(os, " {}; run `scripts/reproduce {}`.", stale, cfg.id);
+  if (!central_failed.empty())
+    fmt::format_to(os, " The thesis's central claim ({}) fails on our numbers.",
+                   fmt::join(central_failed, "; "));
+  if (th.has("explained"))
+    fmt::format_to(os, " **Why:** {}",
+                   expand_prose(th.string("explained"), prose_lookup(cfg, r, results_dir, file_name),
+                                fmt::format("{} [thesis] explained", cfg.file.string())));
   text += "\n\n";
   if (!cfg.discussion.empty())
     fmt::format_to(os, "{}\n\n",
-                   expand_prose(cfg.discussion, prose_lookup(cfg, r, results_dir),
+                   expand_prose(cfg.discussion, prose_lookup(cfg, r, results_dir, file_name),
                                 fmt::format("{} [discussion]", cfg.file.string())));
 
   // Key metrics not covered above.
@@ -277,9 +389,10 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     }
   }
   const json& p = r["provenance"];
-  fmt::format_to(os, "<sub>profile `{}`, seed {}, git {}, config {}, {}, {} threads, wall {} s</sub>\n\n",
-                 run_profile, p.value("seed", 0), p.value("git_sha", "?"), p.value("config_hash", "?"),
-                 p.value("compiler", "?"), p.value("threads", 0), number_text(s.wall));
+  fmt::format_to(os, "<sub>{}profile `{}`, seed {}, git {}, config {}, {}, {} threads, wall {} s</sub>\n\n",
+                 from_baseline ? fmt::format("{}: ", file_name) : "", run_profile, p.value("seed", 0),
+                 p.value("git_sha", "?"), p.value("config_hash", "?"), p.value("compiler", "?"),
+                 p.value("threads", 0), number_text(s.wall));
   s.body = std::move(text);
   return s;
 }
@@ -307,16 +420,22 @@ std::vector<std::string> prose_number_problems(const ExperimentConfig& cfg) {
       for (const auto& n : literal_numbers(th.string(k))) allowed.push_back(n.value);
   for (const auto& k : cfg.params.keys()) collect_numbers(cfg.params.value(k), allowed);
   std::vector<std::string> problems;
-  for (const auto& n : literal_numbers(cfg.discussion)) {
-    if (std::any_of(allowed.begin(), allowed.end(), [&](double a) { return literal_matches(n, a); }))
-      continue;
-    const std::size_t from = n.offset > 40 ? n.offset - 40 : 0;
-    std::string context = cfg.discussion.substr(from, n.offset - from + n.text.size() + 20);
-    std::replace(context.begin(), context.end(), '\n', ' ');
-    problems.push_back(
-        fmt::format("{} [discussion]: '{}' in \"…{}…\" is neither a thesis number nor a setting: "
-                    "write a placeholder such as {{metric:KEY}}",
-                    cfg.file.string(), n.text, context));
+  // The discussion and the [thesis] explanation of a verdict are both report prose.
+  const std::string explained = th.has("explained") ? th.string("explained") : std::string();
+  for (const auto& [label, prose] :
+       {std::pair<const char*, const std::string*>{"[discussion]", &cfg.discussion},
+        {"[thesis] explained", &explained}}) {
+    for (const auto& n : literal_numbers(*prose)) {
+      if (std::any_of(allowed.begin(), allowed.end(), [&](double a) { return literal_matches(n, a); }))
+        continue;
+      const std::size_t from = n.offset > 40 ? n.offset - 40 : 0;
+      std::string context = prose->substr(from, n.offset - from + n.text.size() + 20);
+      std::replace(context.begin(), context.end(), '\n', ' ');
+      problems.push_back(
+          fmt::format("{} {}: '{}' in \"…{}…\" is neither a thesis number nor a setting: "
+                      "write a placeholder such as {{metric:KEY}}",
+                      cfg.file.string(), label, n.text, context));
+    }
   }
   return problems;
 }
@@ -326,21 +445,35 @@ std::filesystem::path write_report(const ReportOptions& o) {
   std::vector<Section> sections;
   for (const auto& id : ids) {
     const auto cfg = ExperimentConfig::load(o.experiments_dir / id / "experiment.toml", o.profile);
-    sections.push_back(render(cfg, o.results_dir));
+    sections.push_back(render(cfg, o.results_dir, o.from_baseline));
   }
   std::string md =
-      "# Reproduction report\n\n"
-      "Generated by `scripts/reproduce` from `results/*/latest.json` and each experiment's "
-      "`experiment.toml`; "
-      "do not edit by hand. Thesis: J. G. Mangelson, *Toward Robust Multi-Agent Autonomous Underwater "
+      "# Reproduction report\n\n" +
+      std::string(
+          o.from_baseline
+              ? fmt::format("Generated by `keel report --profile {0} --from baseline` from the committed "
+                            "baselines `results/*/baseline.{0}.json` (each section names the commit its "
+                            "results were blessed at) and each experiment's `experiment.toml`, so it can "
+                            "be regenerated from a clone alone;",
+                            o.profile)
+              : fmt::format("Generated by `keel report --profile {}` from this machine's last runs, "
+                            "`results/*/latest.json` (not committed), and each experiment's "
+                            "`experiment.toml`;",
+                            o.profile)) +
+      " do not edit by hand. Thesis: J. G. Mangelson, *Toward Robust Multi-Agent Autonomous Underwater "
       "Inspection "
       "with Consistency and Global Optimality Guarantees*, PhD thesis, University of Michigan, 2019.\n\n"
-      "A verdict of *reproduces* means every published number we compare lies within the agreement rule "
-      "stated "
-      "beside it and every claim we check on our own numbers holds; anything else is reported as it is. Rows "
-      "marked "
-      "*true by construction* hold because of how the method or the setup is built: they are shown, not "
-      "counted.\n\n"
+      "A verdict of *reproduces* means every counted row agrees: each published number we compare lies "
+      "within "
+      "the agreement rule stated beside it, each ordering of methods is the thesis's, and each claim we "
+      "check on "
+      "our own numbers holds. *Partly reproduces (k of n)* counts the rows that agree; *does not reproduce* "
+      "means the thesis's central claim fails, *(explained)* when the section names the cause and the metric "
+      "that shows it. Rows true by construction, circular rows, rows on scales the thesis and we do not "
+      "share, "
+      "and checks of what the thesis does not claim are shown with the reason and not counted; rates are "
+      "compared within binomial sampling error. The rules are in "
+      "[docs/GRADING.md](../docs/GRADING.md).\n\n"
       "| thesis item | experiment | verdict | wall time |\n|---|---|---|---|\n";
   for (const auto& s : sections) {
     fmt::format_to(std::back_inserter(md), "| {} | [`{}`](#{}) | {} | {} s |\n", s.reproduces, s.id, s.id,

@@ -16,6 +16,9 @@ struct ReportOptions {
   std::filesystem::path paper_dir = "paper";
   std::string profile = "full";
   std::vector<std::string> ids;  // empty: every experiment folder
+  // Read results/<id>/baseline.<profile>.json (committed) instead of latest.json: the report a clone can
+  // regenerate. A section is then stale only where its experiment.toml changed since the bless.
+  bool from_baseline = false;
 };
 
 // Writes <paper_dir>/REPRODUCTION.md atomically and returns its path. Throws on malformed [thesis] tables.

@@ -142,7 +142,7 @@ EOF
 if [ \${#ok_ids[@]} -gt 0 ]; then "\$keel" diff --profile $profile "\${ok_ids[@]}" || diff_rc=\$?; fi
 [ \$diff_rc -eq 0 ] || rc=1
 scripts/plot --results results --out $(q "$paper/figures") "\${ok_ids[@]}" || { echo "keel: figure rendering failed"; rc=1; }
-"\$keel" report --profile $profile --paper $(q "$paper") || rc=1
+"\$keel" report --profile $profile --from $([ "$do_bless" -eq 1 ] && echo baseline || echo latest) --paper $(q "$paper") || rc=1
 echo \$diff_rc >"\$shared/status-diff"
 echo \$rc >"\$shared/status-report"
 exit \$rc

@@ -266,6 +266,53 @@ TEST_CASE("name tables: round trip, exact matches, errors naming the type and ev
                  file.string()));
 }
 
+TEST_CASE("a variant takes its base's parameters and profiles (params_from)") {
+  Scratch s("variant");
+  s.write("experiments/demo/experiment.toml", kGood);
+  const auto file = s.write("experiments/demo_b/experiment.toml", R"(id = "demo_b"
+title = "Demo B"
+reproduces = "Fig. 0"
+params_from = "demo"
+seed = 7
+[params]
+sigma = 2.5
+extra = 1
+)");
+  const auto base = ExperimentConfig::load(s.root / "experiments/demo/experiment.toml", "full");
+  const auto c = ExperimentConfig::load(file, "full");
+  CHECK(c.params.number("sigma") == 2.5);      // overridden
+  CHECK(c.params.integer("steps") == 10);      // inherited
+  CHECK(c.params.integer("trials") == 10000);  // the base's full profile
+  CHECK(c.params.integer("extra") == 1);       // its own
+  CHECK(c.profiles == std::vector<std::string>{"full", "quick"});
+  CHECK(c.hash != base.hash);
+  // Its own [profiles] replace the base's.
+  const auto own = ExperimentConfig::load(
+      s.write("experiments/demo_c/experiment.toml",
+              "id = \"demo_c\"\ntitle = \"C\"\nreproduces = \"Fig. 0\"\nparams_from = \"demo\"\nseed = 7\n"
+              "[params]\n[profiles.quick]\ntrials = 3\n"),
+      "quick");
+  CHECK(own.params.integer("trials") == 3);
+  CHECK(error_of([&] {
+          (void)ExperimentConfig::load(s.root / "experiments/demo_c/experiment.toml", "full");
+        }).find("no profile 'full'") != std::string::npos);
+  // A missing base and a chain of variants are refused with the file and key.
+  CHECK(error_of([&] {
+          (void)ExperimentConfig::load(
+              s.write("experiments/demo_d/experiment.toml",
+                      "id = \"demo_d\"\ntitle = \"D\"\nreproduces = \"Fig. 0\"\nparams_from = \"nope\"\n"
+                      "seed = 7\n[params]\n"),
+              "full");
+        }).find("no experiment 'nope'") != std::string::npos);
+  CHECK(error_of([&] {
+          (void)ExperimentConfig::load(
+              s.write("experiments/demo_e/experiment.toml",
+                      "id = \"demo_e\"\ntitle = \"E\"\nreproduces = \"Fig. 0\"\nparams_from = \"demo_b\"\n"
+                      "seed = 7\n[params]\n"),
+              "full");
+        }).find("is itself a variant") != std::string::npos);
+}
+
 TEST_CASE("results round trip through baseline diff and bless") {
   Scratch s("diff");
   const auto file = s.write("experiments/demo/experiment.toml", kGood);

@@ -27,8 +27,13 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Reads the parameters shared by both tables, runs the pipeline and records solver metrics and timings.
-inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
+// The pipeline shared by the Manhattan3500 relative-pose experiments: reads the parameters (read_samples(p)
+// reads the Monte-Carlo sample size(s), the rest is shared), solves, extracts the joint marginal of every
+// pair and hands them to monte_carlo(out, covs), which runs the pair study once or once per sample size.
+// Records the solver metrics and timings.
+template <class ReadSamples, class MonteCarlo>
+inline SolvedPairs solve_pairs(keel::core::Experiment& ex, ReadSamples&& read_samples,
+                               MonteCarlo&& monte_carlo) {
   namespace core = keel::core;
   const auto& p = ex.params();
   const std::string dataset = p.string("dataset"), file = p.string("file");
@@ -36,8 +41,7 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   options.initial_guess = p.parse("initial_guess", keel::pgo::initial_guess_from_string);
   const auto offsets_in = p.numbers("offsets"), figure_offsets_in = p.numbers("figure_offsets");
   const auto stride = static_cast<int>(p.count("pair_stride"));
-  keel::lie::PairStudySetup setup;
-  setup.samples = p.count("samples");
+  read_samples(p);
   ex.params_done();
   // One solver thread: Ceres sums cost and gradient per thread, so 1 and 2 threads differ in the last bits
   // and the result files would depend on the thread count. The solve takes well under a second either way.
@@ -74,16 +78,25 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
   }
   const auto covs = keel::cov::pair_marginals_2d(marginals, out.pairs, ex.threads());
   r.timing("marginals", seconds_since(t0));
-
-  t0 = std::chrono::steady_clock::now();
-  setup.seed = ex.seed();
-  setup.threads = ex.threads();
-  core::Progress progress(ex.id(), out.pairs.size());
-  out.records = keel::lie::run_pair_study_2d(out.poses, out.pairs, covs, setup, &progress);
-  progress.finish();
-  r.timing("monte_carlo", seconds_since(t0));
+  monte_carlo(out, covs);
   r.metric("pairs", static_cast<double>(out.pairs.size()));
   return out;
+}
+
+// Tables 5.1 and 5.2: one pair study with `samples` Monte-Carlo samples per pair.
+inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
+  keel::lie::PairStudySetup setup;
+  return solve_pairs(
+      ex, [&](const keel::core::ConfigTable& p) { setup.samples = p.count("samples"); },
+      [&](SolvedPairs& out, const auto& covs) {
+        const auto t0 = std::chrono::steady_clock::now();
+        setup.seed = ex.seed();
+        setup.threads = ex.threads();
+        keel::core::Progress progress(ex.id(), out.pairs.size());
+        out.records = keel::lie::run_pair_study_2d(out.poses, out.pairs, covs, setup, &progress);
+        progress.finish();
+        ex.results().timing("monte_carlo", seconds_since(t0));
+      });
 }
 
 // Records `<name>.mean` / `<name>.std` over all pairs and per offset (`offset<k>.<name>.mean`).

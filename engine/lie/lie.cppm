@@ -89,6 +89,7 @@ using keel::lie::composition_step_covariance;
 using keel::lie::CompositionOutcome;
 using keel::lie::CompositionPrediction;
 using keel::lie::CompositionSetup;
+using keel::lie::convert_ssc_prediction;
 using keel::lie::planar_lie_region;
 using keel::lie::planar_positions;
 using keel::lie::planar_ssc_ellipse;
@@ -97,6 +98,7 @@ using keel::lie::RelativePoseOutcome;
 using keel::lie::RelativePoseSetup;
 using keel::lie::run_composition_study;
 using keel::lie::run_relative_pose_study;
+using keel::lie::SscConversion;
 // relative pose of pose pairs from a SLAM solution (Tables 5.1–5.2)
 using keel::lie::pair_statistics;
 using keel::lie::PairRecord;

@@ -185,6 +185,41 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   return out;
 }
 
+SscConversion convert_ssc_prediction(const CompositionOutcome& o, const std::vector<double>& levels) {
+  if (o.samples.empty())
+    throw std::invalid_argument("convert_ssc_prediction: the study kept no samples (set keep_samples)");
+  SscConversion c;
+  const auto converted = joint_poses_from_ssc<SE3>(VecX(ssc_from_se3(o.ssc.mean)), MatX(o.ssc.cov));
+  c.unscented.mean = converted.means.at(0);
+  c.unscented.cov = Mat6(converted.cov);
+  const double m = static_cast<double>(o.samples.size());
+  auto spread = [&](const SE3& mean) {
+    const SE3 inv = mean.inverse();
+    Mat6 S = Mat6::Zero();
+    for (const auto& T : o.samples) {
+      const Vec6 xi = (T * inv).log();
+      S += xi * xi.transpose();
+    }
+    return Mat6(S / m);
+  };
+  c.cov_samples = spread(c.unscented.mean);
+  auto volume_ratio = [](const Mat6& a, const Mat6& b) {
+    return std::sqrt(a.determinant() / b.determinant());
+  };
+  c.volume_vs_samples = volume_ratio(c.unscented.cov, c.cov_samples);
+  c.volume_vs_joint = volume_ratio(c.unscented.cov, o.lie_joint.cov);
+  c.joint_volume_vs_samples = volume_ratio(o.lie_joint.cov, spread(o.lie_joint.mean));
+  const Whitener w(c.unscented.cov, "ssc_unscented");
+  const SE3 inv = c.unscented.mean.inverse();
+  for (double p : levels) {
+    const double r2 = chi2_quantile(p, 6.0);
+    std::size_t inside = 0;
+    for (const auto& T : o.samples) inside += w.d2((T * inv).log()) <= r2 ? 1 : 0;
+    c.unscented.inside.push_back(static_cast<double>(inside) / m);
+  }
+  return c;
+}
+
 void RelativePoseSetup::validate() const {
   if (samples < 2) throw std::invalid_argument("RelativePoseSetup: samples must be >= 2");
   MatX joint(12, 12);

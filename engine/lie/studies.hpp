@@ -68,6 +68,21 @@ struct CompositionOutcome {
 // The per-step covariance of eq. 5.41 (variances on the diagonal).
 [[nodiscard]] Mat6 composition_step_covariance(double sigma_t, double sigma_r);
 
+// Fig. 5.7 (§5.8.1, eqs. 5.60–5.62): a composition study's SSC head-to-tail prediction converted to the Lie
+// algebra by the unscented transform (joint_poses_from_ssc, Julier & Uhlmann 1997 weights with κ = 0), scored
+// against the study's sampled end poses (CompositionSetup::keep_samples). "True" is the samples' own spread
+// about the converted mean f(x̂), E[ξ ξᵀ] with ξ_m = log(T_m f(x̂)⁻¹).
+struct SscConversion {
+  CompositionPrediction unscented;  // mean f(x̂) (eq. 5.61), covariance of eq. 5.62, inside fractions
+  Mat6 cov_samples;                 // the samples' spread about f(x̂)
+  // Ratios of p-ellipsoid volumes, sqrt(det A / det B): above 1, A's region is the larger.
+  double volume_vs_samples = 0;  // the converted region against the samples' spread (> 1: over-approximates)
+  double volume_vs_joint = 0;    // the converted region against the proposed joint prediction's
+  double joint_volume_vs_samples = 0;  // the joint prediction against the samples' spread about its own mean
+};
+[[nodiscard]] SscConversion convert_ssc_prediction(const CompositionOutcome& outcome,
+                                                   const std::vector<double>& levels);
+
 // ---------------------------------------------------------------------------------------------------------------
 // Relative pose of two correlated poses (§5.7.2, eqs. 5.52–5.59).
 struct RelativePoseSetup {

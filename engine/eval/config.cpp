@@ -40,6 +40,12 @@ sim::CandidateOptions read_candidate_options(const core::ConfigTable& t) {
   std::tie(c.random_sigma_translation_min, c.random_sigma_translation_max) =
       read_range(t, "random_sigma_translation");
   std::tie(c.random_sigma_rotation_min, c.random_sigma_rotation_max) = read_range(t, "random_sigma_rotation");
+  // Optional near-miss aliased groups (sim::CandidateOptions): both ranges or neither.
+  if (t.has("near_miss_translation") || t.has("near_miss_rotation")) {
+    std::tie(c.near_miss_translation_min, c.near_miss_translation_max) =
+        read_range(t, "near_miss_translation");
+    std::tie(c.near_miss_rotation_min, c.near_miss_rotation_max) = read_range(t, "near_miss_rotation");
+  }
   t.validate(c);
   return c;
 }

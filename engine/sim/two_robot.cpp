@@ -64,6 +64,32 @@ lie::SO3 random_rotation(core::Rng& rng, const lie::SE3*) {
   return lie::SO3::from_matrix_unchecked(R);
 }
 
+// A unit vector uniform on the circle / sphere (a normalized standard normal vector).
+template <int N>
+Eigen::Matrix<double, N, 1> random_direction(core::Rng& rng) {
+  Eigen::Matrix<double, N, 1> v;
+  do {
+    for (int d = 0; d < N; ++d) v(d) = rng.normal();
+  } while (v.norm() < 1e-12);
+  return v.normalized();
+}
+
+// The offset δ of a near-miss alignment (CandidateOptions): translation length and rotation angle uniform in
+// their ranges, directions uniform.
+lie::SE2 near_miss_offset(core::Rng& rng, const CandidateOptions& o, const lie::SE2*) {
+  const lie::Vec2 t =
+      rng.uniform(o.near_miss_translation_min, o.near_miss_translation_max) * random_direction<2>(rng);
+  const double angle = rng.uniform(o.near_miss_rotation_min, o.near_miss_rotation_max);
+  return lie::SE2(lie::SO2(rng.uniform(0.0, 1.0) < 0.5 ? -angle : angle), t);
+}
+lie::SE3 near_miss_offset(core::Rng& rng, const CandidateOptions& o, const lie::SE3*) {
+  const lie::Vec3 t =
+      rng.uniform(o.near_miss_translation_min, o.near_miss_translation_max) * random_direction<3>(rng);
+  const lie::Vec3 axis = random_direction<3>(rng);
+  const double angle = rng.uniform(o.near_miss_rotation_min, o.near_miss_rotation_max);
+  return lie::SE3(lie::SO3::exp(angle * axis), t);
+}
+
 lie::SE2 make_pose(const lie::SO2& R, const lie::Vec2& t) { return lie::SE2(R, t); }
 lie::SE3 make_pose(const lie::SO3& R, const lie::Vec3& t) { return lie::SE3(R, t); }
 
@@ -253,8 +279,13 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
 
   // Perceptually aliased groups.
   for (int g = 0; g < o.aliased_groups; ++g) {
-    const auto R = random_rotation(rng, static_cast<const G*>(nullptr));
-    const G A = make_pose(R, uniform_point(s.extent_min, s.extent_max));
+    G A;
+    if (o.near_miss_translation_max > 0.0) {
+      A = s.true_anchor * near_miss_offset(rng, o, static_cast<const G*>(nullptr));
+    } else {
+      const auto R = random_rotation(rng, static_cast<const G*>(nullptr));
+      A = make_pose(R, uniform_point(s.extent_min, s.extent_max));
+    }
     out.false_anchors.push_back(A);
     for (int m = 0; m < o.aliased_group_size; ++m) {
       const int i = uniform_index(rng, na), k = uniform_index(rng, nb);
@@ -391,6 +422,18 @@ void CandidateOptions::validate() const {
   };
   range("random_sigma_translation", random_sigma_translation_min, random_sigma_translation_max);
   range("random_sigma_rotation", random_sigma_rotation_min, random_sigma_rotation_max);
+  if (near_miss_translation_max > 0.0 || near_miss_rotation_max > 0.0) {
+    auto offsets = [](const char* name, double lo, double hi) {
+      if (!(std::isfinite(lo) && std::isfinite(hi) && lo >= 0.0 && lo <= hi))
+        fail("CandidateOptions: {} range must satisfy 0 <= min <= max, finite (got [{:g}, {:g}])", name, lo,
+             hi);
+    };
+    offsets("near_miss_translation", near_miss_translation_min, near_miss_translation_max);
+    offsets("near_miss_rotation", near_miss_rotation_min, near_miss_rotation_max);
+    if (!(near_miss_translation_max > 0.0))
+      fail("CandidateOptions: near-miss groups need near_miss_translation max > 0 (got {:g})",
+           near_miss_translation_max);
+  }
   if (!(std::isfinite(aliased_noise_scale) && aliased_noise_scale > 0.0))
     fail("CandidateOptions: aliased_noise_scale must be > 0 and finite (got {:g})", aliased_noise_scale);
   if (total() < 1) fail("CandidateOptions: no candidates requested (all counts are 0)");

@@ -143,6 +143,12 @@ struct CandidateOptions {
   double random_sigma_rotation_max = 1.0;
   double aliased_noise_scale = 1.0;  // aliased members: residual r ~ N(0, s² Ω⁻¹) with this s (> 0); 1 = like
                                      // an inlier of the dataset; < 1 with resample_measurements() (same s)
+  // Near-miss aliased groups (beyond §2.7.2; off while near_miss_translation_max = 0): each group's false
+  // alignment is the true one, T_ab, moved by δ — a translation of length U[min, max] (m) in a uniform
+  // direction and a rotation by an angle U[min, max] (rad) about a uniform axis — so A = T_ab δ: a
+  // registration that converged close to, but not at, the truth, agreed on by every member of the group.
+  double near_miss_translation_min = 0.0, near_miss_translation_max = 0.0;
+  double near_miss_rotation_min = 0.0, near_miss_rotation_max = 0.0;
   bool shuffle = true;  // random candidate order (else: inliers, aliased groups in order, random outliers)
   int total() const { return num_inliers + aliased_groups * aliased_group_size + random_outliers; }
   // Throws std::invalid_argument naming the violated constraint (negative counts, bad σ ranges, no

@@ -274,6 +274,54 @@ TEST_CASE("generate_candidates: deterministic, right counts, labels and members"
   for (const auto& m : c3.candidates) CHECK(symmetric_pd(m.covariance));
 }
 
+TEST_CASE("generate_candidates: near-miss groups agree on an alignment close to the truth (2D and 3D)") {
+  CandidateOptions o;
+  o.num_inliers = 10;
+  o.aliased_groups = 8;
+  o.aliased_group_size = 3;
+  o.random_outliers = 5;
+  o.near_miss_translation_min = 0.5;
+  o.near_miss_translation_max = 2.0;
+  o.near_miss_rotation_min = 0.05;
+  o.near_miss_rotation_max = 0.2;
+  const auto syn = square_laps<lie::SE2>(3, 2, 21);
+  const auto s = split_two_robots(syn.graph, syn.truth, {0, 60, 120});
+  for (std::uint64_t index = 0; index < 5; ++index) {
+    const auto c = generate_candidates(s, o, 11, index);
+    REQUIRE(c.false_anchors.size() == 8);
+    for (const auto& A : c.false_anchors) {
+      const auto d = s.true_anchor.inverse() * A;  // δ
+      CHECK(d.translation().norm() >= 0.5 - 1e-12);
+      CHECK(d.translation().norm() <= 2.0 + 1e-12);
+      CHECK(std::fabs(d.angle()) >= 0.05 - 1e-12);
+      CHECK(std::fabs(d.angle()) <= 0.2 + 1e-12);
+    }
+    for (std::size_t k = 0; k < c.candidates.size(); ++k)
+      if (c.labels[k].kind == MeasurementLabel::aliased) {
+        const auto& m = c.candidates[k];
+        CHECK(pose_distance(m.z, s.truth_a[m.pose_a].inverse() * c.false_anchors[c.labels[k].group] *
+                                     s.truth_b[m.pose_b]) < 0.6);
+      }
+  }
+  const auto syn3 = square_laps<lie::SE3>(3, 2, 21);
+  const auto s3 = split_two_robots(syn3.graph, syn3.truth, {0, 60, 120});
+  const auto c3 = generate_candidates(s3, o, 11, 0);
+  for (const auto& A : c3.false_anchors) {
+    const auto d = s3.true_anchor.inverse() * A;
+    CHECK(d.translation().norm() >= 0.5 - 1e-12);
+    CHECK(d.translation().norm() <= 2.0 + 1e-12);
+    const double angle = d.log().tail<3>().norm();
+    CHECK(angle >= 0.05 - 1e-9);
+    CHECK(angle <= 0.2 + 1e-9);
+  }
+  o.near_miss_rotation_min = 0.3;
+  CHECK(message_of([&] { o.validate(); }).find("near_miss_rotation range must satisfy 0 <= min <= max") !=
+        std::string::npos);
+  o.near_miss_rotation_min = 0.0;
+  o.near_miss_translation_min = o.near_miss_translation_max = 0.0;
+  CHECK(message_of([&] { o.validate(); }).find("near_miss_translation max > 0") != std::string::npos);
+}
+
 TEST_CASE("generate_candidates and CandidateOptions: bad inputs give clear errors") {
   const auto syn = square_laps<lie::SE2>(3, 2, 21);
   const auto s = split_two_robots(syn.graph, syn.truth, {0, 60, 120});

@@ -353,6 +353,7 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   std::optional<ConfigTable> from;
   if (root.has("params_from")) {
     const std::string from_id = root.string("params_from");
+    c.params_from = from_id;
     const auto from_file =
         std::filesystem::absolute(file).parent_path().parent_path() / from_id / "experiment.toml";
     if (!std::filesystem::exists(from_file))

@@ -133,6 +133,8 @@ struct ExperimentConfig {
   std::string reproduces;   // "Fig. 5.4 (§5.5.2)"
   std::string description;  // what the experiment does and how
   std::string discussion;   // our reading of the results against the thesis (report text)
+  std::string
+      params_from;  // a variant's base experiment (docs/DESIGN.md), whose driver it may run; else empty
   // Why the experiment cannot be sharded (core/shard.hpp): its work is not a set of independent trials (one
   // solve, one worked example). Empty for a Monte-Carlo experiment, which --slice/--merge can split.
   std::string runs_whole;

@@ -67,13 +67,14 @@ std::string git_describe(const std::string& path) {
   return dirty.empty() ? sha : fmt::format("{}-dirty", sha);
 }
 
-bool code_changed_since(const std::string& sha, const std::string& id) {
+bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base) {
   if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return true;
   for (char c : sha)
     if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
   // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code
   // too.
-  const std::string folder = shell_quote(fmt::format(":/experiments/{}", id));
+  std::string folder = shell_quote(fmt::format(":/experiments/{}", id));
+  if (!base.empty()) folder += " " + shell_quote(fmt::format(":/experiments/{}", base));
   const std::string out = run_capture(fmt::format(
       "git diff --name-only {} -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' {} 2>&1; "
       "echo \"rc=$?\"",

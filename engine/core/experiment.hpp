@@ -52,7 +52,8 @@ std::string git_describe(const std::string& path);
 
 // Whether the engine, the build files, experiments/common (glue drivers include) or experiments/<id> differ
 // between commit `sha` (as git_describe wrote it) and the working tree now. A "-dirty" or unknown sha counts
-// as changed: such a result cannot be tied to committed code.
-bool code_changed_since(const std::string& sha, const std::string& id);
+// as changed: such a result cannot be tied to committed code. `base` (a variant's params_from, or empty) adds
+// experiments/<base>, whose driver and parameters the variant uses.
+bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base = "");
 
 }  // namespace keel::core

@@ -165,7 +165,7 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     stale = fmt::format("the latest run used the `{}` profile", run_profile);
   } else if (r["provenance"].value("config_hash", "") != hash) {
     stale = "experiment.toml changed since this result was produced";
-  } else if (!from_baseline && code_changed_since(run_sha, cfg.id)) {
+  } else if (!from_baseline && code_changed_since(run_sha, cfg.id, cfg.params_from)) {
     // A baseline is checked against the code by CI (every quick baseline is diffed against a fresh run), so a
     // report from baselines is stale only where the configuration moved.
     stale = fmt::format("the result was produced from code ({}) that differs from the working tree", run_sha);

@@ -12,22 +12,16 @@ import keel.eval;
 #include <utility>
 #include <vector>
 
+#include "common/world1d.hpp"
+
 namespace core = keel::core;
-namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    eval::World1DStudyOptions o;
-    o.world = eval::read_world1d_options(p, true);
-    const double pcm_p = p.number("pcm_p"), ransac_p = p.number("ransac_p");
-    o.scgp = eval::read_scgp_options(p);
-    o.combinatorial = p.parse("combinatorial", eval::combinatorial_method_from_string);
-    o.worlds = p.count("worlds");
+    eval::World1DStudyOptions o = keel::experiments::read_world1d_study(p);
     ex.params_done();
-    o.pcm_gamma = pcm::consistency_threshold(pcm_p, 1);  // γ = χ²₁ quantile of 1 − p (dof 1: the 1D world)
-    o.ransac_gamma = pcm::consistency_threshold(ransac_p, 1);
     o.seed = ex.seed();
     o.threads = ex.threads();
     try {

@@ -12,27 +12,21 @@ import keel.eval;
 #include <string>
 #include <vector>
 
+#include "common/world1d.hpp"
+
 namespace core = keel::core;
-namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    eval::World1DStudyOptions o;
-    o.world = eval::read_world1d_options(p, true);
-    const double pcm_p = p.number("pcm_p");
-    (void)p.number("ransac_p");  // the base experiment's RANSAC and SCGP settings: not run here
-    (void)eval::read_scgp_options(p);
-    o.combinatorial = p.parse("combinatorial", eval::combinatorial_method_from_string);
-    o.worlds = p.count("worlds");
+    eval::World1DStudyOptions o = keel::experiments::read_world1d_study(p);
     const auto ranges = p.numbers("outlier_mean_ranges");
     const double reference = p.number("reference_heuristic_rate");
     ex.params_done();
+    // RANSAC and SCGP are read with the base experiment's parameters but not run here.
     o.selectors = {eval::Selector1D::combinatorial, eval::Selector1D::pcm_exact,
                    eval::Selector1D::pcm_heuristic};
-    o.pcm_gamma = pcm::consistency_threshold(pcm_p, 1);  // γ = χ²₁ quantile of 1 − p (dof 1: the 1D world)
-    o.ransac_gamma = o.pcm_gamma;                        // unused (no RANSAC selector), must be valid
     o.seed = ex.seed();
     o.threads = ex.threads();
 
@@ -78,9 +72,7 @@ int main(int argc, char** argv) {
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());
-    f.title = fmt::format(
-        "PCM-Heuristic against the combinatorial maximum as the 1D worlds get denser ({} worlds each)",
-        o.worlds);
+    f.title = fmt::format("PCM-Heuristic on denser 1D worlds ({} worlds per R)", o.worlds);
     f.width = 7.5;
     f.height = 5.0;
     core::Panel panel;

@@ -9,20 +9,16 @@ import keel.lie;
 #include <string>
 #include <vector>
 
+#include "common/composition.hpp"
+
 namespace core = keel::core;
 namespace lie = keel::lie;
 
 int main(int argc, char** argv) {
   return core::experiment_main(argc, argv, [](core::Experiment& ex) {
     const auto& p = ex.params();
-    lie::CompositionSetup s;
-    s.steps = static_cast<int>(p.count("steps"));
-    s.sigma_t = p.number("sigma_t");
-    s.sigma_r = p.number("sigma_r");
-    s.rho = p.number("rho");
-    const double level = p.number("level");
-    s.levels = {level};
-    s.trajectories = p.count("trajectories");
+    auto s = keel::experiments::read_composition_setup(p, true);
+    const double level = s.levels[0];
     const int region_points = static_cast<int>(p.count("region_points"));
     ex.params_done();
     s.keep_samples = true;
@@ -58,11 +54,10 @@ int main(int argc, char** argv) {
 
     core::Figure f;
     f.file = fmt::format("{}.png", ex.id());
-    f.width = 7.5;
-    f.height = 5.5;
-    f.title = fmt::format(
-        "Fig. 5.7: SSC converted to the Lie algebra by the UT ({} end poses, N = {}), {:.3g} % regions",
-        s.trajectories, s.steps, 100.0 * level);
+    f.width = 9.0;
+    f.height = 6.0;
+    f.title = fmt::format("Fig. 5.7: SSC converted by the UT, {:.3g} % regions ({} end poses, N = {})",
+                          100.0 * level, s.trajectories, s.steps);
     core::Panel panel;
     panel.xlabel = "x";
     panel.ylabel = "y";

@@ -8,6 +8,8 @@ import keel.lie;
 #include <string>
 #include <vector>
 
+#include "common/composition.hpp"
+
 namespace core = keel::core;
 namespace lie = keel::lie;
 
@@ -16,13 +18,8 @@ int main(int argc, char** argv) {
     const auto& p = ex.params();
     const auto n_min = p.integer("steps_min"), n_max = p.integer("steps_max"),
                stride = p.integer("steps_stride");
-    lie::CompositionSetup base;
-    base.sigma_t = p.number("sigma_t");
-    base.sigma_r = p.number("sigma_r");
-    base.rho = p.number("rho");
-    const double level = p.number("level");
-    base.levels = {level};
-    base.trajectories = p.count("trajectories");
+    auto base = keel::experiments::read_composition_setup(p, false);
+    const double level = base.levels[0];
     base.joint_fourth_order_max_steps = static_cast<int>(p.integer("joint_fourth_order_max_steps"));
     ex.params_done();
     if (n_min < 1 || n_max < n_min || stride < 1) {

@@ -48,8 +48,12 @@ std::vector<std::string> ordering_reversals(const std::vector<std::string>& name
 std::string ordering_text(const std::vector<std::string>& names, const std::vector<double>& values) {
   std::vector<std::size_t> idx(names.size());
   std::iota(idx.begin(), idx.end(), 0);
-  std::stable_sort(idx.begin(), idx.end(),
-                   [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  // Ascending values, equal values in the order given (std::sort with the index as tie-break:
+  // std::stable_sort on size_t trips clang-19's deprecation of libstdc++ 12's get_temporary_buffer under
+  // -Werror).
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+    return values[a] != values[b] ? values[a] < values[b] : a < b;
+  });
   std::string out;
   for (std::size_t k = 0; k < idx.size(); ++k) {
     if (k > 0) out += ties(values[idx[k - 1]], values[idx[k]], 1e-9) ? " = " : " < ";

@@ -1,12 +1,17 @@
 // Google Benchmark for keel.pcm (thesis §2.5, §2.7): exact and heuristic maximum clique on random graphs G(n,
 // p) and on consistency graphs of the 1D world of §2.7.1, plus the other selection methods on the same 1D
-// matrices Q. Run: build/release/bench/bench_clique [--benchmark_filter=1D]
+// matrices Q, and a planted-clique family for exact, heuristic and densest-subgraph selection.
+// Run: build/release/bench/bench_clique [--benchmark_filter=1D|Planted]
 import keel.pcm;
 import keel.sim;
 import keel.eval;
 import keel.core;
 
 #include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
 
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
@@ -122,6 +127,74 @@ void world_sizes(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMicrosecond);
 }
 
+// --- planted cliques: args = vertices n, planted size k in percent of n, density p in percent
+// ------------------------
+// k mutually consistent inliers among n candidates whose other pairs are consistent with probability p
+// (sim::planted_clique_graph). Counters: the size found, precision and recall against the planted set, and for
+// the exact search its proven bound and whether it proved optimality within its 10 s limit; for the densest
+// subgraph the inconsistent pairs of its raw rounding. Run:
+//   build/release/bench/bench_clique --benchmark_filter=Planted
+
+sim::PlantedClique planted(const benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int k = std::max(1, static_cast<int>(std::lround(0.01 * state.range(1) * n)));
+  return sim::planted_clique_graph(n, k, 0.01 * state.range(2), 2026);
+}
+
+void report(benchmark::State& state, const std::vector<int>& found, const std::vector<int>& truth) {
+  std::size_t hit = 0;
+  for (int v : found) hit += std::binary_search(truth.begin(), truth.end(), v) ? 1 : 0;
+  state.counters["found"] = static_cast<double>(found.size());
+  state.counters["planted"] = static_cast<double>(truth.size());
+  state.counters["precision"] = found.empty() ? 0.0 : static_cast<double>(hit) / static_cast<double>(found.size());
+  state.counters["recall"] = truth.empty() ? 1.0 : static_cast<double>(hit) / static_cast<double>(truth.size());
+}
+
+void BM_PlantedExact(benchmark::State& state) {
+  const auto p = planted(state);
+  pcm::CliqueOptions o;
+  o.time_limit_s = 10.0;
+  pcm::CliqueResult r;
+  for (auto _ : state) {
+    r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::exact, o);
+    benchmark::DoNotOptimize(r.clique.data());
+  }
+  report(state, r.clique, p.planted);
+  state.counters["bound"] = r.upper_bound;
+  state.counters["optimal"] = r.proven_optimal() ? 1.0 : 0.0;
+}
+
+void BM_PlantedHeuristic(benchmark::State& state) {
+  const auto p = planted(state);
+  pcm::CliqueResult r;
+  for (auto _ : state) {
+    r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::heuristic);
+    benchmark::DoNotOptimize(r.clique.data());
+  }
+  report(state, r.clique, p.planted);
+  state.counters["bound"] = r.upper_bound;
+}
+
+void BM_PlantedDensest(benchmark::State& state) {
+  const auto p = planted(state);
+  pcm::DensestResult r;
+  for (auto _ : state) {
+    r = pcm::densest_subgraph(p.graph);
+    benchmark::DoNotOptimize(r.selection.data());
+  }
+  report(state, r.selection, p.planted);
+  state.counters["raw"] = static_cast<double>(r.raw.size());
+  state.counters["violations"] = static_cast<double>(r.violations);
+  state.counters["converged"] = r.converged ? 1.0 : 0.0;
+}
+
+void planted_family(benchmark::internal::Benchmark* b) {
+  for (int n : {100, 300, 1000, 2000})
+    for (int k : {1, 2, 10, 30})
+      for (int p : {5, 20, 50, 70}) b->Args({n, k, p});
+  b->Unit(benchmark::kMillisecond)->Iterations(1);
+}
+
 }  // namespace
 
 BENCHMARK(BM_Exact)->Apply(sizes);
@@ -133,4 +206,7 @@ BENCHMARK(BM_Scgp1D)->Arg(50)->Arg(100)->Arg(200)->Arg(500)->Arg(1000)->Unit(ben
 BENCHMARK(BM_Ransac1D)->Apply(world_sizes);
 BENCHMARK(BM_CombinatorialPruned1D)->Arg(16)->Arg(32)->Arg(48)->Arg(64)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CombinatorialExhaustive1D)->Arg(12)->Arg(16)->Arg(20)->Arg(24)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PlantedExact)->Apply(planted_family);
+BENCHMARK(BM_PlantedHeuristic)->Apply(planted_family);
+BENCHMARK(BM_PlantedDensest)->Apply(planted_family);
 BENCHMARK_MAIN();

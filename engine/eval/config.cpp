@@ -68,6 +68,7 @@ std::vector<StudyMethod> read_methods(const core::ConfigTable& p) {
     m.method.scgp.affinity_scale = t.number_or("scgp_affinity_scale", m.method.scgp.affinity_scale);
     m.method.scgp.discretization =
         t.parse_or("scgp_discretization", pcm::scgp_discretization_from_string, m.method.scgp.discretization);
+    m.method.densest.affinity_scale = t.number_or("densest_affinity_scale", m.method.densest.affinity_scale);
     t.validate(m.method);
     out.push_back(m);
   }

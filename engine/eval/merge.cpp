@@ -293,6 +293,8 @@ MergeDataset<G> run_dataset_impl(const TwoRobotScenario<G>& s, const LocalSoluti
           const double gamma = consistency_threshold(m.p, Q.dof);
           if (m.kind == MergeMethodKind::ransac)
             o.selection = select_ransac(Q, gamma);
+          else if (m.kind == MergeMethodKind::densest)
+            o.selection = select_densest(Q, gamma, m.densest);
           else
             o.selection = select_pcm(
                 Q, gamma,
@@ -437,14 +439,15 @@ MergeMetrics evaluate_merge(const MergeResult3& result, const MergeResult3& refe
 }
 
 namespace {
-constexpr core::NameTable<MergeMethodKind, 6> kMergeMethodKindNames{
+constexpr core::NameTable<MergeMethodKind, 7> kMergeMethodKindNames{
     "eval::MergeMethodKind",
     {{{MergeMethodKind::no_outliers, "no_outliers"},
       {MergeMethodKind::dcs, "dcs"},
       {MergeMethodKind::scgp, "scgp"},
       {MergeMethodKind::ransac, "ransac"},
       {MergeMethodKind::pcm_exact, "pcm_exact"},
-      {MergeMethodKind::pcm_heuristic, "pcm_heuristic"}}}};
+      {MergeMethodKind::pcm_heuristic, "pcm_heuristic"},
+      {MergeMethodKind::densest, "densest"}}}};
 }  // namespace
 
 std::string_view to_string(MergeMethodKind v) { return kMergeMethodKindNames.name(v); }
@@ -463,10 +466,11 @@ MergeMethod MergeMethod::make(std::string name, MergeMethodKind kind, double p,
 void MergeMethod::validate() const {
   if (name.empty()) fail("MergeMethod: name must not be empty");
   if ((kind == MergeMethodKind::ransac || kind == MergeMethodKind::pcm_exact ||
-       kind == MergeMethodKind::pcm_heuristic) &&
+       kind == MergeMethodKind::pcm_heuristic || kind == MergeMethodKind::densest) &&
       !(p > 0.0 && p < 1.0))
     fail("MergeMethod '{}': p must be in (0, 1) (got {:g})", name, p);
   if (kind == MergeMethodKind::scgp) scgp.validate();
+  if (kind == MergeMethodKind::densest) densest.validate();
   if (kind == MergeMethodKind::dcs) {
     if (!(std::isfinite(dcs_phi) && dcs_phi > 0.0))
       fail("MergeMethod '{}': dcs_phi must be finite and > 0 (got {:g})", name, dcs_phi);

@@ -229,19 +229,21 @@ enum class MergeMethodKind {
   ransac,         // select_ransac(Q, γ(p))
   pcm_exact,      // select_pcm(Q, γ(p), exact)
   pcm_heuristic,  // select_pcm(Q, γ(p), heuristic) — the thesis's PCM-HeuPatt
+  densest,        // select_densest(Q, γ(p)): CLIPPER's densest-subgraph relaxation, repaired to a clique
 };
 std::string_view to_string(MergeMethodKind k);
-// "no_outliers" | "dcs" | "scgp" | "ransac" | "pcm_exact" | "pcm_heuristic"; else throws
+// "no_outliers" | "dcs" | "scgp" | "ransac" | "pcm_exact" | "pcm_heuristic" | "densest"; else throws
 // std::invalid_argument.
 MergeMethodKind merge_method_kind_from_string(std::string_view s);
 
 struct MergeMethod {
   std::string name;  // key of the method's metrics (e.g. "pcm_exact_11"), non-empty
   MergeMethodKind kind = MergeMethodKind::pcm_exact;
-  double p = 0.11;  // ransac, pcm: γ = consistency_threshold(p, dof), p in (0, 1)
+  double p = 0.11;  // ransac, pcm, densest: γ = consistency_threshold(p, dof), p in (0, 1)
   pcm::Composition composition =
       pcm::Composition::joint;    // scgp, ransac, pcm: the relative-pose covariance used in Q
   pcm::ScgpOptions scgp;          // scgp
+  pcm::DensestSelectOptions densest;  // densest
   double dcs_phi = 5.0;           // dcs: φ (> 0)
   double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
                                   // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)

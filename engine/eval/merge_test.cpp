@@ -367,6 +367,7 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
   }
 
   CHECK(to_string(MergeMethodKind::pcm_heuristic) == "pcm_heuristic");
+  CHECK(merge_method_kind_from_string("densest") == MergeMethodKind::densest);
   CHECK(merge_method_kind_from_string("ransac") == MergeMethodKind::ransac);
   CHECK(message_of([] {
           (void)merge_method_kind_from_string("jcbb");

@@ -145,6 +145,8 @@ MethodSummary summarize_method(const std::vector<MergeDataset<G>>& runs, std::si
     c["selected"].push_back(static_cast<double>(o.selection.selected.size()));
     c["tp"].push_back(static_cast<double>(m.classification.tp));
     c["fp"].push_back(static_cast<double>(m.classification.fp));
+    c["raw_size"].push_back(static_cast<double>(o.selection.raw_size));
+    c["violations"].push_back(static_cast<double>(o.selection.violations));
     c["selection_time_s"].push_back(o.selection.time_s);
     c["solve_time_s"].push_back(o.solve_time_s);
     s.pooled.tp += m.classification.tp;

@@ -91,6 +91,7 @@ template <class G>
 struct MethodSummary {
   // Per data set, by name: trans_mse, rot_mse (merged map vs ground truth), rel_pose_trans_mse, rel_pose_rot
   // (the anchor), traj_trans_mse, traj_rot (trajectory), residual, chi2 (normalized χ²), selected, tp, fp,
+  // raw_size and violations (the densest-subgraph selector's rounding before its repair; 0 for the others),
   // selection_time_s, solve_time_s.
   std::map<std::string, std::vector<double>, std::less<>> columns;
   Classification pooled;  // TP/FP/FN/TN summed over the data sets

@@ -6,6 +6,7 @@
 module;
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
+#include "pcm/densest.hpp"
 #include "pcm/selection.hpp"
 export module keel.pcm;
 
@@ -33,6 +34,11 @@ using keel::pcm::clique_algorithm_from_string;
 using keel::pcm::CliqueAlgorithm;
 using keel::pcm::CliqueOptions;
 using keel::pcm::CliqueResult;
+using keel::pcm::densest_subgraph;
+using keel::pcm::DensestOptions;
+using keel::pcm::DensestResult;
+using keel::pcm::DensestSelectOptions;
+using keel::pcm::select_densest;
 using keel::pcm::ConsistencyGraph;
 using keel::pcm::maximum_clique;
 using keel::pcm::search_status_from_string;

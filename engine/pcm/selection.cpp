@@ -70,6 +70,39 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
   return s;
 }
 
+void DensestSelectOptions::validate() const {
+  if (!(affinity_scale == 0.0 || (std::isfinite(affinity_scale) && affinity_scale > 0.0)))
+    throw std::invalid_argument(fmt::format(
+        "DensestSelectOptions: affinity_scale must be 0 (binary) or > 0 and finite (got {:g})", affinity_scale));
+  solver.validate();
+}
+
+Selection select_densest(const ConsistencyMatrix& Q, double gamma, const DensestSelectOptions& options) {
+  validate_consistency_matrix(Q, "select_densest");
+  validate_gamma(gamma, "select_densest");
+  options.validate();
+  const auto t0 = Clock::now();
+  const ConsistencyGraph g = ConsistencyGraph::from_threshold(Q.n, Q.q, gamma);
+  DensestResult r;
+  if (options.affinity_scale == 0.0) {
+    r = densest_subgraph(g, options.solver);
+  } else {
+    const auto n = static_cast<std::size_t>(Q.n);
+    std::vector<double> affinity(n * n, 0.0);
+    for (std::size_t u = 0; u < n; ++u)
+      for (std::size_t v = 0; v < n; ++v)
+        if (u != v && g.adjacent(static_cast<int>(u), static_cast<int>(v)))
+          affinity[u * n + v] = std::exp(-std::max(Q.q[u * n + v], Q.q[v * n + u]) / options.affinity_scale);
+    r = densest_subgraph(g, affinity, options.solver);
+  }
+  Selection s;
+  s.time_s = seconds_since(t0);
+  s.selected = r.selection;
+  s.raw_size = static_cast<int>(r.raw.size());
+  s.violations = r.violations;
+  return s;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // RANSAC (§2.7): every candidate is tried as the single-sample model; its support is the set of candidates
 // likely given it. No pairwise check among the supporters.

@@ -24,6 +24,7 @@
 
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
+#include "pcm/densest.hpp"
 
 namespace keel::pcm {
 
@@ -33,10 +34,14 @@ struct Selection {
   // PCM: the maximum-clique search behind the selection — its bound (exact: branch and bound; heuristic: the
   // degeneracy bound max core + 1), status and ties (CliqueOptions::report_ties); empty for RANSAC and SCGP.
   std::optional<CliqueResult> search;
+  // Densest subgraph: the raw rounding before its repair to a clique, and its inconsistent pairs (0 for the
+  // other selectors).
+  int raw_size = 0;
+  long long violations = 0;
   bool proven_optimal() const { return search && search->proven_optimal(); }
   // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(selected, time_s, search); }
-  auto fields() const { return std::tie(selected, time_s, search); }
+  auto fields() { return std::tie(selected, time_s, search, raw_size, violations); }
+  auto fields() const { return std::tie(selected, time_s, search, raw_size, violations); }
 };
 
 // Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() !=
@@ -52,6 +57,18 @@ void validate_gamma(double gamma, const char* who);
 // std::invalid_argument. time_s includes thresholding Q into the graph.
 [[nodiscard]] Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
                                    const CliqueOptions& options = {});
+
+// The densest-subgraph selector (pcm/densest.hpp, CLIPPER's relaxation) on ConsistencyGraph::from_threshold(Q, γ):
+// the affinity of a consistent pair is exp(−max(q_uv, q_vu) / affinity_scale), or 1 when affinity_scale is 0
+// (binary: the relaxation of the maximum clique). `selected` is the rounding repaired to a maximal clique;
+// raw_size and violations describe the rounding before the repair. γ > 0 and finite.
+struct DensestSelectOptions {
+  double affinity_scale = 0.0;  // 0 (binary) or > 0 and finite
+  DensestOptions solver;
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+[[nodiscard]] Selection select_densest(const ConsistencyMatrix& Q, double gamma,
+                                       const DensestSelectOptions& options = {});
 
 // RANSAC as in thesis §2.7 (see the header comment). γ > 0 and finite.
 [[nodiscard]] Selection select_ransac(const ConsistencyMatrix& Q, double gamma);

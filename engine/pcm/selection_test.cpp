@@ -145,6 +145,40 @@ TEST_CASE("PCM selection = brute-force maximum clique on random Q (symmetric and
   CHECK(compared == 600);
 }
 
+TEST_CASE("densest subgraph selector: a consistent set never above PCM's, raw violations reported") {
+  keel::core::Rng rng(2024);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 2 + static_cast<int>(rng.uniform() * 30);
+    ConsistencyMatrix Q = make_q(n, [](int, int) { return 0.0; });
+    for (int u = 0; u < n; ++u)
+      for (int v = u + 1; v < n; ++v) {
+        const double a = 6.0 * rng.uniform() * rng.uniform() * 3.0;
+        Q.q[static_cast<std::size_t>(u) * n + v] = Q.q[static_cast<std::size_t>(v) * n + u] = a;
+      }
+    const double gamma = keel::pcm::consistency_threshold(0.05 + 0.5 * rng.uniform(), 1);
+    const auto exact = select_pcm(Q, gamma, CliqueAlgorithm::exact);
+    for (double scale : {0.0, 2.0}) {
+      DensestSelectOptions o;
+      o.affinity_scale = scale;
+      const auto d = select_densest(Q, gamma, o);
+      INFO("trial " << trial << ", scale " << scale);
+      CHECK(!d.selected.empty());
+      CHECK(inconsistent_pairs(Q, d.selected, gamma) == 0);
+      CHECK(d.selected.size() <= exact.selected.size());
+      CHECK(d.raw_size >= 1);
+      CHECK(d.violations >= 0);
+      CHECK(!d.search);
+    }
+  }
+  // A clear dominant cluster: both affinities find it.
+  const auto Q = points({0.0, 0.1, 0.2, 0.15, 0.05, 7.0, 7.1, 20.0});
+  const double gamma = keel::pcm::consistency_threshold(0.11, 1);
+  CHECK(select_densest(Q, gamma).selected == std::vector<int>{0, 1, 2, 3, 4});
+  CHECK(select_densest(Q, gamma, {2.0, {}}).selected == std::vector<int>{0, 1, 2, 3, 4});
+  CHECK(contains(message_of([&] { (void)select_densest(Q, gamma, {-1.0, {}}); }),
+                 "affinity_scale must be 0 (binary) or > 0"));
+}
+
 TEST_CASE("PCM reports ties when asked") {
   // Two disjoint triangles: two maximum cliques.
   const auto Q = make_q(6, [](int u, int v) { return (u / 3 == v / 3) ? 0.1 : 40.0; });

@@ -2,11 +2,13 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "kit/test_kit.hpp"
 
+using keel::sim::planted_clique_graph;
 using keel::sim::random_graph;
 using keel::testkit::throws_with;
 
@@ -31,4 +33,26 @@ TEST_CASE("random_graph rejects a density outside [0, 1] and a negative size") {
   CHECK(
       throws_with<std::invalid_argument>([] { (void)random_graph(3, 1.5, 1); }, "density 1.5 not in [0, 1]"));
   CHECK(throws_with<std::invalid_argument>([] { (void)random_graph(-1, 0.5, 1); }, "n = -1"));
+}
+
+TEST_CASE("planted_clique_graph: the planted set is a clique of k distinct vertices, the rest is G(n, p)") {
+  for (std::uint64_t seed : {3u, 4u}) {
+    const auto p = planted_clique_graph(300, 40, 0.2, seed);
+    REQUIRE(p.planted.size() == 40);
+    CHECK(std::is_sorted(p.planted.begin(), p.planted.end()));
+    CHECK(std::adjacent_find(p.planted.begin(), p.planted.end()) == p.planted.end());
+    CHECK(p.graph.is_clique(p.planted));
+    // Outside the planted set the edges are random_graph's, unchanged.
+    const auto base = random_graph(300, 0.2, seed);
+    long long differ = 0;
+    for (int i = 0; i < 300; ++i)
+      for (int j = i + 1; j < 300; ++j)
+        if (!(std::binary_search(p.planted.begin(), p.planted.end(), i) &&
+              std::binary_search(p.planted.begin(), p.planted.end(), j)))
+          differ += p.graph.adjacent(i, j) != base.adjacent(i, j);
+    CHECK(differ == 0);
+  }
+  CHECK(planted_clique_graph(10, 10, 0.0, 1).graph.num_edges() == 45);
+  CHECK(planted_clique_graph(10, 0, 0.0, 1).planted.empty());
+  CHECK(throws_with<std::invalid_argument>([] { (void)planted_clique_graph(5, 6, 0.5, 1); }, "k = 6 must be in"));
 }

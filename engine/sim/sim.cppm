@@ -55,5 +55,7 @@ using keel::sim::HullWorldOptions;
 using keel::sim::make_hull_world;
 using keel::sim::SurfaceCurvature;
 // random consistency graphs
+using keel::sim::planted_clique_graph;
+using keel::sim::PlantedClique;
 using keel::sim::random_graph;
 }  // namespace keel::sim

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -97,6 +98,14 @@ inline void run_city_merge_table(keel::core::Experiment& ex) {
     r.metric(n + ".accepted_random", s.accepted_random);
     if (methods[k].method.kind != eval::MergeMethodKind::dcs)
       r.metric(n + ".empty_selections", s.empty_selections);
+    if (methods[k].method.kind == eval::MergeMethodKind::densest) {
+      // What the relaxation returned before its repair to a clique: its size and its inconsistent pairs.
+      const auto& v = s.column("violations");
+      r.metric(n + ".raw_size", s.mean("raw_size"));
+      r.metric(n + ".violations", s.mean("violations"));
+      r.metric(n + ".violating_datasets",
+               static_cast<double>(std::count_if(v.begin(), v.end(), [](double x) { return x > 0; })));
+    }
     const auto ts = s.stats("selection_time_s"), tv = s.stats("solve_time_s");
     r.timing(n + ".time_s", ts.mean);
     r.timing(n + ".time_s.max", ts.max);

@@ -24,8 +24,8 @@ std::pair<double, double> read_range(const core::ConfigTable& t, std::string_vie
 sim::SplitOptions read_split(const core::ConfigTable& t);
 
 // `num_inliers`, `aliased_groups`, `aliased_group_size`, `random_outliers`, `random_sigma_translation` and
-// `random_sigma_rotation` ([min, max]); optionally `near_miss_translation` and `near_miss_rotation` ([min, max],
-// both or neither: near-miss aliased groups, sim::CandidateOptions).
+// `random_sigma_rotation` ([min, max]); optionally `near_miss_translation` and `near_miss_rotation` ([min,
+// max], both or neither: near-miss aliased groups, sim::CandidateOptions).
 sim::CandidateOptions read_candidate_options(const core::ConfigTable& t);
 
 // `methods = [names]` and one [params.method.<name>] table each: `label`, `kind`, and optionally `p`,

@@ -241,12 +241,12 @@ struct MergeMethod {
   MergeMethodKind kind = MergeMethodKind::pcm_exact;
   double p = 0.11;  // ransac, pcm, densest: γ = consistency_threshold(p, dof), p in (0, 1)
   pcm::Composition composition =
-      pcm::Composition::joint;    // scgp, ransac, pcm: the relative-pose covariance used in Q
-  pcm::ScgpOptions scgp;          // scgp
+      pcm::Composition::joint;        // scgp, ransac, pcm: the relative-pose covariance used in Q
+  pcm::ScgpOptions scgp;              // scgp
   pcm::DensestSelectOptions densest;  // densest
-  double dcs_phi = 5.0;           // dcs: φ (> 0)
-  double dcs_accept_scale = 0.5;  // dcs: a candidate counts as accepted when its final DCS scaling
-                                  // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
+  double dcs_phi = 5.0;               // dcs: φ (> 0)
+  double dcs_accept_scale = 0.5;      // dcs: a candidate counts as accepted when its final DCS scaling
+                                      // s = min(1, 2φ/(φ + χ²)) ≥ this (in (0, 1]; 0.5 ⇔ χ² ≤ 3φ)
   // A method with its name, kind, p and composition, other fields at their defaults.
   static MergeMethod make(std::string name, MergeMethodKind kind, double p = 0.11,
                           pcm::Composition composition = pcm::Composition::joint);

@@ -27,17 +27,37 @@ namespace {
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 
-// The data of F_d: the 0/1 adjacency A of the consistency graph and, for weighted affinities, M (already zero on
-// inconsistent pairs, 1 on the diagonal). Binary affinities use M = A + I without storing it. C̄ = 11ᵀ − A − I, so
-// C̄u = (Σu)·1 − Au − u needs no matrix of its own.
+// The data of F_d: the 0/1 adjacency A of the consistency graph and, for weighted affinities, M (already zero
+// on inconsistent pairs, 1 on the diagonal). Binary affinities use M = A + I without storing it. C̄ = 11ᵀ − A
+// − I, so C̄u = (Σu)·1 − Au − u needs no matrix of its own. The products cost one pass over the columns in the
+// support of u: after the first steps the projection onto u >= 0 leaves few non-zero entries (about the size
+// of the cluster), so Au = Σ_{j in supp u} u_j A_{:,j} reads a small part of the matrix instead of all n²
+// entries.
 struct Problem {
   Mat A, M;
   bool binary = true;
-  void products(const Vec& u, Vec& Mu, Vec& Cu) const {
-    const Vec Au = A * u;  // A and M are symmetric
-    Mu = binary ? Vec(Au + u) : Vec(M * u);
-    Cu = Vec::Constant(u.size(), u.sum()) - Au - u;
+  static void product(const Mat& X, const Vec& u, const std::vector<int>& support, Vec& out) {
+    const auto n = u.size();
+    if (static_cast<Eigen::Index>(support.size()) * 4 > n) {
+      out.noalias() = X * u;
+      return;
+    }
+    out.setZero(n);
+    for (const int j : support) out.noalias() += u(j) * X.col(j);
   }
+  void products(const Vec& u, Vec& Mu, Vec& Cu) const {
+    support_.clear();
+    for (Eigen::Index i = 0; i < u.size(); ++i)
+      if (u(i) != 0.0) support_.push_back(static_cast<int>(i));
+    product(A, u, support_, Au_);  // A and M are symmetric
+    if (binary)
+      Mu = Au_ + u;
+    else
+      product(M, u, support_, Mu);
+    Cu = Vec::Constant(u.size(), u.sum()) - Au_ - u;
+  }
+  mutable std::vector<int> support_;
+  mutable Vec Au_;
 };
 
 Mat adjacency(const ConsistencyGraph& g) {
@@ -49,7 +69,8 @@ Mat adjacency(const ConsistencyGraph& g) {
 }
 
 // Raw selection, its repair to a maximal clique, and the violation count (see the header).
-void round_and_repair(const ConsistencyGraph& g, const Vec& u, double objective, double eps, DensestResult& r) {
+void round_and_repair(const ConsistencyGraph& g, const Vec& u, double objective, double eps,
+                      DensestResult& r) {
   const int n = g.size();
   std::vector<int> support;
   for (int i = 0; i < n; ++i)
@@ -68,9 +89,8 @@ void round_and_repair(const ConsistencyGraph& g, const Vec& u, double objective,
     for (int v : s) {
       int count = 0;
       for (int w : s) count += (w != v && !g.adjacent(v, w)) ? 1 : 0;
-      const bool better = count > worst_count ||
-                          (count == worst_count && count > 0 &&
-                           (u(v) < u(worst) || (u(v) == u(worst) && v > worst)));
+      const bool better = count > worst_count || (count == worst_count && count > 0 &&
+                                                  (u(v) < u(worst) || (u(v) == u(worst) && v > worst)));
       if (better) worst = v, worst_count = count;
     }
     if (worst_count == 0) break;
@@ -98,7 +118,8 @@ void round_and_repair(const ConsistencyGraph& g, const Vec& u, double objective,
     s.push_back(best);
     candidate[static_cast<std::size_t>(best)] = 0;
     for (int v = 0; v < n; ++v)
-      if (candidate[static_cast<std::size_t>(v)] && !g.adjacent(v, best)) candidate[static_cast<std::size_t>(v)] = 0;
+      if (candidate[static_cast<std::size_t>(v)] && !g.adjacent(v, best))
+        candidate[static_cast<std::size_t>(v)] = 0;
   }
   std::sort(s.begin(), s.end());
   r.selection = std::move(s);
@@ -141,11 +162,10 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
       grad -= u.dot(grad) * u;
       const double gnorm = grad.norm();
       if (gnorm < 1e-10) break;
-      // First step length: where u + αg first reaches the boundary of the positive orthant, else a long step.
-      double alpha = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < n; ++i)
-        if (grad(i) < -o.eps && u(i) > o.eps) alpha = std::min(alpha, u(i) / -grad(i));
-      if (!std::isfinite(alpha)) alpha = std::pow(1.0 / o.beta, 3) / gnorm;
+      // First step length (1/β)³/‖g‖, shortened by β until F_d does not decrease. Stopping at the first hit
+      // of the orthant's boundary instead (one more zero of u per step) costs about n − |support| steps:
+      // measured 10–20× slower at n = 2000 with the same selections (bench_clique, BM_PlantedDensest).
+      double alpha = std::pow(1.0 / o.beta, 3) / gnorm;
       Vec un, Mun, Cun;
       double Fn = -std::numeric_limits<double>::infinity();
       bool accepted = false;
@@ -210,8 +230,9 @@ DensestResult densest_subgraph(const ConsistencyGraph& g, const std::vector<doub
         throw std::invalid_argument(
             fmt::format("densest_subgraph: affinity({}, {}) = {:g} is not in [0, 1]", i, j, a));
       if (a != b)
-        throw std::invalid_argument(fmt::format(
-            "densest_subgraph: affinity is not symmetric: ({}, {}) = {:g}, ({}, {}) = {:g}", i, j, a, j, i, b));
+        throw std::invalid_argument(
+            fmt::format("densest_subgraph: affinity is not symmetric: ({}, {}) = {:g}, ({}, {}) = {:g}", i, j,
+                        a, j, i, b));
       if (p.A(i, j) != 0.0) p.M(i, j) = a;
     }
   return solve(g, p, options);

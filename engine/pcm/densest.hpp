@@ -1,5 +1,5 @@
-// A densest-subgraph selector beside PCM's maximum clique: the relaxation of Lusk, Fathian and How, "CLIPPER: A
-// Graph-Theoretic Framework for Robust Data Association" (ICRA 2021), written here from the paper.
+// A densest-subgraph selector beside PCM's maximum clique: the relaxation of Lusk, Fathian and How, "CLIPPER:
+// A Graph-Theoretic Framework for Robust Data Association" (ICRA 2021), written here from the paper.
 //
 // With M the n x n affinity matrix of the candidates (M_ii = 1, M_uv in [0, 1] on consistent pairs, 0 on
 // inconsistent ones) and C̄ the indicator of inconsistent pairs (C̄_uv = 1 iff u != v are not adjacent in the
@@ -7,17 +7,18 @@
 //     max_u  uᵀ M u / uᵀ u   over u in {0, 1}ⁿ with u_i u_j = 0 whenever C̄_ij = 1
 // is relaxed to the penalised continuous problem
 //     max_u  F_d(u) = uᵀ (M − d C̄) u   subject to ‖u‖₂ = 1, u >= 0,
-// and solved by projected gradient ascent with backtracking at fixed d, raising d until no two vertices of the
-// support of u are inconsistent (the homotopy of the paper). For binary M (the adjacency plus the identity) the
-// objective of a clique S with u uniform on S is |S|, so the problem is the maximum clique and the relaxation's
-// local maxima are maximal cliques — not necessarily maximum ones: the result is a heuristic, and this selector
-// reports what it returns as it is (raw support, its violations of consistency) next to a repaired clique.
+// and solved by projected gradient ascent at fixed d (first step (1/β)³/‖g‖, backtracking by β; the paper's
+// long step), raising d until no two vertices of the support of u are inconsistent (the homotopy of the
+// paper). For binary M (the adjacency plus the identity) the objective of a clique S with u uniform on S is
+// |S|, so the problem is the maximum clique and the relaxation's local maxima are maximal cliques — not
+// necessarily maximum ones: the result is a heuristic, and this selector reports what it returns as it is
+// (raw support, its violations of consistency) next to a repaired clique.
 //
 // Rounding (the paper's density heuristic): the raw selection is the round(F_d(u)) largest entries of u.
-// Repair: while the raw selection holds an inconsistent pair, drop the vertex with the most non-neighbours in it
-// (ties: the smaller u_i, then the larger id); then extend to a maximal clique by adding the candidate adjacent to
-// all of it with the largest u_i (ties: the lower id). Deterministic: u starts from one power step of M on the
-// all-ones vector.
+// Repair: while the raw selection holds an inconsistent pair, drop the vertex with the most non-neighbours in
+// it (ties: the smaller u_i, then the larger id); then extend to a maximal clique by adding the candidate
+// adjacent to all of it with the largest u_i (ties: the lower id). Deterministic: u starts from one power
+// step of M on the all-ones vector.
 #pragma once
 
 #include <vector>
@@ -33,7 +34,8 @@ struct DensestOptions {
   double tol_u = 1e-8;   // inner stop: ‖u⁺ − u‖
   double tol_f = 1e-9;   // inner stop: |F(u⁺) − F(u)|
   double eps = 1e-9;     // support threshold on u and on the constraint activity (C̄u)_i
-  // Throws std::invalid_argument naming the violated constraint (counts >= 1, beta in (0, 1), tolerances > 0).
+  // Throws std::invalid_argument naming the violated constraint (counts >= 1, beta in (0, 1), tolerances >
+  // 0).
   void validate() const;
 };
 
@@ -52,9 +54,9 @@ struct DensestResult {
 // Binary affinities: M = adjacency + I, so the objective counts the selected clique's size.
 [[nodiscard]] DensestResult densest_subgraph(const ConsistencyGraph& g, const DensestOptions& options = {});
 
-// Weighted affinities: `affinity` is n x n row-major, symmetric, finite, in [0, 1] off the diagonal (the diagonal
-// is taken as 1 and entries on inconsistent pairs are ignored). Throws std::invalid_argument naming the entry
-// that breaks this, or a size that is not n².
+// Weighted affinities: `affinity` is n x n row-major, symmetric, finite, in [0, 1] off the diagonal (the
+// diagonal is taken as 1 and entries on inconsistent pairs are ignored). Throws std::invalid_argument naming
+// the entry that breaks this, or a size that is not n².
 [[nodiscard]] DensestResult densest_subgraph(const ConsistencyGraph& g, const std::vector<double>& affinity,
                                              const DensestOptions& options = {});
 

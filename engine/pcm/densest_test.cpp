@@ -1,6 +1,6 @@
-// Densest-subgraph selector (pcm/densest.hpp): planted cliques above the √n barrier are recovered, the repaired
-// selection is always a maximal clique no larger than the maximum, weighted and binary affinities agree when the
-// weights are 1, and bad inputs give clear errors.
+// Densest-subgraph selector (pcm/densest.hpp): planted cliques above the √n barrier are recovered, the
+// repaired selection is always a maximal clique no larger than the maximum, weighted and binary affinities
+// agree when the weights are 1, and bad inputs give clear errors.
 #include <doctest/doctest.h>
 
 #include <algorithm>

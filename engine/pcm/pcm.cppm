@@ -34,15 +34,15 @@ using keel::pcm::clique_algorithm_from_string;
 using keel::pcm::CliqueAlgorithm;
 using keel::pcm::CliqueOptions;
 using keel::pcm::CliqueResult;
+using keel::pcm::ConsistencyGraph;
 using keel::pcm::densest_subgraph;
 using keel::pcm::DensestOptions;
 using keel::pcm::DensestResult;
 using keel::pcm::DensestSelectOptions;
-using keel::pcm::select_densest;
-using keel::pcm::ConsistencyGraph;
 using keel::pcm::maximum_clique;
 using keel::pcm::search_status_from_string;
 using keel::pcm::SearchStatus;
+using keel::pcm::select_densest;
 using keel::pcm::to_string;
 // selection methods
 using keel::pcm::scgp;

@@ -72,8 +72,9 @@ Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm a
 
 void DensestSelectOptions::validate() const {
   if (!(affinity_scale == 0.0 || (std::isfinite(affinity_scale) && affinity_scale > 0.0)))
-    throw std::invalid_argument(fmt::format(
-        "DensestSelectOptions: affinity_scale must be 0 (binary) or > 0 and finite (got {:g})", affinity_scale));
+    throw std::invalid_argument(
+        fmt::format("DensestSelectOptions: affinity_scale must be 0 (binary) or > 0 and finite (got {:g})",
+                    affinity_scale));
   solver.validate();
 }
 

@@ -36,7 +36,8 @@ PlantedClique planted_clique_graph(int n, int k, double density, std::uint64_t s
   out.planted.assign(ids.begin(), ids.begin() + k);
   std::sort(out.planted.begin(), out.planted.end());
   for (std::size_t a = 0; a < out.planted.size(); ++a)
-    for (std::size_t b = a + 1; b < out.planted.size(); ++b) out.graph.add_edge(out.planted[a], out.planted[b]);
+    for (std::size_t b = a + 1; b < out.planted.size(); ++b)
+      out.graph.add_edge(out.planted[a], out.planted[b]);
   return out;
 }
 

@@ -15,8 +15,9 @@ namespace keel::sim {
 
 // A planted-clique consistency graph: G(n, p) from random_graph(n, density, seed) with a clique added on k
 // vertices drawn uniformly without replacement (a partial Fisher–Yates shuffle from
-// keel::core::Rng::stream(seed, 1)) — the model of k mutually consistent inliers among n candidates whose other
-// pairs are consistent by chance. Throws std::invalid_argument for k outside [0, n] (and as random_graph).
+// keel::core::Rng::stream(seed, 1)) — the model of k mutually consistent inliers among n candidates whose
+// other pairs are consistent by chance. Throws std::invalid_argument for k outside [0, n] (and as
+// random_graph).
 struct PlantedClique {
   pcm::ConsistencyGraph graph;
   std::vector<int> planted;  // ascending

@@ -54,5 +54,6 @@ TEST_CASE("planted_clique_graph: the planted set is a clique of k distinct verti
   }
   CHECK(planted_clique_graph(10, 10, 0.0, 1).graph.num_edges() == 45);
   CHECK(planted_clique_graph(10, 0, 0.0, 1).planted.empty());
-  CHECK(throws_with<std::invalid_argument>([] { (void)planted_clique_graph(5, 6, 0.5, 1); }, "k = 6 must be in"));
+  CHECK(throws_with<std::invalid_argument>([] { (void)planted_clique_graph(5, 6, 0.5, 1); },
+                                           "k = 6 must be in"));
 }

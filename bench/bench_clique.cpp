@@ -130,9 +130,9 @@ void world_sizes(benchmark::internal::Benchmark* b) {
 // --- planted cliques: args = vertices n, planted size k in percent of n, density p in percent
 // ------------------------
 // k mutually consistent inliers among n candidates whose other pairs are consistent with probability p
-// (sim::planted_clique_graph). Counters: the size found, precision and recall against the planted set, and for
-// the exact search its proven bound and whether it proved optimality within its 10 s limit; for the densest
-// subgraph the inconsistent pairs of its raw rounding. Run:
+// (sim::planted_clique_graph). Counters: the size found, precision and recall against the planted set, and
+// for the exact search its proven bound and whether it proved optimality within its 10 s limit; for the
+// densest subgraph the inconsistent pairs of its raw rounding. Run:
 //   build/release/bench/bench_clique --benchmark_filter=Planted
 
 sim::PlantedClique planted(const benchmark::State& state) {
@@ -146,14 +146,21 @@ void report(benchmark::State& state, const std::vector<int>& found, const std::v
   for (int v : found) hit += std::binary_search(truth.begin(), truth.end(), v) ? 1 : 0;
   state.counters["found"] = static_cast<double>(found.size());
   state.counters["planted"] = static_cast<double>(truth.size());
-  state.counters["precision"] = found.empty() ? 0.0 : static_cast<double>(hit) / static_cast<double>(found.size());
-  state.counters["recall"] = truth.empty() ? 1.0 : static_cast<double>(hit) / static_cast<double>(truth.size());
+  state.counters["precision"] =
+      found.empty() ? 0.0 : static_cast<double>(hit) / static_cast<double>(found.size());
+  state.counters["recall"] =
+      truth.empty() ? 1.0 : static_cast<double>(hit) / static_cast<double>(truth.size());
 }
 
+// Exact search with its bounds switched on one by one (args: n, k %, p %, bounds): 0 greedy colouring only,
+// 1 + insertion and Re-NUMBER, 2 + MaxSAT unit propagation (the default), 3 MaxSAT without Re-NUMBER.
 void BM_PlantedExact(benchmark::State& state) {
   const auto p = planted(state);
   pcm::CliqueOptions o;
   o.time_limit_s = 10.0;
+  const auto bounds = state.range(3);
+  o.recolour = bounds == 1 || bounds == 2;
+  o.maxsat_bound = bounds >= 2;
   pcm::CliqueResult r;
   for (auto _ : state) {
     r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::exact, o);
@@ -162,6 +169,25 @@ void BM_PlantedExact(benchmark::State& state) {
   report(state, r.clique, p.planted);
   state.counters["bound"] = r.upper_bound;
   state.counters["optimal"] = r.proven_optimal() ? 1.0 : 0.0;
+  state.counters["nodes"] = static_cast<double>(r.nodes_explored);
+}
+
+// Refutation only: the exact search started from the planted clique (CliqueOptions::initial_clique), so the
+// time is the proof that nothing larger exists (args: n, k %, p %).
+void BM_PlantedRefute(benchmark::State& state) {
+  const auto p = planted(state);
+  pcm::CliqueOptions o;
+  o.time_limit_s = 10.0;
+  o.initial_clique = p.planted;
+  pcm::CliqueResult r;
+  for (auto _ : state) {
+    r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::exact, o);
+    benchmark::DoNotOptimize(r.clique.data());
+  }
+  report(state, r.clique, p.planted);
+  state.counters["bound"] = r.upper_bound;
+  state.counters["optimal"] = r.proven_optimal() ? 1.0 : 0.0;
+  state.counters["nodes"] = static_cast<double>(r.nodes_explored);
 }
 
 void BM_PlantedHeuristic(benchmark::State& state) {
@@ -186,6 +212,8 @@ void BM_PlantedDensest(benchmark::State& state) {
   state.counters["raw"] = static_cast<double>(r.raw.size());
   state.counters["violations"] = static_cast<double>(r.violations);
   state.counters["converged"] = r.converged ? 1.0 : 0.0;
+  state.counters["outer"] = r.outer_iterations;
+  state.counters["inner"] = static_cast<double>(r.inner_iterations);
 }
 
 void planted_family(benchmark::internal::Benchmark* b) {
@@ -206,7 +234,14 @@ BENCHMARK(BM_Scgp1D)->Arg(50)->Arg(100)->Arg(200)->Arg(500)->Arg(1000)->Unit(ben
 BENCHMARK(BM_Ransac1D)->Apply(world_sizes);
 BENCHMARK(BM_CombinatorialPruned1D)->Arg(16)->Arg(32)->Arg(48)->Arg(64)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CombinatorialExhaustive1D)->Arg(12)->Arg(16)->Arg(20)->Arg(24)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_PlantedExact)->Apply(planted_family);
+BENCHMARK(BM_PlantedExact)->Apply([](benchmark::internal::Benchmark* b) {
+  for (int n : {100, 300, 1000, 2000})
+    for (int k : {1, 2, 10, 30})
+      for (int p : {5, 20, 50, 70})
+        for (int bounds : {0, 1, 2, 3}) b->Args({n, k, p, bounds});
+  b->Unit(benchmark::kMillisecond)->Iterations(1);
+});
+BENCHMARK(BM_PlantedRefute)->Apply(planted_family);
 BENCHMARK(BM_PlantedHeuristic)->Apply(planted_family);
 BENCHMARK(BM_PlantedDensest)->Apply(planted_family);
 BENCHMARK_MAIN();

@@ -1,10 +1,13 @@
 // Maximum clique of a consistency graph (thesis §2.5): the PCM problem of eq. 2.5 — the largest set of
 // measurements that are pairwise consistent — is the maximum clique of the graph whose edges join
-// pairwise-consistent measurements. The exact solver is a branch and bound in the spirit of Pattabiraman et
-// al. (2015): core-number (k-core) pruning of vertices that cannot beat the incumbent, a greedy initial
-// clique (their heuristic), and per-vertex subproblems on later neighbours in degeneracy order, bounded by
-// greedy colouring of bitset candidate sets (Tomita-style). Everything is deterministic: vertex orders break
-// ties by vertex id.
+// pairwise-consistent measurements. The exact solver is a branch and bound: core-number (k-core) pruning of
+// vertices that cannot beat the incumbent and a greedy initial clique (Pattabiraman et al. 2015), per-vertex
+// subproblems in degeneracy order on one bitset graph renumbered once (San Segundo et al.'s BBMC), greedy
+// colouring bounds that colour only the classes never branched on (Tomita et al.'s MCS, BBMCR), and a
+// branching set shrunk by Re-NUMBER and by MaxSAT unit propagation over the colour classes (Li & Quan 2010;
+// Li, Jiang & Manyà 2017). clique.cpp cites each step. With a node or time limit it returns the best clique,
+// a proven upper bound from colouring the unfinished subproblems, and the status. Everything is
+// deterministic: vertex orders break ties by vertex id.
 #pragma once
 
 #include <tuple>
@@ -78,6 +81,13 @@ struct CliqueOptions {
   int max_ties = 16;          // cap on ties.size()
   double time_limit_s = 0.0;  // exact only; <= 0: none
   long long node_limit = 0;   // exact only; <= 0: none (nodes = branch-and-bound calls)
+  // Exact only: the bounds that shrink the branching set beyond greedy colouring (clique.cpp, class Search).
+  // Both are on by default; they change the node count and time, never the size found.
+  bool recolour = true;      // insertion and Re-NUMBER into the classes that are not branched on
+  bool maxsat_bound = true;  // unit propagation on the MaxSAT encoding of the colour classes
+  // Exact only: a clique known in advance (vertex ids, any order), used as the first incumbent when it is
+  // larger than the greedy one; std::invalid_argument if it is not a clique of g.
+  std::vector<int> initial_clique;
 };
 
 struct CliqueResult {
@@ -88,6 +98,8 @@ struct CliqueResult {
   long long nodes_explored = 0;
   double time_s = 0.0;
   bool proven_optimal() const { return status == SearchStatus::optimal; }
+  // How many vertices a larger clique could still have: upper_bound − |clique| (0 iff optimal).
+  int gap() const { return upper_bound - static_cast<int>(clique.size()); }
   // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
   auto fields() const { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }

@@ -32,6 +32,42 @@ bool is_sorted_unique(const std::vector<int>& c) {
   return std::adjacent_find(c.begin(), c.end(), std::greater_equal<int>()) == c.end();
 }
 
+// Independent reference for graphs beyond brute force's 32 vertices: Bron–Kerbosch with Tomita's pivot
+// (the candidate of P ∪ X with most neighbours in P), on sorted vertex lists, returning the clique number.
+int clique_number_reference(const ConsistencyGraph& g) {
+  int best = 0;
+  auto bk = [&](auto&& self, int r, std::vector<int> P, std::vector<int> X) -> void {
+    if (P.empty()) {
+      if (X.empty()) best = std::max(best, r);
+      return;
+    }
+    if (r + static_cast<int>(P.size()) <= best) return;
+    int pivot = -1, most = -1;
+    for (const auto* S : {&P, &X})
+      for (int u : *S) {
+        int c = 0;
+        for (int v : P) c += g.adjacent(u, v) ? 1 : 0;
+        if (c > most) most = c, pivot = u;
+      }
+    const std::vector<int> todo = P;
+    for (int v : todo) {
+      if (g.adjacent(pivot, v)) continue;
+      std::vector<int> P2, X2;
+      for (int u : P)
+        if (g.adjacent(u, v)) P2.push_back(u);
+      for (int u : X)
+        if (g.adjacent(u, v)) X2.push_back(u);
+      self(self, r + 1, P2, X2);
+      P.erase(std::find(P.begin(), P.end(), v));
+      X.push_back(v);
+    }
+  };
+  std::vector<int> all(g.size());
+  for (int v = 0; v < g.size(); ++v) all[v] = v;
+  bk(bk, 0, all, {});
+  return best;
+}
+
 }  // namespace
 
 TEST_CASE("ConsistencyGraph: construction, adjacency, degree") {
@@ -265,4 +301,87 @@ TEST_CASE("determinism") {
   CHECK(a.nodes_explored == b.nodes_explored);
   CHECK(maximum_clique_heuristic(g1).clique == maximum_clique_heuristic(g2).clique);
   CHECK(maximum_clique_exact(g1).clique == maximum_clique_exact(g2).clique);
+}
+
+TEST_CASE(
+    "exact with each bound switched off agrees with an independent Bron–Kerbosch on multi-word graphs") {
+  // 65–200 vertices span two to four bitset words; planted cliques put the maximum above G(n, p)'s own.
+  int graphs = 0;
+  for (int n : {65, 97, 130, 200})
+    for (double p : {0.1, 0.3, 0.5, 0.7})
+      for (int planted : {0, 12}) {
+        if (n == 200 && p > 0.6) continue;  // the reference alone takes seconds there
+        auto g = random_graph(n, p, 31 * n + static_cast<int>(100 * p) + planted);
+        for (int i = 0; i < planted; ++i)
+          for (int j = i + 1; j < planted; ++j) g.add_edge(5 * i + 1, 5 * j + 1);
+        CAPTURE(n);
+        CAPTURE(p);
+        CAPTURE(planted);
+        const int omega = clique_number_reference(g);
+        for (int bounds = 0; bounds < 4; ++bounds) {
+          CliqueOptions o;
+          o.recolour = (bounds & 1) != 0;
+          o.maxsat_bound = (bounds & 2) != 0;
+          const auto r = maximum_clique_exact(g, o);
+          CAPTURE(bounds);
+          REQUIRE(static_cast<int>(r.clique.size()) == omega);
+          REQUIRE(g.is_clique(r.clique));
+          REQUIRE(r.proven_optimal());
+          REQUIRE(r.upper_bound == omega);
+          // ties: every reported maximum clique is a distinct clique of size ω
+          o.report_ties = true;
+          o.max_ties = 50;
+          const auto t = maximum_clique_exact(g, o);
+          REQUIRE(static_cast<int>(t.clique.size()) == omega);
+          std::set<std::vector<int>> distinct{t.clique};
+          for (const auto& c : t.ties) {
+            REQUIRE(static_cast<int>(c.size()) == omega);
+            REQUIRE(g.is_clique(c));
+            distinct.insert(c);
+          }
+          REQUIRE(distinct.size() == t.ties.size() + 1);
+        }
+        ++graphs;
+      }
+  CHECK(graphs == 30);
+}
+
+TEST_CASE("a stopped search reports a valid bound at every node limit") {
+  const auto g = random_graph(400, 0.5, 11);
+  const auto full = maximum_clique_exact(g);
+  REQUIRE(full.proven_optimal());
+  const int omega = static_cast<int>(full.clique.size());
+  int last_bound = g.size() + 1;
+  for (long long limit : {1LL, 10LL, 100LL, 1000LL, 10000LL}) {
+    CliqueOptions o;
+    o.node_limit = limit;
+    const auto r = maximum_clique_exact(g, o);
+    CAPTURE(limit);
+    CHECK(g.is_clique(r.clique));
+    CHECK(r.upper_bound >= omega);
+    CHECK(static_cast<int>(r.clique.size()) <= omega);
+    CHECK((r.status == SearchStatus::node_limit || r.proven_optimal()));
+    last_bound = std::min(last_bound, r.upper_bound);
+  }
+  // colouring bounds, not the degeneracy bound (max core + 1 = 190 here)
+  CHECK(last_bound < 60);
+}
+
+TEST_CASE("initial clique: used when larger, rejected when not a clique") {
+  auto g = random_graph(300, 0.5, 4);
+  std::vector<int> planted;
+  for (int i = 0; i < 25; ++i) planted.push_back(11 * i + 5);
+  for (int i = 0; i < 25; ++i)
+    for (int j = i + 1; j < 25; ++j) g.add_edge(planted[i], planted[j]);
+  CliqueOptions o;
+  const auto plain = maximum_clique_exact(g, o);
+  o.initial_clique = {planted.rbegin(), planted.rend()};  // any order
+  const auto hinted = maximum_clique_exact(g, o);
+  CHECK(hinted.clique == plain.clique);
+  CHECK(hinted.clique == planted);
+  CHECK(hinted.proven_optimal());
+  o.initial_clique = {5, 5};
+  CHECK(contains(message_of([&] { (void)maximum_clique_exact(g, o); }), "initial_clique is not a clique"));
+  o.initial_clique = {0, 1000};
+  CHECK(contains(message_of([&] { (void)maximum_clique_exact(g, o); }), "initial_clique is not a clique"));
 }

@@ -39,6 +39,8 @@ struct Selection {
   int raw_size = 0;
   long long violations = 0;
   bool proven_optimal() const { return search && search->proven_optimal(); }
+  // The clique search's gap (CliqueResult::gap; 0 without a search).
+  int gap() const { return search ? search->gap() : 0; }
   // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(selected, time_s, search, raw_size, violations); }
   auto fields() const { return std::tie(selected, time_s, search, raw_size, violations); }
@@ -58,10 +60,11 @@ void validate_gamma(double gamma, const char* who);
 [[nodiscard]] Selection select_pcm(const ConsistencyMatrix& Q, double gamma, CliqueAlgorithm algorithm,
                                    const CliqueOptions& options = {});
 
-// The densest-subgraph selector (pcm/densest.hpp, CLIPPER's relaxation) on ConsistencyGraph::from_threshold(Q, γ):
-// the affinity of a consistent pair is exp(−max(q_uv, q_vu) / affinity_scale), or 1 when affinity_scale is 0
-// (binary: the relaxation of the maximum clique). `selected` is the rounding repaired to a maximal clique;
-// raw_size and violations describe the rounding before the repair. γ > 0 and finite.
+// The densest-subgraph selector (pcm/densest.hpp, CLIPPER's relaxation) on
+// ConsistencyGraph::from_threshold(Q, γ): the affinity of a consistent pair is exp(−max(q_uv, q_vu) /
+// affinity_scale), or 1 when affinity_scale is 0 (binary: the relaxation of the maximum clique). `selected`
+// is the rounding repaired to a maximal clique; raw_size and violations describe the rounding before the
+// repair. γ > 0 and finite.
 struct DensestSelectOptions {
   double affinity_scale = 0.0;  // 0 (binary) or > 0 and finite
   DensestOptions solver;

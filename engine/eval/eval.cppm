@@ -3,6 +3,7 @@
 // (TPR/FPR, trajectory errors, normalized χ²), the combinatorial reference of eq. 2.5, and the chapter-2
 // studies the experiments run. Facade rules (docs/DESIGN.md) as every area.
 module;
+#include "eval/clique_scale.hpp"
 #include "eval/config.hpp"
 #include "eval/merge.hpp"
 #include "eval/studies.hpp"
@@ -67,6 +68,25 @@ using keel::eval::TimingSweepOptions;
 using keel::eval::World1DOutcome;
 using keel::eval::World1DStudy;
 using keel::eval::World1DStudyOptions;
+// maximum clique at scale (beyond the thesis): exact, heuristic and densest subgraph on the same graphs
+using keel::eval::CliqueGraphOutcome;
+using keel::eval::CliqueMethodOutcome;
+using keel::eval::CliqueMethodSummary;
+using keel::eval::CliqueScaleMethod;
+using keel::eval::CliqueScaleOptions;
+using keel::eval::compare_clique_methods;
+using keel::eval::first_moment_clique_number;
+using keel::eval::kAllCliqueScaleMethods;
+using keel::eval::kCliqueScaleMethods;
+using keel::eval::non_adjacent_pairs;
+using keel::eval::PlantedCliqueCell;
+using keel::eval::PlantedCliqueStudy;
+using keel::eval::PlantedCliqueStudyOptions;
+using keel::eval::run_planted_clique_study;
+using keel::eval::run_two_robot_clique_study;
+using keel::eval::run_world1d_clique_study;
+using keel::eval::summarize_clique_method;
+using keel::eval::World1DCliqueOptions;
 // chapter-2 studies: measurement regimes, local pairs, data sets in parallel, summaries, calibration of Q
 using keel::eval::apply_regime;
 using keel::eval::LocalPair;

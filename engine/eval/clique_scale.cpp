@@ -1,0 +1,285 @@
+#include "eval/clique_scale.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/names.hpp"
+#include "core/random.hpp"
+#include "core/shard.hpp"
+#include "core/timing.hpp"
+#include "pcm/consistency.hpp"
+#include "pcm/selection.hpp"
+#include "sim/random_graph.hpp"
+#include "sim/two_robot.hpp"
+
+namespace keel::eval {
+
+namespace {
+
+constexpr core::NameTable<CliqueScaleMethod, kCliqueScaleMethods> kCliqueScaleMethodNames{
+    "eval::CliqueScaleMethod",
+    {{{CliqueScaleMethod::exact, "exact"},
+      {CliqueScaleMethod::heuristic, "heuristic"},
+      {CliqueScaleMethod::densest, "densest"}}}};
+
+int count_hits(const std::vector<int>& selected, const std::vector<char>& in_reference) {
+  int hits = 0;
+  for (int v : selected) hits += in_reference[static_cast<std::size_t>(v)] != 0;
+  return hits;
+}
+
+}  // namespace
+
+std::string_view to_string(CliqueScaleMethod m) { return kCliqueScaleMethodNames.name(m); }
+
+int first_moment_clique_number(int n, double p) {
+  if (n < 1) throw std::invalid_argument(fmt::format("first_moment_clique_number: n = {} must be >= 1", n));
+  if (!(p >= 0.0 && p <= 1.0))
+    throw std::invalid_argument(fmt::format("first_moment_clique_number: p = {} not in [0, 1]", p));
+  if (p == 1.0) return n;
+  if (p == 0.0) return 1;
+  // log E[#k-cliques] = log C(n, k) + k(k−1)/2 · log p is >= 0 at k = 1 (= log n) and concave in k (the ratio
+  // E_{k+1} / E_k = (n − k) / (k + 1) · p^k decreases), so the scan stops at its first negative value.
+  const double lp = std::log(p), lgn = std::lgamma(n + 1.0);
+  int best = 1;
+  for (int k = 2; k <= n; ++k) {
+    const double lc = lgn - std::lgamma(k + 1.0) - std::lgamma(n - k + 1.0);
+    const double le = lc + 0.5 * k * (k - 1.0) * lp;
+    if (le < -1e-12) break;
+    best = k;
+  }
+  return best;
+}
+
+void CliqueScaleOptions::validate() const {
+  if (exact_node_limit < 1)
+    throw std::invalid_argument(
+        fmt::format("CliqueScaleOptions::exact_node_limit = {} must be >= 1", exact_node_limit));
+  densest.validate();
+}
+
+long long non_adjacent_pairs(const pcm::ConsistencyGraph& g, const std::vector<int>& vertices) {
+  long long bad = 0;
+  for (std::size_t a = 0; a < vertices.size(); ++a)
+    for (std::size_t b = a + 1; b < vertices.size(); ++b) bad += !g.adjacent(vertices[a], vertices[b]);
+  return bad;
+}
+
+CliqueGraphOutcome compare_clique_methods(const pcm::ConsistencyGraph& g, const std::vector<int>& reference,
+                                          const CliqueScaleOptions& options) {
+  options.validate();
+  std::vector<char> in_reference(static_cast<std::size_t>(g.size()), 0);
+  for (int v : reference) {
+    if (v < 0 || v >= g.size())
+      throw std::invalid_argument(
+          fmt::format("compare_clique_methods: reference vertex {} outside [0, {})", v, g.size()));
+    if (in_reference[static_cast<std::size_t>(v)] != 0)
+      throw std::invalid_argument(fmt::format("compare_clique_methods: reference vertex {} repeated", v));
+    in_reference[static_cast<std::size_t>(v)] = 1;
+  }
+  CliqueGraphOutcome out;
+  out.vertices = g.size();
+  out.edges = g.num_edges();
+  out.reference = static_cast<int>(reference.size());
+  const auto from_search = [&](const pcm::CliqueResult& r) {
+    CliqueMethodOutcome o;
+    o.size = static_cast<int>(r.clique.size());
+    o.hits = count_hits(r.clique, in_reference);
+    o.violations = non_adjacent_pairs(g, r.clique);
+    o.raw_size = o.size;
+    o.raw_violations = o.violations;
+    o.upper_bound = r.upper_bound;
+    o.status = r.status;
+    o.nodes = r.nodes_explored;
+    o.time_s = r.time_s;
+    return o;
+  };
+  pcm::CliqueOptions exact;
+  exact.node_limit = options.exact_node_limit;
+  out.methods[static_cast<std::size_t>(CliqueScaleMethod::exact)] =
+      from_search(pcm::maximum_clique_exact(g, exact));
+  out.methods[static_cast<std::size_t>(CliqueScaleMethod::heuristic)] =
+      from_search(pcm::maximum_clique_heuristic(g));
+  const auto d = pcm::densest_subgraph(g, options.densest);
+  CliqueMethodOutcome& o = out.methods[static_cast<std::size_t>(CliqueScaleMethod::densest)];
+  o.size = static_cast<int>(d.selection.size());
+  o.hits = count_hits(d.selection, in_reference);
+  o.violations = non_adjacent_pairs(g, d.selection);
+  o.raw_size = static_cast<int>(d.raw.size());
+  o.raw_violations = non_adjacent_pairs(g, d.raw);  // recounted from the graph, not taken from the solver
+  o.time_s = d.time_s;
+  return out;
+}
+
+CliqueMethodSummary summarize_clique_method(const std::vector<CliqueGraphOutcome>& outcomes,
+                                            std::size_t first, std::size_t last, CliqueScaleMethod method) {
+  if (first >= last || last > outcomes.size())
+    throw std::invalid_argument(
+        fmt::format("summarize_clique_method: span [{}, {}) of {} outcomes", first, last, outcomes.size()));
+  CliqueMethodSummary s;
+  s.graphs = last - first;
+  s.size_min = outcomes[first].of(method).size;
+  s.size_max = s.size_min;
+  long long hits = 0, size = 0, reference = 0;
+  double raw_size = 0, raw_violations = 0, upper = 0, gap = 0, nodes = 0, time = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    const auto& o = outcomes[i].of(method);
+    hits += o.hits;
+    size += o.size;
+    reference += outcomes[i].reference;
+    s.size_min = std::min(s.size_min, o.size);
+    s.size_max = std::max(s.size_max, o.size);
+    raw_size += o.raw_size;
+    raw_violations += static_cast<double>(o.raw_violations);
+    s.raw_violating_graphs += o.raw_violations > 0;
+    s.violations_total += o.violations;
+    s.optimal_graphs += o.status == pcm::SearchStatus::optimal;
+    if (method != CliqueScaleMethod::densest) {
+      upper += o.upper_bound;
+      gap += o.upper_bound - o.size;
+      s.gap_max = std::max(s.gap_max, o.upper_bound - o.size);
+    }
+    nodes += static_cast<double>(o.nodes);
+    time += o.time_s;
+    s.time_max_s = std::max(s.time_max_s, o.time_s);
+  }
+  const double g = static_cast<double>(s.graphs);
+  s.size_mean = static_cast<double>(size) / g;
+  s.precision = size > 0 ? static_cast<double>(hits) / static_cast<double>(size) : 0.0;
+  s.recall = reference > 0 ? static_cast<double>(hits) / static_cast<double>(reference) : 0.0;
+  s.raw_size_mean = raw_size / g;
+  s.raw_violations_mean = raw_violations / g;
+  s.upper_bound_mean = upper / g;
+  s.gap_mean = gap / g;
+  s.nodes_mean = nodes / g;
+  s.time_mean_s = time / g;
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Planted cliques
+
+void PlantedCliqueStudyOptions::validate() const {
+  if (sizes.empty()) throw std::invalid_argument("PlantedCliqueStudyOptions::sizes is empty");
+  if (clique_fractions.empty())
+    throw std::invalid_argument("PlantedCliqueStudyOptions::clique_fractions is empty");
+  if (densities.empty()) throw std::invalid_argument("PlantedCliqueStudyOptions::densities is empty");
+  for (int n : sizes)
+    if (n < 2)
+      throw std::invalid_argument(fmt::format("PlantedCliqueStudyOptions::sizes: {} must be >= 2", n));
+  for (double f : clique_fractions)
+    if (!(f > 0.0 && f <= 1.0))
+      throw std::invalid_argument(
+          fmt::format("PlantedCliqueStudyOptions::clique_fractions: {} not in (0, 1]", f));
+  for (double p : densities)
+    if (!(p >= 0.0 && p <= 1.0))
+      throw std::invalid_argument(fmt::format("PlantedCliqueStudyOptions::densities: {} not in [0, 1]", p));
+  if (clique_min < 1)
+    throw std::invalid_argument(
+        fmt::format("PlantedCliqueStudyOptions::clique_min = {} must be >= 1", clique_min));
+  for (int n : sizes)
+    if (clique_min > n)
+      throw std::invalid_argument(
+          fmt::format("PlantedCliqueStudyOptions::clique_min = {} exceeds n = {}", clique_min, n));
+  if (seeds < 1) throw std::invalid_argument("PlantedCliqueStudyOptions::seeds must be >= 1");
+  methods.validate();
+}
+
+std::vector<PlantedCliqueCell> PlantedCliqueStudyOptions::cells() const {
+  validate();
+  std::vector<PlantedCliqueCell> out;
+  for (int n : sizes) {
+    std::vector<int> ks;
+    for (double f : clique_fractions) {
+      const int k = std::min(n, std::max(clique_min, static_cast<int>(std::lround(f * n))));
+      if (std::find(ks.begin(), ks.end(), k) != ks.end()) continue;
+      ks.push_back(k);
+      for (double p : densities) out.push_back({n, k, p, first_moment_clique_number(n, p)});
+    }
+  }
+  return out;
+}
+
+PlantedCliqueStudy run_planted_clique_study(const PlantedCliqueStudyOptions& options,
+                                            core::Progress* progress) {
+  PlantedCliqueStudy study;
+  study.cells = options.cells();
+  study.seeds = options.seeds;
+  const std::size_t total = study.cells.size() * options.seeds;
+  study.outcomes.assign(total, {});
+  core::trial_loop(
+      total,
+      [&](std::size_t t) {
+        const std::size_t c = t / options.seeds, s = t % options.seeds;
+        const auto& cell = study.cells[c];
+        const std::uint64_t graph_seed = core::Rng::stream(options.seed, c << 32 | s).next();
+        const auto planted = sim::planted_clique_graph(cell.n, cell.k, cell.p, graph_seed);
+        study.outcomes[t] = compare_clique_methods(planted.graph, planted.planted, options.methods);
+      },
+      options.threads, progress, study.outcomes);
+  return study;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// 1D worlds
+
+void World1DCliqueOptions::validate() const {
+  world.validate();
+  pcm::validate_gamma(gamma, "World1DCliqueOptions::gamma");
+  if (worlds < 1) throw std::invalid_argument("World1DCliqueOptions::worlds must be >= 1");
+  methods.validate();
+}
+
+std::vector<CliqueGraphOutcome> run_world1d_clique_study(const World1DCliqueOptions& options,
+                                                         core::Progress* progress) {
+  options.validate();
+  std::vector<CliqueGraphOutcome> out(options.worlds);
+  core::trial_loop(
+      options.worlds,
+      [&](std::size_t i) {
+        const auto w = sim::generate_world1d(options.world, options.seed, options.stream_base + i);
+        const auto Q = sim::world1d_consistency_matrix(w);
+        const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, options.gamma);
+        std::vector<int> inliers;
+        for (int u = 0; u < w.size(); ++u)
+          if (w.labels[static_cast<std::size_t>(u)] == sim::MeasurementLabel::inlier) inliers.push_back(u);
+        out[i] = compare_clique_methods(g, inliers, options.methods);
+      },
+      options.threads, progress, out);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Two-robot data sets
+
+std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotScenario2& scenario,
+                                                           const LocalPair<lie::SE2>& local,
+                                                           const sim::CandidateOptions& candidates, double p,
+                                                           pcm::Composition composition,
+                                                           const CliqueScaleOptions& options,
+                                                           std::uint64_t seed, std::size_t count,
+                                                           unsigned threads, core::Progress* progress) {
+  options.validate();
+  if (count < 1) throw std::invalid_argument("run_two_robot_clique_study: count must be >= 1");
+  (void)pcm::consistency_threshold(p, 3);  // validates p
+  std::vector<CliqueGraphOutcome> out(count);
+  core::trial_loop(
+      count,
+      [&](std::size_t i) {
+        const auto set = sim::generate_candidates(scenario, candidates, seed, i);
+        const auto maps = local_maps(local.a, local.b, set.candidates);
+        pcm::ConsistencyOptions co;
+        co.composition = composition;
+        co.threads = 1;
+        const auto Q = pcm::consistency_matrix(maps.a, maps.b, set.candidates, co);
+        const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, pcm::consistency_threshold(p, Q.dof));
+        out[i] = compare_clique_methods(g, set.inliers(), options);
+      },
+      threads, progress, out);
+  return out;
+}
+
+}  // namespace keel::eval

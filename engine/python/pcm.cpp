@@ -63,6 +63,9 @@ void bind_pcm(py::module_& m) {
           "'optimal' (proven maximum), 'unproven' (heuristic), 'node_limit' or 'time_limit' "
           "(pcm::SearchStatus).")
       .def_property_readonly("proven_optimal", &pcm::CliqueResult::proven_optimal, "status == 'optimal'.")
+      .def_property_readonly(
+          "gap", &pcm::CliqueResult::gap,
+          "upper_bound - len(clique): how much larger a clique could still be (0 iff optimal).")
       .def_readonly("nodes_explored", &pcm::CliqueResult::nodes_explored, "Branch-and-bound calls.")
       .def_readonly("time_s", &pcm::CliqueResult::time_s, "Search wall time in seconds.")
       .def("__repr__", [](const pcm::CliqueResult& r) {
@@ -79,6 +82,9 @@ void bind_pcm(py::module_& m) {
       .def_property_readonly(
           "upper_bound", [](const PcmSelection& s) { return s.search.upper_bound; },
           "Proven bound on the size of a consistent set (exact: branch and bound; heuristic: max core + 1).")
+      .def_property_readonly(
+          "gap", [](const PcmSelection& s) { return s.search.gap(); },
+          "upper_bound - len(selected): 0 iff the selection is proven maximum.")
       .def_readonly("time_s", &PcmSelection::time_s, "Wall time of thresholding Q plus the clique search.")
       .def("__repr__", [](const PcmSelection& s) {
         return fmt::format("PcmSelection(size={}, gamma={:.17g}, status='{}')", s.selected.size(), s.gamma,

@@ -281,7 +281,10 @@ class TestReference(unittest.TestCase):
         clique = keel.max_clique(adjacency)
         self.assertEqual(clique.clique, sel.selected)
         self.assertEqual(clique.upper_bound, len(sel.selected))
+        self.assertEqual(clique.gap, 0)
+        self.assertEqual(sel.gap, 0)
         heur = keel.pcm_select(Q, algorithm="heuristic")
+        self.assertEqual(heur.gap, heur.upper_bound - len(heur.selected))
         self.assertLessEqual(len(heur.selected), len(sel.selected))
 
     def test_round_trips(self):

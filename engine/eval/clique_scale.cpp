@@ -58,6 +58,9 @@ void CliqueScaleOptions::validate() const {
   if (exact_node_limit < 1)
     throw std::invalid_argument(
         fmt::format("CliqueScaleOptions::exact_node_limit = {} must be >= 1", exact_node_limit));
+  if (reference_max_vertices < 0)
+    throw std::invalid_argument(
+        fmt::format("CliqueScaleOptions::reference_max_vertices = {} must be >= 0", reference_max_vertices));
   densest.validate();
 }
 
@@ -103,6 +106,12 @@ CliqueGraphOutcome compare_clique_methods(const pcm::ConsistencyGraph& g, const 
       from_search(pcm::maximum_clique_exact(g, exact));
   out.methods[static_cast<std::size_t>(CliqueScaleMethod::heuristic)] =
       from_search(pcm::maximum_clique_heuristic(g));
+  if (g.size() <= options.reference_max_vertices) {
+    pcm::CliqueOptions plain;
+    plain.recolour = false;
+    plain.maxsat_bound = false;
+    out.reference_size = static_cast<int>(pcm::maximum_clique_exact(g, plain).clique.size());
+  }
   const auto d = pcm::densest_subgraph(g, options.densest);
   CliqueMethodOutcome& o = out.methods[static_cast<std::size_t>(CliqueScaleMethod::densest)];
   o.size = static_cast<int>(d.selection.size());

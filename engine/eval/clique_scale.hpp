@@ -44,7 +44,11 @@ struct CliqueScaleOptions {
   // not depend on the machine) and reports the best clique, the proven upper bound and status node_limit.
   long long exact_node_limit = 1000000;  // >= 1
   pcm::DensestOptions densest;  // binary affinities (adjacency + I): the relaxation of the maximum clique
-  void validate() const;        // throws std::invalid_argument naming the field
+  // Graphs of at most this many vertices are solved a second time by the exact search with greedy colouring
+  // bounds only (CliqueOptions::recolour and maxsat_bound off) and no node limit: a reference for the maximum
+  // size that does not depend on the re-colouring and MaxSAT bounds. 0: none.
+  int reference_max_vertices = 0;  // >= 0
+  void validate() const;           // throws std::invalid_argument naming the field
 };
 
 // One method on one graph. Plain data (saved as bytes in a shard's record).
@@ -66,6 +70,8 @@ struct CliqueGraphOutcome {
   long long edges = 0;
   int reference = 0;  // size of the reference set
   std::array<CliqueMethodOutcome, kCliqueScaleMethods> methods{};
+  int reference_size =
+      -1;  // the colouring-only exact search's maximum (-1: not run, see reference_max_vertices)
   const CliqueMethodOutcome& of(CliqueScaleMethod m) const { return methods[static_cast<std::size_t>(m)]; }
 };
 

@@ -51,6 +51,7 @@ TEST_CASE("first_moment_clique_number = the direct expectation; limits and error
 
 TEST_CASE("compare_clique_methods on small planted graphs: exact = brute force, every output a clique") {
   CliqueScaleOptions o;
+  o.reference_max_vertices = 20;  // the n = 28 graphs are left without the colouring-only reference
   int graphs = 0, densest_below = 0;
   for (int n : {12, 20, 28})
     for (double p : {0.2, 0.5, 0.8})
@@ -68,6 +69,7 @@ TEST_CASE("compare_clique_methods on small planted graphs: exact = brute force, 
           CHECK(out.edges == pc.graph.num_edges());
           CHECK(ex.status == SearchStatus::optimal);
           CHECK(ex.size == static_cast<int>(brute.clique.size()));
+          CHECK(out.reference_size == (n <= 20 ? ex.size : -1));
           CHECK(ex.upper_bound == ex.size);
           CHECK(ex.size >= k);  // the planted set is a clique
           for (const auto* m : {&ex, &he, &de}) {
@@ -97,6 +99,9 @@ TEST_CASE("compare_clique_methods: the node limit stops the exact search with a 
   o.exact_node_limit = 0;
   CHECK_THROWS_AS((void)compare_clique_methods(pc.graph, pc.planted, o), std::invalid_argument);
   o.exact_node_limit = 10;
+  o.reference_max_vertices = -1;
+  CHECK_THROWS_AS((void)compare_clique_methods(pc.graph, pc.planted, o), std::invalid_argument);
+  o.reference_max_vertices = 0;
   CHECK_THROWS_AS((void)compare_clique_methods(pc.graph, {3, 3}, o), std::invalid_argument);
   CHECK_THROWS_AS((void)compare_clique_methods(pc.graph, {200}, o), std::invalid_argument);
 }

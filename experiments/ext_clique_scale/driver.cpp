@@ -26,7 +26,8 @@ namespace {
 // Aggregates over every graph of every family, for the checks.
 struct Tally {
   std::size_t graphs = 0, exact_below_heuristic = 0, not_cliques = 0, above_bound = 0, optimal = 0,
-              optimal_inconsistent = 0, below_planted = 0, densest_raw_violating = 0;
+              optimal_inconsistent = 0, below_planted = 0, densest_raw_violating = 0, reference_checked = 0,
+              reference_mismatch = 0;
 };
 
 // Records one group of graphs (a planted cell, the 1D worlds, the City data sets) under `prefix` and adds its
@@ -62,6 +63,10 @@ void record_group(core::Results& r, const std::string& prefix,
     const auto& ex = g.of(eval::CliqueScaleMethod::exact);
     ++tally.graphs;
     tally.exact_below_heuristic += ex.size < g.of(eval::CliqueScaleMethod::heuristic).size;
+    if (g.reference_size >= 0) {
+      ++tally.reference_checked;
+      tally.reference_mismatch += ex.status != pcm::SearchStatus::optimal || ex.size != g.reference_size;
+    }
     tally.densest_raw_violating += g.of(eval::CliqueScaleMethod::densest).raw_violations > 0;
     for (const auto& o : g.methods) {
       tally.not_cliques += o.violations > 0;
@@ -78,6 +83,7 @@ void record_group(core::Results& r, const std::string& prefix,
 eval::CliqueScaleOptions read_methods(const core::ConfigTable& p) {
   eval::CliqueScaleOptions o;
   o.exact_node_limit = static_cast<long long>(p.count("exact_node_limit"));
+  o.reference_max_vertices = static_cast<int>(p.integer("reference_max_vertices"));
   return o;
 }
 
@@ -179,6 +185,7 @@ int main(int argc, char** argv) {
     r.metric("all.graphs", static_cast<double>(tally.graphs));
     r.metric("all.exact.optimal_graphs", static_cast<double>(tally.optimal));
     r.metric("all.densest.raw_violating_graphs", static_cast<double>(tally.densest_raw_violating));
+    r.metric("all.reference_graphs", static_cast<double>(tally.reference_checked));
     r.check("the exact search never returns a smaller clique than the heuristic",
             tally.exact_below_heuristic == 0,
             fmt::format("{} of {} graphs", tally.exact_below_heuristic, tally.graphs));
@@ -186,6 +193,12 @@ int main(int argc, char** argv) {
             tally.not_cliques == 0,
             fmt::format("{} outputs with a non-adjacent pair, of {}", tally.not_cliques,
                         eval::kCliqueScaleMethods * tally.graphs));
+    r.check(fmt::format("on graphs of at most {} vertices the exact search proves optimal the size that the "
+                        "colouring-only exact search finds",
+                        po.methods.reference_max_vertices),
+            tally.reference_checked > 0 && tally.reference_mismatch == 0,
+            fmt::format("{} graphs compared, {} differ or are not proven", tally.reference_checked,
+                        tally.reference_mismatch));
     r.check("no method returns a clique larger than the exact search's proven upper bound",
             tally.above_bound == 0, fmt::format("{} outputs above the bound", tally.above_bound));
     r.check(

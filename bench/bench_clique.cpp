@@ -152,15 +152,8 @@ void report(benchmark::State& state, const std::vector<int>& found, const std::v
       truth.empty() ? 1.0 : static_cast<double>(hit) / static_cast<double>(truth.size());
 }
 
-// Exact search with its bounds switched on one by one (args: n, k %, p %, bounds): 0 greedy colouring only,
-// 1 + insertion and Re-NUMBER, 2 + MaxSAT unit propagation (the default), 3 MaxSAT without Re-NUMBER.
-void BM_PlantedExact(benchmark::State& state) {
-  const auto p = planted(state);
-  pcm::CliqueOptions o;
-  o.time_limit_s = 10.0;
-  const auto bounds = state.range(3);
-  o.recolour = bounds == 1 || bounds == 2;
-  o.maxsat_bound = bounds >= 2;
+// The exact search on a planted graph, with its proven bound, status and node count as counters.
+void run_exact(benchmark::State& state, const sim::PlantedClique& p, const pcm::CliqueOptions& o) {
   pcm::CliqueResult r;
   for (auto _ : state) {
     r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::exact, o);
@@ -172,6 +165,18 @@ void BM_PlantedExact(benchmark::State& state) {
   state.counters["nodes"] = static_cast<double>(r.nodes_explored);
 }
 
+// Exact search with its bounds switched on one by one (args: n, k %, p %, bounds): 0 greedy colouring only,
+// 1 + insertion and Re-NUMBER, 2 + MaxSAT unit propagation (the default), 3 MaxSAT without Re-NUMBER.
+void BM_PlantedExact(benchmark::State& state) {
+  const auto p = planted(state);
+  pcm::CliqueOptions o;
+  o.time_limit_s = 10.0;
+  const auto bounds = state.range(3);
+  o.recolour = bounds == 1 || bounds == 2;
+  o.maxsat_bound = bounds >= 2;
+  run_exact(state, p, o);
+}
+
 // Refutation only: the exact search started from the planted clique (CliqueOptions::initial_clique), so the
 // time is the proof that nothing larger exists (args: n, k %, p %).
 void BM_PlantedRefute(benchmark::State& state) {
@@ -179,15 +184,7 @@ void BM_PlantedRefute(benchmark::State& state) {
   pcm::CliqueOptions o;
   o.time_limit_s = 10.0;
   o.initial_clique = p.planted;
-  pcm::CliqueResult r;
-  for (auto _ : state) {
-    r = pcm::maximum_clique(p.graph, pcm::CliqueAlgorithm::exact, o);
-    benchmark::DoNotOptimize(r.clique.data());
-  }
-  report(state, r.clique, p.planted);
-  state.counters["bound"] = r.upper_bound;
-  state.counters["optimal"] = r.proven_optimal() ? 1.0 : 0.0;
-  state.counters["nodes"] = static_cast<double>(r.nodes_explored);
+  run_exact(state, p, o);
 }
 
 void BM_PlantedHeuristic(benchmark::State& state) {

@@ -343,19 +343,14 @@ class Search {
     ensure_depth(0);
     std::uint64_t* P = pool_[0].data();
     if (!candidates(j, P)) return 0;
-    std::vector<std::uint64_t> U(kw_);
+    rows_ = g_.adj.data();
+    stride_ = g_.words;
+    local_ = false;
+    Q_.assign(P, P + kw_);
     int colours = 0;
-    while (any(P, kw_)) {
+    while (any(Q_.data(), kw_)) {
       ++colours;
-      std::copy(P, P + kw_, U.begin());
-      for (int w = 0; w < kw_; ++w)
-        while (U[w]) {
-          const int u = w * 64 + std::countr_zero(U[w]);
-          clear_bit(U.data(), u);
-          clear_bit(P, u);
-          const std::uint64_t* ru = g_.row(u);
-          for (int x = w; x < kw_; ++x) U[x] &= ~ru[x];
-        }
+      take_class([](int) {});
     }
     return colours + 1;
   }
@@ -500,29 +495,36 @@ class Search {
     return false;
   }
 
+  // One step of greedy sequential colouring: removes from Q_ the maximal independent set that scanning Q_ in
+  // index order picks, calling add(u) for each of its vertices.
+  template <class Add>
+  void take_class(Add&& add) {
+    U_.resize(kw_);
+    std::copy(Q_.begin(), Q_.begin() + kw_, U_.begin());
+    for (int w = 0; w < kw_; ++w)
+      while (U_[w]) {
+        const int u = w * 64 + std::countr_zero(U_[w]);
+        U_[w] &= U_[w] - 1;
+        clear_bit(Q_.data(), u);
+        add(u);
+        const std::uint64_t* ru = row(u);
+        for (int x = w; x < kw_; ++x) U_[x] &= ~ru[x];
+      }
+  }
+
   // Colours P (see the class comment) and fills the level's branching set; returns the number of classes
   // below kmin that were built.
   int colour(std::uint64_t* P, int kmin, Level& L) {
     L.branch.clear();
     L.colour.clear();
     Q_.assign(P, P + kw_);
-    U_.resize(kw_);
     const std::size_t need = static_cast<std::size_t>(std::max(kmin, 0)) * kw_;
     if (classes_.size() < need) classes_.resize(need);
     int ncls = 0;
     while (ncls < kmin && any(Q_.data(), kw_)) {
       std::uint64_t* c = cls(ncls);
       std::fill(c, c + kw_, 0);
-      std::copy(Q_.begin(), Q_.end(), U_.begin());
-      for (int w = 0; w < kw_; ++w)
-        while (U_[w]) {
-          const int u = w * 64 + std::countr_zero(U_[w]);
-          U_[w] &= U_[w] - 1;
-          clear_bit(Q_.data(), u);
-          set_bit(c, u);
-          const std::uint64_t* ru = row(u);
-          for (int x = w; x < kw_; ++x) U_[x] &= ~ru[x];
-        }
+      take_class([&](int u) { set_bit(c, u); });
       ++ncls;
     }
     if (!any(Q_.data(), kw_)) return ncls;
@@ -540,17 +542,10 @@ class Search {
     int col = ncls;
     while (any(Q_.data(), kw_)) {
       ++col;
-      std::copy(Q_.begin(), Q_.end(), U_.begin());
-      for (int w = 0; w < kw_; ++w)
-        while (U_[w]) {
-          const int u = w * 64 + std::countr_zero(U_[w]);
-          U_[w] &= U_[w] - 1;
-          clear_bit(Q_.data(), u);
-          L.branch.push_back(u);
-          L.colour.push_back(col);
-          const std::uint64_t* ru = row(u);
-          for (int x = w; x < kw_; ++x) U_[x] &= ~ru[x];
-        }
+      take_class([&](int u) {
+        L.branch.push_back(u);
+        L.colour.push_back(col);
+      });
     }
     return ncls;
   }

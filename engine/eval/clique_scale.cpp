@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <stdexcept>
 
 #include "core/names.hpp"
+#include "core/results.hpp"
 #include "core/random.hpp"
 #include "core/shard.hpp"
 #include "core/timing.hpp"
@@ -289,6 +291,157 @@ std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotSc
       },
       threads, progress, out);
   return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Recording
+
+void CliqueScaleTally::add(const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first,
+                           std::size_t last, int planted_k) {
+  for (std::size_t i = first; i < last; ++i) {
+    const auto& g = outcomes[i];
+    const auto& ex = g.of(CliqueScaleMethod::exact);
+    ++graphs;
+    exact_below_heuristic += ex.size < g.of(CliqueScaleMethod::heuristic).size;
+    if (g.reference_size >= 0) {
+      ++reference_checked;
+      reference_mismatch += ex.status != pcm::SearchStatus::optimal || ex.size != g.reference_size;
+    }
+    densest_raw_violating += g.of(CliqueScaleMethod::densest).raw_violations > 0;
+    for (const auto& o : g.methods) {
+      not_cliques += o.violations > 0;
+      above_bound += o.size > ex.upper_bound;
+    }
+    if (ex.status == pcm::SearchStatus::optimal) {
+      ++optimal;
+      optimal_inconsistent += ex.size != ex.upper_bound;
+      below_planted += planted_k > 0 && ex.size < planted_k;
+    }
+  }
+}
+
+void CliqueScaleTally::record(core::Results& r, int reference_max_vertices) const {
+  r.metric("all.graphs", static_cast<double>(graphs));
+  r.metric("all.exact.optimal_graphs", static_cast<double>(optimal));
+  r.metric("all.densest.raw_violating_graphs", static_cast<double>(densest_raw_violating));
+  r.metric("all.reference_graphs", static_cast<double>(reference_checked));
+  r.check("the exact search never returns a smaller clique than the heuristic", exact_below_heuristic == 0,
+          fmt::format("{} of {} graphs", exact_below_heuristic, graphs));
+  r.check(
+      "every method's output is a clique (the densest subgraph after its repair)", not_cliques == 0,
+      fmt::format("{} outputs with a non-adjacent pair, of {}", not_cliques, kCliqueScaleMethods * graphs));
+  r.check(
+      fmt::format("on graphs of at most {} vertices the exact search proves optimal the size that the "
+                  "colouring-only exact search finds",
+                  reference_max_vertices),
+      reference_checked > 0 && reference_mismatch == 0,
+      fmt::format("{} graphs compared, {} differ or are not proven", reference_checked, reference_mismatch));
+  r.check("no method returns a clique larger than the exact search's proven upper bound", above_bound == 0,
+          fmt::format("{} outputs above the bound", above_bound));
+  r.check(
+      "where the exact search proves optimality, its clique has the bound's size and at least the planted "
+      "k",
+      optimal_inconsistent == 0 && below_planted == 0,
+      fmt::format("{} proven optimal of {} graphs; {} with size != bound, {} below the planted k", optimal,
+                  graphs, optimal_inconsistent, below_planted));
+}
+
+void record_clique_group(core::Results& r, const std::string& prefix,
+                         const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
+                         int planted_k, CliqueScaleTally& tally) {
+  for (auto m : kAllCliqueScaleMethods) {
+    const auto s = summarize_clique_method(outcomes, first, last, m);
+    const std::string n = fmt::format("{}.{}", prefix, to_string(m));
+    r.metric(n + ".size", s.size_mean);
+    r.metric(n + ".size_min", s.size_min);
+    r.metric(n + ".precision", s.precision);
+    r.metric(n + ".recall", s.recall);
+    r.metric(n + ".violations", static_cast<double>(s.violations_total));  // in the outputs (0: cliques)
+    if (m == CliqueScaleMethod::densest) {
+      r.metric(n + ".raw_size", s.raw_size_mean);
+      r.metric(n + ".raw_violations", s.raw_violations_mean);
+      r.metric(n + ".raw_violating_graphs", static_cast<double>(s.raw_violating_graphs));
+    }
+    if (m == CliqueScaleMethod::exact) {
+      r.metric(n + ".optimal", static_cast<double>(s.optimal_graphs) / static_cast<double>(s.graphs));
+      r.metric(n + ".upper_bound", s.upper_bound_mean);
+      r.metric(n + ".gap", s.gap_mean);
+      r.metric(n + ".gap_max", s.gap_max);
+      r.metric(n + ".nodes", s.nodes_mean);
+    }
+    r.timing(n + ".time_s", s.time_mean_s);
+    r.timing(n + ".time_s.max", s.time_max_s);
+  }
+  tally.add(outcomes, first, last, planted_k);
+}
+
+std::string planted_cell_name(const PlantedCliqueCell& cell) {
+  return fmt::format("planted.n{:04d}.k{:04d}.p{:02d}", cell.n, cell.k,
+                     static_cast<int>(std::lround(100 * cell.p)));
+}
+
+void record_planted_clique_study(core::Results& r, const PlantedCliqueStudy& study, CliqueScaleTally& tally) {
+  for (std::size_t c = 0; c < study.cells.size(); ++c) {
+    const auto& cell = study.cells[c];
+    const std::string name = planted_cell_name(cell);
+    r.metric(name + ".k", cell.k);
+    r.metric(name + ".omega0", cell.omega0);
+    r.metric(name + ".planted_is_maximum", cell.planted_is_maximum() ? 1.0 : 0.0);
+    record_clique_group(r, name, study.outcomes, c * study.seeds, (c + 1) * study.seeds, cell.k, tally);
+  }
+  r.metric("planted.cells", static_cast<double>(study.cells.size()));
+  r.metric("planted.seeds", static_cast<double>(study.seeds));
+}
+
+core::Figure planted_clique_figure(const PlantedCliqueStudy& study, const PlantedCliqueStudyOptions& options,
+                                   double fraction, std::string file) {
+  core::Figure fig;
+  fig.file = std::move(file);
+  fig.title = fmt::format(
+      "Planted clique of {:g} % of n: mean wall time per graph (machine-dependent) and recall of the "
+      "planted set",
+      100 * fraction);
+  fig.cols = static_cast<int>(options.densities.size());
+  fig.rows = 2;
+  fig.width = 5.0 * fig.cols;
+  fig.height = 9.0;
+  const char* colors[] = {"tab:blue", "tab:green", "tab:orange"};
+  const char* markers[] = {"o", "s", "^"};
+  std::vector<core::Panel> time_panels, recall_panels;
+  for (double dens : options.densities) {
+    core::Panel tp, rp;
+    tp.title = rp.title = fmt::format("p = {:g}", dens);
+    tp.xlabel = rp.xlabel = "candidates n";
+    tp.ylabel = "mean wall time (s)";
+    rp.ylabel = "recall of the planted clique";
+    tp.xscale = tp.yscale = rp.xscale = "log";
+    rp.ylim = std::pair{0.0, 1.05};
+    tp.legend = "upper left";
+    rp.legend = "none";
+    for (std::size_t k = 0; k < kCliqueScaleMethods; ++k) {
+      const auto meth = kAllCliqueScaleMethods[k];
+      std::vector<double> xs, rec;
+      std::vector<std::string> tn;
+      for (std::size_t c = 0; c < study.cells.size(); ++c) {
+        const auto& cell = study.cells[c];
+        const int kk = std::max(options.clique_min, static_cast<int>(std::lround(fraction * cell.n)));
+        if (cell.p != dens || cell.k != std::min(cell.n, kk)) continue;
+        xs.push_back(cell.n);
+        tn.push_back(fmt::format("{}.{}.time_s", planted_cell_name(cell), to_string(meth)));
+        rec.push_back(
+            summarize_clique_method(study.outcomes, c * study.seeds, (c + 1) * study.seeds, meth).recall);
+      }
+      auto l = core::line_layer(xs, {}, std::string(to_string(meth)), colors[k], markers[k]);
+      l.y_timings = tn;
+      tp.layers.push_back(l);
+      rp.layers.push_back(core::line_layer(xs, rec, std::string(to_string(meth)), colors[k], markers[k]));
+    }
+    time_panels.push_back(tp);
+    recall_panels.push_back(rp);
+  }
+  for (auto& pnl : time_panels) fig.panels.push_back(pnl);
+  for (auto& pnl : recall_panels) fig.panels.push_back(pnl);
+  return fig;
 }
 
 }  // namespace keel::eval

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -22,7 +23,9 @@
 
 namespace keel::core {
 class Progress;
-}
+class Results;
+struct Figure;
+}  // namespace keel::core
 
 namespace keel::eval {
 
@@ -165,5 +168,41 @@ struct World1DCliqueOptions {
     const sim::CandidateOptions& candidates, double p, pcm::Composition composition,
     const CliqueScaleOptions& options, std::uint64_t seed, std::size_t count, unsigned threads,
     core::Progress* progress = nullptr);
+
+// ---------------------------------------------------------------------------------------------------------------
+// Recording (ext_clique_scale): metrics per group of graphs, the checks over every graph, and the figure.
+
+// What the checks of ext_clique_scale count, over every graph recorded.
+struct CliqueScaleTally {
+  std::size_t graphs = 0, exact_below_heuristic = 0, not_cliques = 0, above_bound = 0, optimal = 0,
+              optimal_inconsistent = 0, below_planted = 0, densest_raw_violating = 0, reference_checked = 0,
+              reference_mismatch = 0;
+  // Adds outcomes[first, last); `planted_k` > 0 is the planted clique's size (0: no planted clique).
+  void add(const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
+           int planted_k);
+  // The all.* metrics and the five checks (reference_max_vertices: CliqueScaleOptions's, named in a check).
+  void record(core::Results& results, int reference_max_vertices) const;
+};
+
+// Per method, under "<prefix>.<method>.": size, size_min, precision, recall, violations; for the densest
+// subgraph its raw rounding; for the exact search optimal (fraction), upper_bound, gap, gap_max, nodes;
+// timings time_s and time_s.max. Then adds the graphs to `tally`.
+void record_clique_group(core::Results& results, const std::string& prefix,
+                         const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
+                         int planted_k, CliqueScaleTally& tally);
+
+// "planted.n<n:04>.k<k:04>.p<100p:02>", the metric prefix of a planted cell.
+[[nodiscard]] std::string planted_cell_name(const PlantedCliqueCell& cell);
+
+// Every cell of the study: k, omega0, planted_is_maximum and its group (record_clique_group); then
+// planted.cells and planted.seeds.
+void record_planted_clique_study(core::Results& results, const PlantedCliqueStudy& study,
+                                 CliqueScaleTally& tally);
+
+// Per density, mean wall time (the cells' time_s timings) and recall of each method against n, for the cells
+// whose k is that of clique fraction `fraction` (k = max(clique_min, round(fraction · n)), at most n).
+[[nodiscard]] core::Figure planted_clique_figure(const PlantedCliqueStudy& study,
+                                                 const PlantedCliqueStudyOptions& options, double fraction,
+                                                 std::string file);
 
 }  // namespace keel::eval

@@ -1,6 +1,7 @@
 // The maximum-clique-at-scale studies: the first-moment clique number against a direct evaluation of
 // C(n, k) p^(k(k−1)/2), the comparison of exact, heuristic and densest subgraph on small graphs against
-// brute force, the pooled summaries, and the planted and 1D studies (cells, determinism across threads).
+// brute force, the pooled summaries, the planted and 1D studies (cells, determinism across threads), and the
+// tally behind the experiment's checks.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -198,4 +199,42 @@ TEST_CASE("1D-world clique study: inliers as reference, exact >= heuristic, outp
   }
   o.gamma = 0.0;
   CHECK_THROWS_AS((void)run_world1d_clique_study(o), std::invalid_argument);
+}
+
+TEST_CASE("CliqueScaleTally counts each failure the checks look for, and nothing on consistent outcomes") {
+  auto outcome = [](int exact_size, int bound, SearchStatus status, int heuristic_size) {
+    CliqueGraphOutcome g;
+    auto& ex = g.methods[static_cast<std::size_t>(CliqueScaleMethod::exact)];
+    ex.size = exact_size;
+    ex.upper_bound = bound;
+    ex.status = status;
+    g.methods[static_cast<std::size_t>(CliqueScaleMethod::heuristic)].size = heuristic_size;
+    g.methods[static_cast<std::size_t>(CliqueScaleMethod::densest)].size = heuristic_size;
+    return g;
+  };
+  std::vector<CliqueGraphOutcome> all{outcome(10, 10, SearchStatus::optimal, 9),
+                                      outcome(8, 12, SearchStatus::node_limit, 9),  // exact below heuristic
+                                      outcome(7, 7, SearchStatus::optimal, 7)};     // below the planted 8
+  all[2].methods[static_cast<std::size_t>(CliqueScaleMethod::densest)].violations = 1;
+  all[2].methods[static_cast<std::size_t>(CliqueScaleMethod::densest)].raw_violations = 2;
+  all[0].reference_size = 10;
+  all[2].reference_size = 8;
+  CliqueScaleTally t;
+  t.add(all, 0, 1, 8);  // consistent: nothing counted but the graph and its proof
+  CHECK(t.graphs == 1);
+  CHECK(t.optimal == 1);
+  CHECK(t.reference_checked == 1);
+  CHECK(t.exact_below_heuristic + t.not_cliques + t.above_bound + t.optimal_inconsistent + t.below_planted +
+            t.densest_raw_violating + t.reference_mismatch ==
+        0);
+  t.add(all, 1, 3, 8);
+  CHECK(t.graphs == 3);
+  CHECK(t.exact_below_heuristic == 1);
+  CHECK(t.above_bound == 0);  // the heuristic's 9 is below the stopped search's bound 12
+  CHECK(t.optimal == 2);
+  CHECK(t.below_planted == 1);
+  CHECK(t.not_cliques == 1);
+  CHECK(t.densest_raw_violating == 1);
+  CHECK(t.reference_checked == 2);
+  CHECK(t.reference_mismatch == 1);  // proven 7 against the reference's 8
 }

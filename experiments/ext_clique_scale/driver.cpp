@@ -9,12 +9,8 @@ import keel.eval;
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cmath>
-#include <cstddef>
+#include <cstdint>
 #include <stdexcept>
-#include <string>
-#include <vector>
 
 namespace core = keel::core;
 namespace pcm = keel::pcm;
@@ -22,63 +18,6 @@ namespace sim = keel::sim;
 namespace eval = keel::eval;
 
 namespace {
-
-// Aggregates over every graph of every family, for the checks.
-struct Tally {
-  std::size_t graphs = 0, exact_below_heuristic = 0, not_cliques = 0, above_bound = 0, optimal = 0,
-              optimal_inconsistent = 0, below_planted = 0, densest_raw_violating = 0, reference_checked = 0,
-              reference_mismatch = 0;
-};
-
-// Records one group of graphs (a planted cell, the 1D worlds, the City data sets) under `prefix` and adds its
-// graphs to the tally of the checks; `planted_k` > 0 is the planted clique's size.
-void record_group(core::Results& r, const std::string& prefix,
-                  const std::vector<eval::CliqueGraphOutcome>& all, std::size_t first, std::size_t last,
-                  int planted_k, Tally& tally) {
-  for (auto m : eval::kAllCliqueScaleMethods) {
-    const auto s = eval::summarize_clique_method(all, first, last, m);
-    const std::string n = fmt::format("{}.{}", prefix, eval::to_string(m));
-    r.metric(n + ".size", s.size_mean);
-    r.metric(n + ".size_min", s.size_min);
-    r.metric(n + ".precision", s.precision);
-    r.metric(n + ".recall", s.recall);
-    r.metric(n + ".violations", static_cast<double>(s.violations_total));  // in the outputs (0: cliques)
-    if (m == eval::CliqueScaleMethod::densest) {
-      r.metric(n + ".raw_size", s.raw_size_mean);
-      r.metric(n + ".raw_violations", s.raw_violations_mean);
-      r.metric(n + ".raw_violating_graphs", static_cast<double>(s.raw_violating_graphs));
-    }
-    if (m == eval::CliqueScaleMethod::exact) {
-      r.metric(n + ".optimal", static_cast<double>(s.optimal_graphs) / static_cast<double>(s.graphs));
-      r.metric(n + ".upper_bound", s.upper_bound_mean);
-      r.metric(n + ".gap", s.gap_mean);
-      r.metric(n + ".gap_max", s.gap_max);
-      r.metric(n + ".nodes", s.nodes_mean);
-    }
-    r.timing(n + ".time_s", s.time_mean_s);
-    r.timing(n + ".time_s.max", s.time_max_s);
-  }
-  for (std::size_t i = first; i < last; ++i) {
-    const auto& g = all[i];
-    const auto& ex = g.of(eval::CliqueScaleMethod::exact);
-    ++tally.graphs;
-    tally.exact_below_heuristic += ex.size < g.of(eval::CliqueScaleMethod::heuristic).size;
-    if (g.reference_size >= 0) {
-      ++tally.reference_checked;
-      tally.reference_mismatch += ex.status != pcm::SearchStatus::optimal || ex.size != g.reference_size;
-    }
-    tally.densest_raw_violating += g.of(eval::CliqueScaleMethod::densest).raw_violations > 0;
-    for (const auto& o : g.methods) {
-      tally.not_cliques += o.violations > 0;
-      tally.above_bound += o.size > ex.upper_bound;
-    }
-    if (ex.status == pcm::SearchStatus::optimal) {
-      ++tally.optimal;
-      tally.optimal_inconsistent += ex.size != ex.upper_bound;
-      tally.below_planted += planted_k > 0 && ex.size < planted_k;
-    }
-  }
-}
 
 eval::CliqueScaleOptions read_methods(const core::ConfigTable& p) {
   eval::CliqueScaleOptions o;
@@ -132,27 +71,14 @@ int main(int argc, char** argv) {
     wo.stream_base = std::uint64_t{1} << 48;  // apart from the planted graphs' streams
     wo.threads = ex.threads();
     auto& r = ex.results();
-    Tally tally;
+    eval::CliqueScaleTally tally;
 
     // Planted cliques.
-    const auto cells = po.cells();
-    core::Progress progress(ex.id(), cells.size() * po.seeds + wo.worlds + city_datasets);
+    core::Progress progress(ex.id(), po.cells().size() * po.seeds + wo.worlds + city_datasets);
     auto t0 = core::Clock::now();
     const auto planted = eval::run_planted_clique_study(po, &progress);
     r.timing("planted", core::seconds_since(t0));
-    std::vector<std::string> cell_names;
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      const auto& cell = cells[c];
-      const std::string name = fmt::format("planted.n{:04d}.k{:04d}.p{:02d}", cell.n, cell.k,
-                                           static_cast<int>(std::lround(100 * cell.p)));
-      cell_names.push_back(name);
-      r.metric(name + ".k", cell.k);
-      r.metric(name + ".omega0", cell.omega0);
-      r.metric(name + ".planted_is_maximum", cell.planted_is_maximum() ? 1.0 : 0.0);
-      record_group(r, name, planted.outcomes, c * po.seeds, (c + 1) * po.seeds, cell.k, tally);
-    }
-    r.metric("planted.cells", static_cast<double>(cells.size()));
-    r.metric("planted.seeds", static_cast<double>(po.seeds));
+    eval::record_planted_clique_study(r, planted, tally);
 
     // 1D worlds.
     t0 = core::Clock::now();
@@ -163,7 +89,7 @@ int main(int argc, char** argv) {
     double edges = 0;
     for (const auto& w : worlds) edges += static_cast<double>(w.edges);
     r.metric("world1d.density", edges / static_cast<double>(worlds.size()) / (0.5 * m * (m - 1.0)));
-    record_group(r, "world1d", worlds, 0, worlds.size(), 0, tally);
+    eval::record_clique_group(r, "world1d", worlds, 0, worlds.size(), 0, tally);
 
     // The Table 2.1 candidate sets.
     t0 = core::Clock::now();
@@ -179,83 +105,10 @@ int main(int argc, char** argv) {
     for (const auto& s : sets)
       edges += static_cast<double>(s.edges) / (0.5 * s.vertices * (s.vertices - 1.0));
     r.metric("city.density", edges / static_cast<double>(sets.size()));
-    record_group(r, "city", sets, 0, sets.size(), 0, tally);
+    eval::record_clique_group(r, "city", sets, 0, sets.size(), 0, tally);
 
-    // Over every graph of the three families.
-    r.metric("all.graphs", static_cast<double>(tally.graphs));
-    r.metric("all.exact.optimal_graphs", static_cast<double>(tally.optimal));
-    r.metric("all.densest.raw_violating_graphs", static_cast<double>(tally.densest_raw_violating));
-    r.metric("all.reference_graphs", static_cast<double>(tally.reference_checked));
-    r.check("the exact search never returns a smaller clique than the heuristic",
-            tally.exact_below_heuristic == 0,
-            fmt::format("{} of {} graphs", tally.exact_below_heuristic, tally.graphs));
-    r.check("every method's output is a clique (the densest subgraph after its repair)",
-            tally.not_cliques == 0,
-            fmt::format("{} outputs with a non-adjacent pair, of {}", tally.not_cliques,
-                        eval::kCliqueScaleMethods * tally.graphs));
-    r.check(fmt::format("on graphs of at most {} vertices the exact search proves optimal the size that the "
-                        "colouring-only exact search finds",
-                        po.methods.reference_max_vertices),
-            tally.reference_checked > 0 && tally.reference_mismatch == 0,
-            fmt::format("{} graphs compared, {} differ or are not proven", tally.reference_checked,
-                        tally.reference_mismatch));
-    r.check("no method returns a clique larger than the exact search's proven upper bound",
-            tally.above_bound == 0, fmt::format("{} outputs above the bound", tally.above_bound));
-    r.check(
-        "where the exact search proves optimality, its clique has the bound's size and at least the planted "
-        "k",
-        tally.optimal_inconsistent == 0 && tally.below_planted == 0,
-        fmt::format("{} proven optimal of {} graphs; {} with size != bound, {} below the planted k",
-                    tally.optimal, tally.graphs, tally.optimal_inconsistent, tally.below_planted));
-
-    // Figure: per density, mean wall time and recall of each method against n at one clique fraction.
-    core::Figure fig;
-    fig.file = ex.id() + ".png";
-    fig.title = fmt::format(
-        "Planted clique of {:g} % of n: mean wall time per graph (machine-dependent) and recall of the "
-        "planted set",
-        100 * f_fig);
-    fig.cols = static_cast<int>(po.densities.size());
-    fig.rows = 2;
-    fig.width = 5.0 * fig.cols;
-    fig.height = 9.0;
-    const char* colors[] = {"tab:blue", "tab:green", "tab:orange"};
-    const char* markers[] = {"o", "s", "^"};
-    std::vector<core::Panel> time_panels, recall_panels;
-    for (double dens : po.densities) {
-      core::Panel tp, rp;
-      tp.title = rp.title = fmt::format("p = {:g}", dens);
-      tp.xlabel = rp.xlabel = "candidates n";
-      tp.ylabel = "mean wall time (s)";
-      rp.ylabel = "recall of the planted clique";
-      tp.xscale = tp.yscale = rp.xscale = "log";
-      rp.ylim = std::pair{0.0, 1.05};
-      tp.legend = "upper left";
-      rp.legend = "none";
-      for (std::size_t k = 0; k < eval::kCliqueScaleMethods; ++k) {
-        const auto meth = eval::kAllCliqueScaleMethods[k];
-        std::vector<double> xs, rec;
-        std::vector<std::string> tn;
-        for (std::size_t c = 0; c < cells.size(); ++c) {
-          const auto& cell = cells[c];
-          const int kk = std::max(po.clique_min, static_cast<int>(std::lround(f_fig * cell.n)));
-          if (cell.p != dens || cell.k != std::min(cell.n, kk)) continue;
-          xs.push_back(cell.n);
-          tn.push_back(fmt::format("{}.{}.time_s", cell_names[c], eval::to_string(meth)));
-          rec.push_back(
-              eval::summarize_clique_method(planted.outcomes, c * po.seeds, (c + 1) * po.seeds, meth).recall);
-        }
-        auto l = core::line_layer(xs, {}, std::string(eval::to_string(meth)), colors[k], markers[k]);
-        l.y_timings = tn;
-        tp.layers.push_back(l);
-        rp.layers.push_back(
-            core::line_layer(xs, rec, std::string(eval::to_string(meth)), colors[k], markers[k]));
-      }
-      time_panels.push_back(tp);
-      recall_panels.push_back(rp);
-    }
-    for (auto& pnl : time_panels) fig.panels.push_back(pnl);
-    for (auto& pnl : recall_panels) fig.panels.push_back(pnl);
-    r.figure(fig);
+    // Over every graph of the three families, and the figure.
+    tally.record(r, po.methods.reference_max_vertices);
+    r.figure(eval::planted_clique_figure(planted, po, f_fig, ex.id() + ".png"));
   });
 }

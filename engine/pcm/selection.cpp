@@ -20,6 +20,12 @@ namespace {
 using core::Clock;
 using core::seconds_since;
 
+// SCGP's pairwise affinity exp(−max(q_uv, q_vu) / s), symmetric by construction; the weighted densest
+// subgraph uses the same weights on consistent pairs.
+double pair_affinity(const ConsistencyMatrix& Q, int u, int v, double scale) {
+  return std::exp(-std::max(Q.at(u, v), Q.at(v, u)) / scale);
+}
+
 }  // namespace
 
 void validate_gamma(double gamma, const char* who) {
@@ -93,7 +99,8 @@ Selection select_densest(const ConsistencyMatrix& Q, double gamma, const Densest
     for (std::size_t u = 0; u < n; ++u)
       for (std::size_t v = 0; v < n; ++v)
         if (u != v && g.adjacent(static_cast<int>(u), static_cast<int>(v)))
-          affinity[u * n + v] = std::exp(-std::max(Q.q[u * n + v], Q.q[v * n + u]) / options.affinity_scale);
+          affinity[u * n + v] =
+              pair_affinity(Q, static_cast<int>(u), static_cast<int>(v), options.affinity_scale);
     r = densest_subgraph(g, affinity, options.solver);
   }
   Selection s;
@@ -169,8 +176,7 @@ ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
   for (int u = 0; u < n; ++u) {
     A(u, u) = 1.0;
     for (int v = u + 1; v < n; ++v) {
-      const double q = std::max(Q.at(u, v), Q.at(v, u));
-      const double a = std::exp(-q / options.affinity_scale);
+      const double a = pair_affinity(Q, u, v, options.affinity_scale);
       A(u, v) = a;
       A(v, u) = a;
     }

@@ -86,7 +86,7 @@ void BM_Certificate(benchmark::State& state) {
   for (auto _ : state) {
     const auto c = align::certify_rotation(problem(), reg, o.lp, {});
     nodes = c.nodes;
-    benchmark::DoNotOptimize(c.upper_bound);
+    benchmark::DoNotOptimize(c.bound.upper);
   }
   state.counters["nodes"] = static_cast<double>(nodes);
 }

@@ -17,6 +17,7 @@
 // build/release/bench/bench_cov Note: Debian's libbenchmark prints "Library was built as DEBUG"; that
 // concerns the library's own timing loop only.
 import keel.lie;
+import keel.datasets;
 import keel.graph;
 import keel.cov;
 
@@ -33,6 +34,7 @@ import keel.cov;
 #include <vector>
 
 namespace cov = keel::cov;
+namespace datasets = keel::datasets;
 namespace graph = keel::graph;
 namespace lie = keel::lie;
 
@@ -54,9 +56,9 @@ const Manhattan& manhattan() {
     Manhattan m;
     try {
       m.graph =
-          graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
-      m.truth = graph::read_poses_2d(
-          graph::resolve_dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
+          graph::read_isam_2d(datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+      m.truth = graph::read_poses_2d(datasets::resolve_dataset_file(
+          "manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
       const cov::SparseInformation H = cov::information_matrix(m.graph, m.truth);
       m.marginals = std::make_unique<cov::MarginalCovariance>(H);
       cov::CovarianceOptions metis, solve;

@@ -5,6 +5,7 @@
 //   build/release/bench/bench_pgo
 // Note: Debian's libbenchmark prints "Library was built as DEBUG"; that concerns the library's own timing
 // loop only.
+import keel.datasets;
 import keel.graph;
 import keel.pgo;
 
@@ -12,6 +13,7 @@ import keel.pgo;
 
 #include <string>
 
+namespace datasets = keel::datasets;
 namespace graph = keel::graph;
 namespace pgo = keel::pgo;
 
@@ -19,17 +21,19 @@ namespace {
 
 const graph::PoseGraph2D& manhattan() {
   static const auto g =
-      graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+      graph::read_isam_2d(datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
   return g;
 }
 
 const graph::PoseGraph2D& city() {
-  static const auto g = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
+  static const auto g =
+      graph::read_isam_2d(datasets::resolve_dataset_file("city10000", "isam/city10000.txt"));
   return g;
 }
 
 const graph::PoseGraph3D& sphere() {
-  static const auto g = graph::read_isam_3d(graph::resolve_dataset_file("sphere2500", "isam/sphere2500.txt"));
+  static const auto g =
+      graph::read_isam_3d(datasets::resolve_dataset_file("sphere2500", "isam/sphere2500.txt"));
   return g;
 }
 

@@ -7,6 +7,7 @@
 // repository root:
 //   build/release/bench/bench_sos
 import keel.core;
+import keel.datasets;
 import keel.graph;
 import keel.sos;
 
@@ -17,20 +18,21 @@ import keel.sos;
 #include <vector>
 
 namespace core = keel::core;
+namespace datasets = keel::datasets;
 namespace graph = keel::graph;
 namespace sos = keel::sos;
 
 namespace {
 
 const graph::PoseGraph2D& manhattan() {
-  static const auto g =
-      graph::read_pose_graph_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+  static const auto g = graph::read_pose_graph_2d(
+      datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
   return g;
 }
 
 const graph::PoseGraph2D& city_trees() {
   static const auto g =
-      graph::read_pose_graph_2d(graph::resolve_dataset_file("cityTrees10000", "isam/cityTrees10000.txt"));
+      graph::read_pose_graph_2d(datasets::resolve_dataset_file("cityTrees10000", "isam/cityTrees10000.txt"));
   return g;
 }
 
@@ -51,9 +53,9 @@ void segments(benchmark::State& state, const graph::PoseGraph2D& g, sos::Structu
       const auto t0 = core::Clock::now();
       const sos::CertifiedSolution c = sos::solve_certified(s.graph, o);
       times.push_back(core::seconds_since(t0));
-      certified += c.status == sos::CertificateStatus::certified;
+      certified += c.status == keel::core::SearchStatus::optimal;
       ++solved;
-      benchmark::DoNotOptimize(c.upper_bound);
+      benchmark::DoNotOptimize(c.bound.upper);
     }
   }
   state.counters["segments"] = static_cast<double>(segs.size());

@@ -48,7 +48,6 @@ using keel::align::Parameterization;
 // beyond the thesis: certified global optimum over SO(2)
 using keel::align::Certificate;
 using keel::align::CertificateOptions;
-using keel::align::CertificateStatus;
 using keel::align::certify_rotation;
 using keel::align::global_regions;
 using keel::align::Regions;

@@ -295,15 +295,15 @@ TEST_CASE("the certificate finds the global optimum over SO(2): brute force over
   AlignOptions o;
   const Regions reg = global_regions(p, o);
   const Certificate cert = certify_rotation(p, reg, o.lp, {});
-  CHECK(cert.status == CertificateStatus::optimal);
-  CHECK(cert.lower_bound <= cert.upper_bound);
-  CHECK(cert.upper_bound - cert.lower_bound <= 1e-6 * std::max(1.0, cert.upper_bound));
-  CHECK(std::abs(cert.upper_bound) < 1e-6);  // the exact copy has cost 0 at the true rotation
+  CHECK(cert.status == keel::core::SearchStatus::optimal);
+  CHECK(cert.bound.lower <= cert.bound.upper);
+  CHECK(cert.bound.upper - cert.bound.lower <= 1e-6 * std::max(1.0, cert.bound.upper));
+  CHECK(std::abs(cert.bound.upper) < 1e-6);  // the exact copy has cost 0 at the true rotation
   CHECK(angle_error(cert.theta, 1.1) < 1e-4);
   // No θ on a fine grid beats the certified bound.
   for (int k = 0; k < 90; ++k) {
     const double th = -kPi + k * 2 * kPi / 90;
-    CHECK(rigid_objective(p, reg, o.lp, th) >= cert.lower_bound - 1e-9);
+    CHECK(rigid_objective(p, reg, o.lp, th) >= cert.bound.lower - 1e-9);
   }
 }
 
@@ -314,12 +314,12 @@ TEST_CASE("the certificate on a noisy problem: bound below every sampled θ, att
   AlignOptions o;
   const Regions reg = global_regions(p, o);
   const Certificate cert = certify_rotation(p, reg, o.lp, {});
-  CHECK(cert.status == CertificateStatus::optimal);
-  CHECK(rigid_objective(p, reg, o.lp, cert.theta) == doctest::Approx(cert.upper_bound).epsilon(1e-9));
+  CHECK(cert.status == keel::core::SearchStatus::optimal);
+  CHECK(rigid_objective(p, reg, o.lp, cert.theta) == doctest::Approx(cert.bound.upper).epsilon(1e-9));
   double best = 1e300;
   for (int k = 0; k < 360; ++k) best = std::min(best, rigid_objective(p, reg, o.lp, -kPi + k * kPi / 180));
-  CHECK(best >= cert.lower_bound - 1e-9);
-  CHECK(best <= cert.upper_bound + 0.05 * std::abs(cert.upper_bound));
+  CHECK(best >= cert.bound.lower - 1e-9);
+  CHECK(best <= cert.bound.upper + 0.05 * std::abs(cert.bound.upper));
 }
 
 TEST_CASE("SOConvHull: the LP with tangent cuts equals the PSD form solved by DSDP") {

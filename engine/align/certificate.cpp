@@ -9,16 +9,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/names.hpp"
 #include "core/timing.hpp"
 
 namespace keel::align {
 
 namespace {
 
-constexpr core::NameTable<CertificateStatus, 2> kStatusNames{
-    "align::CertificateStatus",
-    {{{CertificateStatus::optimal, "optimal"}, {CertificateStatus::node_limit, "node_limit"}}}};
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -37,13 +33,11 @@ struct Node {
 
 }  // namespace
 
-std::string_view to_string(CertificateStatus s) { return kStatusNames.name(s); }
-
 void CertificateOptions::validate() const {
   if (!(relative_gap > 0))
     throw std::invalid_argument(
         fmt::format("CertificateOptions.relative_gap = {}: must be > 0", relative_gap));
-  if (max_nodes < 1) throw std::invalid_argument("CertificateOptions.max_nodes = 0: must be >= 1");
+  if (node_limit < 1) throw std::invalid_argument("CertificateOptions.node_limit = 0: must be >= 1");
   if (initial_intervals < 8)
     throw std::invalid_argument(
         fmt::format("CertificateOptions.initial_intervals = {}: must be >= 8", initial_intervals));
@@ -57,7 +51,7 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
   settings.disc_tolerance = 0;
   HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
   Certificate cert;
-  cert.upper_bound = kInf;
+  cert.bound.upper = kInf;
 
   auto check = [](const LpSolution& s) {
     if (s.status == LpStatus::failed)
@@ -69,8 +63,8 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
     lp.free_cs();
     check(s);
     cert.lp_solves += s.solves;
-    if (s.status == LpStatus::optimal && s.cost < cert.upper_bound) {
-      cert.upper_bound = s.cost, cert.theta = theta, cert.tx = s.params[2], cert.ty = s.params[3];
+    if (s.status == LpStatus::optimal && s.cost < cert.bound.upper) {
+      cert.bound.upper = s.cost, cert.theta = theta, cert.tx = s.params[2], cert.ty = s.params[3];
     }
   };
   // Lower bound over [a, b]; also tries the relaxed solution's angle as an upper bound.
@@ -87,8 +81,9 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
     if (std::abs(std::remainder(th - 0.5 * (a + b), 2 * kPi)) > 1e-12) upper(th);
     return lb;
   };
+  // core::Bound{lb, upper}'s gap within relative_gap (core/bound.hpp), written as a product.
   auto closed = [&](double lb) {
-    return cert.upper_bound - lb <= o.relative_gap * std::max(1.0, std::abs(cert.upper_bound));
+    return cert.bound.upper - lb <= o.relative_gap * std::max(1.0, std::abs(cert.bound.upper));
   };
 
   std::priority_queue<Node> open;
@@ -100,12 +95,12 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
     if (lb < kInf) open.push({a, b, lb});
   }
   // (an initial interval is never dropped: every one is queued and split or closed below)
-  cert.status = CertificateStatus::optimal;
+  cert.status = core::SearchStatus::optimal;
   while (!open.empty()) {
     const Node n = open.top();
     if (closed(n.lb)) break;  // every open interval is within the gap of the incumbent
-    if (cert.nodes + 2 > o.max_nodes) {
-      cert.status = CertificateStatus::node_limit;
+    if (cert.nodes + 2 > o.node_limit) {
+      cert.status = core::SearchStatus::node_limit;
       break;
     }
     open.pop();
@@ -118,9 +113,9 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
         dropped = std::min(dropped, lb);
     }
   }
-  if (cert.upper_bound == kInf)
+  if (cert.bound.upper == kInf)
     throw std::runtime_error("certify_rotation: no rotation places every query point inside its box");
-  cert.lower_bound = std::min({cert.upper_bound, dropped, open.empty() ? kInf : open.top().lb});
+  cert.bound.lower = std::min({cert.bound.upper, dropped, open.empty() ? kInf : open.top().lb});
   cert.time_s = core::seconds_since(t0);
   return cert;
 }

@@ -12,29 +12,25 @@
 #pragma once
 
 #include <cstddef>
-#include <string_view>
 
 #include "align/align.hpp"
+#include "core/bound.hpp"
 
 namespace keel::align {
 
 struct CertificateOptions {
-  double relative_gap = 1e-6;     // stop when UB − LB ≤ relative_gap · max(1, |UB|)
-  std::size_t max_nodes = 20000;  // interval LPs allowed (lower bounds); beyond: status node_limit
-  int initial_intervals = 16;     // [−π, π) split evenly first (≥ 8, so every interval is at most π/4 wide)
+  double relative_gap = 1e-6;      // stop when UB − LB ≤ relative_gap · max(1, |UB|)
+  std::size_t node_limit = 20000;  // interval LPs allowed (lower bounds); beyond: status node_limit
+  int initial_intervals = 16;      // [−π, π) split evenly first (≥ 8, so every interval is at most π/4 wide)
   void validate() const;
 };
 
-enum class CertificateStatus { optimal, node_limit };
-[[nodiscard]] std::string_view to_string(CertificateStatus s);
-
 struct Certificate {
-  CertificateStatus status = CertificateStatus::node_limit;
-  double lower_bound = 0;  // proven: F(θ) ≥ lower_bound for every θ
-  double upper_bound = 0;  // F(theta): attained
-  double theta = 0;        // best rotation found
-  double tx = 0, ty = 0;   // its translation
-  std::size_t nodes = 0;   // intervals bounded
+  core::SearchStatus status = core::SearchStatus::node_limit;  // optimal, or node_limit (core/bound.hpp)
+  core::Bound bound{0, 0};  // lower: proven, F(θ) ≥ lower for every θ; upper: F(theta), attained
+  double theta = 0;         // best rotation found
+  double tx = 0, ty = 0;    // its translation
+  std::size_t nodes = 0;    // intervals bounded
   int lp_solves = 0;
   double time_s = 0;
 };

@@ -98,7 +98,7 @@ ComparisonOptions read_comparison_options(const core::ConfigTable& t) {
 CertificateOptions read_certificate_options(const core::ConfigTable& t) {
   CertificateOptions c;
   c.relative_gap = t.number("certificate_relative_gap");
-  c.max_nodes = t.count("certificate_max_nodes");
+  c.node_limit = t.count("certificate_node_limit");
   c.initial_intervals = read_int(t, "certificate_initial_intervals");
   t.validate(c);
   return c;

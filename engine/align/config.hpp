@@ -35,7 +35,7 @@ namespace keel::align {
 // read_certificate_options) and `sdp_check_worlds`.
 [[nodiscard]] ComparisonOptions read_comparison_options(const core::ConfigTable& t);
 
-// `certificate_relative_gap`, `certificate_max_nodes`, `certificate_initial_intervals`.
+// `certificate_relative_gap`, `certificate_node_limit`, `certificate_initial_intervals`.
 [[nodiscard]] CertificateOptions read_certificate_options(const core::ConfigTable& t);
 
 }  // namespace keel::align

@@ -8,7 +8,7 @@
 
 #include "align/sdp.hpp"
 #include "core/parallel.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/timing.hpp"
 
 namespace keel::align {
@@ -109,7 +109,7 @@ CertificateOutcome certificate_of(const AlignmentProblem& p, const Regions& glob
   const Transform2& t0 = proposed.rounds.front().transform;
   c.sector_theta = std::atan2(t0.a21 - t0.a12, t0.a11 + t0.a22);
   c.sector_objective = rigid_objective(p, global, ao.lp, c.sector_theta);
-  const double f = c.certificate.upper_bound;
+  const double f = c.certificate.bound.upper;
   c.relative_gap = (c.sector_objective - f) / std::max(1.0, std::abs(f));
   c.theta_difference = std::abs(wrap(c.sector_theta - c.certificate.theta));
   return c;
@@ -131,20 +131,20 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
   if (o.certify) out.certificates.resize(worlds);
   out.sdp_checks.resize(std::min(o.sdp_check_worlds, worlds));
   // One trial per world; its record is everything the world wrote (all plain structs).
-  const auto save = [&](core::Writer& wr, std::size_t w) {
-    core::save(wr, std::tie(out.world_theta[w], out.reference_points[w], out.query_points[w]));
-    for (std::size_t m = 0; m < nm; ++m) core::save(wr, out.outcomes[m][w]);
-    if (o.certify) core::save(wr, out.certificates[w]);
-    if (w < out.sdp_checks.size()) core::save(wr, out.sdp_checks[w]);
+  const auto save = [&](repro::Writer& wr, std::size_t w) {
+    repro::save(wr, std::tie(out.world_theta[w], out.reference_points[w], out.query_points[w]));
+    for (std::size_t m = 0; m < nm; ++m) repro::save(wr, out.outcomes[m][w]);
+    if (o.certify) repro::save(wr, out.certificates[w]);
+    if (w < out.sdp_checks.size()) repro::save(wr, out.sdp_checks[w]);
   };
-  const auto load = [&](core::Reader& rd, std::size_t w) {
+  const auto load = [&](repro::Reader& rd, std::size_t w) {
     auto head = std::tie(out.world_theta[w], out.reference_points[w], out.query_points[w]);
-    core::load(rd, head);
-    for (std::size_t m = 0; m < nm; ++m) core::load(rd, out.outcomes[m][w]);
-    if (o.certify) core::load(rd, out.certificates[w]);
-    if (w < out.sdp_checks.size()) core::load(rd, out.sdp_checks[w]);
+    repro::load(rd, head);
+    for (std::size_t m = 0; m < nm; ++m) repro::load(rd, out.outcomes[m][w]);
+    if (o.certify) repro::load(rd, out.certificates[w]);
+    if (w < out.sdp_checks.size()) repro::load(rd, out.sdp_checks[w]);
   };
-  core::trial_loop(
+  repro::trial_loop(
       worlds,
       [&](std::size_t w) {
         const WorldTruth truth = world(w);

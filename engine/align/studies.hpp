@@ -46,7 +46,7 @@ struct CertificateOutcome {
   Certificate certificate;
   double sector_theta = 0;      // polar angle of the 8-sector round-0 estimate
   double sector_objective = 0;  // F(sector_theta): the exact objective at that rotation
-  double relative_gap = 0;      // (F(sector_theta) − F*) / max(1, |F*|), F* = certificate.upper_bound
+  double relative_gap = 0;      // (F(sector_theta) − F*) / max(1, |F*|), F* = certificate.bound.upper
   double theta_difference = 0;  // |wrap(sector_theta − certificate.theta)|
 };
 

@@ -2,6 +2,7 @@
 // running keel on a researcher's own files (tools.cpp: check, solve, marginals, pcm, split). docs/USING.md
 // has a worked example of each. Exit codes: see Exit in commands.hpp.
 import keel.core;
+import keel.datasets;
 import keel.graph;
 
 #include <fmt/format.h>
@@ -31,7 +32,7 @@ int report_error(const char* command, std::exception_ptr error) {
     return say("config error: ", e, Exit::usage);
   } catch (const keel::graph::ParseError& e) {  // file, line, field
     return say("", e, Exit::bad_input);
-  } catch (const keel::graph::DatasetError& e) {  // a data-set file missing or not verified
+  } catch (const keel::datasets::DatasetError& e) {  // a data-set file missing or not verified
     return say("", e, Exit::bad_input);
   } catch (const std::filesystem::filesystem_error& e) {
     return say("", e, Exit::bad_input);

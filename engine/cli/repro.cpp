@@ -6,6 +6,7 @@
 //   keel eta    --profile P [ids...]   baseline wall time per id (seconds), for progress estimates
 //   keel same   A.json B.json          exit 0 when two result files agree except for provenance
 import keel.core;
+import keel.repro;
 
 #include <fmt/format.h>
 
@@ -30,7 +31,7 @@ struct ReproArgs {
 };
 
 std::vector<std::string> resolve_ids(const ReproArgs& a) {
-  auto all = keel::core::list_experiments(a.experiments);
+  auto all = keel::repro::list_experiments(a.experiments);
   if (a.ids.empty()) return all;
   for (const auto& id : a.ids) {
     bool found = false;
@@ -43,14 +44,14 @@ std::vector<std::string> resolve_ids(const ReproArgs& a) {
   return a.ids;
 }
 
-keel::core::ExperimentConfig load(const ReproArgs& a, const std::string& id) {
-  return keel::core::ExperimentConfig::load(std::filesystem::path(a.experiments) / id / "experiment.toml",
-                                            a.profile);
+keel::repro::ExperimentConfig load(const ReproArgs& a, const std::string& id) {
+  return keel::repro::ExperimentConfig::load(std::filesystem::path(a.experiments) / id / "experiment.toml",
+                                             a.profile);
 }
 
 // Reads provenance.wall_time_s from the baseline without a JSON library: the field is written by keel itself.
 double baseline_wall(const ReproArgs& a, const std::string& id) {
-  std::ifstream in(keel::core::baseline_path(a.results, id, a.profile));
+  std::ifstream in(keel::repro::baseline_path(a.results, id, a.profile));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const auto pos = text.find("\"wall_time_s\":");
   if (pos == std::string::npos) return -1;
@@ -72,15 +73,15 @@ CLI::App* repro_command(CLI::App& app, const char* name, const char* help, Repro
 void add_repro_commands(CLI::App& app) {
   auto a = std::make_shared<ReproArgs>();
   repro_command(app, "list", "list the experiment ids", *a, false)->callback([a] {
-    for (const auto& id : keel::core::list_experiments(a->experiments)) fmt::print("{}\n", id);
+    for (const auto& id : keel::repro::list_experiments(a->experiments)) fmt::print("{}\n", id);
   });
   repro_command(app, "diff", "compare results/<id>/latest.json with its committed baseline", *a, true)
       ->callback([a] {
         int failed_count = 0;
         for (const auto& id : resolve_ids(*a)) {
           try {
-            const auto d = keel::core::diff_against_baseline(load(*a, id), a->results);
-            fmt::print("{}\n", keel::core::format_diff(d));
+            const auto d = keel::repro::diff_against_baseline(load(*a, id), a->results);
+            fmt::print("{}\n", keel::repro::format_diff(d));
             failed_count += d.ok() ? 0 : 1;
           } catch (const keel::core::ConfigError&) {
             throw;
@@ -100,8 +101,8 @@ void add_repro_commands(CLI::App& app) {
               "ids", "bless needs explicit experiment ids (baselines change only on purpose)");
         }
         for (const auto& id : resolve_ids(*a)) {
-          keel::core::bless(load(*a, id), a->results);
-          fmt::print("blessed {}\n", keel::core::baseline_path(a->results, id, a->profile).string());
+          keel::repro::bless(load(*a, id), a->results);
+          fmt::print("blessed {}\n", keel::repro::baseline_path(a->results, id, a->profile).string());
         }
       });
   auto* report = repro_command(app, "report", "render paper/REPRODUCTION.md from the results", *a, true);
@@ -113,14 +114,14 @@ void add_repro_commands(CLI::App& app) {
       ->check(CLI::IsMember({"latest", "baseline"}))
       ->capture_default_str();
   app.get_subcommand("report")->callback([a] {
-    keel::core::ReportOptions o;
+    keel::repro::ReportOptions o;
     o.experiments_dir = a->experiments;
     o.results_dir = a->results;
     o.paper_dir = a->paper;
     o.profile = a->profile;
     o.ids = a->ids;
     o.from_baseline = a->from == "baseline";
-    fmt::print("wrote {}\n", keel::core::write_report(o).string());
+    fmt::print("wrote {}\n", keel::repro::write_report(o).string());
   });
   repro_command(app, "eta", "baseline wall time per experiment (seconds)", *a, true)->callback([a] {
     for (const auto& id : resolve_ids(*a)) fmt::print("{} {:.3f}\n", id, baseline_wall(*a, id));
@@ -131,12 +132,12 @@ void add_repro_commands(CLI::App& app) {
   auto prose_ids = std::make_shared<std::vector<std::string>>();
   prose->add_option("ids", *prose_ids, "experiments (default: all)");
   prose->callback([prose_ids] {
-    const auto ids = prose_ids->empty() ? keel::core::list_experiments("experiments") : *prose_ids;
+    const auto ids = prose_ids->empty() ? keel::repro::list_experiments("experiments") : *prose_ids;
     std::size_t count = 0;
     for (const auto& id : ids) {
       const auto cfg =
-          keel::core::ExperimentConfig::load(fmt::format("experiments/{}/experiment.toml", id), "full");
-      for (const auto& p : keel::core::prose_number_problems(cfg)) fmt::print("{}\n", p), ++count;
+          keel::repro::ExperimentConfig::load(fmt::format("experiments/{}/experiment.toml", id), "full");
+      for (const auto& p : keel::repro::prose_number_problems(cfg)) fmt::print("{}\n", p), ++count;
     }
     if (count > 0) throw CommandFailed(fmt::format("{} number(s) typed by hand in the discussions", count));
     fmt::print("no number typed by hand in {} discussion(s)\n", ids.size());
@@ -147,7 +148,7 @@ void add_repro_commands(CLI::App& app) {
   same->add_option("files", *files, "two result files")->required()->expected(2);
   same->callback([files] {
     std::string why;
-    if (keel::core::same_results((*files)[0], (*files)[1], &why)) {
+    if (keel::repro::same_results((*files)[0], (*files)[1], &why)) {
       fmt::print("identical (provenance aside)\n");
       return;
     }

@@ -486,7 +486,7 @@ void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
             {"composition", args.composition},
             {"algorithm", args.algorithm},
             {"selected", selected},
-            {"status", std::string(pcm::to_string(search.status))},
+            {"status", std::string(keel::core::to_string(search.status))},
             {"upper_bound", search.upper_bound},
             {"consistent_pairs", consistent_pairs},
             {"pairs", all_pairs},
@@ -531,7 +531,7 @@ void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
   fmt::print("consistent   {} of {} pairs ({:.2f} %)\n", consistent_pairs, all_pairs,
              all_pairs ? 100.0 * consistent_pairs / all_pairs : 0.0);
   fmt::print("selected     {} candidates: {} ({}, bound {})\n", sel.selected.size(),
-             fmt::join(sel.selected, " "), pcm::to_string(search.status), search.upper_bound);
+             fmt::join(sel.selected, " "), keel::core::to_string(search.status), search.upper_bound);
   if (!search.proven_optimal()) {
     fmt::print("             not proven maximum: a larger consistent set may exist (at most {})\n",
                search.upper_bound);

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string_view>
 
 namespace keel::core {
 
@@ -75,6 +76,39 @@ class Rng {
   std::uint64_t s_[4];
   double cached_ = 0.0;
   bool has_cached_ = false;
+};
+
+// The random streams of one run (DESIGN convention 9): the experiment's seed and a base index. Stream i of a
+// Streams is Rng::stream(seed, base + i), so a study draws trial i from `streams.stream(i)` whatever the
+// thread or shard that runs it. `offset(k)` is the same family shifted by k (a sweep point that reuses its
+// neighbours' layout, or common random numbers with base 0); `child(name)` is an independent family named
+// for what it draws ("world1d", "candidates"): its seed hashes the parent's seed, base and name, so two
+// children of different names, or of different parents, share no stream.
+class Streams {
+ public:
+  Streams() = default;
+  explicit Streams(std::uint64_t seed, std::uint64_t base = 0) : seed_(seed), base_(base) {}
+
+  [[nodiscard]] Rng stream(std::uint64_t index) const { return Rng::stream(seed_, base_ + index); }
+  [[nodiscard]] Streams offset(std::uint64_t k) const { return Streams(seed_, base_ + k); }
+  [[nodiscard]] Streams child(std::string_view name) const {
+    std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a of the name, then mixed with seed and base
+    for (unsigned char c : name) {
+      h ^= c;
+      h *= 0x100000001b3ull;
+    }
+    std::uint64_t state = seed_ ^ (h * 0x9E3779B97F4A7C15ull);
+    const std::uint64_t a = splitmix64(state);
+    state = a ^ (base_ * 0xD1B54A32D192ED03ull);
+    return Streams(splitmix64(state), 0);
+  }
+  // The (seed, index) pair of stream i, for generators that take them (sim::generate_world1d(o, seed, i)).
+  [[nodiscard]] std::uint64_t seed() const { return seed_; }
+  [[nodiscard]] std::uint64_t index(std::uint64_t i) const { return base_ + i; }
+  [[nodiscard]] std::uint64_t base() const { return base_; }
+
+ private:
+  std::uint64_t seed_ = 0, base_ = 0;
 };
 
 }  // namespace keel::core

@@ -8,7 +8,7 @@
 
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/isam.hpp"
 #include "graph/trajectory.hpp"
 
@@ -19,10 +19,10 @@ TEST_CASE("Manhattan3500 at ground truth: factorization, pair marginals SPD and 
   PoseGraph2D g;
   std::vector<SE2> poses;
   try {
-    g = graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+    g = graph::read_isam_2d(datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
     poses = graph::read_poses_2d(
-        graph::resolve_dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
-  } catch (const graph::DatasetError& e) {
+        datasets::resolve_dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
+  } catch (const datasets::DatasetError& e) {
     MESSAGE("Manhattan3500 not available, test skipped: " << e.what());
     return;
   }

@@ -8,9 +8,9 @@
 #include <stdexcept>
 
 #include "core/names.hpp"
-#include "core/results.hpp"
+#include "repro/results.hpp"
 #include "core/random.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/timing.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
@@ -221,7 +221,7 @@ PlantedCliqueStudy run_planted_clique_study(const PlantedCliqueStudyOptions& opt
   study.seeds = options.seeds;
   const std::size_t total = study.cells.size() * options.seeds;
   study.outcomes.assign(total, {});
-  core::trial_loop(
+  repro::trial_loop(
       total,
       [&](std::size_t t) {
         const std::size_t c = t / options.seeds, s = t % options.seeds;
@@ -248,7 +248,7 @@ std::vector<CliqueGraphOutcome> run_world1d_clique_study(const World1DCliqueOpti
                                                          core::Progress* progress) {
   options.validate();
   std::vector<CliqueGraphOutcome> out(options.worlds);
-  core::trial_loop(
+  repro::trial_loop(
       options.worlds,
       [&](std::size_t i) {
         const auto w = sim::generate_world1d(options.world, options.seed, options.stream_base + i);
@@ -277,7 +277,7 @@ std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotSc
   if (count < 1) throw std::invalid_argument("run_two_robot_clique_study: count must be >= 1");
   (void)pcm::consistency_threshold(p, 3);  // validates p
   std::vector<CliqueGraphOutcome> out(count);
-  core::trial_loop(
+  repro::trial_loop(
       count,
       [&](std::size_t i) {
         const auto set = sim::generate_candidates(scenario, candidates, seed, i);
@@ -320,7 +320,7 @@ void CliqueScaleTally::add(const std::vector<CliqueGraphOutcome>& outcomes, std:
   }
 }
 
-void CliqueScaleTally::record(core::Results& r, int reference_max_vertices) const {
+void CliqueScaleTally::record(repro::Results& r, int reference_max_vertices) const {
   r.metric("all.graphs", static_cast<double>(graphs));
   r.metric("all.exact.optimal_graphs", static_cast<double>(optimal));
   r.metric("all.densest.raw_violating_graphs", static_cast<double>(densest_raw_violating));
@@ -346,7 +346,7 @@ void CliqueScaleTally::record(core::Results& r, int reference_max_vertices) cons
                   graphs, optimal_inconsistent, below_planted));
 }
 
-void record_clique_group(core::Results& r, const std::string& prefix,
+void record_clique_group(repro::Results& r, const std::string& prefix,
                          const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
                          int planted_k, CliqueScaleTally& tally) {
   for (auto m : kAllCliqueScaleMethods) {
@@ -380,7 +380,8 @@ std::string planted_cell_name(const PlantedCliqueCell& cell) {
                      static_cast<int>(std::lround(100 * cell.p)));
 }
 
-void record_planted_clique_study(core::Results& r, const PlantedCliqueStudy& study, CliqueScaleTally& tally) {
+void record_planted_clique_study(repro::Results& r, const PlantedCliqueStudy& study,
+                                 CliqueScaleTally& tally) {
   for (std::size_t c = 0; c < study.cells.size(); ++c) {
     const auto& cell = study.cells[c];
     const std::string name = planted_cell_name(cell);
@@ -393,9 +394,9 @@ void record_planted_clique_study(core::Results& r, const PlantedCliqueStudy& stu
   r.metric("planted.seeds", static_cast<double>(study.seeds));
 }
 
-core::Figure planted_clique_figure(const PlantedCliqueStudy& study, const PlantedCliqueStudyOptions& options,
-                                   double fraction, std::string file) {
-  core::Figure fig;
+repro::Figure planted_clique_figure(const PlantedCliqueStudy& study, const PlantedCliqueStudyOptions& options,
+                                    double fraction, std::string file) {
+  repro::Figure fig;
   fig.file = std::move(file);
   fig.title = fmt::format(
       "Planted clique of {:g} % of n: mean wall time per graph (machine-dependent) and recall of the "
@@ -407,9 +408,9 @@ core::Figure planted_clique_figure(const PlantedCliqueStudy& study, const Plante
   fig.height = 9.0;
   const char* colors[] = {"tab:blue", "tab:green", "tab:orange"};
   const char* markers[] = {"o", "s", "^"};
-  std::vector<core::Panel> time_panels, recall_panels;
+  std::vector<repro::Panel> time_panels, recall_panels;
   for (double dens : options.densities) {
-    core::Panel tp, rp;
+    repro::Panel tp, rp;
     tp.title = rp.title = fmt::format("p = {:g}", dens);
     tp.xlabel = rp.xlabel = "candidates n";
     tp.ylabel = "mean wall time (s)";
@@ -431,10 +432,10 @@ core::Figure planted_clique_figure(const PlantedCliqueStudy& study, const Plante
         rec.push_back(
             summarize_clique_method(study.outcomes, c * study.seeds, (c + 1) * study.seeds, meth).recall);
       }
-      auto l = core::line_layer(xs, {}, std::string(to_string(meth)), colors[k], markers[k]);
+      auto l = repro::line_layer(xs, {}, std::string(to_string(meth)), colors[k], markers[k]);
       l.y_timings = tn;
       tp.layers.push_back(l);
-      rp.layers.push_back(core::line_layer(xs, rec, std::string(to_string(meth)), colors[k], markers[k]));
+      rp.layers.push_back(repro::line_layer(xs, rec, std::string(to_string(meth)), colors[k], markers[k]));
     }
     time_panels.push_back(tp);
     recall_panels.push_back(rp);

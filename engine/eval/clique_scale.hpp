@@ -6,7 +6,7 @@
 //             candidates whose other pairs are consistent by chance with probability p;
 //   world1d   the 1D worlds of §2.7.1 (sim/world1d.hpp) at their consistency threshold γ;
 //   two-robot the candidate sets of the Table 2.1 data sets (§2.7.2) at γ(p).
-// Each graph is one trial of core::trial_loop, so the studies shard (docs/DESIGN.md "Sharding").
+// Each graph is one trial of repro::trial_loop, so the studies shard (docs/DESIGN.md "Sharding").
 #pragma once
 
 #include <array>
@@ -23,9 +23,11 @@
 
 namespace keel::core {
 class Progress;
+}  // namespace keel::core
+namespace keel::repro {
 class Results;
 struct Figure;
-}  // namespace keel::core
+}  // namespace keel::repro
 
 namespace keel::eval {
 
@@ -181,13 +183,13 @@ struct CliqueScaleTally {
   void add(const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
            int planted_k);
   // The all.* metrics and the five checks (reference_max_vertices: CliqueScaleOptions's, named in a check).
-  void record(core::Results& results, int reference_max_vertices) const;
+  void record(repro::Results& results, int reference_max_vertices) const;
 };
 
 // Per method, under "<prefix>.<method>.": size, size_min, precision, recall, violations; for the densest
 // subgraph its raw rounding; for the exact search optimal (fraction), upper_bound, gap, gap_max, nodes;
 // timings time_s and time_s.max. Then adds the graphs to `tally`.
-void record_clique_group(core::Results& results, const std::string& prefix,
+void record_clique_group(repro::Results& results, const std::string& prefix,
                          const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
                          int planted_k, CliqueScaleTally& tally);
 
@@ -196,13 +198,13 @@ void record_clique_group(core::Results& results, const std::string& prefix,
 
 // Every cell of the study: k, omega0, planted_is_maximum and its group (record_clique_group); then
 // planted.cells and planted.seeds.
-void record_planted_clique_study(core::Results& results, const PlantedCliqueStudy& study,
+void record_planted_clique_study(repro::Results& results, const PlantedCliqueStudy& study,
                                  CliqueScaleTally& tally);
 
 // Per density, mean wall time (the cells' time_s timings) and recall of each method against n, for the cells
 // whose k is that of clique fraction `fraction` (k = max(clique_min, round(fraction · n)), at most n).
-[[nodiscard]] core::Figure planted_clique_figure(const PlantedCliqueStudy& study,
-                                                 const PlantedCliqueStudyOptions& options, double fraction,
-                                                 std::string file);
+[[nodiscard]] repro::Figure planted_clique_figure(const PlantedCliqueStudy& study,
+                                                  const PlantedCliqueStudyOptions& options, double fraction,
+                                                  std::string file);
 
 }  // namespace keel::eval

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/trajectory.hpp"
 #include "graph/io.hpp"
 
@@ -136,17 +136,19 @@ std::vector<MeasurementRegime> read_regimes(const core::ConfigTable& p, std::str
 
 sim::TwoRobotScenario2 load_scenario_2d(const core::ConfigTable& t) {
   const std::string dataset = t.string("dataset");
-  const auto graph = graph::read_pose_graph_2d(graph::resolve_dataset_file(dataset, t.string("graph_file")));
+  const auto graph =
+      graph::read_pose_graph_2d(datasets::resolve_dataset_file(dataset, t.string("graph_file")));
   const auto truth =
-      graph::read_poses_2d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
+      graph::read_poses_2d(datasets::resolve_dataset_file(dataset, t.string("ground_truth_file")));
   return sim::split_two_robots(graph, truth, read_split(t));
 }
 
 sim::TwoRobotScenario3 load_scenario_3d(const core::ConfigTable& t) {
   const std::string dataset = t.string("dataset");
-  const auto graph = graph::read_pose_graph_3d(graph::resolve_dataset_file(dataset, t.string("graph_file")));
+  const auto graph =
+      graph::read_pose_graph_3d(datasets::resolve_dataset_file(dataset, t.string("graph_file")));
   const auto truth =
-      graph::read_poses_3d(graph::resolve_dataset_file(dataset, t.string("ground_truth_file")));
+      graph::read_poses_3d(datasets::resolve_dataset_file(dataset, t.string("ground_truth_file")));
   return sim::split_two_robots(graph, truth, read_split(t));
 }
 

@@ -49,7 +49,7 @@ std::vector<MeasurementRegime> read_regimes(const core::ConfigTable& p, std::str
                                             std::string_view table_key);
 
 // The two-robot scenario of an experiment: reads `graph_file` and `ground_truth_file` of data set `dataset`
-// (graph::resolve_dataset_file) and splits it at `first`, `split`, `last` (sim::split_two_robots).
+// (datasets::resolve_dataset_file) and splits it at `first`, `split`, `last` (sim::split_two_robots).
 [[nodiscard]] sim::TwoRobotScenario2 load_scenario_2d(const core::ConfigTable& t);
 [[nodiscard]] sim::TwoRobotScenario3 load_scenario_3d(const core::ConfigTable& t);
 

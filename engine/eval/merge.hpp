@@ -127,7 +127,7 @@ struct MergeResult {
   double chi2 = 0.0;                         // Σ χ² over all edges, unweighted
   std::vector<pgo::EdgeReport> inter_robot;  // one per selected candidate (order of `selected`)
   double time_s = 0.0;                       // wall time of the merged solve
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() {
     return std::tie(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s);
   }
@@ -262,7 +262,7 @@ struct MethodOutcome {
   MergeMetrics metrics;       // against the NO-OUT solve of the same data set
   double solve_time_s = 0.0;  // merged solve
   MergeResult<G> merged;      // the merged solve, only with keep_solutions
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(selection, metrics, solve_time_s, merged); }
   auto fields() const { return std::tie(selection, metrics, solve_time_s, merged); }
 };
@@ -274,7 +274,7 @@ struct MergeDataset {
   double covariance_time_s = 0.0;         // local_maps (joint marginals of the touched poses, both robots)
   double matrix_time_s = 0.0;  // consistency_matrix with Composition::joint (0 if no method uses it)
   double matrix_independent_time_s = 0.0;  // with Composition::independent (0 if no method uses it)
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() {
     return std::tie(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s);
   }

@@ -9,8 +9,8 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "core/results.hpp"
-#include "core/shard.hpp"
+#include "repro/results.hpp"
+#include "repro/shard.hpp"
 #include "graph/residuals.hpp"
 #include "pcm/consistency.hpp"
 
@@ -61,7 +61,7 @@ LocalPair<G> solve_local_pair(const sim::TwoRobotScenario<G>& scenario, const Lo
 }
 
 template <class G>
-void record_local_pair(core::Results& r, const sim::TwoRobotScenario<G>& scenario,
+void record_local_pair(repro::Results& r, const sim::TwoRobotScenario<G>& scenario,
                        const LocalPair<G>& local) {
   r.timing("local.a.solve", local.a.solve_time_s);
   r.timing("local.b.solve", local.b.solve_time_s);
@@ -87,7 +87,7 @@ std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& 
                                                 std::size_t count, unsigned threads, std::size_t keep,
                                                 core::Progress* progress) {
   std::vector<MergeDataset<G>> runs(count);
-  core::trial_loop(  // one trial per data set; its record is the MergeDataset
+  repro::trial_loop(  // one trial per data set; its record is the MergeDataset
       count,
       [&](std::size_t i) {
         runs[i] = run_merge_dataset(scenario, local.a, local.b, candidates, methods, seed, i, i == keep);
@@ -104,7 +104,7 @@ std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& sc
                                               std::uint64_t seed, std::size_t index, unsigned threads,
                                               core::Progress* progress) {
   std::vector<MergeDataset<G>> sweep(method_sets.size());
-  core::trial_loop(  // one trial per method set, all on data set `index`
+  repro::trial_loop(  // one trial per method set, all on data set `index`
       method_sets.size(),
       [&](std::size_t k) {
         sweep[k] = run_merge_dataset(scenario, local.a, local.b, candidates, method_sets[k], seed, index);
@@ -158,7 +158,7 @@ MethodSummary summarize_method(const std::vector<MergeDataset<G>>& runs, std::si
 }
 
 template <class G>
-void record_dataset_timings(core::Results& r, const std::vector<MergeDataset<G>>& runs) {
+void record_dataset_timings(repro::Results& r, const std::vector<MergeDataset<G>>& runs) {
   std::vector<double> t_cov, t_q, t_qi;
   for (const auto& d : runs) {
     t_cov.push_back(d.covariance_time_s);
@@ -231,7 +231,7 @@ PoolCalibration pool_calibration(const LocalPair<lie::SE2>& local, const sim::Tw
 #define KEEL_EVAL_STUDIES(G)                                                                                 \
   template sim::TwoRobotScenario<G> apply_regime(const sim::TwoRobotScenario<G>&, const MeasurementRegime&); \
   template LocalPair<G> solve_local_pair(const sim::TwoRobotScenario<G>&, const LocalSolveOptions&);         \
-  template void record_local_pair(core::Results&, const sim::TwoRobotScenario<G>&, const LocalPair<G>&);     \
+  template void record_local_pair(repro::Results&, const sim::TwoRobotScenario<G>&, const LocalPair<G>&);    \
   template std::vector<MergeDataset<G>> run_merge_datasets(                                                  \
       const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
       const std::vector<MergeMethod>&, std::uint64_t, std::size_t, unsigned, std::size_t, core::Progress*);  \
@@ -239,7 +239,7 @@ PoolCalibration pool_calibration(const LocalPair<lie::SE2>& local, const sim::Tw
       const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
       const std::vector<std::vector<MergeMethod>>&, std::uint64_t, std::size_t, unsigned, core::Progress*);  \
   template MethodSummary summarize_method(const std::vector<MergeDataset<G>>&, std::size_t);                 \
-  template void record_dataset_timings(core::Results&, const std::vector<MergeDataset<G>>&);                 \
+  template void record_dataset_timings(repro::Results&, const std::vector<MergeDataset<G>>&);                \
   template std::size_t same_selections(const std::vector<MergeDataset<G>>&, std::size_t, std::size_t);       \
   template std::size_t proven_optimal(const std::vector<MergeDataset<G>>&, std::size_t);                     \
   template double pool_chi2_at_truth(const sim::TwoRobotScenario<G>&);

@@ -18,8 +18,10 @@
 
 namespace keel::core {
 class Progress;
-class Results;
 }  // namespace keel::core
+namespace keel::repro {
+class Results;
+}  // namespace keel::repro
 
 namespace keel::eval {
 
@@ -64,7 +66,7 @@ template <class G>
 // Records what Tables 2.1/2.2 report about the local maps: timings local.{a,b}.{solve,factorization}; metrics
 // scenario.pool, scenario.robot_{a,b}.poses, scenario.robot_{a,b}.loop_closures, local.{a,b}.normalized_chi2.
 template <class G>
-void record_local_pair(core::Results& results, const sim::TwoRobotScenario<G>& scenario,
+void record_local_pair(repro::Results& results, const sim::TwoRobotScenario<G>& scenario,
                        const LocalPair<G>& local);
 
 // Data sets 0 … count−1 of a scenario with every method (run_merge_dataset), in parallel on `threads` threads
@@ -108,7 +110,7 @@ template <class G>
 
 // Timings dataset.{cov_extraction,matrix,matrix_independent}.{mean,max} over the data sets (never diffed).
 template <class G>
-void record_dataset_timings(core::Results& results, const std::vector<MergeDataset<G>>& runs);
+void record_dataset_timings(repro::Results& results, const std::vector<MergeDataset<G>>& runs);
 
 // Data sets on which methods `i` and `j` selected the same candidates, and on which `i`'s clique search was
 // proven optimal.

@@ -10,7 +10,7 @@
 
 #include "core/names.hpp"
 #include "core/parallel.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/timing.hpp"
 #include "pcm/clique.hpp"
 
@@ -187,17 +187,17 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
   study.inliers.assign(n, 0);
   study.outcome.assign(k, std::vector<World1DOutcome>(n));
   // A trial is one world: its counts and every selector's outcome (the record a shard saves).
-  const auto save = [&](core::Writer& w, std::size_t i) {
-    core::save(w, study.measurements[i]);
-    core::save(w, study.inliers[i]);
-    for (std::size_t s = 0; s < k; ++s) core::save(w, study.outcome[s][i]);
+  const auto save = [&](repro::Writer& w, std::size_t i) {
+    repro::save(w, study.measurements[i]);
+    repro::save(w, study.inliers[i]);
+    for (std::size_t s = 0; s < k; ++s) repro::save(w, study.outcome[s][i]);
   };
-  const auto load = [&](core::Reader& r, std::size_t i) {
-    core::load(r, study.measurements[i]);
-    core::load(r, study.inliers[i]);
-    for (std::size_t s = 0; s < k; ++s) core::load(r, study.outcome[s][i]);
+  const auto load = [&](repro::Reader& r, std::size_t i) {
+    repro::load(r, study.measurements[i]);
+    repro::load(r, study.inliers[i]);
+    for (std::size_t s = 0; s < k; ++s) repro::load(r, study.outcome[s][i]);
   };
-  core::trial_loop(
+  repro::trial_loop(
       n,
       [&](std::size_t i) {
         const World1D w = generate_world1d(options.world, options.seed, options.stream_base + i);

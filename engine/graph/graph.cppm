@@ -1,18 +1,16 @@
 // keel.graph — the curated facade of engine/graph: the pose-graph data model (measurement z_ij ≈ T_i⁻¹ T_j,
 // information over ρ(z_ij⁻¹ T_i⁻¹ T_j)), readers and writers for g2o, iSAM text (square-root information),
-// iSAM ground truth, derived pose lists and TUM trajectories, the format-dispatching entry points, and the
-// dataset manifest resolver (sha256-verified copies of the benchmark files). Facade rules (docs/DESIGN.md):
+// iSAM ground truth, derived pose lists and TUM trajectories, and the format-dispatching entry points (the
+// benchmark files themselves are found by keel.datasets). Facade rules (docs/DESIGN.md):
 // includes in the global module fragment, using-declarations in the export block, no import of another
 // facade. The Lie-group types (SE2, SE3, Vec2, ...) are keel.lie's: import keel.lie to name them.
 module;
-#include "graph/datasets.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/residuals.hpp"
 #include "graph/isam.hpp"
 #include "graph/parse_error.hpp"
 #include "graph/pose_graph.hpp"
-#include "graph/sha256.hpp"
 #include "graph/trajectory.hpp"
 export module keel.graph;
 
@@ -27,7 +25,6 @@ using keel::graph::LandmarkMeasurement2;
 using keel::graph::PoseGraph2D;
 using keel::graph::PoseGraph3D;
 // errors
-using keel::graph::DatasetError;
 using keel::graph::ParseError;
 // g2o
 using keel::graph::G2oWriteOptions;
@@ -67,15 +64,4 @@ using keel::graph::read_pose_graph_2d;
 using keel::graph::read_pose_graph_3d;
 using keel::graph::to_string;
 using keel::graph::write_pose_graph;
-// datasets
-using keel::graph::dataset_search_paths;
-using keel::graph::DatasetFile;
-using keel::graph::DatasetInfo;
-using keel::graph::DatasetManifest;
-using keel::graph::find_repo_root;
-using keel::graph::load_dataset_manifest;
-using keel::graph::resolve_dataset_file;
-using keel::graph::Sha256;
-using keel::graph::sha256_file;
-using keel::graph::sha256_hex;
 }  // namespace keel::graph

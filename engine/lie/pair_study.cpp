@@ -11,7 +11,7 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/gaussian.hpp"
@@ -117,7 +117,7 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
     }
   }
   std::vector<PairRecord> out(pairs.size());
-  core::trial_loop(  // one trial per pair; its record is the PairRecord
+  repro::trial_loop(  // one trial per pair; its record is the PairRecord
       pairs.size(),
       [&](std::size_t k) {
         core::Rng rng = core::Rng::stream(setup.seed, k);

@@ -58,7 +58,7 @@ class SE2 {
   double angle() const { return rot_.angle(); }
   bool is_approx(const SE2& other, double tol = 1e-9) const;
 
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(rot_, t_); }
   auto fields() const { return std::tie(rot_, t_); }
 

@@ -61,7 +61,7 @@ class SE3 {
   const Vec3& translation() const { return t_; }
   bool is_approx(const SE3& other, double tol = 1e-9) const;
 
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(rot_, t_); }
   auto fields() const { return std::tie(rot_, t_); }
 

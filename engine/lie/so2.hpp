@@ -49,7 +49,7 @@ class SO2 {
   double sin_angle() const { return s_; }
   bool is_approx(const SO2& other, double tol = 1e-9) const;
 
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(c_, s_); }
   auto fields() const { return std::tie(c_, s_); }
 

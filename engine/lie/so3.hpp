@@ -57,7 +57,7 @@ class SO3 {
   const Mat3& rotation() const { return R_; }
   bool is_approx(const SO3& other, double tol = 1e-9) const;
 
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(R_); }
   auto fields() const { return std::tie(R_); }
 

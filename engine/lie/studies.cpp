@@ -12,7 +12,7 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/fourth_order_joint.hpp"
@@ -133,7 +133,7 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   // Monte Carlo: trajectory i draws from its own stream, so the result does not depend on the thread count.
   const std::size_t m = s.trajectories;
   std::vector<SE3> ends(m);
-  core::trial_loop(  // one trial per trajectory; its record is the end pose
+  repro::trial_loop(  // one trial per trajectory; its record is the end pose
       m,
       [&](std::size_t i) {
         core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);
@@ -267,15 +267,15 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
   std::vector<Vec6> xs(s.samples);
   std::vector<SE3> poses(s.keep_samples ? s.samples : 0);
   // One trial per sample; its record is ξ_i, and the relative pose when the samples are kept.
-  const auto save = [&](core::Writer& w, std::size_t i) {
-    core::save(w, xs[i]);
-    if (s.keep_samples) core::save(w, poses[i]);
+  const auto save = [&](repro::Writer& w, std::size_t i) {
+    repro::save(w, xs[i]);
+    if (s.keep_samples) repro::save(w, poses[i]);
   };
-  const auto load = [&](core::Reader& r, std::size_t i) {
-    core::load(r, xs[i]);
-    if (s.keep_samples) core::load(r, poses[i]);
+  const auto load = [&](repro::Reader& r, std::size_t i) {
+    repro::load(r, xs[i]);
+    if (s.keep_samples) repro::load(r, poses[i]);
   };
-  core::trial_loop(
+  repro::trial_loop(
       s.samples,
       [&](std::size_t i) {
         core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);

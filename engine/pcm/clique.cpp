@@ -731,17 +731,10 @@ constexpr core::NameTable<CliqueAlgorithm, 3> kCliqueAlgorithmNames{
     {{{CliqueAlgorithm::exact, "exact"},
       {CliqueAlgorithm::heuristic, "heuristic"},
       {CliqueAlgorithm::brute_force, "brute_force"}}}};
-constexpr core::NameTable<SearchStatus, 4> kSearchStatusNames{"pcm::SearchStatus",
-                                                              {{{SearchStatus::optimal, "optimal"},
-                                                                {SearchStatus::unproven, "unproven"},
-                                                                {SearchStatus::node_limit, "node_limit"},
-                                                                {SearchStatus::time_limit, "time_limit"}}}};
 }  // namespace
 
 std::string_view to_string(CliqueAlgorithm a) { return kCliqueAlgorithmNames.name(a); }
 CliqueAlgorithm clique_algorithm_from_string(std::string_view s) { return kCliqueAlgorithmNames.parse(s); }
-std::string_view to_string(SearchStatus s) { return kSearchStatusNames.name(s); }
-SearchStatus search_status_from_string(std::string_view s) { return kSearchStatusNames.parse(s); }
 
 // ---------------------------------------------------------------------------------------------------------------
 // Solvers

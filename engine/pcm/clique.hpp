@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/bound.hpp"
+
 namespace keel::pcm {
 
 // Undirected simple graph on vertices 0..n-1 with dense bitset adjacency (one row of ceil(n/64) words per
@@ -65,16 +67,11 @@ enum class CliqueAlgorithm { exact, heuristic, brute_force };
 std::string_view to_string(CliqueAlgorithm a);
 CliqueAlgorithm clique_algorithm_from_string(std::string_view s);  // throws std::invalid_argument
 
-// How a maximum-clique search ended (docs/DESIGN.md "Naming and errors").
-enum class SearchStatus {
-  optimal,     // the clique is proven maximum: its size equals the proven upper bound
-  unproven,    // the heuristic finished without proving its clique maximum (its bound is larger)
-  node_limit,  // the exact search stopped at CliqueOptions::node_limit: the best clique so far and a valid
-               // bound
-  time_limit,  // the exact search stopped at CliqueOptions::time_limit_s: likewise
-};
-std::string_view to_string(SearchStatus s);
-SearchStatus search_status_from_string(std::string_view s);  // throws std::invalid_argument
+// How a maximum-clique search ended: core::SearchStatus (optimal: the clique is proven maximum, its size
+// equals the proven upper bound; unproven: the heuristic finished without proving its clique maximum;
+// node_limit / time_limit: the exact search stopped at CliqueOptions::node_limit / time_limit_s with the best
+// clique so far and a valid bound).
+using core::SearchStatus;
 
 struct CliqueOptions {
   bool report_ties = false;   // collect other maximum cliques in CliqueResult::ties
@@ -100,7 +97,10 @@ struct CliqueResult {
   bool proven_optimal() const { return status == SearchStatus::optimal; }
   // How many vertices a larger clique could still have: upper_bound − |clique| (0 iff optimal).
   int gap() const { return upper_bound - static_cast<int>(clique.size()); }
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The bound on the maximum clique's size (core/bound.hpp): lower = |clique| (attained), upper =
+  // upper_bound.
+  core::Bound bound() const { return {static_cast<double>(clique.size()), static_cast<double>(upper_bound)}; }
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
   auto fields() const { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
 };

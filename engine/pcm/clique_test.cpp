@@ -278,7 +278,7 @@ TEST_CASE("clique and status names round-trip; a bad name lists the valid ones")
     CHECK(clique_algorithm_from_string(to_string(a)) == a);
   for (auto st :
        {SearchStatus::optimal, SearchStatus::unproven, SearchStatus::node_limit, SearchStatus::time_limit})
-    CHECK(search_status_from_string(to_string(st)) == st);
+    CHECK(keel::core::search_status_from_string(to_string(st)) == st);
   CHECK(message_of([] { (void)clique_algorithm_from_string("fast"); }) ==
         "unknown pcm::CliqueAlgorithm 'fast' (valid: exact, heuristic, brute_force)");
   // The heuristic reports `unproven` when its clique is below the degeneracy bound, `optimal` when it meets

@@ -64,7 +64,7 @@ struct InterRobotMeasurement {
   int pose_b = 0;  // k, index into robot b's poses
   G z;
   typename G::Jacobian covariance = G::Jacobian::Identity();
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(pose_a, pose_b, z, covariance); }
   auto fields() const { return std::tie(pose_a, pose_b, z, covariance); }
 };

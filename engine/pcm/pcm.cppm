@@ -40,7 +40,6 @@ using keel::pcm::DensestOptions;
 using keel::pcm::DensestResult;
 using keel::pcm::DensestSelectOptions;
 using keel::pcm::maximum_clique;
-using keel::pcm::search_status_from_string;
 using keel::pcm::SearchStatus;
 using keel::pcm::select_densest;
 using keel::pcm::to_string;

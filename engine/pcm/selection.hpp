@@ -41,7 +41,7 @@ struct Selection {
   bool proven_optimal() const { return search && search->proven_optimal(); }
   // The clique search's gap (CliqueResult::gap; 0 without a search).
   int gap() const { return search ? search->gap() : 0; }
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(selected, time_s, search, raw_size, violations); }
   auto fields() const { return std::tie(selected, time_s, search, raw_size, violations); }
 };

@@ -2,14 +2,14 @@
 // data.
 //  * noise-free ground-truth edges, started from the noisy odometry chain → the ground-truth poses to ~1e-6;
 //  * the noisy file from the odometry chain → the optimum reached from ground truth, normalized χ² ≈ 1.
-// The files are found through the dataset manifest (keel::graph::resolve_dataset_file) and read by
+// The files are found through the dataset manifest (keel::datasets::resolve_dataset_file) and read by
 // keel::graph.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/isam.hpp"
 #include "lie/euler.hpp"
 #include "pgo/optimize.hpp"
@@ -32,11 +32,11 @@ double max_error(const std::vector<lie::SE2>& a, const std::vector<lie::SE2>& b)
 TEST_CASE(
     "Manhattan3500: noise-free edges from the noisy odometry guess recover ground truth; real data optimum") {
   const auto noisy =
-      graph::read_isam_2d(graph::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+      graph::read_isam_2d(datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
   // Noise-free edges printed with 6 digits: snapped to the grid (0.5 m, π/2) they chain to the exact ground
   // truth.
   const auto gt = graph::read_isam_ground_truth_2d(
-      graph::resolve_dataset_file("manhattan3500", "isam/groundtruth/manhattanOlson3500_groundtruth.txt"),
+      datasets::resolve_dataset_file("manhattan3500", "isam/groundtruth/manhattanOlson3500_groundtruth.txt"),
       graph::GroundTruthOptions{0.5, lie::kPi / 2, 1e-5});
   REQUIRE(noisy.poses.size() == 3500);
   REQUIRE(noisy.edges.size() == 5598);

@@ -106,7 +106,7 @@ struct Summary {
   double jacobian_evaluation_time_s = 0.0;
   std::vector<IterationRecord> trace;  // per-iteration record, iteration 0 first
   std::string report;                  // the solver's one-line report
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() {
     return std::tie(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
                     free_parameter_dimension, normalized_chi2, iterations, successful_steps,

@@ -10,7 +10,7 @@
 
 #include "bindings.hpp"
 #include "candidates.hpp"
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "app/files.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
@@ -317,7 +317,7 @@ Reads a pose list `id x y theta` (dim=2) or `id x y z qx qy qz qw` (dim=3), ids 
   m.def(
       "dataset_file",
       [](const std::string& name, const std::string& path) {
-        return graph::resolve_dataset_file(name, path).string();
+        return datasets::resolve_dataset_file(name, path).string();
       },
       py::arg("name"), py::arg("path"), R"doc(
 The verified local copy of a data-set file listed in datasets/manifest.toml (sha256-checked), e.g.

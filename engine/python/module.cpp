@@ -2,7 +2,7 @@
 #include <exception>
 
 #include "bindings.hpp"
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/parse_error.hpp"
 
 PYBIND11_MODULE(keel, m) {
@@ -27,9 +27,9 @@ range; RuntimeError for numerical failures. Long computations release the GIL.)d
   parse_error.doc() =
       "A malformed graph or candidate file (keel::graph::ParseError). str(e) is the engine's message naming "
       "file, line and field; e.file and e.line (1-based, 0 for whole-file errors) hold them separately.";
-  static py::exception<keel::graph::DatasetError> dataset_error(m, "DatasetError", PyExc_RuntimeError);
+  static py::exception<keel::datasets::DatasetError> dataset_error(m, "DatasetError", PyExc_RuntimeError);
   dataset_error.doc() =
-      "A data-set file that is missing or fails its sha256 check (keel::graph::DatasetError): the message "
+      "A data-set file that is missing or fails its sha256 check (keel::datasets::DatasetError): the message "
       "lists "
       "every place tried and how to fetch the data.";
   py::register_exception_translator([](std::exception_ptr p) {
@@ -41,7 +41,7 @@ range; RuntimeError for numerical failures. Long computations release the GIL.)d
       exc.attr("file") = e.file();
       exc.attr("line") = e.line();
       PyErr_SetObject(parse_error.ptr(), exc.ptr());
-    } catch (const keel::graph::DatasetError& e) {
+    } catch (const keel::datasets::DatasetError& e) {
       dataset_error(e.what());
     }
   });

@@ -59,9 +59,9 @@ void bind_pcm(py::module_& m) {
       .def_readonly("clique", &pcm::CliqueResult::clique, "Sorted vertex ids of the largest clique found.")
       .def_readonly("upper_bound", &pcm::CliqueResult::upper_bound, "No clique is larger than this.")
       .def_property_readonly(
-          "status", [](const pcm::CliqueResult& r) { return std::string(pcm::to_string(r.status)); },
+          "status", [](const pcm::CliqueResult& r) { return std::string(keel::core::to_string(r.status)); },
           "'optimal' (proven maximum), 'unproven' (heuristic), 'node_limit' or 'time_limit' "
-          "(pcm::SearchStatus).")
+          "(core::SearchStatus).")
       .def_property_readonly("proven_optimal", &pcm::CliqueResult::proven_optimal, "status == 'optimal'.")
       .def_property_readonly(
           "gap", &pcm::CliqueResult::gap,
@@ -70,15 +70,15 @@ void bind_pcm(py::module_& m) {
       .def_readonly("time_s", &pcm::CliqueResult::time_s, "Search wall time in seconds.")
       .def("__repr__", [](const pcm::CliqueResult& r) {
         return fmt::format("CliqueResult(size={}, upper_bound={}, status='{}')", r.clique.size(),
-                           r.upper_bound, pcm::to_string(r.status));
+                           r.upper_bound, keel::core::to_string(r.status));
       });
 
   py::class_<PcmSelection>(m, "PcmSelection", "The result of keel.pcm_select (pcm::Selection of select_pcm).")
       .def_readonly("selected", &PcmSelection::selected, "Sorted indices of the selected candidates.")
       .def_readonly("gamma", &PcmSelection::gamma, "The consistency threshold used (squared distance).")
       .def_property_readonly(
-          "status", [](const PcmSelection& s) { return std::string(pcm::to_string(s.search.status)); },
-          "The clique search's pcm::SearchStatus: 'optimal', 'unproven', 'node_limit' or 'time_limit'.")
+          "status", [](const PcmSelection& s) { return std::string(keel::core::to_string(s.search.status)); },
+          "The clique search's core::SearchStatus: 'optimal', 'unproven', 'node_limit' or 'time_limit'.")
       .def_property_readonly(
           "upper_bound", [](const PcmSelection& s) { return s.search.upper_bound; },
           "Proven bound on the size of a consistent set (exact: branch and bound; heuristic: max core + 1).")
@@ -88,7 +88,7 @@ void bind_pcm(py::module_& m) {
       .def_readonly("time_s", &PcmSelection::time_s, "Wall time of thresholding Q plus the clique search.")
       .def("__repr__", [](const PcmSelection& s) {
         return fmt::format("PcmSelection(size={}, gamma={:.17g}, status='{}')", s.selected.size(), s.gamma,
-                           pcm::to_string(s.search.status));
+                           keel::core::to_string(s.search.status));
       });
 
   m.def(

@@ -175,7 +175,7 @@ struct CandidateSet {
     for (int k = 0; k < static_cast<int>(candidates.size()); ++k) v.push_back(k);
     return v;
   }
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(candidates, information, labels, false_anchors); }
   auto fields() const { return std::tie(candidates, information, labels, false_anchors); }
 };

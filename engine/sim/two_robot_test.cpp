@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/random.hpp"
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/isam.hpp"
 #include "graph/trajectory.hpp"
 #include "pcm/consistency.hpp"
@@ -357,15 +357,15 @@ TEST_CASE("real data: City10000 (0, 750, 1500) has 209 true a-b loop closures, s
   graph::PoseGraph3D sphere;
   std::vector<lie::SE3> sphere_truth;
   try {
-    city = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
+    city = graph::read_isam_2d(datasets::resolve_dataset_file("city10000", "isam/city10000.txt"));
     city_truth = graph::read_poses_2d(
-        graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
-    sphere = graph::read_isam_3d(graph::resolve_dataset_file("sphere2500", "isam/sphere2500.txt"));
+        datasets::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
+    sphere = graph::read_isam_3d(datasets::resolve_dataset_file("sphere2500", "isam/sphere2500.txt"));
     sphere_truth =
         graph::read_isam_ground_truth_3d(
-            graph::resolve_dataset_file("sphere2500", "isam/groundtruth/sphere2500_groundtruth.txt"))
+            datasets::resolve_dataset_file("sphere2500", "isam/groundtruth/sphere2500_groundtruth.txt"))
             .poses;
-  } catch (const graph::DatasetError& e) {
+  } catch (const datasets::DatasetError& e) {
     MESSAGE("City10000 / sphere2500 not available, test skipped: " << e.what());
     return;
   }
@@ -464,10 +464,10 @@ TEST_CASE(
   graph::PoseGraph2D city;
   std::vector<lie::SE2> truth;
   try {
-    city = graph::read_isam_2d(graph::resolve_dataset_file("city10000", "isam/city10000.txt"));
+    city = graph::read_isam_2d(datasets::resolve_dataset_file("city10000", "isam/city10000.txt"));
     truth = graph::read_poses_2d(
-        graph::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
-  } catch (const graph::DatasetError& e) {
+        datasets::resolve_dataset_file("city10000", "derived/city10000_groundtruth_poses.txt"));
+  } catch (const datasets::DatasetError& e) {
     MESSAGE("City10000 not available, test skipped: " << e.what());
     return;
   }

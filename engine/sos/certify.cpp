@@ -14,26 +14,12 @@
 namespace keel::sos {
 
 namespace {
-constexpr core::NameTable<CertificateStatus, 2> kStatusNames{
-    "sos::CertificateStatus",
-    {{{CertificateStatus::certified, "certified"}, {CertificateStatus::not_certified, "not_certified"}}}};
-
-// The cost is a χ² (units of the measurement noise), so below 1 the gap is measured absolutely: a gap of
-// 1e-6 at a zero-residual solution means 1e-6 σ², not an undefined ratio.
-// Non-finite bounds give an infinite gap (std::max(0.0, NaN) would be 0).
-double gap_of(double ub, double lb) {
-  if (!std::isfinite(ub) || !std::isfinite(lb)) return std::numeric_limits<double>::infinity();
-  return std::max(0.0, ub - lb) / std::max(std::abs(ub), 1.0);
-}
 // A lower bound above the solution's cost by more than the tolerance is not a bound (a numerical failure): it
 // must not read as a zero gap.
 bool bound_is_valid(double ub, double lb, double tol) {
   return std::isfinite(ub) && std::isfinite(lb) && lb <= ub + tol * std::max(std::abs(ub), 1.0);
 }
 }  // namespace
-
-std::string_view to_string(CertificateStatus v) { return kStatusNames.name(v); }
-CertificateStatus certificate_status_from_string(std::string_view s) { return kStatusNames.parse(s); }
 
 void CertifyOptions::validate() const {
   relaxation.validate();
@@ -78,19 +64,20 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
   (void)refine(p, zp);
   (void)refine(p, z);
   out.z = polynomial_cost(p, zp) <= polynomial_cost(p, z) ? zp : z;
-  out.upper_bound = polynomial_cost(p, out.z);
+  out.bound.upper = polynomial_cost(p, out.z);
   out.estimate = estimate_of(p, out.z);
   out.polish_time_s = core::seconds_since(tp);
 
-  out.lower_bound = out.first.lower_bound;
-  out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
-  const bool first_valid = bound_is_valid(out.upper_bound, out.lower_bound, o.gap_tolerance);
+  // The cost is a χ² (units of the measurement noise), so below 1 the gap is absolute (core::Bound): a gap of
+  // 1e-6 at a zero-residual solution means 1e-6 σ², not an undefined ratio.
+  out.bound.lower = out.first.lower_bound;
+  const bool first_valid = bound_is_valid(out.bound.upper, out.bound.lower, o.gap_tolerance);
   if (!first_valid)
     out.note =
         fmt::format("order-{} bound {} is not finite or exceeds the solution's cost {}: not a valid bound",
-                    out.first.order, out.lower_bound, out.upper_bound);
-  if (first_valid && out.relative_gap <= o.gap_tolerance) {
-    out.status = CertificateStatus::certified;
+                    out.first.order, out.bound.lower, out.bound.upper);
+  if (first_valid && out.relative_gap() <= o.gap_tolerance) {
+    out.status = core::SearchStatus::optimal;
     out.certified_order = out.first.order;
   } else if (o.escalate && out.first.order == 1) {
     const auto te = core::Clock::now();
@@ -100,28 +87,27 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
     try {
       out.second = relax(p, second);
       out.escalated = true;
-      if (!first_valid) out.lower_bound = -std::numeric_limits<double>::infinity();
+      if (!first_valid) out.bound.lower = -std::numeric_limits<double>::infinity();
       if (std::isfinite(out.second.lower_bound))
-        out.lower_bound = std::max(out.lower_bound, out.second.lower_bound);
+        out.bound.lower = std::max(out.bound.lower, out.second.lower_bound);
       // The order-2 estimate may round to a better solution than the order-1 one.
       Eigen::VectorXd z2 = out.second.z;
       project_rotations(p, z2);
       solve_translations(p, z2);
       (void)refine(p, z2);
-      if (polynomial_cost(p, z2) < out.upper_bound) {
+      if (polynomial_cost(p, z2) < out.bound.upper) {
         out.z = z2;
-        out.upper_bound = polynomial_cost(p, z2);
+        out.bound.upper = polynomial_cost(p, z2);
         out.estimate = estimate_of(p, z2);
       }
-      out.relative_gap = gap_of(out.upper_bound, out.lower_bound);
-      if (bound_is_valid(out.upper_bound, out.lower_bound, o.gap_tolerance) &&
-          out.relative_gap <= o.gap_tolerance) {
-        out.status = CertificateStatus::certified;
+      if (bound_is_valid(out.bound.upper, out.bound.lower, o.gap_tolerance) &&
+          out.relative_gap() <= o.gap_tolerance) {
+        out.status = core::SearchStatus::optimal;
         out.certified_order = 2;
         out.note.clear();
       } else {
         out.note += fmt::format("{}order 2 did not close the gap ({:.3g})", out.note.empty() ? "" : "; ",
-                                out.relative_gap);
+                                out.relative_gap());
       }
     } catch (const std::length_error& e) {
       out.note += fmt::format("{}order 2 skipped: {}", out.note.empty() ? "" : "; ", e.what());

@@ -18,19 +18,13 @@
 #include <string>
 #include <string_view>
 
+#include "core/bound.hpp"
 #include "graph/pose_graph.hpp"
 #include "pgo/options.hpp"
 #include "sos/problem.hpp"
 #include "sos/relaxation.hpp"
 
 namespace keel::sos {
-
-enum class CertificateStatus {
-  certified,      // a relaxation's lower bound is within gap_tolerance of the solution's cost
-  not_certified,  // no relaxation tried closed the gap (the report says which were tried or skipped)
-};
-[[nodiscard]] std::string_view to_string(CertificateStatus v);
-[[nodiscard]] CertificateStatus certificate_status_from_string(std::string_view s);
 
 struct CertifyOptions {
   RelaxationOptions relaxation;  // the first relaxation (default: dense, order 1 = Sparse-BSOS d = k = 1)
@@ -44,12 +38,15 @@ struct CertifyOptions {
 };
 
 struct CertifiedSolution {
-  PlanarEstimate estimate;    // pose 0 at the identity, original units
-  Eigen::VectorXd z;          // the same as unknowns
-  double upper_bound = 0.0;   // f at the solution (the thesis's cost, problem.hpp)
-  double lower_bound = 0.0;   // the best certified lower bound over the relaxations tried
-  double relative_gap = 0.0;  // (upper − lower) / max(upper, 1), clamped at 0 below
-  CertificateStatus status = CertificateStatus::not_certified;
+  PlanarEstimate estimate;  // pose 0 at the identity, original units
+  Eigen::VectorXd z;        // the same as unknowns
+  // upper: f at the solution (the thesis's cost, problem.hpp); lower: the best certified lower bound over the
+  // relaxations tried (core/bound.hpp).
+  core::Bound bound{0.0, 0.0};
+  // optimal: a relaxation's lower bound is within gap_tolerance of the solution's cost; unproven: no
+  // relaxation tried closed the gap (the note says which were tried or skipped).
+  core::SearchStatus status = core::SearchStatus::unproven;
+  [[nodiscard]] double relative_gap() const { return bound.relative_gap(); }
   int certified_order = 0;    // 1 or 2 when certified, else 0
   RelaxationResult first;     // the first relaxation
   bool escalated = false;     // whether order 2 was solved

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/io.hpp"
 #include "graph/trajectory.hpp"
 
@@ -36,11 +36,11 @@ SegmentStudyOptions read_segment_study_options(const core::ConfigTable& t) {
 PlanarDataset load_planar_dataset(const core::ConfigTable& t) {
   PlanarDataset d;
   d.name = t.string("dataset");
-  d.graph = graph::read_pose_graph_2d(graph::resolve_dataset_file(d.name, t.string("graph_file")));
-  d.truth = graph::read_poses_2d(graph::resolve_dataset_file(d.name, t.string("ground_truth_file")));
+  d.graph = graph::read_pose_graph_2d(datasets::resolve_dataset_file(d.name, t.string("graph_file")));
+  d.truth = graph::read_poses_2d(datasets::resolve_dataset_file(d.name, t.string("ground_truth_file")));
   if (t.has("ground_truth_landmarks_file"))
     d.truth_landmarks = graph::read_landmarks_2d(
-        graph::resolve_dataset_file(d.name, t.string("ground_truth_landmarks_file")));
+        datasets::resolve_dataset_file(d.name, t.string("ground_truth_landmarks_file")));
   if (d.truth.size() != d.graph.poses.size())
     throw core::ConfigError(fmt::format("{}: {} ground-truth poses for a graph of {} poses",
                                         t.where("ground_truth_file"), d.truth.size(), d.graph.poses.size()));

@@ -20,7 +20,7 @@ namespace keel::sos {
 [[nodiscard]] SegmentStudyOptions read_segment_study_options(const core::ConfigTable& t);
 
 // A planar data set and its ground truth. Keys: dataset, graph_file, ground_truth_file and, for landmark
-// data, ground_truth_landmarks_file (files resolved by keel::graph::resolve_dataset_file).
+// data, ground_truth_landmarks_file (files resolved by keel::datasets::resolve_dataset_file).
 struct PlanarDataset {
   graph::PoseGraph2D graph;
   std::vector<lie::SE2> truth;

@@ -39,8 +39,6 @@ using keel::sos::SdpSolution;
 using keel::sos::SdpSolver;
 using keel::sos::solve_sdp;
 // certified solutions
-using keel::sos::certificate_status_from_string;
-using keel::sos::CertificateStatus;
 using keel::sos::CertifiedSolution;
 using keel::sos::CertifyOptions;
 using keel::sos::solve_certified;

@@ -8,7 +8,7 @@
 
 #include "core/parallel.hpp"
 #include "core/random.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 #include "core/timing.hpp"
 #include "pgo/optimize.hpp"
 
@@ -80,7 +80,7 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
         fmt::format("sos::run_segment_study: no segment of {} poses fits in {} poses", o.segment_length, n));
   SegmentStudyOutcome out;
   out.segments.resize(static_cast<std::size_t>(count));
-  core::trial_loop(  // one trial per segment; its record is the SegmentOutcome
+  repro::trial_loop(  // one trial per segment; its record is the SegmentOutcome
       static_cast<std::size_t>(count),
       [&](std::size_t k) {
         SegmentOutcome& s = out.segments[k];
@@ -106,9 +106,9 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
           s.sbsos = score(p, c.estimate.poses, c.estimate.landmarks, s.truth, s.truth_landmarks, c.time_s);
           s.status = c.status;
           s.certified_order = c.certified_order;
-          s.relative_gap = c.relative_gap;
+          s.relative_gap = c.relative_gap();
           s.rank_ratio = c.first.rank_ratio;
-          s.lower_bound = c.lower_bound;
+          s.lower_bound = c.bound.lower;
           s.primal_residual = c.first.primal_residual;
           s.s_min_eigenvalue = c.first.s_min_eigenvalue;
           s.solver_claims_optimal = c.first.solver_claims_optimal;
@@ -178,13 +178,13 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, core::Progress* 
     for (int t = 0; t < o.families[f].trials; ++t) jobs.emplace_back(f, static_cast<std::size_t>(t));
   }
   // One trial per (family, trial) job; its record is the ExactnessTrial.
-  const auto save = [&](core::Writer& w, std::size_t j) {
-    core::save(w, out.trials[jobs[j].first][jobs[j].second]);
+  const auto save = [&](repro::Writer& w, std::size_t j) {
+    repro::save(w, out.trials[jobs[j].first][jobs[j].second]);
   };
-  const auto load = [&](core::Reader& r, std::size_t j) {
-    core::load(r, out.trials[jobs[j].first][jobs[j].second]);
+  const auto load = [&](repro::Reader& r, std::size_t j) {
+    repro::load(r, out.trials[jobs[j].first][jobs[j].second]);
   };
-  core::trial_loop(
+  repro::trial_loop(
       jobs.size(),
       [&](std::size_t j) {
         const auto [f, t] = jobs[j];
@@ -212,11 +212,11 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, core::Progress* 
         const CertifiedSolution c = solve_certified(g, o.certify);
         ExactnessTrial& r = out.trials[f][t];
         r.gap_order1 = std::isfinite(c.first.lower_bound)
-                           ? std::max(0.0, c.upper_bound - c.first.lower_bound) / std::max(c.upper_bound, 1.0)
+                           ? std::max(0.0, c.bound.upper - c.first.lower_bound) / std::max(c.bound.upper, 1.0)
                            : std::numeric_limits<double>::infinity();
         r.tight_order1 =
             c.certified_order == 1;  // the certificate's verdict (finite, valid bound within tolerance)
-        r.certified = c.status == CertificateStatus::certified;
+        r.certified = c.status == core::SearchStatus::optimal;
         r.escalated = c.escalated;
         r.escalation_skipped = !r.tight_order1 && !c.escalated;
         r.rank_ratio = c.first.rank_ratio;

@@ -42,7 +42,7 @@ struct MethodOutcome {
   double time_s = 0.0;
   std::vector<lie::SE2> poses;
   std::vector<lie::Vec2> landmarks;
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() { return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks); }
   auto fields() const {
     return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks);
@@ -54,7 +54,7 @@ struct SegmentOutcome {
   bool failed = false;  // SBSOS threw (the message is in `error`)
   std::string error;
   MethodOutcome sbsos, lm_random, lm_odometry;
-  CertificateStatus status = CertificateStatus::not_certified;
+  core::SearchStatus status = core::SearchStatus::unproven;
   int certified_order = 0;
   double relative_gap = 0.0, rank_ratio = 0.0, lower_bound = 0.0;
   double primal_residual = 0.0, s_min_eigenvalue = 0.0;
@@ -63,7 +63,7 @@ struct SegmentOutcome {
   double sdp_time_s = 0.0;  // the SDP solver call of the first relaxation
   std::vector<lie::SE2> truth;
   std::vector<lie::Vec2> truth_landmarks;
-  // The members, for core::save/load (the per-trial records of sharded runs, core/archive.hpp).
+  // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
   auto fields() {
     return std::tie(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
                     lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound,

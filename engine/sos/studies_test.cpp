@@ -46,7 +46,7 @@ TEST_CASE("segment study on noise-free data: every segment certified, SBSOS and 
   REQUIRE(out.segments.size() == 3);
   for (const auto& s : out.segments) {
     CHECK(!s.failed);
-    CHECK(s.status == CertificateStatus::certified);
+    CHECK(s.status == keel::core::SearchStatus::optimal);
     CHECK(s.sbsos.trans_error < 1e-6);
     CHECK(s.sbsos.rot_error < 1e-6);
     CHECK(s.lm_odometry.trans_error < 1e-6);

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "core/timing.hpp"
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/io.hpp"
 #include "pgo/optimize.hpp"
 
@@ -110,7 +110,7 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   v(0) = 1.0;
   v.tail(n) = z;
   const Eigen::VectorXd qv = q * v;
-  out.cost = v.dot(qv);
+  out.bound.upper = v.dot(qv);
   out.scale = q.diagonal().maxCoeff();
 
   // Multipliers (first-order conditions Q v = Λ v; least squares on each (c_i, s_i) pair).
@@ -197,12 +197,11 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   out.factor_time_s = core::seconds_since(tf);
   out.lambda_min_bound = std::isfinite(best) ? -best : -std::numeric_limits<double>::infinity();
   const double poses = static_cast<double>(p.poses);
-  out.lower_bound =
+  out.bound.lower =
       std::isfinite(best) ? out.multiplier_sum - best * poses : -std::numeric_limits<double>::infinity();
-  out.relative_gap = std::isfinite(out.lower_bound) && std::isfinite(out.cost)
-                         ? std::max(0.0, out.cost - out.lower_bound) / std::max(std::abs(out.cost), 1.0)
-                         : std::numeric_limits<double>::infinity();
-  out.certified = out.stationary && out.psd && out.relative_gap <= o.gap_tolerance;
+  out.status = out.stationary && out.psd && out.relative_gap() <= o.gap_tolerance
+                   ? core::SearchStatus::optimal
+                   : core::SearchStatus::unproven;
   out.time_s = core::seconds_since(t0);
   return out;
 }
@@ -363,7 +362,7 @@ std::vector<GlobalCertificateDataset> load_global_certificate_datasets(const cor
     GlobalCertificateDataset d;
     d.name = name;
     d.file = files.string(name);
-    d.graph = graph::read_pose_graph_2d(graph::resolve_dataset_file(name, d.file));
+    d.graph = graph::read_pose_graph_2d(datasets::resolve_dataset_file(name, d.file));
     out.push_back(std::move(d));
   }
   return out;

@@ -36,6 +36,7 @@
 
 #include "core/config.hpp"
 #include "core/progress.hpp"
+#include "core/bound.hpp"
 #include "graph/pose_graph.hpp"
 #include "pgo/options.hpp"
 #include "sos/problem.hpp"
@@ -52,23 +53,28 @@ struct GlobalCertificateOptions {
 };
 
 struct GlobalCertificate {
-  bool certified = false;       // stationary, S + η_tol D positive definite, and relative_gap ≤ gap_tolerance
+  // optimal: stationary, S + η_tol D positive definite, and relative_gap() ≤ gap_tolerance; else unproven.
+  core::SearchStatus status = core::SearchStatus::unproven;
+  // upper: f(z) = vᵀQv, original units; lower: the proven bound on min f, Σλ − (smallest successful shift) ·
+  // poses (−inf when no shift succeeded).
+  core::Bound bound{0.0, 0.0};
   bool stationary = false;      // stationarity ≤ stationarity_tolerance
   bool psd = false;             // the factorization of S + η_tol D succeeded
-  double cost = 0.0;            // f(z) = vᵀQv, original units
   double multiplier_sum = 0.0;  // λ₀ + Σ λ_i (= f(z) − vᵀSv; equals cost at a stationary point)
   double stationarity = 0.0;    // ‖S v‖∞ / (scale ‖v‖∞)
   double scale = 0.0;           // max_k Q_kk
   double eta = 0.0;             // η_tol = eta_relative × the largest diagonal entry of Q on v₀ and rotations
   double lambda_min_bound = 0.0;  // proven: S + |lambda_min_bound| D ≻ 0 (−smallest successful shift; −inf
                                   // when none succeeded)
-  double lower_bound = 0.0;       // proven lower bound on min f: Σλ − (smallest successful shift) · poses
-  double relative_gap = 0.0;      // (f(z) − lower_bound) / max(f(z), 1); +inf without a bound
   double failed_shift = 0.0;  // the largest shift tried whose factorization failed (0: none): λ_min(S) ≲ −it
   double min_rotation_multiplier = 0.0;  // min_i λ_i (0 without free poses), for the record
   int factorizations = 0;
   long factor_nonzeros = 0;  // nonzeros of the Cholesky factor (fill-reducing AMD ordering)
   double factor_time_s = 0.0, time_s = 0.0;
+  [[nodiscard]] bool certified() const { return status == core::SearchStatus::optimal; }
+  [[nodiscard]] double cost() const { return bound.upper; }
+  // (f(z) − lower) / max(f(z), 1) (core/bound.hpp); +inf without a bound.
+  [[nodiscard]] double relative_gap() const { return bound.relative_gap(); }
 };
 
 // Certifies z (unknowns as problem.hpp lays them out; rotations must lie on their circles to 1e-9,
@@ -145,7 +151,7 @@ struct GlobalCertificateStudyOutcome {
 // refine_gradient_tolerance, eta_relative, stationarity_tolerance, bound_factorizations.
 [[nodiscard]] GlobalCertificateStudyOptions read_global_certificate_study_options(const core::ConfigTable& t);
 // Keys: datasets (names) and a table graph_files with one key per name: the graph file, resolved by
-// keel::graph::resolve_dataset_file(name, file) and read by keel::graph::read_pose_graph_2d (every entry
+// keel::datasets::resolve_dataset_file(name, file) and read by keel::graph::read_pose_graph_2d (every entry
 // of graph_files must be a string; only the listed data sets are read).
 [[nodiscard]] std::vector<GlobalCertificateDataset> load_global_certificate_datasets(
     const core::ConfigTable& t);

@@ -1,6 +1,7 @@
 // Fig. 2.2 (§2.7.1.1): PCM-Exact, PCM-Heuristic, SCGP and RANSAC against the combinatorial maximum pairwise
 // consistent set (eq. 2.5) on simulated 1D worlds (§2.7.1) — thin driver over keel::eval::run_world1d_study.
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.eval;
 
@@ -15,10 +16,11 @@ import keel.eval;
 #include "common/world1d.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace eval = keel::eval;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     eval::World1DStudyOptions o = keel::experiments::read_world1d_study(p);
     ex.params_done();
@@ -108,7 +110,7 @@ int main(int argc, char** argv) {
     // Fig. 2.2: first row, size returned − maximum size; second row, inconsistent pairs of the returned set.
     const char* titles[] = {"PCM-Exact", "PCM-Heuristic", "SCGP", "RANSAC"};
     const char* colors[] = {"tab:blue", "tab:green", "tab:orange", "tab:red"};
-    core::Figure f;
+    repro::Figure f;
     f.file = ex.id() + ".png";
     f.title = fmt::format("Fig. 2.2: selections on {} 1D worlds vs the combinatorial maximum (eq. 2.5)", n);
     f.rows = 2;
@@ -117,7 +119,7 @@ int main(int argc, char** argv) {
     f.height = 7.5;
     for (int row = 0; row < 2; ++row) {
       for (std::size_t k = 0; k < cmp.rows.size(); ++k) {
-        core::Panel panel;
+        repro::Panel panel;
         panel.title = titles[k];
         panel.xlabel =
             row == 0 ? "size returned − maximum size" : "inconsistent pairs returned (99.9 % of worlds)";
@@ -126,9 +128,9 @@ int main(int argc, char** argv) {
         if (row == 1) panel.xlim = std::make_pair(-1.0, ishow + 0.5);
         panel.legend = "none";
         panel.layers.push_back(
-            row == 0
-                ? core::histogram_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
-                : core::histogram_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "", colors[k]));
+            row == 0 ? repro::histogram_layer(cmp.size_diff_bins, cmp.rows[k].size_diff_hist, "", colors[k])
+                     : repro::histogram_layer(cmp.inconsistent_bins, cmp.rows[k].inconsistent_hist, "",
+                                              colors[k]));
         f.panels.push_back(panel);
       }
     }

@@ -2,6 +2,7 @@
 // combinatorial maximum's size (eq. 2.5) as the 1D worlds get denser (outliers drawn closer to the true
 // state) — thin driver over keel::eval::run_world1d_study, one study per density.
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.eval;
 
@@ -15,10 +16,11 @@ import keel.eval;
 #include "common/world1d.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace eval = keel::eval;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     eval::World1DStudyOptions o = keel::experiments::read_world1d_study(p);
     const auto ranges = p.numbers("outlier_mean_ranges");
@@ -70,19 +72,19 @@ int main(int argc, char** argv) {
             exact_always,
             fmt::format("lowest match rate {:.6f}", *std::min_element(exact.begin(), exact.end())), false);
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.title = fmt::format("PCM-Heuristic on denser 1D worlds ({} worlds per R)", o.worlds);
     f.width = 7.5;
     f.height = 5.0;
-    core::Panel panel;
+    repro::Panel panel;
     panel.xlabel = "outlier mean range R (outlier means ~ U[x − R, x + R]); smaller is denser";
     panel.ylabel = "fraction of worlds with a set of the maximum's size";
     panel.xscale = "log";
-    panel.layers.push_back(core::line_layer(ranges, heuristic, "PCM-Heuristic", "tab:cyan", "o"));
-    panel.layers.push_back(core::line_layer(ranges, exact, "PCM-Exact", "tab:blue", "s"));
+    panel.layers.push_back(repro::line_layer(ranges, heuristic, "PCM-Heuristic", "tab:cyan", "o"));
+    panel.layers.push_back(repro::line_layer(ranges, exact, "PCM-Exact", "tab:blue", "s"));
     panel.layers.push_back(
-        core::hline_layer(reference, fmt::format("thesis: PCM-Heuristic {:.4g} %", 100 * reference), "0.4"));
+        repro::hline_layer(reference, fmt::format("thesis: PCM-Heuristic {:.4g} %", 100 * reference), "0.4"));
     f.panels.push_back(panel);
     r.figure(f);
   });

@@ -2,6 +2,7 @@
 // over keel::eval::run_timing_sweep. Wall times go through Results::timing (never diffed; the figure refers
 // to them by name); deterministic quantities (mean selected sizes, heuristic match rates) are series.
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.sim;
 import keel.eval;
@@ -14,6 +15,7 @@ import keel.eval;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
 namespace eval = keel::eval;
@@ -34,7 +36,7 @@ const Style kStyles[] = {{"Combinatorial (all 2^m subsets)", "k", "x"},
 }  // namespace
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     eval::TimingSweepOptions o;
     o.base.world = eval::read_world1d_options(p, false);
@@ -92,7 +94,7 @@ int main(int argc, char** argv) {
                     sweep.combinatorial_checked, sweep.combinatorial_mismatch));
 
     // Fig. 2.3: median time per selection and, beside it, the mean selected size (both log-log).
-    core::Figure f;
+    repro::Figure f;
     f.file = ex.id() + ".png";
     f.title = fmt::format(
         "Fig. 2.3: selection time vs number of measurements ({} worlds per size; Q not timed; "
@@ -100,7 +102,7 @@ int main(int argc, char** argv) {
         o.base.worlds);
     f.width = 13.0;
     f.height = 5.0;
-    core::Panel tp, sp;
+    repro::Panel tp, sp;
     tp.xlabel = sp.xlabel = "number of measurements m";
     tp.ylabel = "median wall time per selection (s)";
     sp.ylabel = "mean number of selected measurements";
@@ -109,11 +111,11 @@ int main(int argc, char** argv) {
     sp.legend = "none";
     for (std::size_t c = 0; c < sweep.curves.size(); ++c) {
       const auto& st = kStyles[c];
-      core::Layer l = core::line_layer(sweep.curves[c].m, {}, st.label, st.color, st.marker);
+      repro::Layer l = repro::line_layer(sweep.curves[c].m, {}, st.label, st.color, st.marker);
       l.y_timings = timing_names[c];
       tp.layers.push_back(l);
       sp.layers.push_back(
-          core::line_layer(sweep.curves[c].m, sweep.curves[c].size_mean, st.label, st.color, st.marker));
+          repro::line_layer(sweep.curves[c].m, sweep.curves[c].size_mean, st.label, st.color, st.marker));
     }
     f.panels = {tp, sp};
     r.figure(f);

@@ -2,6 +2,7 @@
 // consistency threshold on the City10000 two-robot data sets of Table 2.1 — thin driver over keel.eval's
 // two-robot study. Beyond the thesis: the same sweep with the poses composed as independent.
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.eval;
 
@@ -15,12 +16,13 @@ import keel.eval;
 #include "ch2_fig2_4_threshold_sweep/report.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 using namespace keel::experiments::fig2_4;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const auto copt = eval::read_candidate_options(p);
     const std::size_t datasets = p.count("datasets");
@@ -70,7 +72,7 @@ int main(int argc, char** argv) {
     r.metric("datasets", static_cast<double>(datasets));
     r.metric("candidates", copt.total());
     r.series("p", p_values);
-    core::Figure fig;
+    repro::Figure fig;
     fig.file = ex.id() + ".png";
     fig.title = fmt::format(
         "Fig. 2.4: City10000 two-robot data sets ({} sets) against the tail probability p of "

@@ -29,7 +29,7 @@ struct Claimed {
 };
 
 // The claims of §2.7.2.1 on one regime's curves (they may fail); `in` names the regime in the check names.
-inline void check_fig2_4(keel::core::Results& r, const std::vector<double>& p_values,
+inline void check_fig2_4(keel::repro::Results& r, const std::vector<double>& p_values,
                          const std::vector<Curve>& curves, Claimed c, double chi2_no_out, double claim_p_max,
                          double claim_tpr_spread, double claim_fpr_max, const std::string& in) {
   const auto [fe, fh, fr] = c;
@@ -71,13 +71,14 @@ inline void check_fig2_4(keel::core::Results& r, const std::vector<double>& p_va
 }
 
 // One row of three panels (TPR, FPR, χ²) of Fig. 2.4 for one regime.
-inline void add_fig2_4_row(keel::core::Figure& fig, const std::vector<double>& p_values,
+inline void add_fig2_4_row(keel::repro::Figure& fig, const std::vector<double>& p_values,
                            const std::vector<Curve>& curves, const std::vector<Family>& families,
                            double chi2_no_out, const std::string& label) {
   namespace core = keel::core;
+  namespace repro = keel::repro;
   const char* names[3] = {"TPR", "FPR", "normalized χ²"};
   for (int panel = 0; panel < 3; ++panel) {
-    core::Panel pa;
+    repro::Panel pa;
     pa.title = fmt::format("{} — {}", names[panel], label);
     pa.xlabel = "p";
     pa.ylabel = names[panel];
@@ -86,10 +87,10 @@ inline void add_fig2_4_row(keel::core::Figure& fig, const std::vector<double>& p
     pa.legend = panel == 0 ? "" : "none";
     for (std::size_t f = 0; f < families.size(); ++f) {
       const auto& y = panel == 0 ? curves[f].tpr : panel == 1 ? curves[f].fpr : curves[f].chi2;
-      pa.layers.push_back(core::line_layer(p_values, y, families[f].label, families[f].color, "o",
-                                           families[f].name == "pcm_heuristic" ? "--" : ""));
+      pa.layers.push_back(repro::line_layer(p_values, y, families[f].label, families[f].color, "o",
+                                            families[f].name == "pcm_heuristic" ? "--" : ""));
     }
-    if (panel == 2) pa.layers.push_back(core::hline_layer(chi2_no_out, "NO-OUT", "0.3"));
+    if (panel == 2) pa.layers.push_back(repro::hline_layer(chi2_no_out, "NO-OUT", "0.3"));
     fig.panels.push_back(pa);
   }
 }

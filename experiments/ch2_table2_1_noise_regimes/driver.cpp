@@ -2,6 +2,7 @@
 // sets depends on the noise level of the measurements and on the realization of the local maps, and how well
 // the consistency metric is calibrated in each regime — thin driver over keel.eval's two-robot study.
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.pcm;
 import keel.sim;
@@ -17,12 +18,13 @@ import keel.eval;
 #include "ch2_table2_1_noise_regimes/report.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace eval = keel::eval;
 using namespace keel::experiments::noise_regimes;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const auto copt = eval::read_candidate_options(p);
     const std::vector<double> scales = p.numbers("noise_scales"), pair_p = p.numbers("pair_p_values");

@@ -16,6 +16,7 @@
 namespace keel::experiments::noise_regimes {
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace eval = keel::eval;
 
 // A number as a metric-name tag: {:g} with '.' replaced by '_' (0.12 -> "0_12", 1 -> "1", 11 -> "11").
@@ -158,7 +159,7 @@ inline Summary summarize(const std::vector<Realization>& reals, const std::vecto
 inline const char* const kComposition[2] = {"joint", "independent"};
 
 // `name` as a series over the realizations plus its .mean, .min and .max.
-inline void record_values(core::Results& r, const std::string& name, const std::vector<double>& v) {
+inline void record_values(repro::Results& r, const std::string& name, const std::vector<double>& v) {
   const auto st = core::mean_std(v);
   r.series(name, v);
   r.metric(name + ".mean", st.mean);
@@ -166,7 +167,7 @@ inline void record_values(core::Results& r, const std::string& name, const std::
   r.metric(name + ".max", st.max);
 }
 
-inline void record(core::Results& r, const Summary& s, const std::vector<Regime>& regimes,
+inline void record(repro::Results& r, const Summary& s, const std::vector<Regime>& regimes,
                    const std::vector<eval::StudyMethod>& methods, const Setup& setup) {
   for (std::size_t m = 0; m < methods.size(); ++m)
     if (methods[m].method.kind != eval::MergeMethodKind::no_outliers)
@@ -209,7 +210,7 @@ inline std::string join(const std::vector<double>& v) {
 }
 
 // The two claims, checked on our numbers (they may fail).
-inline void check_claims(core::Results& r, const Summary& s, const Setup& setup, const Claims& c) {
+inline void check_claims(repro::Results& r, const Summary& s, const Setup& setup, const Claims& c) {
   const auto& tpr = s.tpr[setup.r_claim][setup.i_claim];
   const auto& fpr = s.fpr[setup.r_claim][setup.i_claim];
   bool ok = true;
@@ -242,11 +243,11 @@ inline void check_claims(core::Results& r, const Summary& s, const Setup& setup,
 }
 
 // Against s, one point per realization, a line through the means, the dataset regime as a dotted line.
-inline core::Figure figure(const std::string& file, const Summary& s, const std::vector<Regime>& regimes,
-                           const std::vector<eval::StudyMethod>& methods,
-                           const std::vector<std::string>& colors, const Setup& setup,
-                           std::size_t realizations, std::size_t datasets) {
-  core::Figure fig;
+inline repro::Figure figure(const std::string& file, const Summary& s, const std::vector<Regime>& regimes,
+                            const std::vector<eval::StudyMethod>& methods,
+                            const std::vector<std::string>& colors, const Setup& setup,
+                            std::size_t realizations, std::size_t datasets) {
+  repro::Figure fig;
   fig.file = file;
   fig.title = fmt::format(
       "PCM on the City10000 two-robot data sets against the noise scale s of redrawn measurements "
@@ -256,7 +257,7 @@ inline core::Figure figure(const std::string& file, const Summary& s, const std:
   for (const auto& g : regimes)
     if (g.resampled) xs.push_back(g.scale);
   // Scatter of the realizations, line through the means, dotted line at the dataset regime's mean.
-  const auto add = [&](core::Panel& pa, const std::vector<std::vector<double>>& per_regime,
+  const auto add = [&](repro::Panel& pa, const std::vector<std::vector<double>>& per_regime,
                        const std::string& label, const std::string& color) {
     std::vector<double> px, py, my;
     for (std::size_t g = 1; g < regimes.size(); ++g) {
@@ -264,13 +265,13 @@ inline core::Figure figure(const std::string& file, const Summary& s, const std:
       py.insert(py.end(), per_regime[g].begin(), per_regime[g].end());
       my.push_back(core::mean_std(per_regime[g]).mean);
     }
-    pa.layers.push_back(core::scatter_layer(px, py, "", color, 22.0, 0.6, "o"));
-    pa.layers.push_back(core::line_layer(xs, my, label, color, "", "-"));
-    pa.layers.push_back(core::hline_layer(core::mean_std(per_regime[0]).mean, "", color, ":"));
+    pa.layers.push_back(repro::scatter_layer(px, py, "", color, 22.0, 0.6, "o"));
+    pa.layers.push_back(repro::line_layer(xs, my, label, color, "", "-"));
+    pa.layers.push_back(repro::hline_layer(core::mean_std(per_regime[0]).mean, "", color, ":"));
   };
   const auto panel = [&](const std::string& title, const std::string& xlabel, const std::string& ylabel,
                          const std::string& yscale) {
-    core::Panel pa;
+    repro::Panel pa;
     pa.title = title;
     pa.xlabel = xlabel;
     pa.ylabel = ylabel;
@@ -306,11 +307,11 @@ inline core::Figure figure(const std::string& file, const Summary& s, const std:
       add(pa, v, std::string("Q, ") + kComposition[c] + " composition", comp_color[c]);
     }
     if (!q) {
-      pa.layers.push_back(core::hline_layer(setup.pair_p[j], "nominal at s = 1", "0.2", "--"));
+      pa.layers.push_back(repro::hline_layer(setup.pair_p[j], "nominal at s = 1", "0.2", "--"));
     } else {
       std::vector<double> ny;  // E q = 3 s² for a calibrated Q
       for (double x : xs) ny.push_back(3.0 * x * x);
-      pa.layers.push_back(core::line_layer(xs, ny, "nominal 3 s^2", "0.2", "", "--"));
+      pa.layers.push_back(repro::line_layer(xs, ny, "nominal 3 s^2", "0.2", "", "--"));
     }
     fig.panels.push_back(pa);
   }

@@ -2,6 +2,7 @@
 // (NCLT and its GICP front end are not available) with DCS, SCGP, RANSAC and PCM — thin driver over
 // keel.eval's two-robot study.
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.eval;
 
@@ -18,11 +19,12 @@ import keel.eval;
 #include "ch2_table2_2_3d_substitute/report.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace eval = keel::eval;
 using keel::experiments::claimed_method;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const auto copt = eval::read_candidate_options(p);
     const std::size_t datasets = p.count("datasets");

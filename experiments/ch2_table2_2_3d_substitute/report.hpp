@@ -21,7 +21,7 @@ struct Table22Claims {
 };
 
 // The claims of §2.7.3 on the table (they may fail).
-inline void check_table2_2(keel::core::Results& r, const std::vector<keel::eval::StudyMethod>& methods,
+inline void check_table2_2(keel::repro::Results& r, const std::vector<keel::eval::StudyMethod>& methods,
                            const std::vector<keel::eval::MethodSummary>& sum, const Table22Claims& c,
                            const keel::core::ConfigTable& claims) {
   const auto idx = [&](const std::string& name) { return claimed_method(methods, claims, name); };
@@ -95,7 +95,7 @@ inline void check_table2_2(keel::core::Results& r, const std::vector<keel::eval:
 }
 
 // Fig. 2.6's claims: PCM-HeuPatt consistent at every threshold, RANSAC inconsistent at every threshold.
-inline void check_fig2_6(keel::core::Results& r, const std::vector<double>& sweep_p,
+inline void check_fig2_6(keel::repro::Results& r, const std::vector<double>& sweep_p,
                          const std::vector<double>& ransac_chi2, const std::vector<double>& pcm_chi2,
                          double ref_chi2, std::size_t dataset, double chi2_rel) {
   bool pcm_ok = true, ransac_ok = true;
@@ -122,15 +122,16 @@ inline void check_fig2_6(keel::core::Results& r, const std::vector<double>& swee
 
 // Fig. 2.6: χ² and the selection counts of RANSAC (sw[0]) and PCM-HeuPatt (sw[1]) against p; sw[m] = {χ², TP,
 // FP}.
-inline keel::core::Figure fig2_6(const std::string& file, std::size_t dataset,
-                                 const std::vector<double>& sweep_p, const std::vector<double> (&sw)[2][3],
-                                 double ref_chi2) {
+inline keel::repro::Figure fig2_6(const std::string& file, std::size_t dataset,
+                                  const std::vector<double>& sweep_p, const std::vector<double> (&sw)[2][3],
+                                  double ref_chi2) {
   namespace core = keel::core;
-  core::Figure f;
+  namespace repro = keel::repro;
+  repro::Figure f;
   f.file = file;
   f.title = fmt::format(
       "Fig. 2.6 (substitute): RANSAC and PCM-HeuPatt vs threshold p, sphere2500 data set {}", dataset);
-  core::Panel chi2;
+  repro::Panel chi2;
   chi2.title = "normalized chi2 of the merged graph";
   chi2.xlabel = "p (gamma = chi2 quantile at 1 - p, 6 dof)";
   chi2.ylabel = "normalized chi2";
@@ -140,18 +141,18 @@ inline keel::core::Figure fig2_6(const std::string& file, std::size_t dataset,
   for (int m = 0; m < 2; ++m)
     for (double v : sw[m][0]) top = std::max(top, 1.1 * v);
   chi2.ylim = std::make_pair(0.0, top);
-  chi2.layers.push_back(core::line_layer(sweep_p, sw[1][0], "PCM-HeuPatt", "navy", "o"));
-  chi2.layers.push_back(core::line_layer(sweep_p, sw[0][0], "RANSAC", "red", "s"));
-  chi2.layers.push_back(core::hline_layer(ref_chi2, "NO-OUT", "0.4"));
-  core::Panel counts;
+  chi2.layers.push_back(repro::line_layer(sweep_p, sw[1][0], "PCM-HeuPatt", "navy", "o"));
+  chi2.layers.push_back(repro::line_layer(sweep_p, sw[0][0], "RANSAC", "red", "s"));
+  chi2.layers.push_back(repro::hline_layer(ref_chi2, "NO-OUT", "0.4"));
+  repro::Panel counts;
   counts.title = "selected inliers (TP) and outliers (FP)";
   counts.xlabel = chi2.xlabel;
   counts.ylabel = "count";
   counts.xscale = "log";
-  counts.layers.push_back(core::line_layer(sweep_p, sw[1][1], "PCM-HeuPatt TP", "navy", "o"));
-  counts.layers.push_back(core::line_layer(sweep_p, sw[1][2], "PCM-HeuPatt FP", "navy", "o", "--"));
-  counts.layers.push_back(core::line_layer(sweep_p, sw[0][1], "RANSAC TP", "red", "s"));
-  counts.layers.push_back(core::line_layer(sweep_p, sw[0][2], "RANSAC FP", "red", "s", "--"));
+  counts.layers.push_back(repro::line_layer(sweep_p, sw[1][1], "PCM-HeuPatt TP", "navy", "o"));
+  counts.layers.push_back(repro::line_layer(sweep_p, sw[1][2], "PCM-HeuPatt FP", "navy", "o", "--"));
+  counts.layers.push_back(repro::line_layer(sweep_p, sw[0][1], "RANSAC TP", "red", "s"));
+  counts.layers.push_back(repro::line_layer(sweep_p, sw[0][2], "RANSAC FP", "red", "s", "--"));
   f.panels.push_back(chi2);
   f.panels.push_back(counts);
   return f;

@@ -2,6 +2,7 @@
 // keel::align::run_alignment_study (one world) and keel::sim::make_alignment_world (the same seed and stream,
 // so the same world, for the figure).
 import keel.core;
+import keel.repro;
 import keel.sim;
 import keel.align;
 
@@ -15,11 +16,12 @@ import keel.align;
 #include "ch3_fig3_4_example/report.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sim = keel::sim;
 namespace align = keel::align;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);

@@ -2,6 +2,7 @@
 // the known-depth case — thin driver over keel::align::run_hull_study, with sim::make_hull_world for the
 // figure's world (same seed and stream, so the same world).
 import keel.core;
+import keel.repro;
 import keel.sim;
 import keel.align;
 
@@ -15,11 +16,12 @@ import keel.align;
 #include "ch3_fig3_5_hull_substitute/report.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sim = keel::sim;
 namespace align = keel::align;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     align::HullStudyOptions o;
     o.world = align::read_hull_world_options(p);
@@ -44,17 +46,17 @@ int main(int argc, char** argv) {
     auto& r = ex.results();
     r.metric("worlds", static_cast<double>(o.worlds));
     r.metric("depth_gate", o.compare.align.depth_gate);
-    core::Figure cdf;
+    repro::Figure cdf;
     cdf.file = ex.id() + "_errors.png";
     cdf.title =
         fmt::format("SUBSTITUTE for §3.8: errors over {} synthetic hull worlds (empirical CDFs)", o.worlds);
-    core::Panel pr, pt;
+    repro::Panel pr, pt;
     pr.xlabel = "rotation error |θ̂ − θ| (rad)";
     pt.xlabel = "translation error at the query centroid (m)";
     pr.ylabel = pt.ylabel = "fraction of worlds";
     pr.xscale = pt.xscale = "log";
     pt.legend = "none";
-    core::Layer bound;
+    repro::Layer bound;
     bound.type = "vline", bound.value = within, bound.color = "0.4", bound.linestyle = ":";
     pt.layers.push_back(bound);
     const char* colors[] = {"tab:blue", "tab:orange", "tab:green", "tab:red"};
@@ -78,8 +80,8 @@ int main(int argc, char** argv) {
         r.timing(name + ".time_s", core::mean_std(time).mean);
         if (prefix.empty() && out.methods[m] == align::Method::proposed) proposed_median = tmed;
         const std::string label = name.substr(prefix.size()) + (prefix.empty() ? "" : " (no gate)");
-        pr.layers.push_back(core::ecdf_layer(rot, label, colors[m % 4], 1e-6, style));  // log axes
-        pt.layers.push_back(core::ecdf_layer(trans, label, colors[m % 4], 1e-6, style));
+        pr.layers.push_back(repro::ecdf_layer(rot, label, colors[m % 4], 1e-6, style));  // log axes
+        pt.layers.push_back(repro::ecdf_layer(trans, label, colors[m % 4], 1e-6, style));
       }
     };
     summarise(gated, "", "-");

@@ -11,6 +11,7 @@
 namespace keel::experiments::fig3_5 {
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sim = keel::sim;
 namespace align = keel::align;
 
@@ -22,29 +23,29 @@ std::vector<double> kappa2(const std::vector<double>& features) {
 }
 
 // A survey drawn as its path (grey) and its positions coloured by κ2 (the second feature component).
-void survey(core::Panel& panel, const std::vector<double>& x, const std::vector<double>& y,
+void survey(repro::Panel& panel, const std::vector<double>& x, const std::vector<double>& y,
             const std::vector<double>& features, double size, double vmin, double vmax,
             std::string path_color = "0.7", double path_width = 0.5) {
   std::vector<double> c = kappa2(features);
-  panel.layers.push_back(core::line_layer(x, y, "", std::move(path_color)));
+  panel.layers.push_back(repro::line_layer(x, y, "", std::move(path_color)));
   panel.layers.back().linewidth = path_width;
-  core::Layer l = core::scatter_layer(x, y, "", "k", size, 1.0, "o");
+  repro::Layer l = repro::scatter_layer(x, y, "", "k", size, 1.0, "o");
   l.c = std::move(c), l.cmap = "viridis", l.vmin = vmin, l.vmax = vmax;
   panel.layers.push_back(std::move(l));
 }
 
 // The figure on one world: (a) the reference and (b) the query (its own frame) coloured by κ2, (c) the query
 // placed by `estimate` (raw; null: panel left empty), (d) by the ground truth.
-inline core::Figure alignment_figure(const std::string& id, const sim::HullWorld& w,
-                                     const align::Transform2* estimate) {
+inline repro::Figure alignment_figure(const std::string& id, const sim::HullWorld& w,
+                                      const align::Transform2* estimate) {
   const std::vector<double> k2 = kappa2(w.ref_features);
   const auto [lo, hi] = std::minmax_element(k2.begin(), k2.end());
-  core::Figure f;
+  repro::Figure f;
   f.file = id + ".png";
   f.title =
       "SUBSTITUTE for Fig. 3.5: synthetic hull surveys aligned on DVL curvature (world 0, depth gate on)";
   f.rows = 2, f.cols = 2, f.width = 13.0, f.height = 8.5;
-  core::Panel a, b, c, d;
+  repro::Panel a, b, c, d;
   a.title = "(a) reference survey, coloured by κ₂",
   b.title = "(b) query survey (its own frame), coloured by κ₂";
   c.title = "(c) estimated alignment (proposed, raw)", d.title = "(d) ground truth alignment";
@@ -52,7 +53,7 @@ inline core::Figure alignment_figure(const std::string& id, const sim::HullWorld
     q->xlabel = "x (m)", q->ylabel = "y (m)", q->aspect = "equal", q->colorbar = "κ₂ (1/m)";
   survey(a, w.ref_x, w.ref_y, w.ref_features, 10, *lo, *hi);
   survey(b, w.query_x, w.query_y, w.query_features, 16, *lo, *hi);
-  const auto place = [&](core::Panel& q, const align::Transform2& t) {
+  const auto place = [&](repro::Panel& q, const align::Transform2& t) {
     std::vector<double> x, y;
     for (std::size_t j = 0; j < w.query_x.size(); ++j) {
       x.push_back(t.a11 * w.query_x[j] + t.a12 * w.query_y[j] + t.tx);

@@ -3,6 +3,7 @@
 // fences); wall times are timings (never diffed). Beyond the thesis: the certified global optimum over SO(2)
 // of round 0's hull objective on every world, against the eight-sector answer.
 import keel.core;
+import keel.repro;
 import keel.align;
 
 #include <fmt/format.h>
@@ -13,10 +14,11 @@ import keel.align;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace align = keel::align;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);
@@ -44,12 +46,12 @@ int main(int argc, char** argv) {
       double valid = 0, time_mean = 0, time_median = 0;
     };
     std::vector<Row> rows;
-    core::Figure f;
+    repro::Figure f;
     f.file = ex.id() + ".png";
     f.title = fmt::format("Table 3.1 errors over {} simulated worlds (empirical CDFs)", o.worlds);
     f.width = 12.0;
     f.height = 4.8;
-    core::Panel pr, pt;
+    repro::Panel pr, pt;
     pr.xlabel = "rotation squared error (rad²)";
     pt.xlabel = "translation squared error at the query centroid (m²)";
     pr.ylabel = pt.ylabel = "fraction of worlds";
@@ -77,8 +79,8 @@ int main(int argc, char** argv) {
       r.metric(row.name + ".valid_rate", row.valid);
       r.timing(row.name + ".time_s", row.time_mean);
       r.timing(row.name + ".time_s.median", row.time_median);
-      pr.layers.push_back(core::ecdf_layer(rot, row.name, colors[m % 4], 1e-12));  // log axes
-      pt.layers.push_back(core::ecdf_layer(trans, row.name, colors[m % 4], 1e-12));
+      pr.layers.push_back(repro::ecdf_layer(rot, row.name, colors[m % 4], 1e-12));  // log axes
+      pt.layers.push_back(repro::ecdf_layer(trans, row.name, colors[m % 4], 1e-12));
       rows.push_back(row);
     }
     f.panels = {pr, pt};
@@ -128,7 +130,7 @@ int main(int argc, char** argv) {
       for (const auto& c : out.certificates) {
         gap.push_back(c.relative_gap), dtheta.push_back(c.theta_difference);
         nodes.push_back(static_cast<double>(c.certificate.nodes)), ctime.push_back(c.certificate.time_s);
-        optimal += c.certificate.status == align::CertificateStatus::optimal;
+        optimal += c.certificate.status == core::SearchStatus::optimal;
         within += c.relative_gap <= near_gap;
       }
       const auto g = align::fenced_summary(gap);

@@ -1,6 +1,7 @@
 // Beyond Table 3.1 (§3.7): the four alignment methods against feature noise and query size — thin driver
 // over keel::align::run_alignment_study, one study per sweep point on the same worlds (stream_base 0).
 import keel.core;
+import keel.repro;
 import keel.align;
 
 #include <fmt/format.h>
@@ -12,10 +13,11 @@ import keel.align;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace align = keel::align;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     align::AlignmentStudyOptions o;
     o.world = align::read_alignment_world_options(p);
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
     r.metric("worlds", static_cast<double>(o.worlds));
     r.series("noise.feature_noise", noises);
     r.series("size.query_size", sizes);
-    core::Figure f;
+    repro::Figure f;
     f.file = ex.id() + ".png";
     f.title = fmt::format(
         "Beyond Table 3.1: sensitivity to feature noise (query {:g} m) and query size (noise {:g}), "
@@ -73,7 +75,7 @@ int main(int argc, char** argv) {
     for (const Axis& axis :
          {Axis{"noise", "feature noise", "feature noise std (field RMS 1)", noises, true},
           Axis{"size", "query size", "query square side (m), reference 60 m", sizes, false}}) {
-      core::Panel pr, pt, pv;
+      repro::Panel pr, pt, pv;
       pr.title = "median rotation SE vs " + axis.what, pt.title = "median translation SE vs " + axis.what;
       pv.title = "approx. valid rotations vs " + axis.what;
       pr.ylabel = "rad²", pt.ylabel = "m²", pv.ylabel = "% of worlds";
@@ -99,9 +101,9 @@ int main(int argc, char** argv) {
         r.series(name + "." + axis.tag + ".valid_rate", valid);
         for (auto* v : {&rot, &trans})
           for (double& x : *v) x = std::max(x, 1e-12);  // log axis
-        pr.layers.push_back(core::line_layer(axis.values, rot, name, colors[m % 4], markers[m % 4]));
-        pt.layers.push_back(core::line_layer(axis.values, trans, name, colors[m % 4], markers[m % 4]));
-        pv.layers.push_back(core::line_layer(axis.values, valid, name, colors[m % 4], markers[m % 4]));
+        pr.layers.push_back(repro::line_layer(axis.values, rot, name, colors[m % 4], markers[m % 4]));
+        pt.layers.push_back(repro::line_layer(axis.values, trans, name, colors[m % 4], markers[m % 4]));
+        pv.layers.push_back(repro::line_layer(axis.values, valid, name, colors[m % 4], markers[m % 4]));
       }
       f.panels.push_back(pr), f.panels.push_back(pt), f.panels.push_back(pv);
     }

@@ -1,6 +1,7 @@
 // Theorems 4.5.3–4.5.4 tested (§4.5): does Sparse-BSOS at d = k = 1 solve planar SLAM exactly? The
 // counterexample, then families of random small graphs — thin driver over keel::sos::run_exactness_study.
 import keel.core;
+import keel.repro;
 import keel.sos;
 
 #include <fmt/format.h>
@@ -10,10 +11,11 @@ import keel.sos;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sos = keel::sos;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     sos::ExactnessOptions o = sos::read_exactness_options(p, "family");
     ex.params_done();
@@ -25,7 +27,7 @@ int main(int argc, char** argv) {
     const sos::CertifiedSolution c = sos::solve_certified(sos::exactness_counterexample(), o.certify);
     r.metric("counterexample.order1_lower_bound", c.first.lower_bound);
     r.metric("counterexample.order1_rank_ratio", c.first.rank_ratio);
-    r.metric("counterexample.minimum", c.upper_bound);
+    r.metric("counterexample.minimum", c.bound.upper);
     r.metric("counterexample.order2_lower_bound", c.escalated ? c.second.lower_bound : 0.0);
     r.metric("counterexample.certified_order", c.certified_order);
 
@@ -36,7 +38,7 @@ int main(int argc, char** argv) {
     progress.finish();
 
     int all = 0, tight = 0, certified = 0, skipped = 0;
-    core::Panel panel;
+    repro::Panel panel;
     panel.title = "share of trials certified", panel.xlabel = "family", panel.ylabel = "% of trials";
     std::vector<double> x, t1, t2;
     for (std::size_t f = 0; f < o.families.size(); ++f) {
@@ -55,10 +57,10 @@ int main(int argc, char** argv) {
       all += static_cast<int>(n), tight += ft, certified += fc, skipped += fs;
       x.push_back(static_cast<double>(f)), t1.push_back(100.0 * ft / n), t2.push_back(100.0 * fc / n);
     }
-    panel.layers.push_back(core::line_layer(x, t1, "order 1 (d = k = 1) tight", "C3", "o", ""));
-    panel.layers.push_back(core::line_layer(x, t2, "certified after escalation to order 2", "C0", "s", ""));
+    panel.layers.push_back(repro::line_layer(x, t1, "order 1 (d = k = 1) tight", "C3", "o", ""));
+    panel.layers.push_back(repro::line_layer(x, t2, "certified after escalation to order 2", "C0", "s", ""));
     panel.legend = "lower left";
-    core::Figure fig;
+    repro::Figure fig;
     fig.file = "ch4_exactness.png";
     fig.title = "Is Sparse-BSOS at d = k = 1 exact? Families: " + [&] {
       std::string s;
@@ -75,7 +77,7 @@ int main(int argc, char** argv) {
         fmt::format(
             "counterexample: order-1 bound {:.4f} below the minimum {:.4f}; random families: order 1 tight "
             "on {} of {} trials",
-            c.first.lower_bound, c.upper_bound, tight, all));
+            c.first.lower_bound, c.bound.upper, tight, all));
     r.check(
         "beyond the thesis: escalation to order 2 certifies the counterexample and the trials order 1 leaves "
         "open",

@@ -2,6 +2,7 @@
 // set (the order-1 relaxation's multipliers, Carlone et al. 2016 / SE-Sync) — thin driver over
 // keel::sos::run_global_certificate_study.
 import keel.core;
+import keel.repro;
 import keel.sos;
 
 #include <fmt/format.h>
@@ -11,11 +12,12 @@ import keel.sos;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sos = keel::sos;
 
 namespace {
 
-void record_run(core::Results& r, const std::string& key, const sos::GlobalCertificateRun& run) {
+void record_run(repro::Results& r, const std::string& key, const sos::GlobalCertificateRun& run) {
   if (run.failed) {
     r.metric(key + ".failed", 1);
     r.note(key + ".error", run.error);
@@ -23,16 +25,16 @@ void record_run(core::Results& r, const std::string& key, const sos::GlobalCerti
   }
   const sos::GlobalCertificate& c = run.certificate;
   r.metric(key + ".failed", 0);
-  r.metric(key + ".certified", c.certified ? 1 : 0);
+  r.metric(key + ".certified", c.certified() ? 1 : 0);
   r.metric(key + ".stationary", c.stationary ? 1 : 0);
   r.metric(key + ".psd", c.psd ? 1 : 0);
   r.metric(key + ".lm_cost", run.lm_cost);
-  r.metric(key + ".cost", c.cost);
+  r.metric(key + ".cost", c.cost());
   r.metric(key + ".multiplier_sum", c.multiplier_sum);
   r.metric(key + ".stationarity", c.stationarity);
   r.metric(key + ".lambda_min_bound", c.lambda_min_bound);
-  r.metric(key + ".lower_bound", c.lower_bound);
-  r.metric(key + ".relative_gap", c.relative_gap);
+  r.metric(key + ".lower_bound", c.bound.lower);
+  r.metric(key + ".relative_gap", c.relative_gap());
   r.metric(key + ".failed_shift", c.failed_shift);
   r.metric(key + ".eta", c.eta);
   r.metric(key + ".refine_iterations", run.refine.iterations);
@@ -45,7 +47,7 @@ void record_run(core::Results& r, const std::string& key, const sos::GlobalCerti
 }  // namespace
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const std::vector<sos::GlobalCertificateDataset> data = sos::load_global_certificate_datasets(p);
     sos::GlobalCertificateStudyOptions o = sos::read_global_certificate_study_options(p);
@@ -71,27 +73,27 @@ int main(int argc, char** argv) {
       const auto& od = d.odometry;
       if (!od.failed)
         r.check(fmt::format("{}: LM from odometry, refined on f, is certified globally optimal", d.name),
-                od.certificate.certified,
+                od.certificate.certified(),
                 fmt::format(
                     "stationarity {:.2e} (tol {:.0e}), S + {:.3g} D ≻ 0 (η_tol {:.3g}), f {:.8g} ≥ min f ≥ "
                     "{:.8g}: proven gap {:.2g}",
                     od.certificate.stationarity, o.certificate.stationarity_tolerance,
-                    -od.certificate.lambda_min_bound, od.certificate.eta, od.certificate.cost,
-                    od.certificate.lower_bound, od.certificate.relative_gap));
+                    -od.certificate.lambda_min_bound, od.certificate.eta, od.certificate.cost(),
+                    od.certificate.bound.lower, od.certificate.relative_gap()));
       const auto& rd = d.random;
       if (!od.failed && !rd.failed) {
         // The certificate must agree with the costs: a random start that ends above the certified cost is a
         // local minimum and must be rejected; one that ends at the same cost may be certified.
-        const double above = rd.certificate.cost - od.certificate.cost;
-        const bool local = above > 1e-6 * std::max(1.0, od.certificate.cost);
+        const double above = rd.certificate.cost() - od.certificate.cost();
+        const bool local = above > 1e-6 * std::max(1.0, od.certificate.cost());
         r.check(
             fmt::format(
                 "{}: LM from a random start is rejected exactly when it ends above the certified cost",
                 d.name),
-            !od.certificate.certified || local != rd.certificate.certified,
+            !od.certificate.certified() || local != rd.certificate.certified(),
             fmt::format("random: f {:.8g} ({:+.3g} vs odometry), certified {}, stationarity {:.2e}, S + η D "
                         "factors only from η = {:.3g} (fails at {:.3g})",
-                        rd.certificate.cost, above, rd.certificate.certified, rd.certificate.stationarity,
+                        rd.certificate.cost(), above, rd.certificate.certified(), rd.certificate.stationarity,
                         -rd.certificate.lambda_min_bound, rd.certificate.failed_shift));
       }
     }

@@ -2,6 +2,7 @@
 // random initialization, LM's solution from it and the certified SBSOS-SLAM solution. Thin driver over
 // keel::sos::run_segment_study (one segment) and keel::pgo::initial_estimate (the same random start LM used).
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.graph;
 import keel.pgo;
@@ -16,11 +17,12 @@ import keel.sos;
 #include "common/sos_segments.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sos = keel::sos;
 namespace pgo = keel::pgo;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto run = keel::experiments::run_segments(ex, "CityTrees10000, first segment");
     const sos::SegmentStudyOptions& o = run.options;
     const sos::SegmentOutcome& s = run.outcome.segments.at(0);
@@ -36,7 +38,7 @@ int main(int argc, char** argv) {
     r.metric("poses", s.poses);
     r.metric("landmarks", s.landmarks);
     r.metric("landmark_measurements", s.landmark_measurements);
-    r.metric("certified", s.status == sos::CertificateStatus::certified ? 1.0 : 0.0);
+    r.metric("certified", s.status == core::SearchStatus::optimal ? 1.0 : 0.0);
     r.metric("certified_order", s.certified_order);
     r.metric("sbsos.gap", s.relative_gap);
     r.metric("rank_ratio", s.rank_ratio);
@@ -50,7 +52,7 @@ int main(int argc, char** argv) {
       r.timing(k + ".time_s", e.time_s);
     }
     r.check("SBSOS-SLAM's solution on the 430-pose segment is the global minimum (certified)",
-            s.status == sos::CertificateStatus::certified,
+            s.status == core::SearchStatus::optimal,
             fmt::format("gap {:.2g} (order {}), rank ratio {:.2g}", s.relative_gap, s.certified_order,
                         s.rank_ratio));
     r.check("LM from a random initialization is trapped in a local minimum (Fig. 4.1 c)",
@@ -62,13 +64,13 @@ int main(int argc, char** argv) {
     // Panels (a)–(d) of Fig. 4.1.
     auto panel = [](const std::string& title, const std::vector<keel::lie::SE2>& poses,
                     const std::vector<keel::lie::Vec2>& landmarks, const char* color) {
-      core::Panel pn;
+      repro::Panel pn;
       pn.title = title, pn.xlabel = "x (m)", pn.ylabel = "y (m)", pn.aspect = "equal";
       std::vector<double> x, y, lx, ly;
       for (const auto& t : poses) x.push_back(t.translation().x()), y.push_back(t.translation().y());
       for (const auto& l : landmarks) lx.push_back(l.x()), ly.push_back(l.y());
-      pn.layers.push_back(core::line_layer(x, y, "poses", color));
-      pn.layers.push_back(core::scatter_layer(lx, ly, "landmarks", "k", 16, 1.0, "x"));
+      pn.layers.push_back(repro::line_layer(x, y, "poses", color));
+      pn.layers.push_back(repro::scatter_layer(lx, ly, "landmarks", "k", 16, 1.0, "x"));
       pn.legend = "best";
       return pn;
     };
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
     std::vector<keel::lie::Vec2> start_landmarks;
     for (const auto& t : start.poses) start_poses.push_back(inv0 * t);
     for (const auto& l : start.landmarks) start_landmarks.push_back(inv0.act(l));
-    core::Figure fig;
+    repro::Figure fig;
     fig.file = "ch4_fig4_1_citytrees_430.png";
     fig.title = fmt::format("Fig. 4.1: the first {} poses of CityTrees10000 and their {} landmarks", s.poses,
                             s.landmarks);

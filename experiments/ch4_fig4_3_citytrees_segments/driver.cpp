@@ -2,6 +2,7 @@
 // (landmark SLAM, eq. 4.12) — thin driver over keel::sos::run_segment_study; metrics, checks and figures from
 // experiments/common/sos_segments.hpp.
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.sos;
 
@@ -13,10 +14,11 @@ import keel.sos;
 #include "common/sos_segments.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace sos = keel::sos;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const sos::SegmentStudyOutcome out =
         keel::experiments::run_segments(ex, "CityTrees10000 segments").outcome;
     auto& r = ex.results();

@@ -1,5 +1,6 @@
 // Fig. 5.4 (§5.5.2): composition of correlated odometry — thin driver over keel::lie::run_composition_study.
 import keel.core;
+import keel.repro;
 import keel.lie;
 
 #include <fmt/format.h>
@@ -11,10 +12,11 @@ import keel.lie;
 #include "common/composition.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     auto s = keel::experiments::read_composition_setup(p, true);
     const double level = s.levels[0];
@@ -28,7 +30,7 @@ int main(int argc, char** argv) {
     const auto out = lie::run_composition_study(s, &progress);
     progress.finish();
 
-    const std::string tag = fmt::format("inside{}", core::level_tag(level));
+    const std::string tag = fmt::format("inside{}", repro::level_tag(level));
     const double ssc = out.ssc.inside[0], ssc_ind = out.ssc_independent.inside[0];
     const double ind = out.lie_independent.inside[0], joint = out.lie_joint.inside[0];
     auto& r = ex.results();
@@ -66,7 +68,7 @@ int main(int argc, char** argv) {
         fmt::format("with correlation: joint {:.4f} vs SSC {:.4f}; without: Lie {:.4f} vs SSC {:.4f}", joint,
                     ssc, ind, ssc_ind));
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.width = 13.0;
     f.height = 5.5;
@@ -76,30 +78,30 @@ int main(int argc, char** argv) {
     std::vector<double> sx, sy;
     lie::planar_positions(out.samples, sx, sy);
     auto base_panel = [&](std::string title) {
-      core::Panel panel;
+      repro::Panel panel;
       panel.title = std::move(title);
       panel.xlabel = "x";
       panel.ylabel = "y";
       panel.aspect = "equal";
-      panel.layers.push_back(core::scatter_layer(sx, sy, "Monte-Carlo end positions", "0.25", 3.0, 0.2));
+      panel.layers.push_back(repro::scatter_layer(sx, sy, "Monte-Carlo end positions", "0.25", 3.0, 0.2));
       return panel;
     };
-    auto region = [&](core::Panel& panel, const lie::CompositionPrediction& pr, const char* label,
+    auto region = [&](repro::Panel& panel, const lie::CompositionPrediction& pr, const char* label,
                       const char* color) {
       std::vector<double> x, y;
       lie::planar_lie_region(pr, level, region_points, x, y);
-      panel.layers.push_back(core::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
+      panel.layers.push_back(repro::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
     };
-    core::Panel thesis = base_panel(fmt::format("as in the thesis: {:.3g} % regions", pct));
+    repro::Panel thesis = base_panel(fmt::format("as in the thesis: {:.3g} % regions", pct));
     std::vector<double> ell_x, ell_y;
     lie::planar_ssc_ellipse(out.ssc, level, 200, ell_x, ell_y);
     thesis.layers.push_back(
-        core::line_layer(std::move(ell_x), std::move(ell_y), "SSC head-to-tail", "tab:red"));
+        repro::line_layer(std::move(ell_x), std::move(ell_y), "SSC head-to-tail", "tab:red"));
     region(thesis, out.lie_independent, "Lie algebra, correlation ignored", "tab:cyan");
     region(thesis, out.lie_joint, "Lie algebra, joint (proposed)", "tab:green");
     f.panels.push_back(thesis);
     if (out.has_joint_fourth_order) {
-      core::Panel beyond =
+      repro::Panel beyond =
           base_panel(fmt::format("beyond the thesis: first vs fourth order, {:.3g} % regions", pct));
       region(beyond, out.lie_joint, "joint, first order (eq. 5.39)", "tab:green");
       region(beyond, out.lie_joint_fourth_order, "joint, fourth order (Isserlis)", "tab:purple");

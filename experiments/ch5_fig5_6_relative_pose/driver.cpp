@@ -1,6 +1,7 @@
 // Figs. 5.5–5.6 (§5.7.2): relative pose of correlated poses — thin driver over
 // keel::lie::run_relative_pose_study.
 import keel.core;
+import keel.repro;
 import keel.lie;
 
 #include <fmt/format.h>
@@ -10,10 +11,11 @@ import keel.lie;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const double yaw = p.number("yaw_deg") * M_PI / 180.0;
     const auto t1 = p.numbers("t_g1"), t2 = p.numbers("t_g2");
@@ -72,19 +74,19 @@ int main(int argc, char** argv) {
             fmt::format("α = {:g}: ε_joint = {:.3g}, ε_independent = {:.3g}", example_alpha,
                         example.error_joint, example.error_independent));
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.title = "Figs. 5.5–5.6: relative pose of two correlated poses";
-    core::Panel err;
+    repro::Panel err;
     err.title = "covariance error ε (eq. 5.56) vs α";
     err.xlabel = "α";
     err.ylabel = "ε";
     err.xscale = "log";
     err.yscale = "log";
-    err.layers.push_back(core::line_layer(alphas, err_ind, "correlation ignored", "tab:cyan", "s"));
-    err.layers.push_back(core::line_layer(alphas, err_joint, "joint (proposed)", "tab:green", "o"));
-    err.layers.push_back(core::line_layer(alphas, err_floor, "Monte-Carlo noise of Σ_mc", "0.5", "", ":"));
-    core::Panel ex_panel;
+    err.layers.push_back(repro::line_layer(alphas, err_ind, "correlation ignored", "tab:cyan", "s"));
+    err.layers.push_back(repro::line_layer(alphas, err_joint, "joint (proposed)", "tab:green", "o"));
+    err.layers.push_back(repro::line_layer(alphas, err_floor, "Monte-Carlo noise of Σ_mc", "0.5", "", ":"));
+    repro::Panel ex_panel;
     ex_panel.title = fmt::format("relative pose samples, α = {:g} (cf. Fig. 5.5)", example_alpha);
     ex_panel.xlabel = "x";
     ex_panel.ylabel = "y";
@@ -92,11 +94,11 @@ int main(int argc, char** argv) {
     std::vector<double> px, py;
     lie::planar_positions(example.samples, px, py);
     ex_panel.layers.push_back(
-        core::scatter_layer(std::move(px), std::move(py), "Monte-Carlo T₁₂", "0.25", 3.0, 0.2));
+        repro::scatter_layer(std::move(px), std::move(py), "Monte-Carlo T₁₂", "0.25", 3.0, 0.2));
     auto region = [&](const auto& cov, const char* label, const char* color) {
       std::vector<double> x, y;
       lie::planar_lie_region(example.mean, cov, level, region_points, x, y);
-      ex_panel.layers.push_back(core::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
+      ex_panel.layers.push_back(repro::scatter_layer(std::move(x), std::move(y), label, color, 2.0));
     };
     region(example.cov_independent, "95 %, correlation ignored", "tab:cyan");
     region(example.cov_joint, "95 %, joint (proposed)", "tab:green");

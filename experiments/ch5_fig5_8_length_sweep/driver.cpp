@@ -1,5 +1,6 @@
 // Fig. 5.8 (§5.9.1): consistency of composition against trajectory length — thin driver.
 import keel.core;
+import keel.repro;
 import keel.lie;
 
 #include <fmt/format.h>
@@ -11,10 +12,11 @@ import keel.lie;
 #include "common/composition.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     const auto n_min = p.integer("steps_min"), n_max = p.integer("steps_max"),
                stride = p.integer("steps_stride");
@@ -52,7 +54,7 @@ int main(int argc, char** argv) {
     progress.finish();
 
     auto& r = ex.results();
-    const std::string tag = fmt::format("inside{}", core::level_tag(level));
+    const std::string tag = fmt::format("inside{}", repro::level_tag(level));
     r.series("N", ns);
     r.series(fmt::format("{}.ssc", tag), ssc);
     r.series(fmt::format("{}.ssc_independent", tag), ssc_ind);
@@ -83,21 +85,21 @@ int main(int argc, char** argv) {
             fmt::format("inside (joint): N={:g} {:.4f} -> N={:g} {:.4f}; SSC {:.4f} -> {:.4f}", ns.front(),
                         joint.front(), ns.back(), joint.back(), ssc.front(), ssc.back()));
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.width = 7.5;
     f.height = 5.5;
     f.title = "Fig. 5.8: fraction inside the 99.9 % ellipsoid vs trajectory length";
-    core::Panel panel;
+    repro::Panel panel;
     panel.xlabel = "number of composed poses N";
     panel.ylabel = "fraction of samples inside";
-    panel.layers.push_back(core::line_layer(ns, ssc, "SSC head-to-tail", "tab:red", "^"));
-    panel.layers.push_back(core::line_layer(ns, ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
-    panel.layers.push_back(core::line_layer(ns, ind, "Lie, correlation ignored", "tab:cyan", "s"));
-    panel.layers.push_back(core::line_layer(ns, fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
-    panel.layers.push_back(core::line_layer(ns, joint, "Lie, joint (proposed)", "tab:green", "o"));
-    panel.layers.push_back(core::line_layer(n_j4, joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
-    panel.layers.push_back(core::hline_layer(level, "nominal", "0.3"));
+    panel.layers.push_back(repro::line_layer(ns, ssc, "SSC head-to-tail", "tab:red", "^"));
+    panel.layers.push_back(repro::line_layer(ns, ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
+    panel.layers.push_back(repro::line_layer(ns, ind, "Lie, correlation ignored", "tab:cyan", "s"));
+    panel.layers.push_back(repro::line_layer(ns, fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
+    panel.layers.push_back(repro::line_layer(ns, joint, "Lie, joint (proposed)", "tab:green", "o"));
+    panel.layers.push_back(repro::line_layer(n_j4, joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
+    panel.layers.push_back(repro::hline_layer(level, "nominal", "0.3"));
     f.panels.push_back(panel);
     r.figure(f);
   });

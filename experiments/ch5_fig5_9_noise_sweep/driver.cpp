@@ -1,5 +1,6 @@
 // Fig. 5.9 (§5.9.1): consistency of composition against rotation and translation noise — thin driver.
 import keel.core;
+import keel.repro;
 import keel.lie;
 
 #include <fmt/format.h>
@@ -11,10 +12,11 @@ import keel.lie;
 #include <vector>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     lie::CompositionSetup base;
     base.steps = static_cast<int>(p.integer("steps"));
@@ -57,7 +59,7 @@ int main(int argc, char** argv) {
 
     for (const auto& [prefix, var, w] :
          {std::tuple{"rotation", "sigma_r", &rot}, std::tuple{"translation", "sigma_t", &tra}}) {
-      const std::string pre = fmt::format("{}.inside{}", prefix, core::level_tag(level));
+      const std::string pre = fmt::format("{}.inside{}", prefix, repro::level_tag(level));
       r.series(fmt::format("{}.{}", prefix, var), sigmas);
       r.series(fmt::format("{}.ssc", pre), w->ssc);
       r.series(fmt::format("{}.ssc_independent", pre), w->ssc_ind);
@@ -106,25 +108,25 @@ int main(int argc, char** argv) {
             "of {}",
             joint_beats_ssc, total, ind_beats_ssc_ind, total));
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.title = fmt::format("Fig. 5.9: fraction inside the 99.9 % ellipsoid vs noise (N = {})", base.steps);
     for (const auto& [title, xlabel, w] : {std::tuple{"rotation noise (σt = 3)", "σr", &rot},
                                            std::tuple{"translation noise (σr = 3)", "σt", &tra}}) {
-      core::Panel panel;
+      repro::Panel panel;
       panel.title = title;
       panel.xlabel = xlabel;
       panel.ylabel = "fraction of samples inside";
-      panel.layers.push_back(core::line_layer(sigmas, w->ssc, "SSC head-to-tail", "tab:red", "^"));
+      panel.layers.push_back(repro::line_layer(sigmas, w->ssc, "SSC head-to-tail", "tab:red", "^"));
       panel.layers.push_back(
-          core::line_layer(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
-      panel.layers.push_back(core::line_layer(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
+          repro::line_layer(sigmas, w->ssc_ind, "SSC, correlation ignored", "tab:orange", "v"));
+      panel.layers.push_back(repro::line_layer(sigmas, w->ind, "Lie, correlation ignored", "tab:cyan", "s"));
       panel.layers.push_back(
-          core::line_layer(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
-      panel.layers.push_back(core::line_layer(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
+          repro::line_layer(sigmas, w->fourth, "Lie, 4th order (independent)", "tab:purple", "x"));
+      panel.layers.push_back(repro::line_layer(sigmas, w->joint, "Lie, joint (proposed)", "tab:green", "o"));
       panel.layers.push_back(
-          core::line_layer(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
-      panel.layers.push_back(core::hline_layer(level, "nominal", "0.3"));
+          repro::line_layer(sigmas, w->joint4, "Lie, joint 4th order (ours)", "tab:brown", "D"));
+      panel.layers.push_back(repro::hline_layer(level, "nominal", "0.3"));
       f.panels.push_back(panel);
     }
     r.figure(f);

@@ -2,10 +2,12 @@
 // without the cross-covariance of the two poses — thin driver over keel.graph / keel.pgo / keel.cov /
 // keel.lie.
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.graph;
 import keel.pgo;
 import keel.cov;
+import keel.datasets;
 
 #include <fmt/format.h>
 
@@ -14,11 +16,12 @@ import keel.cov;
 #include "common/solved_pairs.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 using keel::experiments::pair_panel;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto s = keel::experiments::run_solved_pairs(ex);
     auto& r = ex.results();
     const auto joint =
@@ -45,7 +48,7 @@ int main(int argc, char** argv) {
       if (ik.count == 0) continue;
       const double vmax =
           ik.mean + 2.0 * ik.std;  // thesis: dark red = 2 std above the mean (correlation ignored)
-      core::Figure f;
+      repro::Figure f;
       f.file = fmt::format("{}_offset{}.png", ex.id(), k);
       f.title = fmt::format("Manhattan3500, pose pairs at offset {} (cf. Figs. 5.10–5.14 a–e)", k);
       f.rows = 2;

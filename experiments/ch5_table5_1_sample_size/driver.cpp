@@ -3,10 +3,12 @@
 // study is rerun for each M, and a power law mean(M) = a·M^b fitted in log–log gives the M at which ours
 // would meet the thesis's published means — thin driver over keel.graph / keel.pgo / keel.cov / keel.lie.
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.graph;
 import keel.pgo;
 import keel.cov;
+import keel.datasets;
 
 #include <fmt/format.h>
 
@@ -18,6 +20,7 @@ import keel.cov;
 #include "common/solved_pairs.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 
 namespace {
@@ -37,7 +40,7 @@ std::pair<double, double> power_law(const std::vector<double>& x, const std::vec
 }  // namespace
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     std::vector<double> ms;
     double match_joint = 0, match_lie = 0;
     // One row per M: the Table 5.1 and 5.2 means and standard deviations, and the sampling floor.
@@ -109,12 +112,12 @@ int main(int argc, char** argv) {
     r.check("the proposed method's normalized error falls with M: fitted exponent below zero", fl.second < 0,
             fmt::format("mean normalized ε ∝ M^{:.3f}", fl.second));
 
-    core::Figure f;
+    repro::Figure f;
     f.file = fmt::format("{}.png", ex.id());
     f.title = "Tables 5.1–5.2: mean covariance errors against the Monte-Carlo sample size M";
     f.width = 13.0;
     f.height = 5.5;
-    core::Panel a, b;
+    repro::Panel a, b;
     a.title = "Table 5.1: ε (eq. 5.56)";
     b.title = "Table 5.2: normalized ε";
     for (auto* p : {&a, &b}) {
@@ -122,13 +125,13 @@ int main(int argc, char** argv) {
       p->ylabel = "mean over pairs";
       p->xscale = p->yscale = "log";
     }
-    a.layers.push_back(core::line_layer(ms, rows[0].mean, "joint (ours)", "tab:green", "o"));
-    a.layers.push_back(core::line_layer(ms, rows[1].mean, "correlation ignored (ours)", "tab:red", "s"));
-    a.layers.push_back(core::hline_layer(match_joint, "thesis, joint", "tab:green"));
-    b.layers.push_back(core::line_layer(ms, rows[2].mean, "proposed (ours)", "tab:green", "o"));
-    b.layers.push_back(core::line_layer(ms, rows[3].mean, "SSC (ours)", "tab:red", "s"));
-    b.layers.push_back(core::line_layer(ms, rows[4].mean, "sampling floor", "0.4", "x"));
-    b.layers.push_back(core::hline_layer(match_lie, "thesis, proposed", "tab:green"));
+    a.layers.push_back(repro::line_layer(ms, rows[0].mean, "joint (ours)", "tab:green", "o"));
+    a.layers.push_back(repro::line_layer(ms, rows[1].mean, "correlation ignored (ours)", "tab:red", "s"));
+    a.layers.push_back(repro::hline_layer(match_joint, "thesis, joint", "tab:green"));
+    b.layers.push_back(repro::line_layer(ms, rows[2].mean, "proposed (ours)", "tab:green", "o"));
+    b.layers.push_back(repro::line_layer(ms, rows[3].mean, "SSC (ours)", "tab:red", "s"));
+    b.layers.push_back(repro::line_layer(ms, rows[4].mean, "sampling floor", "0.4", "x"));
+    b.layers.push_back(repro::hline_layer(match_lie, "thesis, proposed", "tab:green"));
     f.panels = {a, b};
     r.figure(f);
   });

@@ -1,10 +1,12 @@
 // Table 5.2 and Figs. 5.10–5.14 (f–g), §5.9.2: normalized relative-pose covariance error on Manhattan3500,
 // proposed vs SSC tail-to-tail — thin driver over keel.graph / keel.pgo / keel.cov / keel.lie.
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.graph;
 import keel.pgo;
 import keel.cov;
+import keel.datasets;
 
 #include <fmt/format.h>
 
@@ -13,11 +15,12 @@ import keel.cov;
 #include "common/solved_pairs.hpp"
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace lie = keel::lie;
 using keel::experiments::pair_panel;
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto s = keel::experiments::run_solved_pairs(ex);
     auto& r = ex.results();
     const auto lie_st = keel::experiments::record_statistics(r, s, &lie::PairRecord::normalized_error_lie,
@@ -50,7 +53,7 @@ int main(int argc, char** argv) {
       const auto sk = lie::pair_statistics(s.records, &lie::PairRecord::normalized_error_ssc, k);
       if (sk.count == 0) continue;
       const double vmax = sk.mean + 2.0 * sk.std;  // thesis: dark orange = 2 std above the mean (SSC)
-      core::Figure f;
+      repro::Figure f;
       f.file = fmt::format("{}_offset{}.png", ex.id(), k);
       f.title = fmt::format("Manhattan3500, pose pairs at offset {} (cf. Figs. 5.10–5.14 f–g)", k);
       f.width = 12.0;

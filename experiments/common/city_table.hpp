@@ -2,6 +2,7 @@
 // (the dataset's own measurements) and ch2_table2_1_thesis_noise (measurements redrawn about the ground truth
 // with the noise scaled down, the regime the thesis's χ² values indicate): read [params], run keel::eval's
 // two-robot study, record Table 2.1, the claims of §2.7.2 and Fig. 2.5. Include after `import keel.core;
+import keel.repro;
 // import keel.pcm; import keel.eval;` and "common/two_robot.hpp" (DESIGN rule 4); it imports nothing itself.
 #pragma once
 
@@ -35,8 +36,9 @@ inline std::size_t claimed_method(const std::vector<keel::eval::StudyMethod>& me
 
 // `measurements = "dataset"` keeps the file's measurements; `"resampled"` redraws every measurement with the
 // noise scaled by `noise_scale` (keel::eval::MeasurementRegime).
-inline void run_city_merge_table(keel::core::Experiment& ex) {
+inline void run_city_merge_table(keel::repro::Experiment& ex) {
   namespace core = keel::core;
+  namespace repro = keel::repro;
   namespace pcm = keel::pcm;
   namespace eval = keel::eval;
   const auto& p = ex.params();

@@ -1,8 +1,8 @@
 // Shared glue of the Manhattan3500 relative-pose experiments (Tables 5.1–5.2): read the dataset, solve it,
 // extract the pair marginals in the Lie algebra, run the pair study, record timings and the solver summary,
-// and draw the Figs. 5.10–5.14 panels. Include after `import keel.core; import keel.lie; import keel.graph;
-// import keel.pgo; import keel.cov;` (DESIGN rule 4). Drivers call engine functions only; no linear algebra
-// here.
+// and draw the Figs. 5.10–5.14 panels. Include after `import keel.core; import keel.repro; import keel.lie;
+// import keel.graph; import keel.pgo; import keel.cov;` (DESIGN rule 4). Drivers call engine functions only;
+// no linear algebra here.
 #pragma once
 
 #include <fmt/format.h>
@@ -32,9 +32,10 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
 // pair and hands them to monte_carlo(out, covs), which runs the pair study once or once per sample size.
 // Records the solver metrics and timings.
 template <class ReadSamples, class MonteCarlo>
-inline SolvedPairs solve_pairs(keel::core::Experiment& ex, ReadSamples&& read_samples,
+inline SolvedPairs solve_pairs(keel::repro::Experiment& ex, ReadSamples&& read_samples,
                                MonteCarlo&& monte_carlo) {
   namespace core = keel::core;
+  namespace repro = keel::repro;
   const auto& p = ex.params();
   const std::string dataset = p.string("dataset"), file = p.string("file");
   keel::pgo::Options options;
@@ -52,7 +53,7 @@ inline SolvedPairs solve_pairs(keel::core::Experiment& ex, ReadSamples&& read_sa
   auto& r = ex.results();
 
   auto t0 = std::chrono::steady_clock::now();
-  const auto graph = keel::graph::read_pose_graph_2d(keel::graph::resolve_dataset_file(dataset, file));
+  const auto graph = keel::graph::read_pose_graph_2d(keel::datasets::resolve_dataset_file(dataset, file));
   r.timing("read", seconds_since(t0));
   t0 = std::chrono::steady_clock::now();
   const auto solved = keel::pgo::optimize(graph, options);
@@ -84,7 +85,7 @@ inline SolvedPairs solve_pairs(keel::core::Experiment& ex, ReadSamples&& read_sa
 }
 
 // Tables 5.1 and 5.2: one pair study with `samples` Monte-Carlo samples per pair.
-inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
+inline SolvedPairs run_solved_pairs(keel::repro::Experiment& ex) {
   keel::lie::PairStudySetup setup;
   return solve_pairs(
       ex, [&](const keel::core::ConfigTable& p) { setup.samples = p.count("samples"); },
@@ -100,7 +101,7 @@ inline SolvedPairs run_solved_pairs(keel::core::Experiment& ex) {
 }
 
 // Records `<name>.mean` / `<name>.std` over all pairs and per offset (`offset<k>.<name>.mean`).
-inline keel::lie::PairStatistics record_statistics(keel::core::Results& r, const SolvedPairs& s,
+inline keel::lie::PairStatistics record_statistics(keel::repro::Results& r, const SolvedPairs& s,
                                                    double keel::lie::PairRecord::* field,
                                                    const std::string& name) {
   const auto all = keel::lie::pair_statistics(s.records, field);
@@ -116,13 +117,13 @@ inline keel::lie::PairStatistics record_statistics(keel::core::Results& r, const
 
 // One panel of Figs. 5.10–5.14: every pair at `offset` drawn as a segment between the two positions, coloured
 // by `field` on [0, vmax] with `cmap`.
-inline keel::core::Panel pair_panel(const SolvedPairs& s, int offset, double keel::lie::PairRecord::* field,
-                                    const std::string& title, const std::string& cmap, double vmax) {
-  keel::core::Panel panel;
+inline keel::repro::Panel pair_panel(const SolvedPairs& s, int offset, double keel::lie::PairRecord::* field,
+                                     const std::string& title, const std::string& cmap, double vmax) {
+  keel::repro::Panel panel;
   panel.title = title;
   panel.aspect = "equal";
   panel.colorbar = title;
-  keel::core::Layer l;
+  keel::repro::Layer l;
   l.type = "segments";
   for (const auto& rec : s.records) {
     if (rec.j - rec.i != offset) continue;

@@ -1,6 +1,6 @@
 // Shared glue of the chapter-4 segment experiments (Figs. 4.2–4.5): the metrics, checks and figures of a
-// keel::sos segment study. Include after `import keel.core; import keel.lie; import keel.sos;` (DESIGN rule
-// 4).
+// keel::sos segment study. Include after `import keel.core; import keel.repro; import keel.lie; import
+// keel.sos;` (DESIGN rule 4).
 #pragma once
 
 #include <fmt/format.h>
@@ -37,7 +37,7 @@ struct SegmentRun {
   keel::sos::SegmentStudyOptions options;
   keel::sos::SegmentStudyOutcome outcome;
 };
-inline SegmentRun run_segments(keel::core::Experiment& ex, const std::string& label) {
+inline SegmentRun run_segments(keel::repro::Experiment& ex, const std::string& label) {
   const auto& p = ex.params();
   SegmentRun run;
   run.data = keel::sos::load_planar_dataset(p);
@@ -63,9 +63,10 @@ inline bool above_sbsos(const keel::sos::SegmentOutcome& s, const keel::sos::Met
 }
 
 // Metrics, series, timings and checks of a segment study; `landmarks` adds the landmark-error columns.
-inline void record_segment_study(keel::core::Results& r, const keel::sos::SegmentStudyOutcome& out,
+inline void record_segment_study(keel::repro::Results& r, const keel::sos::SegmentStudyOutcome& out,
                                  bool landmarks) {
   namespace core = keel::core;
+  namespace repro = keel::repro;
   const auto& segs = out.segments;
   int failed = 0, certified = 0, order1 = 0, order2 = 0, claims = 0;
   std::vector<double> gap, rank, sbsos_time, sdp_time, first;
@@ -75,7 +76,7 @@ inline void record_segment_study(keel::core::Results& r, const keel::sos::Segmen
       ++failed;
       continue;
     }
-    certified += s.status == keel::sos::CertificateStatus::certified;
+    certified += s.status == keel::core::SearchStatus::optimal;
     order1 += s.certified_order == 1, order2 += s.certified_order == 2;
     claims += s.solver_claims_optimal;
     gap.push_back(s.relative_gap), rank.push_back(s.rank_ratio);
@@ -146,12 +147,12 @@ inline void record_segment_study(keel::core::Results& r, const keel::sos::Segmen
 
 // Fig. 4.3 / 4.4: per-segment translational and rotational error of the three methods (empirical CDFs), and
 // the certificate's gap per segment.
-inline keel::core::Figure segment_error_figure(const std::string& file, const std::string& title,
-                                               const keel::sos::SegmentStudyOutcome& out) {
+inline keel::repro::Figure segment_error_figure(const std::string& file, const std::string& title,
+                                                const keel::sos::SegmentStudyOutcome& out) {
   namespace core = keel::core;
-  core::Figure f;
+  repro::Figure f;
   f.file = file, f.title = title, f.cols = 3;
-  core::Panel pt, pr, pg;
+  repro::Panel pt, pr, pg;
   pt.title = "translational error per segment", pt.xlabel = "mean ‖t − t_true‖ (m)";
   pr.title = "rotational error per segment", pr.xlabel = "mean |θ − θ_true| (rad)";
   pt.ylabel = pr.ylabel = "fraction of segments";
@@ -160,8 +161,8 @@ inline keel::core::Figure segment_error_figure(const std::string& file, const st
     std::vector<double> te, re;
     for (const auto& s : out.segments)
       if (!s.failed) te.push_back((s.*(m.member)).trans_error), re.push_back((s.*(m.member)).rot_error);
-    pt.layers.push_back(core::ecdf_layer(te, m.label, m.color, 1e-4));
-    pr.layers.push_back(core::ecdf_layer(re, m.label, m.color, 1e-5));
+    pt.layers.push_back(repro::ecdf_layer(te, m.label, m.color, 1e-4));
+    pr.layers.push_back(repro::ecdf_layer(re, m.label, m.color, 1e-5));
   }
   pt.legend = pr.legend = "lower right";
   pg.title = "certificate: relative gap (UB − LB) / max(UB, 1)", pg.xlabel = "segment (first pose)";
@@ -169,16 +170,16 @@ inline keel::core::Figure segment_error_figure(const std::string& file, const st
   std::vector<double> x, g;
   for (const auto& s : out.segments)
     if (!s.failed) x.push_back(s.first), g.push_back(std::max(s.relative_gap, 1e-16));
-  pg.layers.push_back(core::scatter_layer(x, g, "SBSOS gap", "C0", 12));
+  pg.layers.push_back(repro::scatter_layer(x, g, "SBSOS gap", "C0", 12));
   f.panels = {pt, pr, pg};
   return f;
 }
 
 // Fig. 4.2 / 4.5: the segment where LM from a random initialization ends farthest above the certified cost,
 // drawn as trajectories (and landmarks) of the truth, SBSOS and both LM runs.
-inline keel::core::Figure segment_example_figure(const std::string& file, const std::string& title,
-                                                 const keel::sos::SegmentStudyOutcome& out,
-                                                 keel::core::Results& r) {
+inline keel::repro::Figure segment_example_figure(const std::string& file, const std::string& title,
+                                                  const keel::sos::SegmentStudyOutcome& out,
+                                                  keel::repro::Results& r) {
   namespace core = keel::core;
   std::size_t pick = 0;
   double worst = -1.0;
@@ -192,7 +193,7 @@ inline keel::core::Figure segment_example_figure(const std::string& file, const 
   r.metric("example.first_pose", s.first);
   r.metric("example.lm_random_cost", s.lm_random.cost);
   r.metric("example.sbsos_cost", s.sbsos.cost);
-  core::Figure f;
+  repro::Figure f;
   f.file = file, f.title = fmt::format("{} (poses {}–{})", title, s.first, s.first + s.poses - 1);
   f.cols = 2;
   auto xy = [](const std::vector<keel::lie::SE2>& poses) {
@@ -209,18 +210,18 @@ inline keel::core::Figure segment_example_figure(const std::string& file, const 
   for (int which = 0; which < 2; ++which) {
     const auto& m = segment_methods()[which == 0 ? 0 : 1];
     const auto& est = s.*(m.member);
-    core::Panel p;
+    repro::Panel p;
     p.title = fmt::format("{}: cost {:.4g}", m.label, est.cost), p.xlabel = "x (m)", p.ylabel = "y (m)";
     p.aspect = "equal";
     auto [tx, ty] = xy(s.truth);
-    p.layers.push_back(core::line_layer(tx, ty, "ground truth", "0.6", "", "--"));
+    p.layers.push_back(repro::line_layer(tx, ty, "ground truth", "0.6", "", "--"));
     auto [ex, ey] = xy(est.poses);
-    p.layers.push_back(core::line_layer(ex, ey, m.label, m.color));
+    p.layers.push_back(repro::line_layer(ex, ey, m.label, m.color));
     if (!s.truth_landmarks.empty()) {
       auto [lx, ly] = lxy(s.truth_landmarks);
-      p.layers.push_back(core::scatter_layer(lx, ly, "landmarks (truth)", "0.6", 20, 1.0, "x"));
+      p.layers.push_back(repro::scatter_layer(lx, ly, "landmarks (truth)", "0.6", 20, 1.0, "x"));
       auto [mx, my] = lxy(est.landmarks);
-      p.layers.push_back(core::scatter_layer(mx, my, "landmarks (estimate)", m.color, 14, 1.0, "o"));
+      p.layers.push_back(repro::scatter_layer(mx, my, "landmarks (estimate)", m.color, 14, 1.0, "o"));
     }
     p.legend = "best";
     f.panels.push_back(p);

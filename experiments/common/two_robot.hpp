@@ -1,6 +1,6 @@
 // The figure shared by the two-robot map-merging experiments of chapter 2 (Figs. 2.5 and 2.7). Include after
-// `import keel.core; import keel.eval;` (DESIGN rule 4); it imports nothing itself and does no linear
-// algebra.
+// `import keel.core; import keel.repro; import keel.eval;` (DESIGN rule 4); it imports nothing itself and
+// does no linear algebra.
 #pragma once
 
 #include <fmt/format.h>
@@ -14,13 +14,14 @@ namespace keel::experiments {
 // translation) and every candidate as a segment between its two poses: blue accepted inliers, red accepted
 // outliers, pink rejected inliers, grey rejected outliers. `d` must have been run with keep_solutions.
 template <class G>
-keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
-                                      const std::vector<keel::eval::StudyMethod>& methods,
-                                      const std::string& file, const std::string& title, int ax, int ay,
-                                      double trajectory_width, const std::string& xlabel = "",
-                                      const std::string& ylabel = "") {
+keel::repro::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
+                                       const std::vector<keel::eval::StudyMethod>& methods,
+                                       const std::string& file, const std::string& title, int ax, int ay,
+                                       double trajectory_width, const std::string& xlabel = "",
+                                       const std::string& ylabel = "") {
   namespace core = keel::core;
-  core::Figure f;
+  namespace repro = keel::repro;
+  repro::Figure f;
   f.file = file;
   f.title =
       title +
@@ -32,7 +33,7 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const auto& o = d.methods.at(k);
     const auto& m = o.merged;
-    core::Panel panel;
+    repro::Panel panel;
     panel.title = fmt::format("{}: TP {}, FP {}", methods[k].label, o.metrics.classification.tp,
                               o.metrics.classification.fp);
     panel.xlabel = xlabel;
@@ -48,9 +49,9 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
       xb.push_back(T.translation()(ax));
       yb.push_back(T.translation()(ay));
     }
-    auto la = core::line_layer(xa, ya, "robot a", "0.25");
+    auto la = repro::line_layer(xa, ya, "robot a", "0.25");
     la.linewidth = trajectory_width;
-    auto lb = core::line_layer(xb, yb, "robot b", "0.55");
+    auto lb = repro::line_layer(xb, yb, "robot b", "0.55");
     lb.linewidth = trajectory_width;
     panel.layers.push_back(la);
     panel.layers.push_back(lb);
@@ -66,7 +67,7 @@ keel::core::Figure merged_maps_figure(const keel::eval::MergeDataset<G>& d,
                   {true, true, "accepted inliers", "navy", 1.4, 1.0},
                   {true, false, "accepted outliers", "red", 1.4, 1.0}};
     for (const auto& g : groups) {
-      core::Layer l;
+      repro::Layer l;
       l.type = "segments";
       l.label = g.label;
       l.color = g.color;

@@ -3,6 +3,7 @@
 // keel::eval's clique-scale studies (eval/clique_scale.hpp). Sizes, precision/recall, violations and the
 // exact search's status and bound are metrics; wall times are timings (never diffed).
 import keel.core;
+import keel.repro;
 import keel.pcm;
 import keel.sim;
 import keel.eval;
@@ -13,6 +14,7 @@ import keel.eval;
 #include <stdexcept>
 
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
 namespace eval = keel::eval;
@@ -29,7 +31,7 @@ eval::CliqueScaleOptions read_methods(const core::ConfigTable& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return core::experiment_main(argc, argv, [](core::Experiment& ex) {
+  return repro::experiment_main(argc, argv, [](repro::Experiment& ex) {
     const auto& p = ex.params();
     eval::PlantedCliqueStudyOptions po;
     po.methods = read_methods(p);

@@ -1,6 +1,7 @@
 // Facade-API tests: use the engine exactly as drivers do, through `import` (imports before any include,
 // DESIGN rule 4).
 import keel.core;
+import keel.repro;
 import keel.lie;
 import keel.pcm;
 import keel.sim;
@@ -18,6 +19,7 @@ import keel.sos;
 
 namespace lie = keel::lie;
 namespace core = keel::core;
+namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
 namespace eval = keel::eval;
@@ -117,7 +119,7 @@ TEST_CASE("keel.core facade: config errors name file, table and key") {
   std::ofstream(file)
       << "id = \"demo\"\ntitle = \"t\"\nreproduces = \"r\"\nseed = 1\n[params]\nsteps = \"ten\"\n"
          "[profiles.quick]\n";
-  const auto cfg = core::ExperimentConfig::load(file, "quick");
+  const auto cfg = repro::ExperimentConfig::load(file, "quick");
   CHECK_THROWS_WITH_AS(
       (void)cfg.params.integer("steps"),
       doctest::Contains("experiment.toml: [params] key 'steps' (line 6): expected an integer"),
@@ -148,12 +150,12 @@ TEST_CASE("keel.sos facade: the counterexample is not tight at order 1 and certi
   sos::CertifyOptions o;
   o.escalate = false;
   const sos::CertifiedSolution first = sos::solve_certified(g, o);
-  CHECK(first.status == sos::CertificateStatus::not_certified);
-  CHECK(first.lower_bound < first.upper_bound - 0.5);
+  CHECK(first.status == core::SearchStatus::unproven);
+  CHECK(first.bound.lower < first.bound.upper - 0.5);
   o.escalate = true;
   const sos::CertifiedSolution second = sos::solve_certified(g, o);
-  CHECK(second.status == sos::CertificateStatus::certified);
+  CHECK(second.status == core::SearchStatus::optimal);
   CHECK(second.certified_order == 2);
-  CHECK(second.upper_bound <= first.upper_bound + 1e-9);  // order 2 may also round to a better solution
-  CHECK(sos::to_string(second.status) == "certified");
+  CHECK(second.bound.upper <= first.bound.upper + 1e-9);  // order 2 may also round to a better solution
+  CHECK(core::to_string(second.status) == "optimal");
 }

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
+#include "repro/experiment_config.hpp"
 
-namespace keel::core {
+namespace keel::repro {
 
 struct ReportOptions {
   std::filesystem::path experiments_dir = "experiments";
@@ -33,4 +33,4 @@ std::vector<std::string> prose_number_problems(const ExperimentConfig& config);
 // Every experiment id (folder with an experiment.toml), sorted.
 std::vector<std::string> list_experiments(const std::filesystem::path& experiments_dir);
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -1,4 +1,4 @@
-#include "core/grading.hpp"
+#include "repro/grading.hpp"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace keel::core {
+namespace keel::repro {
 
 BinomialComparison compare_rates(double ours, double n_ours, double thesis, double n_thesis, double z,
                                  double rounding) {
@@ -62,4 +62,4 @@ std::string ordering_text(const std::vector<std::string>& names, const std::vect
   return out;
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

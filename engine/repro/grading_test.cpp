@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/grading.hpp"
+#include "repro/grading.hpp"
 
-using namespace keel::core;
+using namespace keel::repro;
 
 TEST_CASE("two rates: the Table 2.1 cases") {
   // PCM's FPR 4 of 8100 against the thesis's 0.001 of 8100: well inside sampling error.

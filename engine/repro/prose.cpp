@@ -1,4 +1,4 @@
-#include "core/prose.hpp"
+#include "repro/prose.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace keel::core {
+namespace keel::repro {
 
 namespace {
 
@@ -325,4 +325,4 @@ bool literal_matches(const LiteralNumber& literal, double value) {
   return std::abs(v - value) <= half || std::abs(v - 100.0 * value) <= half;
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

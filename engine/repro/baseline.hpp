@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
+#include "repro/experiment_config.hpp"
 
-namespace keel::core {
+namespace keel::repro {
 
 struct DiffRow {
   std::string name;       // metric name, "series[i]" for a series element, "check: ..." for a claim check
@@ -48,4 +48,4 @@ void bless(const ExperimentConfig& config, const std::filesystem::path& results_
 // Renders a DiffResult as an aligned text table.
 [[nodiscard]] std::string format_diff(const DiffResult& d);
 
-}  // namespace keel::core
+}  // namespace keel::repro

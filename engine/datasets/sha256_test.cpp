@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-#include "graph/sha256.hpp"
+#include "datasets/sha256.hpp"
 
-using namespace keel::graph;
+using namespace keel::datasets;
 
 TEST_CASE("sha256 known vectors") {
   CHECK(sha256_hex("") == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");

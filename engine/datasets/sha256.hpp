@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace keel::graph {
+namespace keel::datasets {
 
 class Sha256 {
  public:
@@ -31,4 +31,4 @@ std::string sha256_hex(std::string_view bytes);
 /// Streams the file; throws std::runtime_error when it cannot be read.
 std::string sha256_file(const std::filesystem::path& file);
 
-}  // namespace keel::graph
+}  // namespace keel::datasets

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace keel::core {
+namespace keel::repro {
 
 // Two rates, each a fraction of n trials, agree when their difference is within z standard errors of a
 // difference of two independent binomial proportions (Agresti and Caffo 2000: each rate adjusted by adding
@@ -31,4 +31,4 @@ struct BinomialComparison {
 [[nodiscard]] std::string ordering_text(const std::vector<std::string>& names,
                                         const std::vector<double>& values);
 
-}  // namespace keel::core
+}  // namespace keel::repro

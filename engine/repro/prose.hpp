@@ -20,7 +20,7 @@
 #include <string_view>
 #include <vector>
 
-namespace keel::core {
+namespace keel::repro {
 
 // What a placeholder asks for: kind ("metric", "timing", "series", "thesis"), key, the series selector (empty
 // unless kind is "series") and the experiment (empty: this one).
@@ -65,4 +65,4 @@ struct LiteralNumber {
 // 0.94 as a percentage; 8100 matches 8100 only).
 [[nodiscard]] bool literal_matches(const LiteralNumber& literal, double value);
 
-}  // namespace keel::core
+}  // namespace keel::repro

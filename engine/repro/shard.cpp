@@ -1,4 +1,4 @@
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -12,9 +12,13 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "core/results.hpp"
+#include "repro/results.hpp"
 
-namespace keel::core {
+namespace keel::repro {
+
+using core::inside_parallel_for;
+using core::parallel_for;
+using core::Progress;
 
 namespace {
 
@@ -256,4 +260,4 @@ void trial_loop(std::size_t n, const std::function<void(std::size_t)>& body,
   if (progress) progress->advance(n);
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -1,4 +1,4 @@
-#include "graph/sha256.hpp"
+#include "datasets/sha256.hpp"
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace keel::graph {
+namespace keel::datasets {
 
 namespace {
 
@@ -138,4 +138,4 @@ std::string sha256_file(const std::filesystem::path& file) {
   return h.hex_digest();
 }
 
-}  // namespace keel::graph
+}  // namespace keel::datasets

@@ -24,11 +24,15 @@
 #include <string>
 #include <vector>
 
-#include "core/archive.hpp"
+#include "repro/archive.hpp"
 
 namespace keel::core {
-
 class Progress;
+}
+
+namespace keel::repro {
+
+using core::Progress;
 
 // "k/N" with 0 <= k < N; throws std::invalid_argument with the accepted form otherwise.
 struct Slice {
@@ -92,7 +96,7 @@ void trial_loop(std::size_t n, const std::function<void(std::size_t)>& body,
                 Progress* progress = nullptr);
 
 // trial_loop whose records are slot i of each of the given per-trial vectors (std::vector<T>, T savable by
-// core::save).
+// repro::save).
 template <class... Vectors>
 void trial_loop(std::size_t n, const std::function<void(std::size_t)>& body, unsigned threads,
                 Progress* progress, Vectors&... per_trial) {
@@ -101,4 +105,4 @@ void trial_loop(std::size_t n, const std::function<void(std::size_t)>& body, uns
       [&](Reader& r, std::size_t i) { (load(r, per_trial[i]), ...); }, threads, progress);
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

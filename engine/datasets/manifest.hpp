@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace keel::graph {
+namespace keel::datasets {
 
 class DatasetError : public std::runtime_error {
  public:
@@ -70,4 +70,4 @@ std::vector<std::filesystem::path> dataset_search_paths(const std::string& name,
                                                         const std::string& relative_path,
                                                         const std::filesystem::path& root = {});
 
-}  // namespace keel::graph
+}  // namespace keel::datasets

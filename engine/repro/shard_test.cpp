@@ -16,11 +16,11 @@
 #include <tuple>
 #include <vector>
 
-#include "core/archive.hpp"
+#include "repro/archive.hpp"
 #include "core/random.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 
-using namespace keel::core;
+using namespace keel::repro;
 namespace fs = std::filesystem;
 
 namespace {
@@ -54,7 +54,7 @@ struct Rich {  // saved member by member through fields()
 };
 
 Rich rich_trial(std::size_t i) {
-  Rng rng = Rng::stream(7, i);
+  keel::core::Rng rng = keel::core::Rng::stream(7, i);
   Rich r;
   for (std::size_t k = 0; k < i % 5; ++k) r.selected.push_back(static_cast<int>(rng.uniform(0, 100)));
   r.error = i % 3 == 0 ? "" : fmt::format("trial {} failed", i);
@@ -95,7 +95,7 @@ StudyOut run_study(std::size_t n) {
   trial_loop(
       n + 3,
       [&](std::size_t i) {
-        Rng rng = Rng::stream(9, i);
+        keel::core::Rng rng = keel::core::Rng::stream(9, i);
         out.second[i] = rng.normal();
       },
       2, nullptr, out.second);

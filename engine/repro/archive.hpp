@@ -30,7 +30,7 @@
 #include <utility>
 #include <vector>
 
-namespace keel::core {
+namespace keel::repro {
 
 class Writer {
  public:
@@ -164,7 +164,7 @@ void save(Writer& w, const T& v) {
     w.bytes(v.data(), static_cast<std::size_t>(v.rows() * v.cols()) * sizeof(typename T::Scalar));
   } else {
     static_assert(std::is_trivially_copyable_v<T>,
-                  "core::save: give this type a fields() member returning std::tie of its members");
+                  "repro::save: give this type a fields() member returning std::tie of its members");
     w.bytes(&v, sizeof v);
   }
 }
@@ -226,9 +226,9 @@ void load(Reader& r, T& v) {
     r.bytes(v.data(), static_cast<std::size_t>(rows * cols) * sizeof(typename T::Scalar));
   } else {
     static_assert(std::is_trivially_copyable_v<T>,
-                  "core::load: give this type a fields() member returning std::tie of its members");
+                  "repro::load: give this type a fields() member returning std::tie of its members");
     r.bytes(&v, sizeof v);
   }
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

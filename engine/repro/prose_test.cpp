@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "core/prose.hpp"
+#include "repro/prose.hpp"
 
-using namespace keel::core;
+using namespace keel::repro;
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "core/results.hpp"
+#include "repro/results.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
-namespace keel::core {
+namespace keel::repro {
 
 using json = nlohmann::json;
 
@@ -256,4 +256,4 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
   write_file_atomic(path, doc.dump(1) + "\n");
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -1,4 +1,4 @@
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -9,9 +9,9 @@
 #include <tuple>
 
 #include "core/config.hpp"
-#include "graph/sha256.hpp"
+#include "datasets/sha256.hpp"
 
-namespace keel::graph {
+namespace keel::datasets {
 
 namespace fs = std::filesystem;
 
@@ -261,4 +261,4 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
                                  name, relative_path, entry->sha256.substr(0, 12), report, how));
 }
 
-}  // namespace keel::graph
+}  // namespace keel::datasets

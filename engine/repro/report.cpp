@@ -1,4 +1,4 @@
-#include "core/report.hpp"
+#include "repro/report.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,12 +15,19 @@
 #include <vector>
 
 #include "core/config.hpp"
-#include "core/experiment.hpp"
-#include "core/grading.hpp"
-#include "core/prose.hpp"
-#include "core/results.hpp"
+#include "repro/experiment.hpp"
+#include "repro/grading.hpp"
+#include "repro/prose.hpp"
+#include "repro/results.hpp"
+#include "core/statistics.hpp"
 
-namespace keel::core {
+namespace keel::repro {
+
+using core::ConfigError;
+using core::ConfigTable;
+using core::ConfigTableData;
+using core::ConfigValue;
+using core::median;
 
 using json = nlohmann::json;
 
@@ -487,4 +494,4 @@ std::filesystem::path write_report(const ReportOptions& o) {
   return out;
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -2,7 +2,7 @@
 //
 //   import keel.core;
 //   int main(int argc, char** argv) {
-//     return keel::core::experiment_main(argc, argv, [](keel::core::Experiment& ex) {
+//     return keel::repro::experiment_main(argc, argv, [](keel::repro::Experiment& ex) {
 //       const auto n = ex.params().integer("steps");   // strict: missing/wrong type -> error naming file and
 //       key ex.params_done();                               // unknown keys -> error before any long work
 //       ex.results().metric("x", compute(n, ex.seed(), ex.threads()));
@@ -18,10 +18,10 @@
 #include <functional>
 #include <string>
 
-#include "core/config.hpp"
-#include "core/results.hpp"
+#include "repro/experiment_config.hpp"
+#include "repro/results.hpp"
 
-namespace keel::core {
+namespace keel::repro {
 
 class Experiment {
  public:
@@ -56,4 +56,4 @@ std::string git_describe(const std::string& path);
 // experiments/<base>, whose driver and parameters the variant uses.
 bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base = "");
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -17,13 +17,14 @@
 #include <string>
 #include <vector>
 
-#include "graph/datasets.hpp"
+#include "datasets/manifest.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/isam.hpp"
-#include "graph/sha256.hpp"
+#include "datasets/sha256.hpp"
 #include "graph/trajectory.hpp"
 
+using namespace keel::datasets;
 using namespace keel::graph;
 using keel::lie::kPi;
 using keel::lie::Vec3;

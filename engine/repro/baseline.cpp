@@ -1,4 +1,4 @@
-#include "core/baseline.hpp"
+#include "repro/baseline.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -9,9 +9,9 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "core/results.hpp"
+#include "repro/results.hpp"
 
-namespace keel::core {
+namespace keel::repro {
 
 using json = nlohmann::json;
 
@@ -232,4 +232,4 @@ std::string format_diff(const DiffResult& d) {
   return text;
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace keel::core {
+namespace keel::repro {
 
 // One drawable layer of a panel; which fields matter depends on `type` ("line", "scatter", "segments",
 // "hline", "vline"). Unset optional fields are omitted from the JSON.
@@ -111,4 +111,4 @@ std::string level_tag(double p);
 // compactly).
 double round_significant(double v, int digits = 12);
 
-}  // namespace keel::core
+}  // namespace keel::repro

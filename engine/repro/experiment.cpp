@@ -1,4 +1,4 @@
-#include "core/experiment.hpp"
+#include "repro/experiment.hpp"
 
 #include <fmt/format.h>
 
@@ -16,9 +16,13 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "core/shard.hpp"
+#include "repro/shard.hpp"
 
-namespace keel::core {
+namespace keel::repro {
+
+using core::ConfigError;
+using core::default_threads;
+using core::format_duration;
 
 Experiment::Experiment(ExperimentConfig config, unsigned threads)
     : config_(std::move(config)), threads_(threads) {}
@@ -284,4 +288,4 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   return 0;
 }
 
-}  // namespace keel::core
+}  // namespace keel::repro

@@ -136,11 +136,11 @@ PcmRun<G> run_pcm_impl(const Graph& ga, const Graph& gb, const std::vector<Edge>
   PcmRun<G> run;
   run.candidates = candidates_from_edges<G>(ga, gb, edges);
   say(fmt::format("solving robot a ({} poses, {} edges)", pose_count(ga), ga.edges.size()));
-  run.a = eval::solve_local(ga, o.local);
+  run.a = merge::solve_local(ga, o.local);
   say(fmt::format("solving robot b ({} poses, {} edges)", pose_count(gb), gb.edges.size()));
-  run.b = eval::solve_local(gb, o.local);
+  run.b = merge::solve_local(gb, o.local);
   say(fmt::format("joint marginals of the poses {} candidates touch", run.candidates.size()));
-  const auto maps = eval::local_maps(run.a, run.b, run.candidates);
+  const auto maps = merge::local_maps(run.a, run.b, run.candidates);
   run.marginals_time_s = maps.time_s;
   const std::size_t n = run.candidates.size();
   say(fmt::format("consistency matrix ({} × {} loop errors, eq. 2.4)", n, n));
@@ -157,7 +157,7 @@ PcmRun<G> run_pcm_impl(const Graph& ga, const Graph& gb, const std::vector<Edge>
   run.selection = pcm::select_pcm(run.q, run.gamma, o.algorithm, clique);
   if (o.merge) {
     say(fmt::format("merged solve with {} selected candidates", run.selection.selected.size()));
-    run.merged = eval::merge_maps(run.a, run.b, run.candidates, run.selection.selected, o.merge_options);
+    run.merged = merge::merge_maps(run.a, run.b, run.candidates, run.selection.selected, o.merge_options);
   }
   return run;
 }
@@ -184,7 +184,7 @@ Graph merged_graph_impl(const PcmRun<G>& run) {
     e.i = c.pose_a;
     e.j = na + c.pose_b;
     e.measurement = c.z;
-    e.information = sim::information_from_left_covariance(c.z, c.covariance);
+    e.information = pcm::information_from_left_covariance(c.z, c.covariance);
     g.edges.push_back(e);
   }
   return g;

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/merge.hpp"
+#include "merge/merge.hpp"
 #include "graph/pose_graph.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
@@ -72,23 +72,23 @@ struct PcmOptions {
       0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
   pcm::Composition composition = pcm::Composition::joint;  // x̂_ij from the joint marginals (eq. 2.4)
   pcm::CliqueAlgorithm algorithm = pcm::CliqueAlgorithm::exact;
-  double time_limit_s = 0.0;         // exact clique search limit; <= 0: none (the result says if it stopped)
-  eval::LocalSolveOptions local;     // the two local solves (odometry initial guess, pose 0 fixed)
-  bool merge = false;                // also solve the merged two-robot graph with the selected candidates
-  eval::MergeOptions merge_options;  // of that solve
-  unsigned threads = 1;              // consistency matrix; 0 = keel::core::default_threads()
+  double time_limit_s = 0.0;          // exact clique search limit; <= 0: none (the result says if it stopped)
+  merge::LocalSolveOptions local;     // the two local solves (odometry initial guess, pose 0 fixed)
+  bool merge = false;                 // also solve the merged two-robot graph with the selected candidates
+  merge::MergeOptions merge_options;  // of that solve
+  unsigned threads = 1;               // consistency matrix; 0 = keel::core::default_threads()
   // Throws std::invalid_argument naming the field (including the nested options' own checks).
   void validate() const;
 };
 
 template <class G>
 struct PcmRun {
-  eval::LocalSolution<G> a, b;                            // the solved local maps
+  merge::LocalSolution<G> a, b;                           // the solved local maps
   std::vector<pcm::InterRobotMeasurement<G>> candidates;  // with left covariances (consistency.hpp)
   pcm::ConsistencyMatrix q;
   double gamma = 0.0;
   pcm::Selection selection;  // selection.search holds the clique search (status, bound)
-  std::optional<eval::MergeResult<G>> merged;
+  std::optional<merge::MergeResult<G>> merged;
   double marginals_time_s = 0.0, consistency_time_s = 0.0;
 };
 using PcmRun2 = PcmRun<lie::SE2>;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/files.hpp"
-#include "eval/merge.hpp"
+#include "merge/merge.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/parse_error.hpp"
@@ -48,9 +48,9 @@ TEST_CASE("run_pcm on the files of split_files selects what the in-memory pipeli
 
   // In memory: the scenario and candidates as generated.
   const auto scenario = sim::split_two_robots(syn.graph, syn.truth, o.split);
-  const auto a = eval::solve_local(scenario.robot_a);
-  const auto b = eval::solve_local(scenario.robot_b);
-  const auto maps = eval::local_maps(a, b, set.candidates);
+  const auto a = merge::solve_local(scenario.robot_a);
+  const auto b = merge::solve_local(scenario.robot_b);
+  const auto maps = merge::local_maps(a, b, set.candidates);
   const auto q = pcm::consistency_matrix(maps.a, maps.b, set.candidates);
   const double gamma = pcm::consistency_threshold(0.11, 3);
   const auto reference = pcm::select_pcm(q, gamma, pcm::CliqueAlgorithm::exact);

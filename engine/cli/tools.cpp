@@ -13,7 +13,7 @@ import keel.pgo;
 import keel.cov;
 import keel.pcm;
 import keel.sim;
-import keel.eval;
+import keel.merge;
 import keel.app;
 
 #include <fmt/format.h>

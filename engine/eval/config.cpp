@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <type_traits>
+#include <variant>
+
 #include <stdexcept>
 #include <tuple>
 
@@ -60,15 +63,27 @@ std::vector<StudyMethod> read_methods(const core::ConfigTable& p) {
     StudyMethod m;
     m.method.name = name;
     m.label = t.string("label");
-    m.method.kind = t.parse("kind", merge_method_kind_from_string);
-    m.method.p = t.number_or("p", m.method.p);
-    m.method.composition = t.parse_or("composition", pcm::composition_from_string, pcm::Composition::joint);
-    m.method.dcs_phi = t.number_or("dcs_phi", m.method.dcs_phi);
-    m.method.dcs_accept_scale = t.number_or("dcs_accept_scale", m.method.dcs_accept_scale);
-    m.method.scgp.affinity_scale = t.number_or("scgp_affinity_scale", m.method.scgp.affinity_scale);
-    m.method.scgp.discretization =
-        t.parse_or("scgp_discretization", pcm::scgp_discretization_from_string, m.method.scgp.discretization);
-    m.method.densest.affinity_scale = t.number_or("densest_affinity_scale", m.method.densest.affinity_scale);
+    const auto kind = t.parse("kind", merge::merge_method_kind_from_string);
+    m.method = merge::MergeMethod::make(name, kind);
+    // Only the keys of the method's kind are read: a key of another kind is an unknown key.
+    std::visit(
+        [&](auto& o) {
+          using O = std::decay_t<decltype(o)>;
+          if constexpr (requires { o.p; }) o.p = t.number_or("p", o.p);
+          if constexpr (requires { o.composition; })
+            o.composition = t.parse_or("composition", pcm::composition_from_string, o.composition);
+          if constexpr (std::is_same_v<O, merge::Dcs>) {
+            o.phi = t.number_or("dcs_phi", o.phi);
+            o.accept_scale = t.number_or("dcs_accept_scale", o.accept_scale);
+          } else if constexpr (std::is_same_v<O, merge::Scgp>) {
+            o.options.affinity_scale = t.number_or("scgp_affinity_scale", o.options.affinity_scale);
+            o.options.discretization = t.parse_or("scgp_discretization", pcm::scgp_discretization_from_string,
+                                                  o.options.discretization);
+          } else if constexpr (std::is_same_v<O, merge::Densest>) {
+            o.options.affinity_scale = t.number_or("densest_affinity_scale", o.options.affinity_scale);
+          }
+        },
+        m.method.options);
     t.validate(m.method);
     out.push_back(m);
   }

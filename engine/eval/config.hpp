@@ -28,9 +28,10 @@ sim::SplitOptions read_split(const core::ConfigTable& t);
 // max], both or neither: near-miss aliased groups, sim::CandidateOptions).
 sim::CandidateOptions read_candidate_options(const core::ConfigTable& t);
 
-// `methods = [names]` and one [params.method.<name>] table each: `label`, `kind`, and optionally `p`,
-// `composition`, `dcs_phi`, `dcs_accept_scale`, `scgp_affinity_scale`, `scgp_discretization`,
-// `densest_affinity_scale` (defaults: MergeMethod's).
+// `methods = [names]` and one [params.method.<name>] table each: `label`, `kind`, and the optional keys of
+// that kind (defaults: merge::MergeMethod::make's): `p` (ransac, pcm_*, densest), `composition` (those and
+// scgp), `dcs_phi` and `dcs_accept_scale` (dcs), `scgp_affinity_scale` and `scgp_discretization` (scgp),
+// `densest_affinity_scale` (densest). A key of another kind is an unknown key.
 std::vector<StudyMethod> read_methods(const core::ConfigTable& t);
 
 // `scgp_affinity_scale`, `scgp_discretization`, `scgp_min_eigen_ratio` (the 1D-world studies).

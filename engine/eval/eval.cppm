@@ -13,18 +13,14 @@ export module keel.eval;
 export namespace keel::eval {
 // map merging (§2.6)
 using keel::eval::accepted_candidates;
-using keel::eval::anchor_init_from_string;
 using keel::eval::AnchorInit;
 using keel::eval::local_maps;
 using keel::eval::LocalMaps;
-using keel::eval::LocalMaps2;
-using keel::eval::LocalMaps3;
 using keel::eval::LocalSolution;
 using keel::eval::LocalSolution2;
 using keel::eval::LocalSolution3;
 using keel::eval::LocalSolveOptions;
 using keel::eval::merge_maps;
-using keel::eval::merge_method_kind_from_string;
 using keel::eval::MergeDataset;
 using keel::eval::MergeDataset2;
 using keel::eval::MergeDataset3;

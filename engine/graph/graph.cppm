@@ -24,6 +24,8 @@ using keel::graph::Edge3;
 using keel::graph::LandmarkMeasurement2;
 using keel::graph::PoseGraph2D;
 using keel::graph::PoseGraph3D;
+using keel::graph::PoseGraphFor;
+using keel::graph::PoseGraphOf;
 // errors
 using keel::graph::ParseError;
 // g2o

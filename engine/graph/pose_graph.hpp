@@ -65,4 +65,18 @@ struct PoseGraph3D {
   bool has_initial_poses = false;
 };
 
+// The pose-graph type of a group: PoseGraph2D for SE(2), PoseGraph3D for SE(3).
+template <class G>
+struct PoseGraphFor;
+template <>
+struct PoseGraphFor<lie::SE2> {
+  using type = PoseGraph2D;
+};
+template <>
+struct PoseGraphFor<lie::SE3> {
+  using type = PoseGraph3D;
+};
+template <class G>
+using PoseGraphOf = typename PoseGraphFor<G>::type;
+
 }  // namespace keel::graph

@@ -63,6 +63,31 @@ static typename G::Jacobian left_covariance_impl(const G& z, const typename G::J
   return 0.5 * (sigma + sigma.transpose());
 }
 
+template <class G>
+static typename G::Jacobian info_from_left(const G& z, const typename G::Jacobian& covariance) {
+  using J = typename G::Jacobian;
+  if (!all_finite(covariance))
+    throw std::invalid_argument("information_from_left_covariance: the covariance has non-finite entries");
+  const double scale = std::max(1.0, covariance.cwiseAbs().maxCoeff());
+  if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
+    throw std::invalid_argument("information_from_left_covariance: the covariance is not symmetric");
+  const J Ad_inv = z.inverse().adjoint();  // Ad(z)⁻¹ = Ad(z⁻¹)
+  J residual_cov = Ad_inv * covariance * Ad_inv.transpose();
+  residual_cov = (0.5 * (residual_cov + residual_cov.transpose())).eval();
+  Eigen::LLT<J> llt(residual_cov);
+  if (llt.info() != Eigen::Success)
+    throw std::invalid_argument("information_from_left_covariance: the covariance is not positive definite");
+  J info = llt.solve(J::Identity());
+  return (0.5 * (info + info.transpose())).eval();
+}
+
+lie::Mat3 information_from_left_covariance(const lie::SE2& z, const lie::Mat3& covariance) {
+  return info_from_left(z, covariance);
+}
+lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& covariance) {
+  return info_from_left(z, covariance);
+}
+
 lie::Mat3 left_covariance_from_information(const lie::SE2& z, const lie::Mat3& information) {
   return left_covariance_impl(z, information);
 }

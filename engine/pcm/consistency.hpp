@@ -74,6 +74,12 @@ using InterRobotMeasurement3 = InterRobotMeasurement<lie::SE3>;
 // Left-perturbation covariance of a measurement whose noise is given, as in every pose-graph file, by the
 // information Ω of the residual r = ρ(z⁻¹ T_i⁻¹ T_j) (graph/pose_graph.hpp). To first order z = exp(−Ad(z) r)
 // z̄, so Σ = Ad(z) Ω⁻¹ Ad(z)ᵀ. Throws std::invalid_argument if Ω is not symmetric positive definite.
+// Residual information Ω of r = ρ(z⁻¹ T_i⁻¹ T_j) from the left-perturbation covariance Σ of z: the inverse of
+// left_covariance_from_information, Ω = (Ad(z)⁻¹ Σ Ad(z)⁻ᵀ)⁻¹. Throws std::invalid_argument
+// if Σ is not finite, symmetric and positive definite.
+lie::Mat3 information_from_left_covariance(const lie::SE2& z, const lie::Mat3& covariance);
+lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& covariance);
+
 lie::Mat3 left_covariance_from_information(const lie::SE2& z, const lie::Mat3& information);
 lie::Mat6 left_covariance_from_information(const lie::SE3& z, const lie::Mat6& information);
 

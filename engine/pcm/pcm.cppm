@@ -18,6 +18,7 @@ using keel::pcm::consistency_matrix;
 using keel::pcm::consistency_threshold;
 using keel::pcm::ConsistencyMatrix;
 using keel::pcm::ConsistencyOptions;
+using keel::pcm::information_from_left_covariance;
 using keel::pcm::InterRobotMeasurement;
 using keel::pcm::InterRobotMeasurement2;
 using keel::pcm::InterRobotMeasurement3;

@@ -7,7 +7,7 @@
 #include "bindings.hpp"
 #include "candidates.hpp"
 #include "app/files.hpp"
-#include "eval/merge.hpp"
+#include "merge/merge.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
@@ -27,9 +27,9 @@ template <class G, class Graph, class Edge>
 pcm::ConsistencyMatrix consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges,
                                    const pcm::ConsistencyOptions& options) {
   const auto candidates = app::inter_robot_candidates(a, b, edges);
-  const auto la = eval::solve_local(a);
-  const auto lb = eval::solve_local(b);
-  const auto maps = eval::local_maps(la, lb, candidates);
+  const auto la = merge::solve_local(a);
+  const auto lb = merge::solve_local(b);
+  const auto maps = merge::local_maps(la, lb, candidates);
   return pcm::consistency_matrix(maps.a, maps.b, candidates, options);
 }
 
@@ -125,11 +125,11 @@ void bind_pcm(py::module_& m) {
 The n x n matrix Q of pairwise consistency (thesis section 2.4.1, eq. 2.4; section 2.6): q_uv is the SQUARED
 Mahalanobis distance of the loop error eps_uv = Log(z_u^-1 x^a_ij z_v x^b_lk) of candidates u and v (zero
 diagonal; q_uv ~ q_vu to first order only). Steps, with the engine's defaults:
-  1. eval::solve_local on each graph (pgo defaults, init='odometry', one solver thread) and a CHOLMOD
+  1. merge::solve_local on each graph (pgo defaults, init='odometry', one solver thread) and a CHOLMOD
      factorization of its information at the solution (pose 0 fixed);
   2. each candidate's information is turned into the covariance of its left perturbation
      (pcm::left_covariance_from_information: Sigma = Ad(z) Omega^-1 Ad(z)^T);
-  3. eval::local_maps: the joint marginal of the poses the candidates touch;
+  3. merge::local_maps: the joint marginal of the poses the candidates touch;
   4. pcm::consistency_matrix with `composition` 'joint' (relative poses with their cross-covariance, thesis
      ch. 5) or 'independent' (cross-covariance dropped), `threads` workers (the result does not depend on it).
 For inliers q_uv ~ chi2(dof), dof = 3 (2D) or 6 (3D).)doc");

@@ -21,7 +21,7 @@
 #include "app/files.hpp"
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
-#include "eval/merge.hpp"
+#include "merge/merge.hpp"
 #include "graph/build.hpp"
 #include "app/files.hpp"
 #include "graph/g2o.hpp"
@@ -98,9 +98,9 @@ void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pair
 template <class G, class Graph, class Edge>
 void consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges) {
   const auto candidates = app::inter_robot_candidates(a, b, edges);
-  const auto la = eval::solve_local(a);
-  const auto lb = eval::solve_local(b);
-  const auto maps = eval::local_maps(la, lb, candidates);
+  const auto la = merge::solve_local(a);
+  const auto lb = merge::solve_local(b);
+  const auto maps = merge::local_maps(la, lb, candidates);
   const pcm::ConsistencyMatrix Q = pcm::consistency_matrix(maps.a, maps.b, candidates);
   std::string rows;
   for (int u = 0; u < Q.n; ++u) {

@@ -107,24 +107,6 @@ auto normal_sample(core::Rng& rng, const Mat& lower) {
 }
 
 template <class G>
-typename G::Jacobian info_from_left(const G& z, const typename G::Jacobian& covariance) {
-  using J = typename G::Jacobian;
-  if (!all_finite(covariance))
-    fail("information_from_left_covariance: the covariance has non-finite entries");
-  const double scale = std::max(1.0, covariance.cwiseAbs().maxCoeff());
-  if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
-    fail("information_from_left_covariance: the covariance is not symmetric");
-  const J Ad_inv = z.inverse().adjoint();  // Ad(z)⁻¹ = Ad(z⁻¹)
-  J residual_cov = Ad_inv * covariance * Ad_inv.transpose();
-  residual_cov = (0.5 * (residual_cov + residual_cov.transpose())).eval();
-  Eigen::LLT<J> llt(residual_cov);
-  if (llt.info() != Eigen::Success)
-    fail("information_from_left_covariance: the covariance is not positive definite");
-  J info = llt.solve(J::Identity());
-  return (0.5 * (info + info.transpose())).eval();
-}
-
-template <class G>
 typename G::Jacobian left_cov_of_inverse(const G& z, const typename G::Jacobian& cov) {
   // z = exp(n) z̄  ⇒  z⁻¹ = z̄⁻¹ exp(−n) = exp(−Ad(z̄⁻¹) n) z̄⁻¹.
   const typename G::Jacobian Ad = z.inverse().adjoint();
@@ -148,7 +130,8 @@ int first_unreachable(const Graph& g, int n) {
 }
 
 template <class G>
-TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>& gt, const SplitOptions& o) {
+TwoRobotScenario<G> split_impl(const graph::PoseGraphOf<G>& graph, const std::vector<G>& gt,
+                               const SplitOptions& o) {
   using J = typename G::Jacobian;
   const int n = static_cast<int>(gt.size());
   if (!graph.poses.empty() && static_cast<int>(graph.poses.size()) != n)
@@ -169,7 +152,7 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
 
   // Local graphs: the graph's own initial poses (if any), re-expressed with the robot's first pose at the
   // identity.
-  auto init_local = [&](PoseGraphOf<G>& g, int begin, int end) {
+  auto init_local = [&](graph::PoseGraphOf<G>& g, int begin, int end) {
     g.source = graph.source;
     g.has_initial_poses = graph.has_initial_poses;
     if (graph.poses.empty()) return;
@@ -210,7 +193,7 @@ TwoRobotScenario<G> split_impl(const PoseGraphOf<G>& graph, const std::vector<G>
       m.pose_b = e.i - o.split;
       m.z = e.measurement.inverse();
       m.covariance = left_cov_of_inverse(e.measurement, cov);
-      s.pool_information.push_back(info_from_left(m.z, m.covariance));
+      s.pool_information.push_back(pcm::information_from_left_covariance(m.z, m.covariance));
     }
     s.pool.push_back(m);
     s.pool_lines.push_back(e.line);
@@ -377,13 +360,6 @@ void resample_impl(TwoRobotScenario<G>& s, double scale, std::uint64_t seed) {
 }
 
 }  // namespace
-
-lie::Mat3 information_from_left_covariance(const lie::SE2& z, const lie::Mat3& covariance) {
-  return info_from_left(z, covariance);
-}
-lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& covariance) {
-  return info_from_left(z, covariance);
-}
 
 void SplitOptions::validate(int num_poses) const {
   auto check = [&](bool ok, const char* what) {

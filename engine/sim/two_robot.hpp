@@ -70,26 +70,6 @@
 
 namespace keel::sim {
 
-// The pose-graph type of a group: PoseGraph2D for SE(2), PoseGraph3D for SE(3).
-template <class G>
-struct PoseGraphFor;
-template <>
-struct PoseGraphFor<lie::SE2> {
-  using type = graph::PoseGraph2D;
-};
-template <>
-struct PoseGraphFor<lie::SE3> {
-  using type = graph::PoseGraph3D;
-};
-template <class G>
-using PoseGraphOf = typename PoseGraphFor<G>::type;
-
-// Residual information Ω of r = ρ(z⁻¹ T_i⁻¹ T_j) from the left-perturbation covariance Σ of z: the inverse of
-// left_covariance_from_information (consistency.hpp), Ω = (Ad(z)⁻¹ Σ Ad(z)⁻ᵀ)⁻¹. Throws std::invalid_argument
-// if Σ is not finite, symmetric and positive definite.
-lie::Mat3 information_from_left_covariance(const lie::SE2& z, const lie::Mat3& covariance);
-lie::Mat6 information_from_left_covariance(const lie::SE3& z, const lie::Mat6& covariance);
-
 // Where to cut the single-robot graph (original pose indices).
 struct SplitOptions {
   int first = 0;    // first pose of robot a
@@ -101,7 +81,8 @@ struct SplitOptions {
 
 template <class G>
 struct TwoRobotScenario {
-  PoseGraphOf<G> robot_a, robot_b;  // local graphs, poses 0.. in each robot's own frame (pose 0 = identity)
+  graph::PoseGraphOf<G> robot_a,
+      robot_b;                      // local graphs, poses 0.. in each robot's own frame (pose 0 = identity)
   std::vector<G> truth_a, truth_b;  // ground-truth local poses (truth_a[0] = truth_b[0] = identity)
   G true_anchor;  // T_ab: pose of b's local frame in a's frame (= ground truth G_first⁻¹ G_split)
   std::vector<pcm::InterRobotMeasurement<G>> pool;  // the dataset's true a–b loop closures (left covariance)

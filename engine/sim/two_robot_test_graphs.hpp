@@ -20,7 +20,7 @@ namespace keel::sim::testing {
 
 template <class G>
 struct SyntheticGraph {
-  PoseGraphOf<G> graph;
+  graph::PoseGraphOf<G> graph;
   std::vector<G> truth;
 };
 

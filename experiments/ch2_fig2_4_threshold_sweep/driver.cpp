@@ -4,6 +4,7 @@
 import keel.core;
 import keel.repro;
 import keel.pcm;
+import keel.merge;
 import keel.eval;
 
 #include <fmt/format.h>
@@ -34,7 +35,7 @@ int main(int argc, char** argv) {
     for (const auto& name : p.strings("families")) {
       const auto t = family_table.table(name);
       families.push_back({name, t.string("label"), t.string("color"),
-                          t.parse("kind", eval::merge_method_kind_from_string),
+                          t.parse("kind", keel::merge::merge_method_kind_from_string),
                           t.parse_or("composition", pcm::composition_from_string, pcm::Composition::joint)});
       if (families.back().kind == eval::MergeMethodKind::no_outliers ||
           families.back().kind == eval::MergeMethodKind::dcs ||

@@ -4,6 +4,7 @@
 import keel.core;
 import keel.repro;
 import keel.pcm;
+import keel.merge;
 import keel.eval;
 
 #include "common/two_robot.hpp"

@@ -6,6 +6,7 @@ import keel.repro;
 import keel.lie;
 import keel.pcm;
 import keel.sim;
+import keel.merge;
 import keel.eval;
 
 #include <fmt/format.h>

@@ -83,8 +83,8 @@ inline Setup validate_setup(const core::ConfigTable& p, const core::ConfigTable&
   s.i_claim = s.i_ref = methods.size();
   for (std::size_t k = 0; k < methods.size(); ++k) {
     if (methods[k].method.name == c.method) s.i_claim = k;
-    if (methods[k].method.kind == eval::MergeMethodKind::no_outliers) s.i_ref = k;
-    if (methods[k].method.kind == eval::MergeMethodKind::dcs)
+    if (methods[k].method.kind() == eval::MergeMethodKind::no_outliers) s.i_ref = k;
+    if (methods[k].method.kind() == eval::MergeMethodKind::dcs)
       throw ConfigError(p.where("methods") + ": DCS is not part of this study");
   }
   if (s.i_claim == methods.size())
@@ -170,7 +170,7 @@ inline void record_values(repro::Results& r, const std::string& name, const std:
 inline void record(repro::Results& r, const Summary& s, const std::vector<Regime>& regimes,
                    const std::vector<eval::StudyMethod>& methods, const Setup& setup) {
   for (std::size_t m = 0; m < methods.size(); ++m)
-    if (methods[m].method.kind != eval::MergeMethodKind::no_outliers)
+    if (methods[m].method.kind() != eval::MergeMethodKind::no_outliers)
       r.timing(methods[m].method.name + ".selection_s.mean", core::mean_std(s.selection_time[m]).mean);
   for (std::size_t g = 0; g < regimes.size(); ++g) {
     const std::string& rn = regimes[g].name;

@@ -28,9 +28,9 @@ inline std::size_t claimed_method(const std::vector<keel::eval::StudyMethod>& me
   } catch (const std::invalid_argument& e) {
     throw keel::core::ConfigError(fmt::format("{}: {}", claims.file(), e.what()));
   }
-  if (kind && methods[k].method.kind != *kind)
+  if (kind && methods[k].method.kind() != *kind)
     throw keel::core::ConfigError(fmt::format("{}: [params.claims] names '{}' where a {} method is needed",
-                                              claims.file(), name, keel::eval::to_string(*kind)));
+                                              claims.file(), name, keel::merge::to_string(*kind)));
   return k;
 }
 
@@ -98,9 +98,9 @@ inline void run_city_merge_table(keel::repro::Experiment& ex) {
     r.metric(n + ".accepted_aliased",
              s.accepted_aliased);  // totals over the data sets (false positives by kind)
     r.metric(n + ".accepted_random", s.accepted_random);
-    if (methods[k].method.kind != eval::MergeMethodKind::dcs)
+    if (methods[k].method.kind() != eval::MergeMethodKind::dcs)
       r.metric(n + ".empty_selections", s.empty_selections);
-    if (methods[k].method.kind == eval::MergeMethodKind::densest) {
+    if (methods[k].method.kind() == eval::MergeMethodKind::densest) {
       // What the relaxation returned before its repair to a clique: its size and its inconsistent pairs.
       const auto& v = s.column("violations");
       r.metric(n + ".raw_size", s.mean("raw_size"));
@@ -135,7 +135,7 @@ inline void run_city_merge_table(keel::repro::Experiment& ex) {
   for (const auto& name : baselines) {
     const std::size_t k = claimed_method(methods, claims, name);
     lowest_mse = lowest_mse && e.mean("trans_mse") < sum[k].mean("trans_mse");
-    if (methods[k].method.kind != eval::MergeMethodKind::dcs)
+    if (methods[k].method.kind() != eval::MergeMethodKind::dcs)
       lowest_fpr = lowest_fpr && e.pooled.fpr() <= sum[k].pooled.fpr();
     worst += fmt::format("{}{} MSE {:.4g} FPR {:.4f}", worst.empty() ? "" : "; ", name,
                          sum[k].mean("trans_mse"), sum[k].pooled.fpr());
@@ -150,14 +150,17 @@ inline void run_city_merge_table(keel::repro::Experiment& ex) {
       sum[i_dcs].pooled.tpr() <= dcs_tpr_max,
       fmt::format("{} TPR {:.4f} FPR {:.4f}", dcs, sum[i_dcs].pooled.tpr(), sum[i_dcs].pooled.fpr()));
   // The looser RANSAC is the one with the larger γ(p) = F⁻¹(1 − p), i.e. the smaller p (pcm/consistency.hpp).
-  const std::size_t i_loose = methods[i_lo].method.p < methods[i_hi].method.p ? i_lo : i_hi,
+  const std::size_t i_loose =
+                        methods[i_lo].method.p().value() < methods[i_hi].method.p().value() ? i_lo : i_hi,
                     i_strict = i_loose == i_lo ? i_hi : i_lo;
-  r.check("RANSAC depends on its threshold: the looser threshold (larger gamma) accepts more outliers",
-          sum[i_loose].pooled.fpr() > sum[i_strict].pooled.fpr(),
-          fmt::format("FPR {} (gamma {:.3g}) {:.4f} vs {} (gamma {:.3g}) {:.4f}",
-                      methods[i_loose].method.name, pcm::consistency_threshold(methods[i_loose].method.p, 3),
-                      sum[i_loose].pooled.fpr(), methods[i_strict].method.name,
-                      pcm::consistency_threshold(methods[i_strict].method.p, 3), sum[i_strict].pooled.fpr()));
+  r.check(
+      "RANSAC depends on its threshold: the looser threshold (larger gamma) accepts more outliers",
+      sum[i_loose].pooled.fpr() > sum[i_strict].pooled.fpr(),
+      fmt::format("FPR {} (gamma {:.3g}) {:.4f} vs {} (gamma {:.3g}) {:.4f}", methods[i_loose].method.name,
+                  pcm::consistency_threshold(methods[i_loose].method.p().value(), 3),
+                  sum[i_loose].pooled.fpr(), methods[i_strict].method.name,
+                  pcm::consistency_threshold(methods[i_strict].method.p().value(), 3),
+                  sum[i_strict].pooled.fpr()));
   r.check(fmt::format(
               "PCM-HeuPatt is almost indistinguishable from PCM-Exact (same selection in >= {:g} % of the "
               "data sets)",

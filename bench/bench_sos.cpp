@@ -9,6 +9,7 @@
 import keel.core;
 import keel.datasets;
 import keel.graph;
+import keel.convex;
 import keel.sos;
 
 #include <benchmark/benchmark.h>
@@ -20,6 +21,7 @@ import keel.sos;
 namespace core = keel::core;
 namespace datasets = keel::datasets;
 namespace graph = keel::graph;
+namespace convex = keel::convex;
 namespace sos = keel::sos;
 
 namespace {
@@ -37,7 +39,7 @@ const graph::PoseGraph2D& city_trees() {
 }
 
 void segments(benchmark::State& state, const graph::PoseGraph2D& g, sos::Structure structure,
-              sos::SdpSolver solver, int max_segments) {
+              convex::SdpSolver solver, int max_segments) {
   std::vector<sos::Segment> segs;
   const int n = static_cast<int>(g.poses.size());
   for (int first = 0; first + 100 <= n && (max_segments == 0 || static_cast<int>(segs.size()) < max_segments);
@@ -65,19 +67,19 @@ void segments(benchmark::State& state, const graph::PoseGraph2D& g, sos::Structu
 }
 
 void BM_M3500_dense_dsdp(benchmark::State& s) {
-  segments(s, manhattan(), sos::Structure::dense, sos::SdpSolver::dsdp, 0);
+  segments(s, manhattan(), sos::Structure::dense, convex::SdpSolver::dsdp, 0);
 }
 void BM_M3500_dense_sdpa(benchmark::State& s) {
-  segments(s, manhattan(), sos::Structure::dense, sos::SdpSolver::sdpa, 0);
+  segments(s, manhattan(), sos::Structure::dense, convex::SdpSolver::sdpa, 0);
 }
 void BM_M3500_cliques_dsdp(benchmark::State& s) {
-  segments(s, manhattan(), sos::Structure::cliques, sos::SdpSolver::dsdp, 2);
+  segments(s, manhattan(), sos::Structure::cliques, convex::SdpSolver::dsdp, 2);
 }
 void BM_CityTrees_dense_dsdp(benchmark::State& s) {
-  segments(s, city_trees(), sos::Structure::dense, sos::SdpSolver::dsdp, 0);
+  segments(s, city_trees(), sos::Structure::dense, convex::SdpSolver::dsdp, 0);
 }
 void BM_CityTrees_dense_sdpa(benchmark::State& s) {
-  segments(s, city_trees(), sos::Structure::dense, sos::SdpSolver::sdpa, 0);
+  segments(s, city_trees(), sos::Structure::dense, convex::SdpSolver::sdpa, 0);
 }
 
 }  // namespace

@@ -1,7 +1,5 @@
 #include "align/lp.hpp"
 
-#include <coin/ClpDualRowDantzig.hpp>
-#include <coin/ClpSimplex.hpp>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -29,20 +27,14 @@ void coordinate_rows(Parameterization kind, double x, double y, Lin& f, Lin& g) 
   }
 }
 
-constexpr double kInf = std::numeric_limits<double>::max();
+constexpr double kInf = convex::kLpInfinity;
 
 }  // namespace
 
 HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::vector<double>& qy,
                const std::vector<std::vector<Plane>>& planes, const std::vector<Box>& boxes,
                const LpSettings& settings)
-    : kind_(kind),
-      qx_(qx),
-      qy_(qy),
-      planes_(planes),
-      boxes_(boxes),
-      settings_(settings),
-      model_(std::make_unique<ClpSimplex>()) {
+    : kind_(kind), qx_(qx), qy_(qy), planes_(planes), boxes_(boxes), settings_(settings) {
   const std::size_t nb = qx.size();
   if (qy.size() != nb || planes.size() != nb || boxes.size() != nb)
     throw std::invalid_argument(
@@ -50,7 +42,6 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
   const int k = static_cast<int>(parameter_count());
   const int ncol = k + static_cast<int>(nb);
   std::vector<double> collb(ncol, -kInf), colub(ncol, kInf), obj(ncol, 0.0);
-  std::vector<CoinBigIndex> start(ncol + 1, 0);
   const int nmat = kind == Parameterization::affine ? 4 : 2;
   for (int p = 0; p < nmat; ++p) collb[p] = -settings.matrix_bound, colub[p] = settings.matrix_bound;
   for (std::size_t j = 0; j < nb; ++j) obj[k + j] = 1.0;
@@ -67,14 +58,9 @@ HullLp::HullLp(Parameterization kind, const std::vector<double>& qx, const std::
     const int tcol = k - 2;
     collb[tcol] = tx_lo, colub[tcol] = tx_hi, collb[tcol + 1] = ty_lo, colub[tcol + 1] = ty_hi;
   }
-  model_->setLogLevel(0);
-  {  // Dantzig's dual pricing: about 20 % faster than CLP's default (steepest edge) here (bench_align)
-    ClpDualRowDantzig pricing;
-    model_->setDualRowPivotAlgorithm(pricing);
-  }
-  model_->loadProblem(ncol, 0, start.data(), nullptr, nullptr, collb.data(), colub.data(), obj.data(),
-                      nullptr, nullptr);
-  model_->setOptimizationDirection(1.0);
+  convex::LpOptions lp_options;
+  lp_options.dantzig_dual_pricing = true;  // about 20 % faster than CLP's steepest edge here (bench_align)
+  model_ = std::make_unique<convex::Lp>(obj, collb, colub, lp_options);
 
   // Box rows lo ≤ f_j ≤ hi, lo ≤ g_j ≤ hi are added lazily too, when the solution leaves a box: without them
   // the LP is still bounded (each c_j is convex with its minimum inside its cloud, so u_j ≥ min_i C_ij).
@@ -116,36 +102,35 @@ HullLp::~HullLp() = default;
 void HullLp::add_planes(const std::vector<std::pair<std::size_t, std::size_t>>& rows) {
   if (rows.empty()) return;
   const int k = static_cast<int>(parameter_count());
-  std::vector<double> lo, hi, el;
+  convex::LpRows add;
+  std::vector<double> el;
   std::vector<int> col;
-  std::vector<CoinBigIndex> rs{0};
   for (const auto& [j, m] : rows) {
     if (in_model_[j][m]) continue;
     in_model_[j][m] = true;
     const Plane& pl = planes_[j][m];
     Lin f, g;
     coordinate_rows(kind_, qx_[j], qy_[j], f, g);
+    col.clear();
+    el.clear();
     for (int p = 0; p < k; ++p) {
       const double v = pl.r * f.v[p] + pl.s * g.v[p];
       if (v != 0) col.push_back(p), el.push_back(v);
     }
     col.push_back(k + static_cast<int>(j));
     el.push_back(-1.0);
-    rs.push_back(static_cast<CoinBigIndex>(el.size()));
-    lo.push_back(-kInf);
-    hi.push_back(-pl.t);  // r f + s g − u ≤ −t
+    add.add(-kInf, -pl.t, col, el);  // r f + s g − u ≤ −t
     ++plane_rows_;
   }
-  if (!lo.empty())
-    model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+  model_->add_rows(add);
 }
 
 void HullLp::add_box_rows(const std::vector<std::size_t>& which) {
   if (which.empty()) return;
   const int k = static_cast<int>(parameter_count());
-  std::vector<double> lo, hi, el;
+  convex::LpRows add;
+  std::vector<double> el;
   std::vector<int> col;
-  std::vector<CoinBigIndex> rs{0};
   for (std::size_t w : which) {
     const std::size_t j = w / 2;
     const bool is_x = w % 2 == 0;
@@ -153,13 +138,13 @@ void HullLp::add_box_rows(const std::vector<std::size_t>& which) {
     Lin f, g;
     coordinate_rows(kind_, qx_[j], qy_[j], f, g);
     const Lin& l = is_x ? f : g;
+    col.clear();
+    el.clear();
     for (int p = 0; p < k; ++p)
       if (l.v[p] != 0) col.push_back(p), el.push_back(l.v[p]);
-    rs.push_back(static_cast<CoinBigIndex>(el.size()));
-    lo.push_back(is_x ? boxes_[j].x_lo : boxes_[j].y_lo);
-    hi.push_back(is_x ? boxes_[j].x_hi : boxes_[j].y_hi);
+    add.add(is_x ? boxes_[j].x_lo : boxes_[j].y_lo, is_x ? boxes_[j].x_hi : boxes_[j].y_hi, col, el);
   }
-  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+  model_->add_rows(add);
 }
 
 void HullLp::set_cs_rows(const std::vector<CsRow>& rows) {
@@ -169,39 +154,32 @@ void HullLp::set_cs_rows(const std::vector<CsRow>& rows) {
     // Same number of rows: change coefficients and bounds in place, so the basis (and with it the dual
     // simplex's warm start) survives; the elements of (c, s) are kept even when zero.
     for (std::size_t k = 0; k < rows.size(); ++k) {
-      model_->modifyCoefficient(cs_row_index_[k], 0, rows[k].a_c, true);
-      model_->modifyCoefficient(cs_row_index_[k], 1, rows[k].a_s, true);
-      model_->setRowBounds(cs_row_index_[k], rows[k].lo, rows[k].hi);
+      model_->set_coefficient(cs_row_index_[k], 0, rows[k].a_c);
+      model_->set_coefficient(cs_row_index_[k], 1, rows[k].a_s);
+      model_->set_row_bounds(cs_row_index_[k], rows[k].lo, rows[k].hi);
     }
     return;
   }
-  if (!cs_row_index_.empty())
-    model_->deleteRows(static_cast<int>(cs_row_index_.size()), cs_row_index_.data());
+  model_->delete_rows(cs_row_index_);
   cs_row_index_.clear();
   if (rows.empty()) return;
-  std::vector<double> lo, hi, el;
-  std::vector<int> col;
-  std::vector<CoinBigIndex> rs{0};
-  const int base = model_->numberRows();
+  convex::LpRows add;
+  const int base = model_->rows();
   for (const CsRow& r : rows) {
-    col.push_back(0), el.push_back(r.a_c);
-    col.push_back(1), el.push_back(r.a_s);
-    rs.push_back(static_cast<CoinBigIndex>(el.size()));
-    lo.push_back(r.lo);
-    hi.push_back(r.hi);
+    add.add(r.lo, r.hi, {0, 1}, {r.a_c, r.a_s});
     cs_row_index_.push_back(base + static_cast<int>(cs_row_index_.size()));
   }
-  model_->addRows(static_cast<int>(lo.size()), lo.data(), hi.data(), rs.data(), col.data(), el.data());
+  model_->add_rows(add);
 }
 
 void HullLp::fix_cs(double c, double s) {
-  model_->setColumnBounds(0, c, c);
-  model_->setColumnBounds(1, s, s);
+  model_->set_column_bounds(0, c, c);
+  model_->set_column_bounds(1, s, s);
 }
 
 void HullLp::free_cs() {
-  model_->setColumnBounds(0, -settings_.matrix_bound, settings_.matrix_bound);
-  model_->setColumnBounds(1, -settings_.matrix_bound, settings_.matrix_bound);
+  model_->set_column_bounds(0, -settings_.matrix_bound, settings_.matrix_bound);
+  model_->set_column_bounds(1, -settings_.matrix_bound, settings_.matrix_bound);
 }
 
 LpSolution HullLp::solve() {
@@ -211,18 +189,18 @@ LpSolution HullLp::solve() {
   std::vector<std::pair<std::size_t, std::size_t>> add;
   std::vector<std::size_t> box_add;
   for (int round = 0; round <= settings_.max_generation_rounds; ++round) {
-    model_->dual();
+    const convex::LpStatus status = model_->solve();
     ++out.solves;
-    out.iterations += model_->numberIterations();
-    if (model_->isProvenPrimalInfeasible()) {
+    out.iterations += model_->iterations();
+    if (status == convex::LpStatus::infeasible) {
       out.status = LpStatus::infeasible;
       return out;
     }
-    if (!model_->isProvenOptimal()) {
+    if (status != convex::LpStatus::optimal) {
       out.status = LpStatus::failed;
       return out;
     }
-    const double* x = model_->primalColumnSolution();
+    const double* x = model_->solution();
     add.clear();
     box_add.clear();
     for (std::size_t j = 0; j < nb; ++j) {
@@ -253,16 +231,16 @@ LpSolution HullLp::solve() {
       const double n = std::hypot(x[0], x[1]);
       if (n > 1.0 + settings_.disc_tolerance) {  // tangent of the unit circle at the angle of (c, s)
         const double a = std::atan2(x[1], x[0]);
-        const int cidx[2] = {0, 1};
-        const double cel[2] = {std::cos(a), std::sin(a)};
-        model_->addRow(2, cidx, cel, -kInf, 1.0);
+        convex::LpRows tangent;
+        tangent.add(-kInf, 1.0, {0, 1}, {std::cos(a), std::sin(a)});
+        model_->add_rows(tangent);
         ++cuts_;
         cut = true;
       }
     }
     if (add.empty() && box_add.empty() && !cut) {
       out.status = LpStatus::optimal;
-      out.cost = model_->objectiveValue();
+      out.cost = model_->objective();
       out.params.assign(x, x + k);
       out.plane_rows = plane_rows_;
       out.cuts = cuts_;

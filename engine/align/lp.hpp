@@ -1,4 +1,4 @@
-// The alignment linear program of eqs. 3.5–3.8 and 3.19 on COIN-OR CLP, with lazy rows.
+// The alignment linear program of eqs. 3.5–3.8 and 3.19 on COIN-OR CLP (convex::Lp), with lazy rows.
 //
 // Columns: the transform parameters, then one epigraph variable u_j per query point. For the rotation-like
 // parameterisations the parameters are (c, s, tx, ty) with A = [[c, −s], [s, c]] (eq. 3.11 without the norm
@@ -21,8 +21,7 @@
 #include <vector>
 
 #include "align/hull.hpp"
-
-class ClpSimplex;
+#include "convex/lp.hpp"
 
 namespace keel::align {
 
@@ -94,7 +93,7 @@ class HullLp {
   const std::vector<std::vector<Plane>>& planes_;
   const std::vector<Box>& boxes_;
   LpSettings settings_;
-  std::unique_ptr<ClpSimplex> model_;
+  std::unique_ptr<convex::Lp> model_;
   std::vector<std::vector<bool>> in_model_;  // plane (j, m) has a row
   std::vector<bool> box_in_model_;           // box row 2j (x) / 2j + 1 (y) is in the model
   std::size_t plane_rows_ = 0, cuts_ = 0;

@@ -18,7 +18,8 @@ struct SdpSolution {
   double time_s = 0;
 };
 
-// The round with `regions` (e.g. global_regions) solved by DSDP to a relative gap of `gap_tolerance`.
+// The round with `regions` (e.g. global_regions) solved by DSDP (convex::solve_sdp) to a relative gap of
+// `gap_tolerance`.
 [[nodiscard]] SdpSolution so_conv_hull_sdp(const AlignmentProblem& problem, const Regions& regions,
                                            double gap_tolerance = 1e-8);
 

@@ -11,7 +11,7 @@ namespace keel::sos {
 CertifyOptions read_certify_options(const core::ConfigTable& t) {
   CertifyOptions o;
   o.relaxation.structure = t.parse("structure", structure_from_string);
-  o.relaxation.sdp.solver = t.parse("solver", sdp_solver_from_string);
+  o.relaxation.sdp.solver = t.parse("solver", convex::sdp_solver_from_string);
   o.relaxation.sdp.gap_tolerance = t.number("sdp_gap_tolerance");
   o.gap_tolerance = t.number("gap_tolerance");
   o.escalate = t.boolean("escalate");

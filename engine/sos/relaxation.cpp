@@ -15,6 +15,13 @@
 
 namespace keel::sos {
 
+using convex::check_sdp;
+using convex::Sdp;
+using convex::SdpCheck;
+using convex::SdpEntry;
+using convex::SdpSolution;
+using convex::solve_sdp;
+
 namespace {
 
 constexpr core::NameTable<Structure, 2> kStructureNames{

@@ -38,7 +38,7 @@
 #include <vector>
 
 #include "sos/problem.hpp"
-#include "sos/sdp.hpp"
+#include "convex/sdp.hpp"
 
 namespace keel::sos {
 
@@ -49,7 +49,7 @@ enum class Structure { dense, cliques };
 struct RelaxationOptions {
   Structure structure = Structure::dense;
   int order = 1;             // moment order (1 = Sparse-BSOS d = 1, k = 1); Structure::dense supports 1 only
-  SdpSettings sdp;           // solver and its tolerances
+  convex::SdpSettings sdp;   // solver and its tolerances
   long max_moments = 20000;  // cliques: refuse (std::length_error) a relaxation with more moments than this
   void validate() const;     // throws std::invalid_argument naming the field and value
 };

@@ -5,7 +5,6 @@ module;
 #include "sos/config.hpp"
 #include "sos/problem.hpp"
 #include "sos/relaxation.hpp"
-#include "sos/sdp.hpp"
 #include "sos/studies.hpp"
 #include "sos/verify.hpp"
 export module keel.sos;
@@ -29,15 +28,6 @@ using keel::sos::RelaxationResult;
 using keel::sos::Structure;
 using keel::sos::structure_from_string;
 // SDP solvers and the recomputed checks
-using keel::sos::check_sdp;
-using keel::sos::Sdp;
-using keel::sos::sdp_solver_from_string;
-using keel::sos::SdpCheck;
-using keel::sos::SdpEntry;
-using keel::sos::SdpSettings;
-using keel::sos::SdpSolution;
-using keel::sos::SdpSolver;
-using keel::sos::solve_sdp;
 // certified solutions
 using keel::sos::CertifiedSolution;
 using keel::sos::CertifyOptions;

@@ -12,7 +12,7 @@
 #include "sos/certify.hpp"
 #include "sos/problem.hpp"
 #include "sos/relaxation.hpp"
-#include "sos/sdp.hpp"
+#include "convex/sdp.hpp"
 
 using namespace keel::sos;
 using keel::core::Rng;
@@ -121,7 +121,7 @@ TEST_CASE("order-1 relaxations are lower bounds; dense and cliques agree; DSDP a
   CHECK(cliques.primal_residual < 1e-7);
   CHECK(dense.lower_bound == doctest::Approx(cliques.lower_bound).epsilon(1e-5));
   RelaxationOptions so;
-  so.sdp.solver = SdpSolver::sdpa;
+  so.sdp.solver = keel::convex::SdpSolver::sdpa;
   const RelaxationResult sdpa = relax(p, so);
   CHECK(sdpa.lower_bound == doctest::Approx(dense.lower_bound).epsilon(1e-6));
   // Below the cost of any feasible point: the truth and random poses.

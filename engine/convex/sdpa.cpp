@@ -1,4 +1,4 @@
-// The SDPA 7 backend of keel::sos (Debian libsdpa-dev).
+// The SDPA 7 backend of keel::convex (Debian libsdpa-dev).
 //
 // SDPA's own pair is   primal  min Σ_i c_i x_i  s.t.  Σ_i F_i x_i − F_0 ⪰ 0
 //                      dual    max ⟨F_0, Y⟩      s.t.  ⟨F_i, Y⟩ = c_i,  Y ⪰ 0,
@@ -6,8 +6,9 @@
 //   F_0 = −C,  F_i = A_i,  c_i = b_i;   keel's X = SDPA's Y (YMat),  keel's y = −SDPA's x (xVec),
 // and SDPA's primal slack Σ F_i x_i − F_0 (XMat) is keel's S = C − Σ y_i A_i. SDPA reads the upper triangle
 // of each symmetric F_i with 1-based indices, and an off-diagonal entry stands for both (i, j) and (j, i), as
-// in keel.
-#include "sos/sdp.hpp"
+// in keel. The orthant is one more block of SDPA's LP type (a diagonal block, entries (r, r)), after the PSD
+// blocks.
+#include "convex/sdp.hpp"
 
 #include <fmt/format.h>
 
@@ -26,7 +27,7 @@
 // Sdp::validate() in solve_sdp, m > 0 below).
 #include <sdpa_call.h>
 
-namespace keel::sos::detail {
+namespace keel::convex::detail {
 
 namespace {
 // SDPA's solver object is self-contained, but the library reports through std::cout and has never been
@@ -49,17 +50,15 @@ class CaptureCout {
   std::streambuf* saved_;
 };
 
-// One symmetric matrix as SDPA takes it: entries summed per position (SDPA would keep repeats as separate
-// non-zeros), exact zeros dropped, (block, row, col) 1-based with row ≤ col.
+// An entry as SDPA takes it: (block, row, col) 1-based with row ≤ col. Entries are summed per position first
+// (SDPA would keep repeats as separate non-zeros) and exact zeros dropped.
 struct Element {
   int block, row, col;
   double value;
 };
 
-std::vector<Element> upper_triangle(const std::vector<SdpEntry>& entries, double sign) {
-  std::vector<Element> out;
-  out.reserve(entries.size());
-  for (const SdpEntry& e : entries) out.push_back({e.block + 1, e.col + 1, e.row + 1, sign * e.value});
+// Sorted by (block, row, col), repeats summed, exact zeros dropped.
+std::vector<Element> merged(std::vector<Element> out) {
   std::sort(out.begin(), out.end(), [](const Element& a, const Element& b) {
     return std::tie(a.block, a.row, a.col) < std::tie(b.block, b.row, b.col);
   });
@@ -76,8 +75,25 @@ std::vector<Element> upper_triangle(const std::vector<SdpEntry>& entries, double
   return out;
 }
 
+// The upper triangle of one symmetric matrix as SDPA takes it, (block, row, col) 1-based with row ≤ col.
+std::vector<Element> upper_triangle(const std::vector<SdpEntry>& entries, double sign) {
+  std::vector<Element> out;
+  out.reserve(entries.size());
+  for (const SdpEntry& e : entries) out.push_back({e.block + 1, e.col + 1, e.row + 1, sign * e.value});
+  return merged(std::move(out));
+}
+
+// The orthant's vector as the diagonal of SDPA's LP block `block` (1-based).
+std::vector<Element> diagonal(const std::vector<LpEntry>& entries, int block, double sign) {
+  std::vector<Element> out;
+  out.reserve(entries.size());
+  for (const LpEntry& e : entries) out.push_back({block, e.row + 1, e.row + 1, sign * e.value});
+  return merged(std::move(out));
+}
+
 const double* result(const double* p, std::string_view what) {
-  if (p == nullptr) throw std::runtime_error(fmt::format("sos::solve_sdp: SDPA {} returned no data", what));
+  if (p == nullptr)
+    throw std::runtime_error(fmt::format("convex::solve_sdp: SDPA {} returned no data", what));
   return p;
 }
 }  // namespace
@@ -85,8 +101,9 @@ const double* result(const double* p, std::string_view what) {
 SdpSolution solve_with_sdpa(const Sdp& sdp, const SdpSettings& settings) {
   const int m = sdp.constraints();
   const int blocks = static_cast<int>(sdp.block_sizes.size());
+  const int lp_block = sdp.lp_size > 0 ? blocks + 1 : 0;  // 1-based SDPA block of the orthant, 0: none
   // SDPA ends the process (exit in its rError) on m = 0: refused here.
-  if (m == 0) throw std::invalid_argument("sos::solve_sdp: SDPA needs at least one constraint (m = 0)");
+  if (m == 0) throw std::invalid_argument("convex::solve_sdp: SDPA needs at least one constraint (m = 0)");
 
   std::lock_guard<std::mutex> lock(sdpa_mutex);
   const auto t0 = core::Clock::now();  // after the lock: time_s is this call's work, not the wait for another
@@ -111,10 +128,14 @@ SdpSolution solve_with_sdpa(const Sdp& sdp, const SdpSettings& settings) {
   sdpa.setNumThreads(1);
 
   sdpa.inputConstraintNumber(m);
-  sdpa.inputBlockNumber(blocks);
+  sdpa.inputBlockNumber(blocks + (lp_block > 0 ? 1 : 0));
   for (int l = 0; l < blocks; ++l) {
     sdpa.inputBlockSize(l + 1, sdp.block_sizes[static_cast<std::size_t>(l)]);
     sdpa.inputBlockType(l + 1, SDPA::SDP);
+  }
+  if (lp_block > 0) {
+    sdpa.inputBlockSize(lp_block, sdp.lp_size);
+    sdpa.inputBlockType(lp_block, SDPA::LP);
   }
   sdpa.initializeUpperTriangleSpace();
   for (int i = 0; i < m; ++i) sdpa.inputCVec(i + 1, sdp.b[static_cast<std::size_t>(i)]);
@@ -122,6 +143,13 @@ SdpSolution solve_with_sdpa(const Sdp& sdp, const SdpSettings& settings) {
   for (int i = 0; i < m; ++i)
     for (const Element& e : upper_triangle(sdp.a[static_cast<std::size_t>(i)], 1.0))
       sdpa.inputElement(i + 1, e.block, e.row, e.col, e.value);
+  if (lp_block > 0) {
+    for (const Element& e : diagonal(sdp.lp_c, lp_block, -1.0))
+      sdpa.inputElement(0, e.block, e.row, e.col, e.value);
+    for (std::size_t i = 0; i < sdp.lp_a.size(); ++i)
+      for (const Element& e : diagonal(sdp.lp_a[i], lp_block, 1.0))
+        sdpa.inputElement(static_cast<int>(i) + 1, e.block, e.row, e.col, e.value);
+  }
   sdpa.initializeUpperTriangle();
   sdpa.initializeSolve();
   sdpa.solve();
@@ -135,7 +163,11 @@ SdpSolution solve_with_sdpa(const Sdp& sdp, const SdpSettings& settings) {
         result(sdpa.getResultYMat(l + 1), fmt::format("getResultYMat({})", l + 1)), n, n);
     out.x.emplace_back(0.5 * (y_mat + y_mat.transpose()));
   }
+  if (lp_block > 0)  // an LP block's YMat is its diagonal
+    out.x_lp = Eigen::Map<const Eigen::VectorXd>(
+        result(sdpa.getResultYMat(lp_block), fmt::format("getResultYMat({})", lp_block)), sdp.lp_size);
   out.y = -Eigen::Map<const Eigen::VectorXd>(result(sdpa.getResultXVec(), "getResultXVec()"), m);
+  out.solver_dual_objective = -sdpa.getPrimalObj();  // SDPA's primal is keel's dual, with x = −y
   out.claims_optimal = sdpa.getPhaseValue() == SDPA::pdOPT;
   // SDPA's word as it prints it, in its own terms: "p" is SDPA's primal, which is keel's dual (and "d" keel's
   // primal). getPhaseValue() is not used for the word: it exchanges the infeasible and unbounded words a
@@ -149,4 +181,4 @@ SdpSolution solve_with_sdpa(const Sdp& sdp, const SdpSettings& settings) {
   return out;
 }
 
-}  // namespace keel::sos::detail
+}  // namespace keel::convex::detail

@@ -1,0 +1,80 @@
+#include "convex/lp.hpp"
+
+#include <coin/ClpDualRowDantzig.hpp>
+#include <coin/ClpSimplex.hpp>
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace keel::convex {
+
+void LpRows::add(double row_lo, double row_hi, const std::vector<int>& cols,
+                 const std::vector<double>& vals) {
+  if (cols.size() != vals.size())
+    throw std::invalid_argument(
+        fmt::format("convex::LpRows::add: {} columns but {} values", cols.size(), vals.size()));
+  lo.push_back(row_lo);
+  hi.push_back(row_hi);
+  columns.insert(columns.end(), cols.begin(), cols.end());
+  values.insert(values.end(), vals.begin(), vals.end());
+  starts.push_back(static_cast<int>(values.size()));
+}
+
+Lp::Lp(const std::vector<double>& cost, const std::vector<double>& col_lo, const std::vector<double>& col_hi,
+       const LpOptions& options)
+    : model_(std::make_unique<ClpSimplex>()) {
+  const std::size_t n = cost.size();
+  if (col_lo.size() != n || col_hi.size() != n)
+    throw std::invalid_argument(fmt::format("convex::Lp: {} costs but {} lower and {} upper column bounds", n,
+                                            col_lo.size(), col_hi.size()));
+  model_->setLogLevel(0);
+  if (options.dantzig_dual_pricing) {
+    ClpDualRowDantzig pricing;
+    model_->setDualRowPivotAlgorithm(pricing);
+  }
+  std::vector<CoinBigIndex> start(n + 1, 0);
+  model_->loadProblem(static_cast<int>(n), 0, start.data(), nullptr, nullptr, col_lo.data(), col_hi.data(),
+                      cost.data(), nullptr, nullptr);
+  model_->setOptimizationDirection(1.0);
+}
+
+Lp::~Lp() = default;
+Lp::Lp(Lp&&) noexcept = default;
+Lp& Lp::operator=(Lp&&) noexcept = default;
+
+int Lp::rows() const { return model_->numberRows(); }
+int Lp::columns() const { return model_->numberColumns(); }
+
+int Lp::add_rows(const LpRows& r) {
+  const int first = model_->numberRows();
+  if (r.size() == 0) return first;
+  if (static_cast<int>(r.starts.size()) != r.size() + 1 || r.hi.size() != r.lo.size() ||
+      r.columns.size() != r.values.size())
+    throw std::invalid_argument("convex::Lp::add_rows: the compressed rows are inconsistent");
+  const std::vector<CoinBigIndex> starts(r.starts.begin(), r.starts.end());
+  model_->addRows(r.size(), r.lo.data(), r.hi.data(), starts.data(), r.columns.data(), r.values.data());
+  return first;
+}
+
+void Lp::delete_rows(const std::vector<int>& rows) {
+  if (!rows.empty()) model_->deleteRows(static_cast<int>(rows.size()), rows.data());
+}
+
+void Lp::set_coefficient(int row, int column, double value) {
+  model_->modifyCoefficient(row, column, value, true);
+}
+void Lp::set_row_bounds(int row, double lo, double hi) { model_->setRowBounds(row, lo, hi); }
+void Lp::set_column_bounds(int column, double lo, double hi) { model_->setColumnBounds(column, lo, hi); }
+
+LpStatus Lp::solve() {
+  model_->dual();
+  if (model_->isProvenPrimalInfeasible()) return LpStatus::infeasible;
+  if (!model_->isProvenOptimal()) return LpStatus::failed;
+  return LpStatus::optimal;
+}
+
+int Lp::iterations() const { return model_->numberIterations(); }
+double Lp::objective() const { return model_->objectiveValue(); }
+const double* Lp::solution() const { return model_->primalColumnSolution(); }
+
+}  // namespace keel::convex

@@ -2,7 +2,10 @@
 // (eq. 5.51), and Monte-Carlo throughput of the Fig. 5.6 study. Run: build/release/bench/bench_lie Note:
 // Debian's libbenchmark prints "Library was built as DEBUG"; that concerns the library's own timing loop
 // only.
+import keel.core;
 import keel.lie;
+import keel.repro;
+import keel.study;
 
 #include <benchmark/benchmark.h>
 
@@ -10,6 +13,7 @@ import keel.lie;
 #include <vector>
 
 namespace lie = keel::lie;
+namespace ch5 = keel::study::ch5;
 
 namespace {
 
@@ -40,7 +44,7 @@ void BM_Compose(benchmark::State& state) {
 
 void BM_RelativePoseJoint(benchmark::State& state) {
   const auto s =
-      lie::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
+      ch5::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
                                {0.0005, 0.0005, 0, 0, 0, 0.005}, 1.0);
   const lie::UncertainPose<lie::SE3> g1(s.T_g1, s.cov_g1), g2(s.T_g2, s.cov_g2);
   for (auto _ : state) benchmark::DoNotOptimize(lie::relative(g1, g2, s.cov_g1_g2));
@@ -48,32 +52,32 @@ void BM_RelativePoseJoint(benchmark::State& state) {
 
 void BM_RelativePoseIndependent(benchmark::State& state) {
   const auto s =
-      lie::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
+      ch5::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
                                {0.0005, 0.0005, 0, 0, 0, 0.005}, 1.0);
   const lie::UncertainPose<lie::SE3> g1(s.T_g1, s.cov_g1), g2(s.T_g2, s.cov_g2);
   for (auto _ : state) benchmark::DoNotOptimize(lie::relative(g1, g2));
 }
 
-// Monte-Carlo samples per second of the relative-pose study (sampling, two exp, inverse, compose, log), one
-// thread.
+// Monte-Carlo samples per second of the relative-pose study (keel.study) (sampling, two exp, inverse,
+// compose, log), one thread.
 void BM_MonteCarloRelativePose(benchmark::State& state) {
   auto s =
-      lie::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
+      ch5::relative_pose_setup(M_PI / 4, {3, 3, 0}, {4.5, 4.5, 0}, {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006},
                                {0.0005, 0.0005, 0, 0, 0, 0.005}, 1.0);
   s.samples = static_cast<std::size_t>(state.range(0));
-  s.threads = 1;
-  for (auto _ : state) benchmark::DoNotOptimize(lie::run_relative_pose_study(s).error_joint);
+  const keel::repro::RunContext one_thread(keel::core::Streams(0), 1);
+  for (auto _ : state) benchmark::DoNotOptimize(ch5::simulate_relative_pose(s, one_thread).error_joint);
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 
-// Monte-Carlo trajectories per second of the composition study (N = 10 steps, four predictions scored), one
-// thread.
+// Monte-Carlo trajectories per second of the composition study (keel.study) (N = 10 steps, four predictions
+// scored), one thread.
 void BM_MonteCarloComposition(benchmark::State& state) {
-  lie::CompositionSetup s;
+  ch5::CompositionSetup s;
   s.steps = 10;
   s.trajectories = static_cast<std::size_t>(state.range(0));
-  s.threads = 1;
-  for (auto _ : state) benchmark::DoNotOptimize(lie::run_composition_study(s).lie_joint.inside);
+  const keel::repro::RunContext one_thread(keel::core::Streams(0), 1);
+  for (auto _ : state) benchmark::DoNotOptimize(ch5::simulate_composition(s, one_thread).lie_joint.inside);
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 

@@ -1,4 +1,5 @@
-# keel_area(<name> [DEPENDS <targets>...] [LINK <libs>...] [TEST_DEPENDS <targets>...])
+# keel_area(<name> [RECURSE] [DEPENDS <targets>...] [LINK <libs>...] [TEST_DEPENDS <targets>...])
+# RECURSE: sources and tests also in sub-folders of the area (engine/study/ch2/, ...).
 # TEST_DEPENDS: libraries only the unit tests link (independent references from a later area, e.g. random graphs
 # from keel_sim_impl for the clique tests of pcm).
 #
@@ -10,10 +11,14 @@
 # Consumers (drivers, CLI, benchmarks, facade tests) link keel_<name> and `import keel.<name>;`.
 function(keel_area name)
   keel_register_area(${name})
-  cmake_parse_arguments(A "" "" "DEPENDS;LINK;TEST_DEPENDS" ${ARGN})
+  cmake_parse_arguments(A "RECURSE" "" "DEPENDS;LINK;TEST_DEPENDS" ${ARGN})
   set(dir ${CMAKE_CURRENT_SOURCE_DIR})
-  file(GLOB srcs CONFIGURE_DEPENDS ${dir}/*.cpp)
-  file(GLOB tests CONFIGURE_DEPENDS ${dir}/*_test.cpp)
+  set(glob GLOB)
+  if(A_RECURSE)
+    set(glob GLOB_RECURSE)
+  endif()
+  file(${glob} srcs CONFIGURE_DEPENDS ${dir}/*.cpp)
+  file(${glob} tests CONFIGURE_DEPENDS ${dir}/*_test.cpp)
   if(tests)
     list(REMOVE_ITEM srcs ${tests})
   endif()

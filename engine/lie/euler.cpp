@@ -55,4 +55,12 @@ Vec3 ssc_from_se2(const SE2& T) {
   return Vec3(T.translation().x(), T.translation().y(), wrap_angle(T.angle()));
 }
 
+Mat3 ssc_jacobian_of_left_perturbation(const SE2& T) {
+  // exp(ξ^) T = (R_ξ R, R_ξ t + V ρ): to first order t + ρ + θ_ξ (−t_y, t_x) and θ + θ_ξ.
+  Mat3 J = Mat3::Identity();
+  J(0, 2) = -T.translation()(1);
+  J(1, 2) = T.translation()(0);
+  return J;
+}
+
 }  // namespace keel::lie

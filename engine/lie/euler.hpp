@@ -33,4 +33,9 @@ SE2 se2_from_ssc(const Vec3& x);
 /// theta wrapped to (-pi, pi].
 Vec3 ssc_from_se2(const SE2& T);
 
+// The SSC (x, y, θ) covariance of poses perturbed on the left, to first order: Σ_x = J Σ_ξ Jᵀ with
+// J = ∂ssc(exp(ξ^) T̄)/∂ξ at 0 = [[1, 0, −y], [0, 1, x], [0, 0, 1]] per pose. This is the covariance a solver
+// that linearizes in (x, y, θ) coordinates (iSAM's Pose2d) reports at the same solution.
+Mat3 ssc_jacobian_of_left_perturbation(const SE2& T);
+
 }  // namespace keel::lie

@@ -84,3 +84,11 @@ TEST_CASE("SE2 <-> SSC round trip with wrapping") {
   CHECK(ssc_from_se2(se2_from_ssc(Vec3(0, 0, -kPi)))(2) == doctest::Approx(kPi));
   CHECK(se2_from_ssc(x).is_approx(T, 1e-12));
 }
+
+TEST_CASE("ssc_jacobian_of_left_perturbation matches central differences") {
+  const SE2 T(3.0, -2.0, 0.7);
+  const Mat3 J = ssc_jacobian_of_left_perturbation(T);
+  const MatX num =
+      testkit::numerical_jacobian_tangent<SE2>([&](const Vec3& d) { return ssc_from_se2(SE2::exp(d) * T); });
+  for (int k = 0; k < 3; ++k) CHECK((num.col(k) - J.col(k)).norm() < 1e-8);
+}

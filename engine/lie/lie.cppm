@@ -1,8 +1,8 @@
 // keel.lie — the curated facade of engine/lie (thesis ch. 5): Lie groups SO(2), SO(3), SE(2), SE(3);
 // uncertain poses in the left-perturbation convention T = exp(ξ^) T̄ (eq. 5.14), jointly distributed sets
 // (eqs. 5.28–5.29) and their composition / inverse / relative pose with and without cross-covariance; SSC
-// baselines (§5.3); the unscented conversion (§5.8.1); metrics; and the Monte-Carlo studies behind the ch5_*
-// experiments. Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in
+// baselines (§5.3); the unscented conversion (§5.8.1); metrics. (The Monte-Carlo studies of chapter 5 are
+// keel.study's.) Facade rules (docs/DESIGN.md): includes in the global module fragment, using-declarations in
 // the export block, no import of another facade.
 module;
 #include "lie/concepts.hpp"
@@ -10,13 +10,11 @@ module;
 #include "lie/fourth_order_joint.hpp"
 #include "lie/gaussian.hpp"
 #include "lie/metrics.hpp"
-#include "lie/pair_study.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/so2.hpp"
 #include "lie/so3.hpp"
 #include "lie/ssc.hpp"
-#include "lie/studies.hpp"
 #include "lie/types.hpp"
 #include "lie/uncertain.hpp"
 #include "lie/unscented.hpp"
@@ -84,27 +82,7 @@ using keel::lie::unscented_transform;
 using keel::lie::UtParams;
 using keel::lie::UtResult;
 using keel::lie::validate_covariance;
-// Monte-Carlo studies (ch5_* experiments)
-using keel::lie::composition_step_covariance;
-using keel::lie::CompositionOutcome;
-using keel::lie::CompositionPrediction;
-using keel::lie::CompositionSetup;
-using keel::lie::convert_ssc_prediction;
-using keel::lie::planar_lie_region;
-using keel::lie::planar_positions;
-using keel::lie::planar_ssc_ellipse;
-using keel::lie::relative_pose_setup;
-using keel::lie::RelativePoseOutcome;
-using keel::lie::RelativePoseSetup;
-using keel::lie::run_composition_study;
-using keel::lie::run_relative_pose_study;
-using keel::lie::SscConversion;
-// relative pose of pose pairs from a SLAM solution (Tables 5.1–5.2)
-using keel::lie::pair_statistics;
-using keel::lie::PairRecord;
-using keel::lie::PairStatistics;
-using keel::lie::PairStudySetup;
-using keel::lie::run_pair_study_2d;
+// the SSC covariance of a left-perturbed planar pose (§5.9.2)
 using keel::lie::ssc_jacobian_of_left_perturbation;
 }  // namespace keel::lie
 

@@ -9,10 +9,16 @@ module;
 #include "repro/prose.hpp"
 #include "repro/report.hpp"
 #include "repro/results.hpp"
+#include "repro/run.hpp"
 #include "repro/shard.hpp"
 export module keel.repro;
 
 export namespace keel::repro {
+// the run a study gets, and the main() of an experiment that runs one study
+using keel::repro::run_context;
+using keel::repro::RunContext;
+using keel::repro::Study;
+using keel::repro::study_main;
 // sharded trial loops (--slice / --merge) and their per-trial records
 using keel::repro::load;
 using keel::repro::Reader;

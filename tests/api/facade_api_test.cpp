@@ -7,6 +7,7 @@ import keel.pcm;
 import keel.sim;
 import keel.eval;
 import keel.sos;
+import keel.study;
 
 #include <doctest/doctest.h>
 
@@ -24,6 +25,7 @@ namespace pcm = keel::pcm;
 namespace sim = keel::sim;
 namespace eval = keel::eval;
 namespace sos = keel::sos;
+namespace ch5 = keel::study::ch5;
 
 TEST_CASE("keel.lie facade: group round trip and the adjoint identity (eq. 5.10)") {
   lie::Vec6 xi;
@@ -38,46 +40,42 @@ TEST_CASE("keel.lie facade: group round trip and the adjoint identity (eq. 5.10)
 }
 
 TEST_CASE(
-    "keel.lie facade: relative pose of correlated poses beats the independent formula (Fig. 5.6 at alpha = "
+    "keel.study facade: relative pose of correlated poses beats the independent formula (Fig. 5.6 at alpha = "
     "1)") {
-  auto s = lie::relative_pose_setup(lie::kPi / 4, {3, 3, 0}, {4.5, 4.5, 0},
+  auto s = ch5::relative_pose_setup(lie::kPi / 4, {3, 3, 0}, {4.5, 4.5, 0},
                                     {0.005, 0.005, 1e-5, 1e-5, 1e-5, 0.006}, {0.0005, 0.0005, 0, 0, 0, 0.005},
                                     1.0);
   s.samples = 20000;
-  s.seed = 5;
-  const auto out = lie::run_relative_pose_study(s);
+  const auto out = ch5::simulate_relative_pose(s, repro::RunContext(core::Streams(5)));
   CHECK(out.error_joint * 20 < out.error_independent);
   // The joint prediction is within Monte-Carlo noise of the sampled covariance (relative Frobenius error).
   CHECK(out.error_joint / out.cov_mc.norm() < 0.03);
 }
 
-TEST_CASE("keel.lie facade: composition study is deterministic across thread counts") {
-  lie::CompositionSetup s;
+TEST_CASE("keel.study facade: composition Monte Carlo is deterministic across thread counts") {
+  ch5::CompositionSetup s;
   s.steps = 5;
   s.trajectories = 3000;
-  s.seed = 11;
-  s.threads = 1;
-  const auto a = lie::run_composition_study(s);
-  s.threads = 2;
-  const auto b = lie::run_composition_study(s);
+  const auto a = ch5::simulate_composition(s, repro::RunContext(core::Streams(11), 1));
+  const auto b = ch5::simulate_composition(s, repro::RunContext(core::Streams(11), 2));
   CHECK(a.lie_joint.inside == b.lie_joint.inside);
   CHECK(a.ssc.inside == b.ssc.inside);
   // Bad setups are rejected with the violated constraint named.
   s.rho = 1.0;
-  CHECK_THROWS_WITH_AS((void)lie::run_composition_study(s), doctest::Contains("rho"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)ch5::simulate_composition(s, repro::RunContext(core::Streams(11))),
+                       doctest::Contains("rho"), std::invalid_argument);
 }
 
 TEST_CASE(
-    "keel.lie facade: at small noise every first-order prediction is consistent (Monte-Carlo agreement)") {
-  lie::CompositionSetup s;
+    "keel.study facade: at small noise every first-order prediction is consistent (Monte-Carlo agreement)") {
+  ch5::CompositionSetup s;
   s.steps = 10;
   s.sigma_t = 0.01;
   s.sigma_r = 0.01;
   s.rho = 0.4;
   s.trajectories = 20000;
   s.levels = {0.95, 0.999};
-  s.seed = 3;
-  const auto out = lie::run_composition_study(s);
+  const auto out = ch5::simulate_composition(s, repro::RunContext(core::Streams(3)));
   const double se = std::sqrt(0.95 * 0.05 / 20000.0);
   // With the correlation modelled, first and fourth order agree with Monte Carlo; SSC too (small noise,
   // near-linear).
@@ -91,19 +89,19 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "keel.lie facade: the UT conversion of SSC (Fig. 5.7) matches the joint prediction at small noise") {
-  lie::CompositionSetup s;
+    "keel.study facade: the UT conversion of SSC (Fig. 5.7) matches the joint prediction at small noise") {
+  ch5::CompositionSetup s;
   s.steps = 10;
   s.sigma_t = 0.01;
   s.sigma_r = 0.01;
   s.rho = 0.4;
   s.trajectories = 20000;
-  s.seed = 5;
-  CHECK_THROWS_WITH_AS((void)lie::convert_ssc_prediction(lie::run_composition_study(s), {0.95}),
+  const repro::RunContext context(core::Streams(5));
+  CHECK_THROWS_WITH_AS((void)ch5::convert_ssc_prediction(ch5::simulate_composition(s, context), {0.95}),
                        doctest::Contains("keep_samples"), std::invalid_argument);
   s.keep_samples = true;
-  const auto out = lie::run_composition_study(s);
-  const auto c = lie::convert_ssc_prediction(out, {0.95});
+  const auto out = ch5::simulate_composition(s, context);
+  const auto c = ch5::convert_ssc_prediction(out, {0.95});
   // Near-linear regime: SSC is accurate, so its conversion agrees with the joint Lie-algebra prediction and
   // with the samples' spread (volumes within a few percent, coverage within Monte-Carlo error).
   CHECK(c.volume_vs_joint == doctest::Approx(1.0).epsilon(0.03));

@@ -1,7 +1,8 @@
 // Relative-pose uncertainty of pose pairs extracted from a SLAM solution (thesis §5.9.2, Tables 5.1–5.2,
-// Figs. 5.10–5.14): for each pair (i, j) with means T̄_i, T̄_j and the joint Lie-algebra marginal covariance of
-// (ξ_i, ξ_j), the relative pose T_ij = T_i⁻¹ T_j is predicted by eq. 5.51 with and without the
-// cross-covariance and by SSC tail-to-tail (§5.3.4), and compared with Monte Carlo (eqs. 5.57–5.59).
+// Figs. 5.10–5.14), the Monte Carlo behind the studies of pairs.hpp: for each pair (i, j) with means T̄_i, T̄_j
+// and the joint Lie-algebra marginal covariance of (ξ_i, ξ_j), the relative pose T_ij = T_i⁻¹ T_j is
+// predicted by eq. 5.51 with and without the cross-covariance and by SSC tail-to-tail (§5.3.4), and compared
+// with Monte Carlo (eqs. 5.57–5.59).
 #pragma once
 
 #include <cstddef>
@@ -11,17 +12,15 @@
 
 #include "lie/se2.hpp"
 #include "lie/types.hpp"
+#include "repro/run.hpp"
 
-namespace keel::core {
-class Progress;
-}
+namespace keel::study::ch5 {
 
-namespace keel::lie {
+using lie::Mat6;
+using lie::SE2;
 
 struct PairStudySetup {
   std::size_t samples = 10000;  // M, Monte-Carlo samples per pair
-  std::uint64_t seed = 0;       // pair k draws from Rng::stream(seed, k)
-  unsigned threads = 0;
   void validate() const;
 };
 
@@ -44,18 +43,15 @@ struct PairRecord {
   double normalized_mc_floor = 0;
 };
 
-// The SSC (x, y, θ) covariance of poses perturbed on the left, to first order: Σ_x = J Σ_ξ Jᵀ with
-// J = ∂ssc(exp(ξ^) T̄)/∂ξ at 0 = [[1, 0, −y], [0, 1, x], [0, 0, 1]] per pose. This is the covariance a solver
-// that linearizes in (x, y, θ) coordinates (iSAM's Pose2d) reports at the same solution.
-Mat3 ssc_jacobian_of_left_perturbation(const SE2& T);
-
-// Runs the study for every pair; `joint_covs[k]` is the 6×6 covariance of (ξ_i, ξ_j) for pairs[k].
-// Deterministic for a seed whatever the thread count; `progress` advances once per pair.
-[[nodiscard]] std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
+// Runs the study for every pair; `joint_covs[k]` is the 6×6 covariance of (ξ_i, ξ_j) for pairs[k], which
+// draws from context.streams().stream(k) (one sharded trial loop). Deterministic whatever the thread count;
+// `progress` (may be null) advances once per pair.
+[[nodiscard]] std::vector<PairRecord> simulate_pairs_2d(const std::vector<SE2>& poses,
                                                         const std::vector<std::pair<int, int>>& pairs,
                                                         const std::vector<Mat6>& joint_covs,
                                                         const PairStudySetup& setup,
-                                                        keel::core::Progress* progress = nullptr);
+                                                        const repro::RunContext& context,
+                                                        core::Progress* progress = nullptr);
 
 // Mean and (population) standard deviation of one field over the records, optionally only pairs with j − i =
 // offset.
@@ -66,4 +62,4 @@ struct PairStatistics {
 [[nodiscard]] PairStatistics pair_statistics(const std::vector<PairRecord>& records,
                                              double PairRecord::* field, int offset = -1);
 
-}  // namespace keel::lie
+}  // namespace keel::study::ch5

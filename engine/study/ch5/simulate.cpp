@@ -1,4 +1,4 @@
-#include "lie/studies.hpp"
+#include "study/ch5/simulate.hpp"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,6 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "repro/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/fourth_order_joint.hpp"
@@ -22,7 +21,9 @@
 #include "lie/uncertain.hpp"
 #include "lie/unscented.hpp"
 
-namespace keel::lie {
+namespace keel::study::ch5 {
+
+using namespace keel::lie;
 
 namespace {
 
@@ -69,7 +70,8 @@ void CompositionSetup::validate() const {
     if (!(p > 0 && p < 1)) throw std::invalid_argument("CompositionSetup: levels must lie in (0, 1)");
 }
 
-CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progress* progress) {
+CompositionOutcome simulate_composition(const CompositionSetup& s, const repro::RunContext& context,
+                                        core::Progress* progress) {
   s.validate();
   const int n = s.steps;
   const Mat6 step_cov = composition_step_covariance(s.sigma_t, s.sigma_r);
@@ -133,10 +135,10 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
   // Monte Carlo: trajectory i draws from its own stream, so the result does not depend on the thread count.
   const std::size_t m = s.trajectories;
   std::vector<SE3> ends(m);
-  repro::trial_loop(  // one trial per trajectory; its record is the end pose
+  context.trials(  // one trial per trajectory; its record is the end pose
       m,
       [&](std::size_t i) {
-        core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);
+        core::Rng rng = context.streams().stream(i);
         Vec6 xi = L6 * normal6(rng);
         SE3 T = SE3::exp(xi) * step_mean;
         for (int k = 1; k < n; ++k) {
@@ -145,7 +147,7 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         }
         ends[i] = T;
       },
-      s.threads, progress, ends);
+      progress, ends);
 
   const Whitener w_joint(lie_joint.cov, "lie_joint"), w_ind(lie_ind.cov, "lie_independent"),
       w_4th(lie_4th.cov, "lie_fourth_order"), w_ssc(ssc_pred.cov, "ssc"),
@@ -166,7 +168,7 @@ CompositionOutcome run_composition_study(const CompositionSetup& s, core::Progre
         d2[i][4] = w_ssc_ind.d2(ssc_difference(ssc_from_se3(ends[i]), ssc_ind.mean));
         d2[i][5] = out.has_joint_fourth_order ? w_j4.d2((ends[i] * inv_j4).log()) : 0.0;
       },
-      s.threads);
+      context.threads());
   CompositionPrediction* preds[6] = {&out.ssc,
                                      &out.lie_independent,
                                      &out.lie_joint,
@@ -250,7 +252,8 @@ RelativePoseSetup relative_pose_setup(double yaw, const std::vector<double>& t_g
   return s;
 }
 
-RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Progress* progress) {
+RelativePoseOutcome simulate_relative_pose(const RelativePoseSetup& s, const repro::RunContext& context,
+                                           core::Progress* progress) {
   s.validate();
   RelativePoseOutcome out;
   const UncertainPose<SE3> g1(s.T_g1, s.cov_g1), g2(s.T_g2, s.cov_g2);
@@ -275,10 +278,10 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
     repro::load(r, xs[i]);
     if (s.keep_samples) repro::load(r, poses[i]);
   };
-  repro::trial_loop(
+  context.trials(
       s.samples,
       [&](std::size_t i) {
-        core::Rng rng = core::Rng::stream(s.seed, s.stream_base + i);
+        core::Rng rng = context.streams().stream(i);
         Eigen::Matrix<double, 12, 1> z;
         for (int k = 0; k < 12; ++k) z(k) = rng.normal();
         const Eigen::Matrix<double, 12, 1> xi = L * z;
@@ -288,7 +291,7 @@ RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& s, core::Pr
         xs[i] = (Tm * mean_inv).log();     // eq. 5.59
         if (s.keep_samples) poses[i] = Tm;
       },
-      save, load, s.threads, progress);
+      save, load, progress);
   Mat6 acc = Mat6::Zero();  // eq. 5.57, summed in trial order
   for (const auto& x : xs) acc += x * x.transpose();
   out.cov_mc = acc / static_cast<double>(s.samples);
@@ -357,4 +360,4 @@ void planar_positions(const std::vector<SE3>& poses, std::vector<double>& x, std
   }
 }
 
-}  // namespace keel::lie
+}  // namespace keel::study::ch5

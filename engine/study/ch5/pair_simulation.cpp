@@ -1,4 +1,4 @@
-#include "lie/pair_study.hpp"
+#include "study/ch5/pair_simulation.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,6 @@
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
-#include "repro/shard.hpp"
 #include "core/random.hpp"
 #include "lie/euler.hpp"
 #include "lie/gaussian.hpp"
@@ -19,18 +18,12 @@
 #include "lie/ssc.hpp"
 #include "lie/uncertain.hpp"
 
-namespace keel::lie {
+namespace keel::study::ch5 {
+
+using namespace keel::lie;
 
 void PairStudySetup::validate() const {
   if (samples < 2) throw std::invalid_argument("PairStudySetup: samples must be >= 2");
-}
-
-Mat3 ssc_jacobian_of_left_perturbation(const SE2& T) {
-  // exp(ξ^) T = (R_ξ R, R_ξ t + V ρ): to first order t + ρ + θ_ξ (−t_y, t_x) and θ + θ_ξ.
-  Mat3 J = Mat3::Identity();
-  J(0, 2) = -T.translation()(1);
-  J(1, 2) = T.translation()(0);
-  return J;
 }
 
 namespace {
@@ -100,27 +93,27 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
 
 }  // namespace
 
-std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
+std::vector<PairRecord> simulate_pairs_2d(const std::vector<SE2>& poses,
                                           const std::vector<std::pair<int, int>>& pairs,
                                           const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
-                                          core::Progress* progress) {
+                                          const repro::RunContext& context, core::Progress* progress) {
   setup.validate();
   if (pairs.size() != joint_covs.size()) {
     throw std::invalid_argument(
-        fmt::format("run_pair_study_2d: {} pairs but {} covariances", pairs.size(), joint_covs.size()));
+        fmt::format("simulate_pairs_2d: {} pairs but {} covariances", pairs.size(), joint_covs.size()));
   }
   const int n = static_cast<int>(poses.size());
   for (const auto& [i, j] : pairs) {
     if (i < 0 || j < 0 || i >= n || j >= n) {
       throw std::invalid_argument(
-          fmt::format("run_pair_study_2d: pair ({}, {}) refers to a pose outside [0, {})", i, j, n));
+          fmt::format("simulate_pairs_2d: pair ({}, {}) refers to a pose outside [0, {})", i, j, n));
     }
   }
   std::vector<PairRecord> out(pairs.size());
-  repro::trial_loop(  // one trial per pair; its record is the PairRecord
+  context.trials(  // one trial per pair; its record is the PairRecord
       pairs.size(),
       [&](std::size_t k) {
-        core::Rng rng = core::Rng::stream(setup.seed, k);
+        core::Rng rng = context.streams().stream(k);
         const auto [i, j] = pairs[k];
         try {
           out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)],
@@ -131,7 +124,7 @@ std::vector<PairRecord> run_pair_study_2d(const std::vector<SE2>& poses,
         out[k].i = i;
         out[k].j = j;
       },
-      setup.threads, progress, out);
+      progress, out);
   return out;
 }
 
@@ -152,4 +145,4 @@ PairStatistics pair_statistics(const std::vector<PairRecord>& records, double Pa
   return st;
 }
 
-}  // namespace keel::lie
+}  // namespace keel::study::ch5

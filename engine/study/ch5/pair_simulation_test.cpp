@@ -4,18 +4,13 @@
 
 #include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
-#include "lie/pair_study.hpp"
+#include "study/ch5/pair_simulation.hpp"
 
 using namespace keel::lie;
+using namespace keel::study::ch5;
+using keel::core::Streams;
+using keel::repro::RunContext;
 namespace testkit = keel::testkit;
-
-TEST_CASE("ssc_jacobian_of_left_perturbation matches central differences") {
-  const SE2 T(3.0, -2.0, 0.7);
-  const Mat3 J = ssc_jacobian_of_left_perturbation(T);
-  const MatX num =
-      testkit::numerical_jacobian_tangent<SE2>([&](const Vec3& d) { return ssc_from_se2(SE2::exp(d) * T); });
-  for (int k = 0; k < 3; ++k) CHECK((num.col(k) - J.col(k)).norm() < 1e-8);
-}
 
 TEST_CASE("pair study: joint prediction agrees with Monte Carlo, independent does not, deterministic") {
   std::vector<SE2> poses = {SE2(0, 0, 0), SE2(10, 5, 1.0), SE2(-4, 8, -2.0)};
@@ -28,12 +23,9 @@ TEST_CASE("pair study: joint prediction agrees with Monte Carlo, independent doe
   }
   PairStudySetup setup;
   setup.samples = 20000;
-  setup.seed = 7;
-  setup.threads = 1;
   const std::vector<std::pair<int, int>> pairs = {{1, 2}, {0, 1}};
-  const auto a = run_pair_study_2d(poses, pairs, {S, S}, setup);
-  setup.threads = 2;
-  const auto b = run_pair_study_2d(poses, pairs, {S, S}, setup);
+  const auto a = simulate_pairs_2d(poses, pairs, {S, S}, setup, RunContext(Streams(7), 1));
+  const auto b = simulate_pairs_2d(poses, pairs, {S, S}, setup, RunContext(Streams(7), 2));
   REQUIRE(a.size() == 2);
   for (std::size_t k = 0; k < 2; ++k) {
     CHECK(a[k].error_joint == b[k].error_joint);
@@ -55,14 +47,16 @@ TEST_CASE("pair study: bad inputs are rejected with clear messages") {
   std::vector<SE2> poses = {SE2(0, 0, 0), SE2(1, 0, 0)};
   PairStudySetup setup;
   setup.samples = 10;
-  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 5}}, {Mat6::Identity()}, setup),
-                       doctest::Contains("outside [0, 2)"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {}, setup),
+  CHECK_THROWS_WITH_AS(
+      (void)simulate_pairs_2d(poses, {{0, 5}}, {Mat6::Identity()}, setup, RunContext(Streams(1))),
+      doctest::Contains("outside [0, 2)"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)simulate_pairs_2d(poses, {{0, 1}}, {}, setup, RunContext(Streams(1))),
                        doctest::Contains("1 pairs but 0"), std::invalid_argument);
   Mat6 bad = Mat6::Identity();
   bad(0, 0) = -1;
-  CHECK_THROWS_WITH_AS((void)run_pair_study_2d(poses, {{0, 1}}, {bad}, setup),
+  CHECK_THROWS_WITH_AS((void)simulate_pairs_2d(poses, {{0, 1}}, {bad}, setup, RunContext(Streams(1))),
                        doctest::Contains("pair (0, 1)"), std::runtime_error);
   setup.samples = 1;
-  CHECK_THROWS_AS((void)run_pair_study_2d(poses, {{0, 1}}, {Mat6::Identity()}, setup), std::invalid_argument);
+  CHECK_THROWS_AS((void)simulate_pairs_2d(poses, {{0, 1}}, {Mat6::Identity()}, setup, RunContext(Streams(1))),
+                  std::invalid_argument);
 }

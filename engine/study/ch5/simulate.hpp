@@ -1,5 +1,7 @@
-// Monte-Carlo studies of thesis chapter 5 (§5.5.2, §5.7.2, §5.9.1): the engine side of the ch5_* experiments.
-// Drivers only read their config, call these, and write what comes back.
+// The Monte-Carlo machinery of the chapter-5 studies (§5.5.2, §5.7.2, §5.9.1): correlated odometry composed
+// end to end and scored against every prediction, two correlated poses and their relative pose, and the
+// planar shadows of predicted regions that the figures draw. The studies (composition.hpp) run these on their
+// RunContext's streams: trajectory (sample) i draws from context.streams().stream(i).
 #pragma once
 
 #include <cstddef>
@@ -8,12 +10,12 @@
 
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
+#include "repro/run.hpp"
 
-namespace keel::core {
-class Progress;
-}
+namespace keel::study::ch5 {
 
-namespace keel::lie {
+using lie::Mat6;
+using lie::SE3;
 
 // ---------------------------------------------------------------------------------------------------------------
 // Compounding correlated odometry (§5.5.2, eqs. 5.40–5.42; §5.9.1).
@@ -31,9 +33,6 @@ struct CompositionSetup {
   std::size_t trajectories = 10000;
   std::vector<double> levels = {0.95};  // probability levels p for the "inside" fractions
   bool keep_samples = false;            // keep the sampled end poses (for figures)
-  std::uint64_t seed = 0;
-  std::uint64_t stream_base = 0;  // trial i uses Rng::stream(seed, stream_base + i)
-  unsigned threads = 0;
   // Beyond the thesis: the fourth-order joint chain (fourth_order_joint.hpp, exact to fourth order for the
   // whole chain) is evaluated when steps <= this limit; its cost grows like N⁴ (0.05 s at N = 10, 46 s
   // and 2.5 GB at 50).
@@ -60,10 +59,12 @@ struct CompositionOutcome {
   std::vector<SE3> samples;                      // end poses, when keep_samples
 };
 
-// Samples `trajectories` chains and scores every prediction. Deterministic for a given seed and stream_base,
-// whatever the thread count. `progress` (may be null) advances once per trajectory.
-[[nodiscard]] CompositionOutcome run_composition_study(const CompositionSetup& setup,
-                                                       keel::core::Progress* progress = nullptr);
+// Samples `trajectories` chains (trajectory i from context.streams().stream(i), on context's threads, one
+// sharded trial loop) and scores every prediction. Deterministic whatever the thread count. `progress` (may
+// be null) advances once per trajectory.
+[[nodiscard]] CompositionOutcome simulate_composition(const CompositionSetup& setup,
+                                                      const repro::RunContext& context,
+                                                      core::Progress* progress = nullptr);
 
 // The per-step covariance of eq. 5.41 (variances on the diagonal).
 [[nodiscard]] Mat6 composition_step_covariance(double sigma_t, double sigma_r);
@@ -90,9 +91,6 @@ struct RelativePoseSetup {
   Mat6 cov_g1, cov_g2;          // marginal covariances (eq. 5.54)
   Mat6 cov_g1_g2;               // cross-covariance (eq. 5.55)
   std::size_t samples = 10000;  // M
-  std::uint64_t seed = 0;
-  std::uint64_t stream_base = 0;
-  unsigned threads = 0;
   bool keep_samples = false;
   void validate() const;
 };
@@ -114,8 +112,10 @@ struct RelativePoseOutcome {
                                                     const std::vector<double>& marginal_diag,
                                                     const std::vector<double>& cross_diag, double alpha);
 
-[[nodiscard]] RelativePoseOutcome run_relative_pose_study(const RelativePoseSetup& setup,
-                                                          keel::core::Progress* progress = nullptr);
+// Sample i from context.streams().stream(i), one sharded trial loop.
+[[nodiscard]] RelativePoseOutcome simulate_relative_pose(const RelativePoseSetup& setup,
+                                                         const repro::RunContext& context,
+                                                         core::Progress* progress = nullptr);
 
 // Points on the boundary of the p-probability region of a planar-projected Lie-algebra distribution: the (ρx,
 // ρy, φz) marginal ellipsoid at the χ²₃(p) radius, pushed through exp(ξ^) T̄ and projected to (x, y).
@@ -133,4 +133,4 @@ void planar_ssc_ellipse(const CompositionPrediction& ssc, double p, int count, s
 // Translations (x, y) of poses, for scatter plots.
 void planar_positions(const std::vector<SE3>& poses, std::vector<double>& x, std::vector<double>& y);
 
-}  // namespace keel::lie
+}  // namespace keel::study::ch5

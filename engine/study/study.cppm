@@ -1,0 +1,38 @@
+// keel.study — the curated facade of engine/study, the studies tier (docs/DESIGN.md "Tiers"): every study of
+// the thesis's tables and figures in one shape (repro/run.hpp), by chapter. Facade rules as every area; it
+// imports no facade (drivers import keel.repro beside it for study_main).
+module;
+#include "study/ch5/composition.hpp"
+#include "study/ch5/pair_simulation.hpp"
+#include "study/ch5/pairs.hpp"
+#include "study/ch5/simulate.hpp"
+export module keel.study;
+
+// Chapter 5: uncertainty of jointly correlated poses.
+export namespace keel::study::ch5 {
+using keel::study::ch5::Composition;
+using keel::study::ch5::LengthSweep;
+using keel::study::ch5::NoiseSweep;
+using keel::study::ch5::PairCorrelation;
+using keel::study::ch5::PairSampleSize;
+using keel::study::ch5::PairsVsSsc;
+using keel::study::ch5::RelativePose;
+using keel::study::ch5::UnscentedSsc;
+// the Monte Carlo behind them
+using keel::study::ch5::composition_step_covariance;
+using keel::study::ch5::CompositionOutcome;
+using keel::study::ch5::CompositionPrediction;
+using keel::study::ch5::CompositionSetup;
+using keel::study::ch5::convert_ssc_prediction;
+using keel::study::ch5::pair_statistics;
+using keel::study::ch5::PairRecord;
+using keel::study::ch5::PairStatistics;
+using keel::study::ch5::PairStudySetup;
+using keel::study::ch5::relative_pose_setup;
+using keel::study::ch5::RelativePoseOutcome;
+using keel::study::ch5::RelativePoseSetup;
+using keel::study::ch5::simulate_composition;
+using keel::study::ch5::simulate_pairs_2d;
+using keel::study::ch5::simulate_relative_pose;
+using keel::study::ch5::SscConversion;
+}  // namespace keel::study::ch5

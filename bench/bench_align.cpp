@@ -4,6 +4,7 @@
 import keel.align;
 import keel.sim;
 import keel.core;
+import keel.study;
 
 #include <benchmark/benchmark.h>
 
@@ -15,7 +16,8 @@ namespace sim = keel::sim;
 namespace {
 
 const align::AlignmentProblem& problem() {
-  static const align::AlignmentProblem p = align::problem_of(sim::make_alignment_world({}, 20181022, 0));
+  static const align::AlignmentProblem p =
+      keel::study::ch3::problem_of(sim::make_alignment_world({}, 20181022, 0));
   return p;
 }
 

@@ -3,12 +3,9 @@
 module;
 #include "align/align.hpp"
 #include "align/certificate.hpp"
-#include "align/config.hpp"
 #include "align/hull.hpp"
-#include "align/hull_study.hpp"
 #include "align/lp.hpp"
 #include "align/sdp.hpp"
-#include "align/studies.hpp"
 export module keel.align;
 
 export namespace keel::align {
@@ -52,33 +49,7 @@ using keel::align::certify_rotation;
 using keel::align::global_regions;
 using keel::align::Regions;
 using keel::align::rigid_objective;
-// studies (§3.7, §3.8) and their config readers
-using keel::align::AlignmentStudyOptions;
-using keel::align::AlignmentStudyOutcome;
-using keel::align::CertificateOutcome;
-using keel::align::compare_methods;
-using keel::align::ComparisonOptions;
-using keel::align::fenced_summary;
-using keel::align::FencedSummary;
-using keel::align::MethodOutcome;
-using keel::align::problem_of;
-using keel::align::read_align_options;
-using keel::align::read_alignment_world_options;
-using keel::align::read_certificate_options;
-using keel::align::read_comparison_options;
-using keel::align::read_hull_world_options;
-using keel::align::read_methods;
-using keel::align::run_alignment_study;
-using keel::align::score_alignment;
-using keel::align::SdpCheck;
-using keel::align::WorldTruth;
 // SOConvHull as an SDP (DSDP), the check of the LP with tangent cuts
 using keel::align::SdpSolution;
 using keel::align::so_conv_hull_sdp;
-// the hull substitute of §3.8
-using keel::align::HullStudyOptions;
-using keel::align::HullStudyOutcome;
-using keel::align::reference_feature_scales;
-using keel::align::run_hull_study;
-using keel::align::standardized_problem_of;
 }  // namespace keel::align

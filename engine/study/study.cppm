@@ -2,11 +2,47 @@
 // the thesis's tables and figures in one shape (repro/run.hpp), by chapter. Facade rules as every area; it
 // imports no facade (drivers import keel.repro beside it for study_main).
 module;
+#include "study/ch3/comparison.hpp"
+#include "study/ch3/config.hpp"
+#include "study/ch3/studies.hpp"
 #include "study/ch5/composition.hpp"
 #include "study/ch5/pair_simulation.hpp"
 #include "study/ch5/pairs.hpp"
 #include "study/ch5/simulate.hpp"
 export module keel.study;
+
+// Chapter 3: trajectory alignment without data association.
+export namespace keel::study::ch3 {
+using keel::study::ch3::AlignmentComparison;
+using keel::study::ch3::Example;
+using keel::study::ch3::HullSubstitute;
+using keel::study::ch3::Sensitivity;
+// the machinery behind them and its config readers
+using keel::study::ch3::AlignmentStudyOptions;
+using keel::study::ch3::AlignmentStudyOutcome;
+using keel::study::ch3::CertificateOutcome;
+using keel::study::ch3::compare_methods;
+using keel::study::ch3::ComparisonOptions;
+using keel::study::ch3::fenced_summary;
+using keel::study::ch3::FencedSummary;
+using keel::study::ch3::HullStudyOptions;
+using keel::study::ch3::HullStudyOutcome;
+using keel::study::ch3::MethodOutcome;
+using keel::study::ch3::problem_of;
+using keel::study::ch3::read_align_options;
+using keel::study::ch3::read_alignment_world_options;
+using keel::study::ch3::read_certificate_options;
+using keel::study::ch3::read_comparison_options;
+using keel::study::ch3::read_hull_world_options;
+using keel::study::ch3::read_methods;
+using keel::study::ch3::reference_feature_scales;
+using keel::study::ch3::run_alignment_study;
+using keel::study::ch3::run_hull_study;
+using keel::study::ch3::score_alignment;
+using keel::study::ch3::SdpCheck;
+using keel::study::ch3::standardized_problem_of;
+using keel::study::ch3::WorldTruth;
+}  // namespace keel::study::ch3
 
 // Chapter 5: uncertainty of jointly correlated poses.
 export namespace keel::study::ch5 {

@@ -1,4 +1,4 @@
-#include "align/studies.hpp"
+#include "study/ch3/comparison.hpp"
 
 #include <fmt/format.h>
 
@@ -8,10 +8,11 @@
 
 #include "align/sdp.hpp"
 #include "core/parallel.hpp"
-#include "repro/shard.hpp"
 #include "core/timing.hpp"
 
-namespace keel::align {
+namespace keel::study::ch3 {
+
+using namespace keel::align;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -117,7 +118,8 @@ CertificateOutcome certificate_of(const AlignmentProblem& p, const Regions& glob
 
 }  // namespace
 
-AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t worlds, unsigned threads,
+AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t worlds,
+                                      const repro::RunContext& context,
                                       const std::function<WorldTruth(std::size_t)>& world,
                                       core::Progress* progress) {
   o.validate();
@@ -144,7 +146,7 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
     if (o.certify) repro::load(rd, out.certificates[w]);
     if (w < out.sdp_checks.size()) repro::load(rd, out.sdp_checks[w]);
   };
-  repro::trial_loop(
+  context.trials(
       worlds,
       [&](std::size_t w) {
         const WorldTruth truth = world(w);
@@ -160,7 +162,7 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
         if (w < out.sdp_checks.size()) out.sdp_checks[w] = sdp_check(p, global, ao);
         for (std::size_t m = 0; m < nm; ++m) {
           ao.method = o.methods[m];
-          const AlignResult r = align(p, ao, &global);
+          const AlignResult r = align::align(p, ao, &global);
           MethodOutcome mo = score_alignment(p, r, truth.theta, truth.tx, truth.ty, o.valid_tolerance);
           mo.time_s += hull_time;
           out.outcomes[m][w] = mo;
@@ -168,16 +170,19 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
             out.certificates[w] = certificate_of(p, global, ao, r, o.certificate);
         }
       },
-      save, load, threads, progress);
+      save, load, progress);
   return out;
 }
 
-AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, core::Progress* progress) {
+AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& o, const repro::RunContext& context,
+                                          core::Progress* progress) {
   o.validate();
+  const core::Streams& streams = context.streams();
   return compare_methods(
-      o.compare, o.worlds, o.threads,
+      o.compare, o.worlds, context,
       [&](std::size_t w) {
-        const sim::AlignmentWorld world = sim::make_alignment_world(o.world, o.seed, o.stream_base + w);
+        const sim::AlignmentWorld world =
+            sim::make_alignment_world(o.world, streams.seed(), streams.index(w));
         return WorldTruth{problem_of(world), world.theta, world.tx, world.ty};
       },
       progress);
@@ -208,4 +213,70 @@ FencedSummary fenced_summary(std::vector<double> v) {
   return s;
 }
 
-}  // namespace keel::align
+// ---------------------------------------------------------------------------------------------------------------
+// The hull substitute of §3.8
+
+std::vector<double> reference_feature_scales(const sim::HullWorld& w) {
+  const std::size_t na = w.ref_x.size();
+  if (w.feature_dim < 1)
+    throw std::invalid_argument(fmt::format("reference_feature_scales: feature_dim = {}", w.feature_dim));
+  const auto d = static_cast<std::size_t>(w.feature_dim);
+  if (na == 0) throw std::invalid_argument("reference_feature_scales: the reference has no position");
+  if (w.ref_features.size() != na * d || w.query_features.size() != w.query_x.size() * d)
+    throw std::invalid_argument(fmt::format(
+        "reference_feature_scales: {} reference and {} query feature values for {} and {} positions of "
+        "dimension {}",
+        w.ref_features.size(), w.query_features.size(), na, w.query_x.size(), d));
+  std::vector<double> scale(d, 0.0);
+  for (std::size_t k = 0; k < d; ++k) {
+    double mean = 0;
+    for (std::size_t i = 0; i < na; ++i) mean += w.ref_features[i * d + k];
+    mean /= static_cast<double>(na);
+    double ss = 0;
+    for (std::size_t i = 0; i < na; ++i) {
+      const double e = w.ref_features[i * d + k] - mean;
+      ss += e * e;
+    }
+    scale[k] = std::sqrt(ss / static_cast<double>(na));
+  }
+  return scale;
+}
+
+AlignmentProblem standardized_problem_of(const sim::HullWorld& w) {
+  const std::vector<double> scale = reference_feature_scales(w);
+  const std::size_t d = scale.size();
+  auto standardise = [&](std::vector<double> f) {
+    for (std::size_t n = 0; n < f.size(); ++n) {
+      const double s = scale[n % d];
+      if (s > 0 && std::isfinite(s)) f[n] /= s;
+    }
+    return f;
+  };
+  AlignmentProblem p;
+  p.ref_x = w.ref_x, p.ref_y = w.ref_y, p.ref_z = w.ref_z;
+  p.query_x = w.query_x, p.query_y = w.query_y, p.query_z = w.query_z;
+  p.dissimilarity = euclidean_dissimilarity(standardise(w.ref_features), standardise(w.query_features),
+                                            static_cast<int>(d));
+  return p;
+}
+
+void HullStudyOptions::validate() const {
+  world.validate();
+  compare.validate();
+  if (worlds < 1) throw std::invalid_argument("HullStudyOptions.worlds = 0: must be >= 1");
+}
+
+HullStudyOutcome run_hull_study(const HullStudyOptions& o, const repro::RunContext& context,
+                                core::Progress* progress) {
+  o.validate();
+  const core::Streams& streams = context.streams();
+  return compare_methods(
+      o.compare, o.worlds, context,
+      [&](std::size_t w) {
+        const sim::HullWorld world = sim::make_hull_world(o.world, streams.seed(), streams.index(w));
+        return WorldTruth{standardized_problem_of(world), world.theta, world.tx, world.ty};
+      },
+      progress);
+}
+
+}  // namespace keel::study::ch3

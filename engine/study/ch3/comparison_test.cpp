@@ -1,16 +1,18 @@
-// Unit tests of the hull substitute of §3.8 (hull_study.hpp): the standardised known-depth problem and the
-// study over hull worlds.
+// Unit tests of the chapter-3 machinery (comparison.hpp): the standardised known-depth problem of the hull
+// substitute (§3.8) and the comparison over hull worlds.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "align/hull_study.hpp"
-#include "align/studies.hpp"
+#include "study/ch3/comparison.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/hull_world.hpp"
 
 using namespace keel::align;
+using namespace keel::study::ch3;
+using keel::core::Streams;
+using keel::repro::RunContext;
 using keel::sim::HullWorld;
 using keel::sim::HullWorldOptions;
 
@@ -116,11 +118,8 @@ TEST_CASE("run_hull_study scores every method on every world, independent of thr
   o.compare.align.depth_gate = 1.0;
   o.compare.align.region.max_rounds = 2;
   o.worlds = 2;
-  o.seed = 11;
-  o.threads = 1;
-  const HullStudyOutcome a = run_hull_study(o);
-  o.threads = 2;
-  const HullStudyOutcome b = run_hull_study(o);
+  const HullStudyOutcome a = run_hull_study(o, RunContext(Streams(11), 1));
+  const HullStudyOutcome b = run_hull_study(o, RunContext(Streams(11), 2));
   REQUIRE(a.outcomes.size() == 2);
   for (std::size_t m = 0; m < 2; ++m) {
     REQUIRE(a.outcomes[m].size() == 2);
@@ -131,8 +130,8 @@ TEST_CASE("run_hull_study scores every method on every world, independent of thr
       CHECK(a.outcomes[m][w].rounds >= 1);
     }
   }
-  // World w is make_hull_world(seed, stream_base + w), scored as score_alignment scores align's answer.
-  const HullWorld w1 = keel::sim::make_hull_world(o.world, o.seed, 1);
+  // World w is make_hull_world(seed, w), scored as score_alignment scores align's answer.
+  const HullWorld w1 = keel::sim::make_hull_world(o.world, 11, 1);
   CHECK(a.world_theta[1] == w1.theta);
   CHECK(a.query_points[1] == w1.query_x.size());
   AlignOptions ao = o.compare.align;
@@ -143,7 +142,8 @@ TEST_CASE("run_hull_study scores every method on every world, independent of thr
   CHECK(direct.trans_se == a.outcomes[0][1].trans_se);
 
   o.worlds = 0;
-  CHECK_THROWS_AS((void)run_hull_study(o), std::invalid_argument);
-  CHECK(keel::testkit::contains(keel::testkit::message_of([&] { (void)run_hull_study(o); }),
-                                "HullStudyOptions.worlds"));
+  CHECK_THROWS_AS((void)run_hull_study(o, RunContext(Streams(11))), std::invalid_argument);
+  CHECK(keel::testkit::contains(
+      keel::testkit::message_of([&] { (void)run_hull_study(o, RunContext(Streams(11))); }),
+      "HullStudyOptions.worlds"));
 }

@@ -7,12 +7,12 @@
 
 #include "align/align.hpp"
 #include "align/certificate.hpp"
-#include "align/studies.hpp"
 #include "core/config.hpp"
 #include "sim/alignment_world.hpp"
 #include "sim/hull_world.hpp"
+#include "study/ch3/comparison.hpp"
 
-namespace keel::align {
+namespace keel::study::ch3 {
 
 // `reference_size`, `query_size`, `track_spacing`, `sample_spacing`, `feature_dim`, `bumps`, `bump_sigma`
 // ([min, max] m), `feature_noise`, `position_noise`, `max_translation`, `max_rotation_deg`,
@@ -38,4 +38,4 @@ namespace keel::align {
 // `certificate_relative_gap`, `certificate_node_limit`, `certificate_initial_intervals`.
 [[nodiscard]] CertificateOptions read_certificate_options(const core::ConfigTable& t);
 
-}  // namespace keel::align
+}  // namespace keel::study::ch3

@@ -1,10 +1,12 @@
-#include "align/config.hpp"
+#include "study/ch3/config.hpp"
 
 #include <fmt/format.h>
 
 #include <stdexcept>
 
-namespace keel::align {
+namespace keel::study::ch3 {
+
+using namespace keel::align;
 
 namespace {
 
@@ -104,4 +106,4 @@ CertificateOptions read_certificate_options(const core::ConfigTable& t) {
   return c;
 }
 
-}  // namespace keel::align
+}  // namespace keel::study::ch3

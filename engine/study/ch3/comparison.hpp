@@ -1,5 +1,7 @@
-// Studies of thesis chapter 3 (§3.7, §3.8): the engine side of the ch3_* experiments. Drivers read their
-// config, call these, and write what comes back.
+// The machinery of the chapter-3 studies (§3.7, §3.8): a simulated world as an alignment problem, every
+// method on every world with round 0's regions shared, and how each method is scored. The studies
+// (studies.hpp) run these on their RunContext: world w draws from context.streams().stream(w) (sim's (seed,
+// index) pair).
 #pragma once
 
 #include <cstddef>
@@ -10,14 +12,20 @@
 
 #include "align/align.hpp"
 #include "align/certificate.hpp"
+#include "repro/run.hpp"
 #include "sim/alignment_world.hpp"
 #include "sim/hull_world.hpp"
 
-namespace keel::core {
-class Progress;
-}
+namespace keel::study::ch3 {
 
-namespace keel::align {
+using align::AlignmentProblem;
+using align::AlignOptions;
+using align::AlignResult;
+using align::Certificate;
+using align::CertificateOptions;
+using align::Method;
+using align::Rigid2;
+using align::Transform2;
 
 // The problem of a simulated world: positions, and the Euclidean distance between feature vectors as the
 // dissimilarity (§3.4.1 leaves C_ij to the user).
@@ -74,9 +82,6 @@ struct AlignmentStudyOptions {
   sim::AlignmentWorldOptions world;
   ComparisonOptions compare;
   std::size_t worlds = 200;
-  std::uint64_t seed = 0;
-  std::uint64_t stream_base = 0;  // world w uses sim stream stream_base + w
-  unsigned threads = 0;           // worlds in parallel; results do not depend on it
   void validate() const;
 };
 
@@ -96,15 +101,17 @@ struct WorldTruth {
 };
 
 // Runs `compare` on worlds 0 … worlds − 1 made by `world(w)` (called from worker threads: it must be safe to
-// call concurrently), in parallel, round 0's regions computed once per world and shared by the methods.
-// Deterministic whatever the thread count.
+// call concurrently), on the context's threads in one sharded trial loop, round 0's regions computed once
+// per world and shared by the methods. Deterministic whatever the thread count.
 [[nodiscard]] AlignmentStudyOutcome compare_methods(const ComparisonOptions& compare, std::size_t worlds,
-                                                    unsigned threads,
+                                                    const repro::RunContext& context,
                                                     const std::function<WorldTruth(std::size_t)>& world,
-                                                    keel::core::Progress* progress = nullptr);
+                                                    core::Progress* progress = nullptr);
 
+// World w: sim::make_alignment_world(options.world, streams.seed(), streams.index(w)).
 [[nodiscard]] AlignmentStudyOutcome run_alignment_study(const AlignmentStudyOptions& options,
-                                                        keel::core::Progress* progress = nullptr);
+                                                        const repro::RunContext& context,
+                                                        core::Progress* progress = nullptr);
 
 // Scores an alignment of a problem against a ground truth (θ, tx, ty).
 [[nodiscard]] MethodOutcome score_alignment(const AlignmentProblem& problem, const AlignResult& result,
@@ -118,4 +125,42 @@ struct FencedSummary {
 };
 [[nodiscard]] FencedSummary fenced_summary(std::vector<double> values);
 
-}  // namespace keel::align
+// ---------------------------------------------------------------------------------------------------------------
+// The hull substitute of §3.8 (Fig. 3.5) — the known-depth alignment (eq. 3.9) of two synthetic HAUV surveys
+// of a ship hull (sim::HullWorld; the thesis's USCGC Spencer data are not available), with the DVL curvature
+// features standardised before the Euclidean dissimilarity.
+//
+// Why standardise: the hull world's features are (κ1, κ2, slope) with κ of order 0.01–0.1 1/m and slope of
+// order 0.3 (dimensionless), so a plain Euclidean distance (problem_of(HullWorld)) is dominated by the slope.
+// Dividing every component by its standard deviation over the reference survey weighs the three equally; the
+// scale comes from the reference alone (the query robot receives the reference's scales with its data, three
+// numbers), and the same scale is applied to both surveys so equal features stay equal.
+
+// Standard deviation of each feature component over the reference survey (population std, divisor n_a), one
+// value per component (HullWorld::feature_dim). Throws std::invalid_argument for an empty reference or
+// feature arrays whose size is not n × feature_dim.
+[[nodiscard]] std::vector<double> reference_feature_scales(const sim::HullWorld& world);
+
+// The known-depth problem of eq. 3.9 (positions with depths, as problem_of(HullWorld)) with the Euclidean
+// dissimilarity of the standardised features: component k of both surveys divided by
+// reference_feature_scales(world)[k]. A component with zero (or non-finite) spread over the reference is left
+// unscaled.
+[[nodiscard]] AlignmentProblem standardized_problem_of(const sim::HullWorld& world);
+
+struct HullStudyOptions {
+  sim::HullWorldOptions world;
+  ComparisonOptions compare;  // compare.align.depth_gate is γ of §3.4.3 (0: no gate)
+  std::size_t worlds = 20;
+  // Throws std::invalid_argument "HullStudyOptions.worlds = 0: ..." (and validates world, compare).
+  void validate() const;
+};
+
+using HullStudyOutcome = AlignmentStudyOutcome;
+
+// Every world (make_hull_world(options.world, streams.seed(), streams.index(w))) aligned by every method on
+// its standardized_problem_of, round 0's regions shared by the methods.
+[[nodiscard]] HullStudyOutcome run_hull_study(const HullStudyOptions& options,
+                                              const repro::RunContext& context,
+                                              core::Progress* progress = nullptr);
+
+}  // namespace keel::study::ch3

@@ -1,0 +1,640 @@
+#include "study/ch3/studies.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/statistics.hpp"
+#include "study/ch3/config.hpp"
+
+namespace keel::study::ch3 {
+
+using repro::Figure;
+using repro::Layer;
+using repro::Panel;
+using repro::Results;
+using repro::RunContext;
+
+namespace {
+
+const char* const kColors[] = {"tab:blue", "tab:orange", "tab:green", "tab:red"};
+
+// One method's column of Table 3.1 over the worlds.
+struct Row {
+  std::string name;
+  FencedSummary rot, trans;
+  double valid = 0, time_mean = 0, time_median = 0;
+  std::vector<double> rot_se, trans_se;
+};
+
+std::vector<Row> table_rows(const AlignmentStudyOutcome& out, std::size_t worlds) {
+  std::vector<Row> rows;
+  for (std::size_t m = 0; m < out.methods.size(); ++m) {
+    Row row;
+    row.name = std::string(align::to_string(out.methods[m]));
+    std::vector<double> times;
+    for (const auto& w : out.outcomes[m]) {
+      row.rot_se.push_back(w.rot_se), row.trans_se.push_back(w.trans_se), times.push_back(w.time_s);
+      row.valid += w.valid;
+    }
+    row.valid *= 100.0 / static_cast<double>(worlds);
+    row.rot = fenced_summary(row.rot_se);
+    row.trans = fenced_summary(row.trans_se);
+    const auto ts = fenced_summary(times);
+    row.time_mean = ts.mean, row.time_median = ts.median;
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------------
+// Table 3.1
+
+AlignmentComparison::Options AlignmentComparison::Options::read(const core::ConfigTable& p) {
+  Options o;
+  o.study.world = read_alignment_world_options(p);
+  o.study.compare = read_comparison_options(p);
+  o.study.worlds = p.count("worlds");
+  o.near_gap = p.number("certificate_near_gap");
+  return o;
+}
+
+AlignmentComparison::Outcome AlignmentComparison::run(const Options& o, const RunContext& context) {
+  core::Progress progress = context.progress(o.study.worlds);
+  Outcome out{o, run_alignment_study(o.study, context, &progress)};
+  progress.finish();
+  return out;
+}
+
+void AlignmentComparison::record(Results& r, const Outcome& outcome) {
+  const AlignmentStudyOptions& o = outcome.options.study;
+  const AlignmentStudyOutcome& out = outcome.study;
+  r.metric("worlds", static_cast<double>(o.worlds));
+  r.metric(
+      "reference_points.mean",
+      core::mean_std(std::vector<double>(out.reference_points.begin(), out.reference_points.end())).mean);
+  r.metric("query_points.mean",
+           core::mean_std(std::vector<double>(out.query_points.begin(), out.query_points.end())).mean);
+  const std::vector<Row> rows = table_rows(out, o.worlds);
+  for (const Row& row : rows) {
+    r.metric(row.name + ".rot_se.median", row.rot.median);
+    r.metric(row.name + ".rot_se.std", row.rot.std);
+    r.metric(row.name + ".trans_se.median", row.trans.median);
+    r.metric(row.name + ".trans_se.std", row.trans.std);
+    r.metric(row.name + ".valid_rate", row.valid);
+    r.timing(row.name + ".time_s", row.time_mean);
+    r.timing(row.name + ".time_s.median", row.time_median);
+  }
+
+  // The thesis's ordering claim, column by column, on our numbers.
+  const auto it = std::find_if(rows.begin(), rows.end(), [](const Row& x) { return x.name == "proposed"; });
+  if (it != rows.end() && rows.size() > 1) {
+    auto column = [&](const char* label, auto get) {
+      bool best = true;
+      std::string detail;
+      for (const auto& x : rows) {
+        if (&x != &*it && get(x) < get(*it)) best = false;
+        detail += fmt::format("{}{} {:.4g}", detail.empty() ? "" : ", ", x.name, get(x));
+      }
+      r.check(fmt::format("Proposed has the lowest {} of the four methods", label), best, detail);
+    };
+    column("median rotation SE", [](const Row& x) { return x.rot.median; });
+    column("rotation SE std (1.5·IQR fences)", [](const Row& x) { return x.rot.std; });
+    column("median translation SE", [](const Row& x) { return x.trans.median; });
+    column("translation SE std (1.5·IQR fences)", [](const Row& x) { return x.trans.std; });
+    r.check("Proposed returns an approximately valid rotation in 100 % of worlds", it->valid == 100.0,
+            fmt::format("{:.1f} % (valid: singular values within {} of 1, det > 0; the octagon is within "
+                        "±4.1 % of the circle, so this holds by construction)",
+                        it->valid, o.compare.valid_tolerance),
+            o.compare.valid_tolerance <= 1.0 / align::kBarniDelta - 1.0);  // counted only if not guaranteed
+  }
+
+  if (!out.sdp_checks.empty()) {  // SOConvHull: LP with tangent cuts vs the PSD block by DSDP (round 0)
+    double worst = 0, lp_time = 0, sdp_time = 0;
+    std::size_t converged = 0;
+    for (const auto& c : out.sdp_checks) {
+      worst = std::max(worst, std::abs(c.sdp_cost - c.lp_cost) / std::max(1.0, std::abs(c.lp_cost)));
+      lp_time += c.lp_time_s, sdp_time += c.sdp_time_s;
+      converged += c.sdp_converged;
+    }
+    const double n = static_cast<double>(out.sdp_checks.size());
+    r.metric("so_conv_hull.sdp_check.worlds", n);
+    r.metric("so_conv_hull.sdp_check.converged", static_cast<double>(converged));
+    r.metric("so_conv_hull.sdp_check.max_relative_difference", worst);
+    r.timing("so_conv_hull.sdp_check.lp_time_s", lp_time / n);
+    r.timing("so_conv_hull.sdp_check.sdp_time_s", sdp_time / n);
+  }
+  if (o.compare.certify) {
+    const double near_gap = outcome.options.near_gap;
+    std::vector<double> gap, dtheta, nodes, ctime;
+    std::size_t optimal = 0, within = 0;
+    for (const auto& c : out.certificates) {
+      gap.push_back(c.relative_gap), dtheta.push_back(c.theta_difference);
+      nodes.push_back(static_cast<double>(c.certificate.nodes)), ctime.push_back(c.certificate.time_s);
+      optimal += c.certificate.status == core::SearchStatus::optimal;
+      within += c.relative_gap <= near_gap;
+    }
+    const auto g = fenced_summary(gap);
+    r.metric("certificate.optimal_rate",
+             100.0 * static_cast<double>(optimal) / static_cast<double>(o.worlds));
+    r.metric(fmt::format("certificate.within_{:g}_rate", near_gap),
+             100.0 * static_cast<double>(within) / static_cast<double>(o.worlds));
+    r.metric("certificate.relative_gap.median", g.median);
+    r.metric("certificate.relative_gap.max", *std::max_element(gap.begin(), gap.end()));
+    r.metric("certificate.theta_difference.median", fenced_summary(dtheta).median);
+    r.metric("certificate.theta_difference.max", *std::max_element(dtheta.begin(), dtheta.end()));
+    r.metric("certificate.nodes.mean", core::mean_std(nodes).mean);
+    r.timing("certificate.time_s", core::mean_std(ctime).mean);
+  }
+}
+
+std::vector<Figure> AlignmentComparison::figures(const Outcome& outcome) {
+  const std::size_t worlds = outcome.options.study.worlds;
+  Figure f;
+  f.file = ".png";
+  f.title = fmt::format("Table 3.1 errors over {} simulated worlds (empirical CDFs)", worlds);
+  f.width = 12.0;
+  f.height = 4.8;
+  Panel pr, pt;
+  pr.xlabel = "rotation squared error (rad²)";
+  pt.xlabel = "translation squared error at the query centroid (m²)";
+  pr.ylabel = pt.ylabel = "fraction of worlds";
+  pr.xscale = pt.xscale = "log";
+  pr.legend = "lower right";
+  pt.legend = "none";
+  const std::vector<Row> rows = table_rows(outcome.study, worlds);
+  for (std::size_t m = 0; m < rows.size(); ++m) {
+    pr.layers.push_back(repro::ecdf_layer(rows[m].rot_se, rows[m].name, kColors[m % 4], 1e-12));  // log axes
+    pt.layers.push_back(repro::ecdf_layer(rows[m].trans_se, rows[m].name, kColors[m % 4], 1e-12));
+  }
+  f.panels = {pr, pt};
+  return {f};
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Sensitivity
+
+Sensitivity::Options Sensitivity::Options::read(const core::ConfigTable& p) {
+  Options o;
+  o.study.world = read_alignment_world_options(p);
+  o.study.compare = read_comparison_options(p);
+  o.study.worlds = p.count("worlds");
+  o.noises = p.numbers("noise_values");
+  o.sizes = p.numbers("query_sizes");
+  if (o.noises.empty())
+    throw core::ConfigError(fmt::format("{}: must not be empty", p.where("noise_values")));
+  if (o.sizes.empty()) throw core::ConfigError(fmt::format("{}: must not be empty", p.where("query_sizes")));
+  o.study.compare.certify = false;
+  return o;
+}
+
+const AlignmentStudyOutcome& Sensitivity::Outcome::at(double noise, double size) const {
+  return points.at({noise, size});
+}
+
+Sensitivity::Outcome Sensitivity::run(const Options& o, const RunContext& context) {
+  Outcome out;
+  out.options = o;
+  const double base_noise = o.study.world.feature_noise, base_size = o.study.world.query_size;
+  std::vector<std::pair<double, double>> order;  // the points in the order the sweeps visit them
+  for (double n : o.noises) order.emplace_back(n, base_size);
+  for (double s : o.sizes) order.emplace_back(base_noise, s);
+  std::size_t distinct = 0;
+  {
+    std::map<std::pair<double, double>, int> seen;
+    for (const auto& k : order) seen[k] = 1;
+    distinct = seen.size();
+  }
+  core::Progress progress = context.progress(distinct * o.study.worlds);
+  for (const auto& [noise, size] : order) {
+    if (out.points.count({noise, size})) continue;
+    AlignmentStudyOptions q = o.study;
+    q.world.feature_noise = noise;
+    q.world.query_size = size;
+    out.points.emplace(std::make_pair(noise, size),
+                       run_alignment_study(q, context, &progress));  // same worlds
+  }
+  progress.finish();
+  return out;
+}
+
+namespace {
+struct SensitivityAxis {
+  std::string tag, what, xlabel;
+  std::vector<double> values;
+  bool noise;
+};
+std::vector<SensitivityAxis> sensitivity_axes(const Sensitivity::Options& o) {
+  return {SensitivityAxis{"noise", "feature noise", "feature noise std (field RMS 1)", o.noises, true},
+          SensitivityAxis{"size", "query size", "query square side (m), reference 60 m", o.sizes, false}};
+}
+// Per method: the median rotation SE, median translation SE and valid rate at each value of the axis.
+struct SensitivityCurve {
+  std::string name;
+  std::vector<double> rot, trans, valid;
+};
+std::vector<SensitivityCurve> sensitivity_curves(const Sensitivity::Outcome& out,
+                                                 const SensitivityAxis& axis) {
+  const auto& o = out.options;
+  const double base_noise = o.study.world.feature_noise, base_size = o.study.world.query_size;
+  std::vector<SensitivityCurve> curves;
+  for (std::size_t m = 0; m < o.study.compare.methods.size(); ++m) {
+    SensitivityCurve c;
+    c.name = std::string(align::to_string(o.study.compare.methods[m]));
+    for (double v : axis.values) {
+      const auto& st = axis.noise ? out.at(v, base_size) : out.at(base_noise, v);
+      std::vector<double> rs, ts;
+      double ok = 0;
+      for (const auto& w : st.outcomes[m]) rs.push_back(w.rot_se), ts.push_back(w.trans_se), ok += w.valid;
+      c.rot.push_back(fenced_summary(rs).median);
+      c.trans.push_back(fenced_summary(ts).median);
+      c.valid.push_back(100.0 * ok / static_cast<double>(o.study.worlds));
+    }
+    curves.push_back(std::move(c));
+  }
+  return curves;
+}
+}  // namespace
+
+void Sensitivity::record(Results& r, const Outcome& out) {
+  r.metric("worlds", static_cast<double>(out.options.study.worlds));
+  r.series("noise.feature_noise", out.options.noises);
+  r.series("size.query_size", out.options.sizes);
+  for (const SensitivityAxis& axis : sensitivity_axes(out.options))
+    for (const SensitivityCurve& c : sensitivity_curves(out, axis)) {
+      r.series(c.name + "." + axis.tag + ".rot_se.median", c.rot);
+      r.series(c.name + "." + axis.tag + ".trans_se.median", c.trans);
+      r.series(c.name + "." + axis.tag + ".valid_rate", c.valid);
+    }
+}
+
+std::vector<Figure> Sensitivity::figures(const Outcome& out) {
+  const auto& o = out.options;
+  Figure f;
+  f.file = ".png";
+  f.title = fmt::format(
+      "Beyond Table 3.1: sensitivity to feature noise (query {:g} m) and query size (noise {:g}), "
+      "{} worlds per point",
+      o.study.world.query_size, o.study.world.feature_noise, o.study.worlds);
+  f.rows = 2, f.cols = 3, f.width = 16.5, f.height = 9.0;
+  const char* markers[] = {"o", "s", "^", "v"};
+  for (const SensitivityAxis& axis : sensitivity_axes(o)) {
+    Panel pr, pt, pv;
+    pr.title = "median rotation SE vs " + axis.what, pt.title = "median translation SE vs " + axis.what;
+    pv.title = "approx. valid rotations vs " + axis.what;
+    pr.ylabel = "rad²", pt.ylabel = "m²", pv.ylabel = "% of worlds";
+    pr.xlabel = pt.xlabel = pv.xlabel = axis.xlabel;
+    pr.yscale = pt.yscale = "log";
+    pt.legend = pv.legend = "none";
+    pv.ylim = std::make_pair(-5.0, 105.0);
+    const auto curves = sensitivity_curves(out, axis);
+    for (std::size_t m = 0; m < curves.size(); ++m) {
+      std::vector<double> rot = curves[m].rot, trans = curves[m].trans;
+      for (auto* v : {&rot, &trans})
+        for (double& x : *v) x = std::max(x, 1e-12);  // log axis
+      pr.layers.push_back(
+          repro::line_layer(axis.values, rot, curves[m].name, kColors[m % 4], markers[m % 4]));
+      pt.layers.push_back(
+          repro::line_layer(axis.values, trans, curves[m].name, kColors[m % 4], markers[m % 4]));
+      pv.layers.push_back(
+          repro::line_layer(axis.values, curves[m].valid, curves[m].name, kColors[m % 4], markers[m % 4]));
+    }
+    f.panels.push_back(pr), f.panels.push_back(pt), f.panels.push_back(pv);
+  }
+  return {f};
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Fig. 3.4
+
+Example::Options Example::Options::read(const core::ConfigTable& p) {
+  Options o;
+  o.study.world = read_alignment_world_options(p);
+  o.study.compare = read_comparison_options(p);
+  o.world_index = static_cast<std::uint64_t>(p.integer("world_index"));
+  o.field_grid_spacing = p.number("field_grid_spacing");
+  if (!(o.field_grid_spacing > 0))
+    throw core::ConfigError(fmt::format("{}: must be > 0", p.where("field_grid_spacing")));
+  o.study.worlds = 1;
+  o.study.compare.certify = false;
+  return o;
+}
+
+Example::Outcome Example::run(const Options& o, const RunContext& context) {
+  Outcome out;
+  out.options = o;
+  const RunContext world = context.with_streams(context.streams().offset(o.world_index));
+  out.study = run_alignment_study(o.study, world);
+  out.world = sim::make_alignment_world(o.study.world, world.streams().seed(), world.streams().index(0));
+  out.shape = sim::lawn_mower(0, 0, o.study.world.query_size, o.study.world.query_size,
+                              o.study.world.track_spacing, o.study.world.sample_spacing);
+  if (static_cast<std::size_t>(out.shape.tracks * out.shape.per_track) != out.world.query_x.size())
+    throw std::logic_error("ch3 Example: the query is not the lawn-mower of query_size");
+  return out;
+}
+
+void Example::record(Results& r, const Outcome& out) {
+  const sim::AlignmentWorld& w = out.world;
+  const ComparisonOptions& compare = out.options.study.compare;
+  using Named = std::pair<const char*, double>;
+  for (const auto& [key, v] :
+       {Named{"world.theta", w.theta}, Named{"world.tx", w.tx}, Named{"world.ty", w.ty},
+        Named{"reference_points", static_cast<double>(w.ref_x.size())},
+        Named{"query_points", static_cast<double>(w.query_x.size())}})
+    r.metric(key, v);
+  for (std::size_t m = 0; m < out.study.methods.size(); ++m) {
+    const auto& mo = out.study.outcomes[m][0];
+    const std::string name(align::to_string(out.study.methods[m]));
+    for (const auto& [key, v] :
+         {Named{"rot_se", mo.rot_se}, Named{"trans_se", mo.trans_se}, Named{"valid", mo.valid ? 1.0 : 0.0},
+          Named{"cost", mo.cost}, Named{"singular_min", mo.singular_min},
+          Named{"singular_max", mo.singular_max}})
+      r.metric(name + "." + key, v);
+    r.timing(name + ".time_s", mo.time_s);
+    if (out.study.methods[m] == Method::proposed)
+      r.check("the proposed estimate is an approximately valid rotation", mo.valid,
+              fmt::format("singular values {:.4f}, {:.4f} (valid: within {} of 1, det > 0; the octagon is "
+                          "within ±4.1 % of the circle)",
+                          mo.singular_max, mo.singular_min, compare.valid_tolerance),
+              compare.valid_tolerance <= 1.0 / align::kBarniDelta - 1.0);  // counted only if not guaranteed
+  }
+}
+
+namespace {
+
+// The query's footprint (the four corners of its lawn-mower, closed) in its own frame, placed by t.
+Layer footprint(const sim::AlignmentWorld& w, const sim::LawnMower& shape, const Transform2& t,
+                std::string label, std::string color, double linewidth) {
+  const auto per = static_cast<std::size_t>(shape.per_track), n = w.query_x.size();
+  const bool even = (shape.tracks - 1) % 2 == 0;  // the last track runs the way the first does
+  std::vector<double> x, y;
+  for (std::size_t j :
+       {std::size_t{0}, per - 1, even ? n - 1 : n - per, even ? n - per : n - 1, std::size_t{0}}) {
+    x.push_back(t.a11 * w.query_x[j] + t.a12 * w.query_y[j] + t.tx);
+    y.push_back(t.a21 * w.query_x[j] + t.a22 * w.query_y[j] + t.ty);
+  }
+  Layer l = repro::line_layer(std::move(x), std::move(y), std::move(label), std::move(color), "o");
+  l.linewidth = linewidth;
+  return l;
+}
+
+Layer colored(std::vector<double> x, std::vector<double> y, std::vector<double> c, double size, double vmin,
+              double vmax, std::string marker = "o") {
+  Layer l = repro::scatter_layer(std::move(x), std::move(y), "", "k", size, 1.0, std::move(marker));
+  l.c = std::move(c), l.cmap = "viridis", l.vmin = vmin, l.vmax = vmax;
+  return l;
+}
+
+}  // namespace
+
+// (a) the noiseless field on a grid (one panel per component, at most three), (b) the reference and (c) the
+// query (its own frame) coloured by the observed first component, (d) the query's footprint placed by the
+// truth and by every method's raw estimate.
+std::vector<Figure> Example::figures(const Outcome& out) {
+  const sim::AlignmentWorld& w = out.world;
+  const sim::AlignmentWorldOptions& wo = out.options.study.world;
+  const double grid = out.options.field_grid_spacing;
+  Figure f;
+  f.file = ".png";
+  f.title = fmt::format("Fig. 3.4: example simulated trajectory alignment (world {} of Table 3.1's seed)",
+                        out.options.world_index);
+  const double half = 0.5 * wo.reference_size;
+  const int dims = std::min(w.feature_dim, 3);
+  const auto steps = static_cast<int>(std::floor(wo.reference_size / grid + 1e-9));
+  double vmin0 = 0, vmax0 = 0;
+  for (int k = 0; k < dims; ++k) {
+    std::vector<double> gx, gy, gc;
+    for (int a = 0; a <= steps; ++a)
+      for (int b = 0; b <= steps; ++b) {
+        const double x = -half + a * grid, y = -half + b * grid;
+        gx.push_back(x), gy.push_back(y), gc.push_back(w.field.value(x, y)[k]);
+      }
+    const auto [lo, hi] = std::minmax_element(gc.begin(), gc.end());
+    if (k == 0) vmin0 = *lo, vmax0 = *hi;
+    Panel a;
+    a.title = fmt::format("(a) feature field, component {}", k + 1);
+    a.xlabel = "x (m)", a.ylabel = "y (m)", a.aspect = "equal", a.colorbar = "feature value (unit RMS)";
+    const double size = std::pow(320.0 * grid / wo.reference_size, 2);  // squares that tile the panel
+    a.layers.push_back(colored(std::move(gx), std::move(gy), std::move(gc), size, *lo, *hi, "s"));
+    f.panels.push_back(a);
+  }
+  // (b), (c): both trajectories, coloured by the observed first component (same scale as (a), component 1).
+  auto component0 = [&](const std::vector<double>& feat) {
+    std::vector<double> c;
+    for (std::size_t n = 0; n < feat.size(); n += static_cast<std::size_t>(w.feature_dim))
+      c.push_back(feat[n]);
+    return c;
+  };
+  Panel b, c, d;
+  b.title = "(b) reference trajectory (reference frame)";
+  c.title = "(c) query trajectory (its own frame)";
+  b.xlabel = c.xlabel = d.xlabel = "x (m)";
+  b.ylabel = c.ylabel = d.ylabel = "y (m)";
+  b.aspect = c.aspect = d.aspect = "equal";
+  b.colorbar = c.colorbar = "observed feature 1";
+  b.layers.push_back(repro::line_layer(w.ref_x, w.ref_y, "", "0.8"));
+  c.layers.push_back(repro::line_layer(w.query_x, w.query_y, "", "0.8"));
+  b.layers.back().linewidth = c.layers.back().linewidth = 0.4;
+  b.layers.push_back(colored(w.ref_x, w.ref_y, component0(w.ref_features), 8, vmin0, vmax0));
+  c.layers.push_back(colored(w.query_x, w.query_y, component0(w.query_features), 16, vmin0, vmax0));
+  // (d): the reference, and the query's footprint placed by the truth and by every method's raw estimate.
+  d.title = "(d) query footprint placed by each estimate (raw)";
+  d.layers.push_back(repro::scatter_layer(w.ref_x, w.ref_y, "reference positions", "0.75", 2.0, 1.0, "o"));
+  const double ct = std::cos(w.theta), st = std::sin(w.theta);
+  d.layers.push_back(footprint(w, out.shape, {ct, -st, st, ct, w.tx, w.ty}, "ground truth", "k", 3.0));
+  for (std::size_t m = 0; m < out.study.methods.size(); ++m)
+    d.layers.push_back(footprint(w, out.shape, out.study.outcomes[m][0].raw,
+                                 std::string(align::to_string(out.study.methods[m])), kColors[m % 4], 1.5));
+  d.legend = "best";
+  f.panels.push_back(b), f.panels.push_back(c), f.panels.push_back(d);
+  f.cols = 3;
+  f.rows = static_cast<int>((f.panels.size() + 2) / 3);
+  f.width = 17.0, f.height = 5.2 * f.rows;
+  return {f};
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Fig. 3.5
+
+HullSubstitute::Options HullSubstitute::Options::read(const core::ConfigTable& p) {
+  Options o;
+  o.study.world = read_hull_world_options(p);
+  o.study.compare = read_comparison_options(p);
+  o.study.worlds = p.count("worlds");
+  o.compare_without_gate = p.boolean("compare_without_gate");
+  o.relocalised_within = p.number("relocalised_within");
+  return o;
+}
+
+HullSubstitute::Outcome HullSubstitute::run(const Options& o, const RunContext& context) {
+  Outcome out;
+  out.options = o;
+  core::Progress progress = context.progress(o.study.worlds * (o.compare_without_gate ? 2 : 1));
+  out.gated = run_hull_study(o.study, context, &progress);
+  if (o.compare_without_gate) {
+    HullStudyOptions u = o.study;
+    u.compare.align.depth_gate = 0.0;
+    out.ungated = run_hull_study(u, context, &progress);
+  }
+  progress.finish();
+  // The Fig. 3.5 panels are drawn on world 0 (regenerated: same seed and stream).
+  out.world0 = sim::make_hull_world(o.study.world, context.streams().seed(), context.streams().index(0));
+  return out;
+}
+
+namespace {
+// One method's row of the hull substitute: its errors (not squared) and rates.
+struct HullRow {
+  std::string name, label;
+  std::vector<double> rot, trans, time;
+  double valid_rate = 0, relocalised_rate = 0;
+  bool proposed = false;
+};
+std::vector<HullRow> hull_rows(const HullStudyOutcome& out, const std::string& prefix, double within) {
+  std::vector<HullRow> rows;
+  for (std::size_t m = 0; m < out.methods.size(); ++m) {
+    HullRow row;
+    row.name = prefix + std::string(align::to_string(out.methods[m]));
+    row.label = row.name.substr(prefix.size()) + (prefix.empty() ? "" : " (no gate)");
+    row.proposed = out.methods[m] == Method::proposed;
+    double valid = 0, relocalised = 0;
+    for (const auto& w : out.outcomes[m]) {
+      row.rot.push_back(std::sqrt(w.rot_se)), row.trans.push_back(std::sqrt(w.trans_se)),
+          row.time.push_back(w.time_s);
+      valid += w.valid, relocalised += std::sqrt(w.trans_se) < within;
+    }
+    const double n = static_cast<double>(out.outcomes[m].size());
+    row.valid_rate = 100.0 * valid / n;
+    row.relocalised_rate = 100.0 * relocalised / n;
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+}  // namespace
+
+void HullSubstitute::record(Results& r, const Outcome& out) {
+  const Options& o = out.options;
+  r.metric("worlds", static_cast<double>(o.study.worlds));
+  r.metric("depth_gate", o.study.compare.align.depth_gate);
+  double proposed_median = -1;
+  auto summarise = [&](const HullStudyOutcome& st, const std::string& prefix) {
+    for (const HullRow& row : hull_rows(st, prefix, o.relocalised_within)) {
+      const double tmed = fenced_summary(row.trans).median;
+      r.metric(row.name + ".rot_err.median", fenced_summary(row.rot).median);
+      r.metric(row.name + ".trans_err.median", tmed);
+      r.metric(row.name + ".valid_rate", row.valid_rate);
+      r.metric(row.name + ".relocalised_rate", row.relocalised_rate);
+      r.timing(row.name + ".time_s", core::mean_std(row.time).mean);
+      if (prefix.empty() && row.proposed) proposed_median = tmed;
+    }
+  };
+  summarise(out.gated, "");
+  if (out.ungated) summarise(*out.ungated, "no_gate.");
+  if (proposed_median >= 0)
+    r.check(fmt::format("the proposed method re-localises the query: median translation error below {:g} m",
+                        o.relocalised_within),
+            proposed_median < o.relocalised_within,
+            fmt::format("median {:.3g} m over {} worlds, depth gate {:g} m", proposed_median, o.study.worlds,
+                        o.study.compare.align.depth_gate));
+}
+
+namespace {
+
+// The second feature component, κ2, of every position.
+std::vector<double> kappa2(const std::vector<double>& features) {
+  std::vector<double> c;
+  for (std::size_t n = 1; n < features.size(); n += sim::HullWorld::kFeatureDim) c.push_back(features[n]);
+  return c;
+}
+
+// A survey drawn as its path (grey) and its positions coloured by κ2 (the second feature component).
+void survey(Panel& panel, const std::vector<double>& x, const std::vector<double>& y,
+            const std::vector<double>& features, double size, double vmin, double vmax,
+            std::string path_color = "0.7", double path_width = 0.5) {
+  std::vector<double> c = kappa2(features);
+  panel.layers.push_back(repro::line_layer(x, y, "", std::move(path_color)));
+  panel.layers.back().linewidth = path_width;
+  Layer l = repro::scatter_layer(x, y, "", "k", size, 1.0, "o");
+  l.c = std::move(c), l.cmap = "viridis", l.vmin = vmin, l.vmax = vmax;
+  panel.layers.push_back(std::move(l));
+}
+
+// The figure on one world: (a) the reference and (b) the query (its own frame) coloured by κ2, (c) the query
+// placed by `estimate` (raw; null: panel left empty), (d) by the ground truth.
+Figure alignment_figure(const sim::HullWorld& w, const Transform2* estimate) {
+  const std::vector<double> k2 = kappa2(w.ref_features);
+  const auto [lo, hi] = std::minmax_element(k2.begin(), k2.end());
+  Figure f;
+  f.file = ".png";
+  f.title =
+      "SUBSTITUTE for Fig. 3.5: synthetic hull surveys aligned on DVL curvature (world 0, depth gate on)";
+  f.rows = 2, f.cols = 2, f.width = 13.0, f.height = 8.5;
+  Panel a, b, c, d;
+  a.title = "(a) reference survey, coloured by κ₂",
+  b.title = "(b) query survey (its own frame), coloured by κ₂";
+  c.title = "(c) estimated alignment (proposed, raw)", d.title = "(d) ground truth alignment";
+  for (auto* q : {&a, &b, &c, &d})
+    q->xlabel = "x (m)", q->ylabel = "y (m)", q->aspect = "equal", q->colorbar = "κ₂ (1/m)";
+  survey(a, w.ref_x, w.ref_y, w.ref_features, 10, *lo, *hi);
+  survey(b, w.query_x, w.query_y, w.query_features, 16, *lo, *hi);
+  const auto place = [&](Panel& q, const Transform2& t) {
+    std::vector<double> x, y;
+    for (std::size_t j = 0; j < w.query_x.size(); ++j) {
+      x.push_back(t.a11 * w.query_x[j] + t.a12 * w.query_y[j] + t.tx);
+      y.push_back(t.a21 * w.query_x[j] + t.a22 * w.query_y[j] + t.ty);
+    }
+    survey(q, w.ref_x, w.ref_y, w.ref_features, 5, *lo, *hi, "0.85");
+    survey(q, x, y, w.query_features, 16, *lo, *hi, "k", 0.8);
+  };
+  if (estimate) place(c, *estimate);
+  const double ct = std::cos(w.theta), st = std::sin(w.theta);
+  place(d, {ct, -st, st, ct, w.tx, w.ty});
+  f.panels = {a, b, c, d};
+  return f;
+}
+
+}  // namespace
+
+std::vector<Figure> HullSubstitute::figures(const Outcome& out) {
+  const Options& o = out.options;
+  // The Fig. 3.5 panels on world 0, then the errors' CDFs.
+  const auto it = std::find(out.gated.methods.begin(), out.gated.methods.end(), Method::proposed);
+  const Transform2* proposed =
+      it == out.gated.methods.end()
+          ? nullptr
+          : &out.gated.outcomes[static_cast<std::size_t>(it - out.gated.methods.begin())][0].raw;
+  Figure cdf;
+  cdf.file = "_errors.png";
+  cdf.title = fmt::format("SUBSTITUTE for §3.8: errors over {} synthetic hull worlds (empirical CDFs)",
+                          o.study.worlds);
+  Panel pr, pt;
+  pr.xlabel = "rotation error |θ̂ − θ| (rad)";
+  pt.xlabel = "translation error at the query centroid (m)";
+  pr.ylabel = pt.ylabel = "fraction of worlds";
+  pr.xscale = pt.xscale = "log";
+  pt.legend = "none";
+  Layer bound;
+  bound.type = "vline", bound.value = o.relocalised_within, bound.color = "0.4", bound.linestyle = ":";
+  pt.layers.push_back(bound);
+  auto curves = [&](const HullStudyOutcome& st, const std::string& prefix, const char* style) {
+    const auto rows = hull_rows(st, prefix, o.relocalised_within);
+    for (std::size_t m = 0; m < rows.size(); ++m) {
+      pr.layers.push_back(
+          repro::ecdf_layer(rows[m].rot, rows[m].label, kColors[m % 4], 1e-6, style));  // log axes
+      pt.layers.push_back(repro::ecdf_layer(rows[m].trans, rows[m].label, kColors[m % 4], 1e-6, style));
+    }
+  };
+  curves(out.gated, "", "-");
+  if (out.ungated) curves(*out.ungated, "no_gate.", "--");
+  cdf.panels = {pr, pt};
+  cdf.width = 12.0, cdf.height = 4.8;
+  return {alignment_figure(out.world0, proposed), cdf};
+}
+
+}  // namespace keel::study::ch3

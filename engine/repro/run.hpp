@@ -7,7 +7,7 @@
 //       struct Outcome { Options options; ... };                  // self-describing: it holds its options
 //       static Outcome run(const Options&, const RunContext&);
 //       static void record(Results&, const Outcome&);             // metrics, series, claim checks, notes
-//       static std::vector<Figure> figures(const Outcome&);       // file names are suffixes ("", "_errors")
+//       static std::vector<Figure> figures(const Outcome&);       // see study_main for the file names
 //     };
 //
 // and an experiment's driver is study_main<Study>: read the toml, run, record, draw.
@@ -86,7 +86,9 @@ concept Study = requires(const core::ConfigTable& params, const typename S::Opti
 };
 
 // The main() of an experiment that runs one study: the options from [params] (every key read, no other),
-// the run, its record, and its figures named <id><suffix>.png.
+// the run, its record, and its figures. A figure's file that begins with '.' or '_' is a suffix of the
+// experiment's id (".png" → "<id>.png", "_errors.png" → "<id>_errors.png"); any other is taken as given (the
+// thesis's own figure names, e.g. "ch4_fig4_2_citytrees_example.png").
 template <Study S>
 [[nodiscard]] int study_main(int argc, char** argv) {
   return experiment_main(argc, argv, [](Experiment& ex) {
@@ -95,7 +97,7 @@ template <Study S>
     const typename S::Outcome outcome = S::run(options, run_context(ex));
     S::record(ex.results(), outcome);
     for (Figure& f : S::figures(outcome)) {
-      f.file = ex.id() + f.file;
+      if (f.file.empty() || f.file.front() == '.' || f.file.front() == '_') f.file = ex.id() + f.file;
       ex.results().figure(std::move(f));
     }
   });

@@ -120,4 +120,20 @@ CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarP
   return out;
 }
 
+graph::PoseGraph2D exactness_counterexample() {
+  const double theta[6] = {0.23, 0.43, 1.13, -1.81, 1.36, -1.35};
+  const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  graph::PoseGraph2D g;
+  g.poses.assign(4, lie::SE2::identity());
+  for (int k = 0; k < 6; ++k) {
+    graph::Edge2 e;
+    e.i = pairs[k][0], e.j = pairs[k][1];
+    e.measurement = lie::SE2(0, 0, theta[k]);
+    e.information = lie::Mat3(Eigen::Vector3d(1, 1, 2).asDiagonal());  // ω_R = ω_x = ω_y = 1 (problem.hpp)
+    g.edges.push_back(e);
+  }
+  g.source = "exactness counterexample";
+  return g;
+}
+
 }  // namespace keel::sos

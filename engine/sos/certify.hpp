@@ -62,4 +62,8 @@ struct CertifiedSolution {
 [[nodiscard]] CertifiedSolution solve_certified(const graph::PoseGraph2D& graph, const PlanarProblem& problem,
                                                 const CertifyOptions& options);
 
+// The counterexample to Theorem 4.5.3: 4 poses, complete graph, rotation-only measurements
+// θ = (0.23, 0.43, 1.13, −1.81, 1.36, −1.35) rad on (0,1), (0,2), (0,3), (1,2), (1,3), (2,3), unit weights.
+[[nodiscard]] graph::PoseGraph2D exactness_counterexample();
+
 }  // namespace keel::sos

@@ -10,7 +10,6 @@
 #include <utility>
 
 #include "core/timing.hpp"
-#include "datasets/manifest.hpp"
 #include "graph/io.hpp"
 #include "pgo/optimize.hpp"
 
@@ -74,15 +73,6 @@ void RefineOptions::validate() const {
   if (!(gradient_tolerance > 0))
     throw std::invalid_argument(
         fmt::format("sos::RefineOptions.gradient_tolerance must be > 0 (got {})", gradient_tolerance));
-}
-
-void GlobalCertificateStudyOptions::validate() const {
-  lm.validate();
-  if (!(random_extent > 0))
-    throw std::invalid_argument(
-        fmt::format("sos::GlobalCertificateStudyOptions.random_extent must be > 0 (got {})", random_extent));
-  refine.validate();
-  certificate.validate();
 }
 
 GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd& z,
@@ -282,89 +272,6 @@ RefineReport refine_solution(const PlanarProblem& p, Eigen::VectorXd& z, const R
   }
   out.final_cost = cost;
   out.time_s = core::seconds_since(t0);
-  return out;
-}
-
-GlobalCertificateStudyOutcome run_global_certificate_study(
-    const std::vector<GlobalCertificateDataset>& datasets, const GlobalCertificateStudyOptions& o,
-    core::Progress* progress) {
-  o.validate();
-  GlobalCertificateStudyOutcome out;
-  for (std::size_t k = 0; k < datasets.size(); ++k) {
-    const GlobalCertificateDataset& d = datasets[k];
-    GlobalCertificateOutcome& r = out.datasets.emplace_back();
-    r.name = d.name;
-    r.poses = static_cast<int>(d.graph.poses.size());
-    r.edges = static_cast<int>(d.graph.edges.size());
-    r.landmarks = static_cast<int>(d.graph.landmarks.size());
-    PlanarProblem p;
-    try {
-      p = planar_problem(d.graph);
-    } catch (const std::invalid_argument& e) {
-      r.failed = true;
-      r.error = fmt::format("{} ({}): {}", d.name, d.file, e.what());
-      if (progress) progress->advance(2);
-      continue;
-    }
-    r.unknowns = p.unknowns();
-    for (int which = 0; which < 2; ++which) {
-      GlobalCertificateRun& run = which == 0 ? r.odometry : r.random;
-      pgo::Options lm = o.lm;
-      lm.constant_poses = {0};
-      if (which == 0) {
-        lm.initial_guess = pgo::InitialGuess::odometry;
-      } else {
-        lm.initial_guess = pgo::InitialGuess::random;
-        lm.seed = o.seed + k;
-        lm.random_extent = o.random_extent;
-      }
-      try {
-        const auto ts = core::Clock::now();
-        const pgo::Result2D res = pgo::optimize(d.graph, lm);
-        run.solve_time_s = core::seconds_since(ts);
-        run.lm_iterations = res.summary.iterations;
-        Eigen::VectorXd z = unknowns_of(p, res.estimate.poses, res.estimate.landmarks);
-        run.lm_cost = polynomial_cost(p, z);
-        run.refine = refine_solution(p, z, o.refine);
-        run.certificate = certify_solution(p, z, o.certificate);
-      } catch (const std::exception& e) {
-        run.failed = true;
-        run.error = fmt::format("{}: {}", d.name, e.what());
-      }
-      if (progress) progress->advance();
-    }
-  }
-  return out;
-}
-
-GlobalCertificateStudyOptions read_global_certificate_study_options(const core::ConfigTable& t) {
-  GlobalCertificateStudyOptions o;
-  o.lm.max_iterations = static_cast<int>(t.integer("lm_max_iterations"));
-  o.random_extent = t.number("random_extent");
-  o.refine.max_iterations = static_cast<int>(t.integer("refine_max_iterations"));
-  o.refine.gradient_tolerance = t.number("refine_gradient_tolerance");
-  o.certificate.eta_relative = t.number("eta_relative");
-  o.certificate.stationarity_tolerance = t.number("stationarity_tolerance");
-  o.certificate.gap_tolerance = t.number("gap_tolerance");
-  o.certificate.bound_factorizations = static_cast<int>(t.integer("bound_factorizations"));
-  t.validate(o);
-  return o;
-}
-
-std::vector<GlobalCertificateDataset> load_global_certificate_datasets(const core::ConfigTable& t) {
-  const core::ConfigTable files = t.table("graph_files");
-  for (const std::string& key : files.keys()) (void)files.string(key);  // every entry must be a file name
-  std::vector<GlobalCertificateDataset> out;
-  for (const std::string& name : t.strings("datasets")) {
-    if (!files.has(name))
-      throw core::ConfigError(
-          fmt::format("{}: no graph_files.{} for data set '{}'", t.where("datasets"), name, name));
-    GlobalCertificateDataset d;
-    d.name = name;
-    d.file = files.string(name);
-    d.graph = graph::read_pose_graph_2d(datasets::resolve_dataset_file(name, d.file));
-    out.push_back(std::move(d));
-  }
   return out;
 }
 

@@ -34,8 +34,6 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
-#include "core/progress.hpp"
 #include "core/bound.hpp"
 #include "graph/pose_graph.hpp"
 #include "pgo/options.hpp"
@@ -102,58 +100,5 @@ struct RefineReport {
 };
 [[nodiscard]] RefineReport refine_solution(const PlanarProblem& p, Eigen::VectorXd& z,
                                            const RefineOptions& options = {});
-
-// The study: per data set, keel.pgo's Levenberg–Marquardt from chained odometry and from a random
-// initialization, each refined on f and certified.
-struct GlobalCertificateDataset {
-  std::string name;  // a label for results
-  std::string file;  // as given in the config (for messages)
-  graph::PoseGraph2D graph;
-};
-
-struct GlobalCertificateStudyOptions {
-  pgo::Options lm;                       // both LM runs (initial guess and seed set per run)
-  double random_extent = 50.0;           // LM random: translations uniform in ±extent m, angles uniform (> 0)
-  RefineOptions refine;                  // refinement on f before certifying
-  GlobalCertificateOptions certificate;  // the certificate
-  std::uint64_t seed = 0;                // LM random: data set k uses pgo seed `seed + k`
-  void validate() const;
-};
-
-struct GlobalCertificateRun {
-  bool failed = false;  // LM, refinement or the certificate threw (message in `error`)
-  std::string error;
-  double lm_cost = 0.0;  // f at keel.pgo's answer, before refinement
-  int lm_iterations = 0;
-  RefineReport refine;
-  GlobalCertificate certificate;
-  double solve_time_s = 0.0;  // keel.pgo's LM (the refinement is in refine.time_s)
-};
-
-struct GlobalCertificateOutcome {
-  std::string name;
-  int poses = 0, edges = 0, landmarks = 0, unknowns = 0;
-  bool failed = false;  // planar_problem refused the data set (message in `error`); no run was made
-  std::string error;
-  GlobalCertificateRun odometry, random;
-};
-
-struct GlobalCertificateStudyOutcome {
-  std::vector<GlobalCertificateOutcome> datasets;
-};
-
-// Data sets are processed one after another (each certificate is one large factorization).
-[[nodiscard]] GlobalCertificateStudyOutcome run_global_certificate_study(
-    const std::vector<GlobalCertificateDataset>& datasets, const GlobalCertificateStudyOptions& options,
-    core::Progress* progress = nullptr);
-
-// Config readers of the study. Keys: lm_max_iterations, random_extent, refine_max_iterations,
-// refine_gradient_tolerance, eta_relative, stationarity_tolerance, bound_factorizations.
-[[nodiscard]] GlobalCertificateStudyOptions read_global_certificate_study_options(const core::ConfigTable& t);
-// Keys: datasets (names) and a table graph_files with one key per name: the graph file, resolved by
-// keel::datasets::resolve_dataset_file(name, file) and read by keel::graph::read_pose_graph_2d (every entry
-// of graph_files must be a string; only the listed data sets are read).
-[[nodiscard]] std::vector<GlobalCertificateDataset> load_global_certificate_datasets(
-    const core::ConfigTable& t);
 
 }  // namespace keel::sos

@@ -12,7 +12,6 @@
 #include "pgo/optimize.hpp"
 #include "sos/certify.hpp"
 #include "sos/problem.hpp"
-#include "sos/studies.hpp"
 #include "sos/verify.hpp"
 
 using namespace keel::sos;
@@ -161,7 +160,7 @@ TEST_CASE("local minima of Levenberg-Marquardt from random starts are rejected")
 
 TEST_CASE(
     "the certificate is the order-1 relaxation's: the counterexample's global minimum is not certified") {
-  // Theorems 4.5.3–4.5.4's counterexample (studies.hpp): order 1 is not tight, so no multipliers make S ⪰ 0
+  // Theorems 4.5.3–4.5.4's counterexample (certify.hpp): order 1 is not tight, so no multipliers make S ⪰ 0
   // at the global minimum that order 2 certifies.
   const PoseGraph2D g = exactness_counterexample();
   const PlanarProblem p = planar_problem(g);

@@ -2,6 +2,8 @@
 // the thesis's tables and figures in one shape (repro/run.hpp), by chapter. Facade rules as every area; it
 // imports no facade (drivers import keel.repro beside it for study_main).
 module;
+#include "study/ch4/segments.hpp"
+#include "study/ch4/studies.hpp"
 #include "study/ch3/comparison.hpp"
 #include "study/ch3/config.hpp"
 #include "study/ch3/studies.hpp"
@@ -43,6 +45,40 @@ using keel::study::ch3::SdpCheck;
 using keel::study::ch3::standardized_problem_of;
 using keel::study::ch3::WorldTruth;
 }  // namespace keel::study::ch3
+
+// Chapter 4: certifiable planar SLAM.
+export namespace keel::study::ch4 {
+using keel::study::ch4::Exactness;
+using keel::study::ch4::FirstSegment;
+using keel::study::ch4::Segments;
+using keel::study::ch4::WholeDataCertificate;
+// the machinery behind them and its config readers
+using keel::study::ch4::ExactnessFamily;
+using keel::study::ch4::ExactnessOptions;
+using keel::study::ch4::ExactnessOutcome;
+using keel::study::ch4::ExactnessTrial;
+using keel::study::ch4::GlobalCertificateDataset;
+using keel::study::ch4::GlobalCertificateOutcome;
+using keel::study::ch4::GlobalCertificateRun;
+using keel::study::ch4::GlobalCertificateStudyOptions;
+using keel::study::ch4::GlobalCertificateStudyOutcome;
+using keel::study::ch4::load_global_certificate_datasets;
+using keel::study::ch4::load_planar_dataset;
+using keel::study::ch4::MethodOutcome;
+using keel::study::ch4::PlanarDataset;
+using keel::study::ch4::PlanarDatasetFiles;
+using keel::study::ch4::read_certify_options;
+using keel::study::ch4::read_exactness_options;
+using keel::study::ch4::read_global_certificate_files;
+using keel::study::ch4::read_global_certificate_study_options;
+using keel::study::ch4::read_segment_study_options;
+using keel::study::ch4::run_exactness_study;
+using keel::study::ch4::run_global_certificate_study;
+using keel::study::ch4::run_segment_study;
+using keel::study::ch4::SegmentOutcome;
+using keel::study::ch4::SegmentStudyOptions;
+using keel::study::ch4::SegmentStudyOutcome;
+}  // namespace keel::study::ch4
 
 // Chapter 5: uncertainty of jointly correlated poses.
 export namespace keel::study::ch5 {

@@ -9,12 +9,14 @@
 #include "core/config.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
-#include "sos/config.hpp"
-#include "sos/studies.hpp"
+#include "study/ch4/segments.hpp"
 
 using namespace keel::sos;
+using namespace keel::study::ch4;
 using keel::core::Rng;
+using keel::core::Streams;
 using keel::lie::SE2;
+using keel::repro::RunContext;
 
 namespace {
 // A noise-free chain with loop closures every 7 poses.
@@ -41,8 +43,8 @@ TEST_CASE("segment study on noise-free data: every segment certified, SBSOS and 
   std::vector<SE2> truth;
   const auto g = chain(36, truth);
   SegmentStudyOptions o;
-  o.segment_length = 12, o.stride = 12, o.threads = 2;
-  const SegmentStudyOutcome out = run_segment_study(g, truth, {}, o);
+  o.segment_length = 12, o.stride = 12;
+  const SegmentStudyOutcome out = run_segment_study(g, truth, {}, o, RunContext(Streams(0), 2));
   REQUIRE(out.segments.size() == 3);
   for (const auto& s : out.segments) {
     CHECK(!s.failed);
@@ -61,15 +63,17 @@ TEST_CASE("segment study: bad options and data give clear errors") {
   const auto g = chain(20, truth);
   SegmentStudyOptions o;
   o.segment_length = 30;
-  CHECK(keel::testkit::throws_with<std::invalid_argument>([&] { (void)run_segment_study(g, truth, {}, o); },
-                                                          "no segment of 30 poses fits"));
+  CHECK(keel::testkit::throws_with<std::invalid_argument>(
+      [&] { (void)run_segment_study(g, truth, {}, o, RunContext(Streams(0))); },
+      "no segment of 30 poses fits"));
   o.segment_length = 1;
-  CHECK(keel::testkit::throws_with<std::invalid_argument>([&] { (void)run_segment_study(g, truth, {}, o); },
-                                                          "segment_length must be >= 2"));
+  CHECK(keel::testkit::throws_with<std::invalid_argument>(
+      [&] { (void)run_segment_study(g, truth, {}, o, RunContext(Streams(0))); },
+      "segment_length must be >= 2"));
   o.segment_length = 10;
   truth.pop_back();
-  CHECK(keel::testkit::throws_with<std::invalid_argument>([&] { (void)run_segment_study(g, truth, {}, o); },
-                                                          "ground-truth poses"));
+  CHECK(keel::testkit::throws_with<std::invalid_argument>(
+      [&] { (void)run_segment_study(g, truth, {}, o, RunContext(Streams(0))); }, "ground-truth poses"));
 }
 
 TEST_CASE("exactness study: trials are certified and counted per family") {
@@ -77,13 +81,13 @@ TEST_CASE("exactness study: trials are certified and counted per family") {
   ExactnessFamily f;
   f.name = "n4", f.poses = 4, f.rotation_noise = 0.2, f.trials = 4;
   o.families = {f};
-  const ExactnessOutcome out = run_exactness_study(o);
+  const ExactnessOutcome out = run_exactness_study(o, RunContext(Streams(0)));
   REQUIRE(out.trials.size() == 1);
   REQUIRE(out.trials[0].size() == 4);
   for (const auto& t : out.trials[0]) CHECK(t.certified);
   o.families[0].poses = 1;
-  CHECK(
-      keel::testkit::throws_with<std::invalid_argument>([&] { (void)run_exactness_study(o); }, "poses >= 2"));
+  CHECK(keel::testkit::throws_with<std::invalid_argument>(
+      [&] { (void)run_exactness_study(o, RunContext(Streams(0))); }, "poses >= 2"));
 }
 
 TEST_CASE("config readers locate a bad value at its key") {

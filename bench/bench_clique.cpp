@@ -4,7 +4,6 @@
 // Run: build/release/bench/bench_clique [--benchmark_filter=1D|Planted]
 import keel.pcm;
 import keel.sim;
-import keel.eval;
 import keel.core;
 
 #include <benchmark/benchmark.h>
@@ -15,7 +14,6 @@ import keel.core;
 
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
-namespace eval = keel::eval;
 
 namespace {
 
@@ -112,14 +110,14 @@ void BM_CombinatorialPruned1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::pruned));
+        pcm::max_consistent_set_combinatorial(Q, kGamma, pcm::CombinatorialMethod::pruned));
 }
 
 void BM_CombinatorialExhaustive1D(benchmark::State& state) {
   const auto Q = world_q(static_cast<int>(state.range(0)));
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        eval::max_consistent_set_combinatorial(Q, kGamma, eval::CombinatorialMethod::exhaustive));
+        pcm::max_consistent_set_combinatorial(Q, kGamma, pcm::CombinatorialMethod::exhaustive));
 }
 
 void world_sizes(benchmark::internal::Benchmark* b) {

@@ -5,6 +5,7 @@
 // in the export block, no import of another facade.
 module;
 #include "pcm/clique.hpp"
+#include "pcm/combinatorial.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/densest.hpp"
 #include "pcm/selection.hpp"
@@ -54,4 +55,12 @@ using keel::pcm::select_pcm;
 using keel::pcm::select_ransac;
 using keel::pcm::select_scgp;
 using keel::pcm::Selection;
+// the combinatorial reference of eq. 2.5 (independent of the clique code)
+using keel::pcm::combinatorial_method_from_string;
+using keel::pcm::CombinatorialMethod;
+using keel::pcm::CombinatorialResult;
+using keel::pcm::count_inconsistent_pairs;
+using keel::pcm::kCombinatorialExhaustiveMax;
+using keel::pcm::kCombinatorialPrunedMax;
+using keel::pcm::max_consistent_set_combinatorial;
 }  // namespace keel::pcm

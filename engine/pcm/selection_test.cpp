@@ -12,12 +12,10 @@
 
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
-#include "eval/world1d_study.hpp"
+#include "pcm/combinatorial.hpp"
 #include "pcm/selection.hpp"
 
 using namespace keel::pcm;
-using keel::eval::CombinatorialMethod;
-using keel::eval::max_consistent_set_combinatorial;
 
 using keel::testkit::contains;
 using keel::testkit::message_of;

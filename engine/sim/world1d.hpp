@@ -12,8 +12,8 @@
 //
 //   q_uv = (z_u − z_v)² / (σ_u² + σ_v²)                                            (the 1D case of eq. 2.4)
 //
-// The combinatorial "gold standard" of eq. 2.5 and the Monte-Carlo study of Figs. 2.2–2.3 are in
-// eval/world1d_study.hpp.
+// The combinatorial "gold standard" of eq. 2.5 is pcm/combinatorial.hpp; the Monte-Carlo study of
+// Figs. 2.2–2.3 is study/ch2/world1d.hpp.
 #pragma once
 
 #include <cstdint>

@@ -2,6 +2,13 @@
 // the thesis's tables and figures in one shape (repro/run.hpp), by chapter. Facade rules as every area; it
 // imports no facade (drivers import keel.repro beside it for study_main).
 module;
+#include "study/ch2/clique_scale.hpp"
+#include "study/ch2/config.hpp"
+#include "study/ch2/merge_eval.hpp"
+#include "study/ch2/tables.hpp"
+#include "study/ch2/two_robot.hpp"
+#include "study/ch2/world1d.hpp"
+#include "study/ch2/world1d_studies.hpp"
 #include "study/ch4/segments.hpp"
 #include "study/ch4/studies.hpp"
 #include "study/ch3/comparison.hpp"
@@ -12,6 +19,62 @@ module;
 #include "study/ch5/pairs.hpp"
 #include "study/ch5/simulate.hpp"
 export module keel.study;
+
+// Chapter 2: pairwise consistency maximization.
+export namespace keel::study::ch2 {
+using keel::study::ch2::CityTable;
+using keel::study::ch2::CliqueScale;
+using keel::study::ch2::DensitySweep;
+using keel::study::ch2::NoiseRegimes;
+using keel::study::ch2::Substitute3D;
+using keel::study::ch2::ThresholdSweep;
+using keel::study::ch2::Timing;
+using keel::study::ch2::World1DComparison;
+// the machinery behind them: metrics and data sets of Tables 2.1–2.2, the two-robot studies, the 1D world,
+// the clique search at scale, and the config readers
+using keel::study::ch2::absolute_error;
+using keel::study::ch2::apply_regime;
+using keel::study::ch2::Classification;
+using keel::study::ch2::classify;
+using keel::study::ch2::compare_clique_methods;
+using keel::study::ch2::compare_to_combinatorial;
+using keel::study::ch2::evaluate_merge;
+using keel::study::ch2::LocalPair;
+using keel::study::ch2::MeasurementRegime;
+using keel::study::ch2::MergeDataset;
+using keel::study::ch2::MergeDataset2;
+using keel::study::ch2::MergeDataset3;
+using keel::study::ch2::MergeMetrics;
+using keel::study::ch2::method_index;
+using keel::study::ch2::MethodOutcome;
+using keel::study::ch2::methods_of;
+using keel::study::ch2::MethodSummary;
+using keel::study::ch2::pool_calibration;
+using keel::study::ch2::pool_chi2_at_truth;
+using keel::study::ch2::proven_optimal;
+using keel::study::ch2::read_candidate_options;
+using keel::study::ch2::read_methods;
+using keel::study::ch2::read_world1d_options;
+using keel::study::ch2::relative_error;
+using keel::study::ch2::rotation_error;
+using keel::study::ch2::run_merge_dataset;
+using keel::study::ch2::run_merge_datasets;
+using keel::study::ch2::run_method_sweep;
+using keel::study::ch2::run_planted_clique_study;
+using keel::study::ch2::run_timing_sweep;
+using keel::study::ch2::run_world1d_study;
+using keel::study::ch2::same_selections;
+using keel::study::ch2::ScenarioFiles;
+using keel::study::ch2::Selector1D;
+using keel::study::ch2::selector1d_from_string;
+using keel::study::ch2::solve_local_pair;
+using keel::study::ch2::StudyMethod;
+using keel::study::ch2::summarize_method;
+using keel::study::ch2::to_string;
+using keel::study::ch2::TrajectoryError;
+using keel::study::ch2::World1DStudy;
+using keel::study::ch2::World1DStudyOptions;
+}  // namespace keel::study::ch2
 
 // Chapter 3: trajectory alignment without data association.
 export namespace keel::study::ch3 {

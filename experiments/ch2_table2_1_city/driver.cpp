@@ -1,15 +1,6 @@
 // Table 2.1 and Fig. 2.5 (§2.7.2): robust merging of a two-robot split of City10000 with DCS, SCGP, RANSAC
-// and PCM — thin driver over keel.eval's two-robot study
-// (common/city_table.hpp).
-import keel.core;
+// and PCM.
 import keel.repro;
-import keel.pcm;
-import keel.merge;
-import keel.eval;
+import keel.study;
 
-#include "common/two_robot.hpp"
-#include "common/city_table.hpp"
-
-int main(int argc, char** argv) {
-  return keel::repro::experiment_main(argc, argv, keel::experiments::run_city_merge_table);
-}
+int main(int argc, char** argv) { return keel::repro::study_main<keel::study::ch2::CityTable>(argc, argv); }

@@ -5,7 +5,6 @@ import keel.repro;
 import keel.lie;
 import keel.pcm;
 import keel.sim;
-import keel.eval;
 import keel.sos;
 import keel.study;
 
@@ -23,7 +22,6 @@ namespace core = keel::core;
 namespace repro = keel::repro;
 namespace pcm = keel::pcm;
 namespace sim = keel::sim;
-namespace eval = keel::eval;
 namespace sos = keel::sos;
 namespace ch5 = keel::study::ch5;
 
@@ -133,12 +131,11 @@ TEST_CASE(
   for (std::uint64_t w = 0; w < 200; ++w) {
     const auto world = sim::generate_world1d(options, 4242, w);
     const auto Q = sim::world1d_consistency_matrix(world);
-    const auto comb = eval::max_consistent_set_combinatorial(Q, gamma);
+    const auto comb = pcm::max_consistent_set_combinatorial(Q, gamma);
     const auto exact = pcm::select_pcm(Q, gamma, pcm::CliqueAlgorithm::exact);
     CHECK(exact.selected.size() == comb.selected.size());
-    CHECK(eval::count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
-    ransac_inconsistent +=
-        eval::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
+    CHECK(pcm::count_inconsistent_pairs(Q, exact.selected, gamma) == 0);
+    ransac_inconsistent += pcm::count_inconsistent_pairs(Q, pcm::select_ransac(Q, gamma).selected, gamma) > 0;
   }
   CHECK(ransac_inconsistent > 0);  // RANSAC does not enforce pairwise consistency (§2.7.1)
 }

@@ -9,15 +9,17 @@
 #include <stdexcept>
 #include <vector>
 
-#include "eval/clique_scale.hpp"
+#include "study/ch2/clique_scale.hpp"
 #include "kit/test_kit.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/world1d.hpp"
 
-using namespace keel::eval;
+using namespace keel::study::ch2;
+using keel::core::Streams;
 using keel::pcm::SearchStatus;
+using keel::repro::RunContext;
 
 namespace {
 
@@ -146,7 +148,6 @@ TEST_CASE("planted study: cells (k rounded, repeats left out) and one answer for
   o.clique_fractions = {0.01, 0.02, 0.3};
   o.densities = {0.2, 0.6};
   o.seeds = 2;
-  o.seed = 99;
   const auto cells = o.cells();
   // n = 50: k = max(2, round(0.5)) = 2, max(2, 1) = 2 (left out), 15; n = 120: 2, 2 (left out), 36.
   REQUIRE(cells.size() == 8);
@@ -157,10 +158,8 @@ TEST_CASE("planted study: cells (k rounded, repeats left out) and one answer for
   for (const auto& c : cells) CHECK(c.omega0 == first_moment_clique_number(c.n, c.p));
   CHECK_FALSE(cells[0].planted_is_maximum());
   CHECK(cells[6].planted_is_maximum());
-  o.threads = 1;
-  const auto one = run_planted_clique_study(o);
-  o.threads = 2;
-  const auto two = run_planted_clique_study(o);
+  const auto one = run_planted_clique_study(o, RunContext(Streams(99), 1));
+  const auto two = run_planted_clique_study(o, RunContext(Streams(99), 2));
   REQUIRE(one.outcomes.size() == 16);
   REQUIRE(two.outcomes.size() == 16);
   for (std::size_t t = 0; t < one.outcomes.size(); ++t) {
@@ -185,8 +184,7 @@ TEST_CASE("1D-world clique study: inliers as reference, exact >= heuristic, outp
   o.world = keel::sim::world1d_options_with_total(o.world, 60, 0.5, 0.25);
   o.gamma = keel::pcm::consistency_threshold(0.11, 1);
   o.worlds = 5;
-  o.seed = 3;
-  const auto out = run_world1d_clique_study(o);
+  const auto out = run_world1d_clique_study(o, RunContext(Streams(3)));
   REQUIRE(out.size() == 5);
   for (const auto& w : out) {
     CHECK(w.vertices == 60);
@@ -198,7 +196,7 @@ TEST_CASE("1D-world clique study: inliers as reference, exact >= heuristic, outp
     for (const auto& m : w.methods) CHECK(m.violations == 0);
   }
   o.gamma = 0.0;
-  CHECK_THROWS_AS((void)run_world1d_clique_study(o), std::invalid_argument);
+  CHECK_THROWS_AS((void)run_world1d_clique_study(o, RunContext(Streams(3))), std::invalid_argument);
 }
 
 TEST_CASE("CliqueScaleTally counts each failure the checks look for, and nothing on consistent outcomes") {

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "core/config.hpp"
-#include "eval/studies.hpp"
-#include "eval/world1d_study.hpp"
+#include "study/ch2/two_robot.hpp"
+#include "study/ch2/world1d.hpp"
 #include "pcm/selection.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/world1d.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 // `[min, max]`: a pair of numbers.
 std::pair<double, double> read_range(const core::ConfigTable& t, std::string_view key);
@@ -49,9 +49,15 @@ MeasurementRegime read_regime(const core::ConfigTable& t, std::string name);
 std::vector<MeasurementRegime> read_regimes(const core::ConfigTable& p, std::string_view list_key,
                                             std::string_view table_key);
 
-// The two-robot scenario of an experiment: reads `graph_file` and `ground_truth_file` of data set `dataset`
-// (datasets::resolve_dataset_file) and splits it at `first`, `split`, `last` (sim::split_two_robots).
-[[nodiscard]] sim::TwoRobotScenario2 load_scenario_2d(const core::ConfigTable& t);
-[[nodiscard]] sim::TwoRobotScenario3 load_scenario_3d(const core::ConfigTable& t);
+// The two-robot scenario of an experiment: `graph_file` and `ground_truth_file` of data set `dataset`, split
+// at `first`, `split`, `last`; loading reads the files (datasets::resolve_dataset_file) and splits them
+// (sim::split_two_robots).
+struct ScenarioFiles {
+  std::string dataset, graph_file, ground_truth_file;
+  sim::SplitOptions split;
+  static ScenarioFiles read(const core::ConfigTable& t);
+};
+[[nodiscard]] sim::TwoRobotScenario2 load_scenario_2d(const ScenarioFiles& files);
+[[nodiscard]] sim::TwoRobotScenario3 load_scenario_3d(const ScenarioFiles& files);
 
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

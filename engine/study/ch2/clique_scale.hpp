@@ -16,7 +16,9 @@
 #include <string_view>
 #include <vector>
 
-#include "eval/studies.hpp"
+#include "core/config.hpp"
+#include "study/ch2/config.hpp"
+#include "study/ch2/two_robot.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/densest.hpp"
 #include "sim/world1d.hpp"
@@ -29,7 +31,7 @@ class Results;
 struct Figure;
 }  // namespace keel::repro
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 // ω₀(n, p): the largest k in [1, n] with C(n, k) · p^(k(k−1)/2) >= 1, the first-moment estimate of the clique
 // number of G(n, p) (the expected number of k-cliques drops below one past it; Matula 1976, Bollobás and
@@ -129,9 +131,6 @@ struct PlantedCliqueStudyOptions {
   std::vector<double> densities;         // p in [0, 1]
   std::size_t seeds = 1;                 // graphs per cell, >= 1
   CliqueScaleOptions methods;
-  std::uint64_t seed =
-      0;  // graph s of cell c is planted_clique_graph(n, k, p, Rng::stream(seed, c << 32 | s).next())
-  unsigned threads = 0;   // 0 = keel::core::default_threads(); results do not depend on it
   void validate() const;  // throws std::invalid_argument naming the field
   // The cells in order n, then fraction, then p; a cell whose (n, k) repeats an earlier fraction's is left
   // out (two fractions can round to the same k at small n).
@@ -143,32 +142,34 @@ struct PlantedCliqueStudy {
   std::size_t seeds = 0;
   std::vector<CliqueGraphOutcome> outcomes;  // cell c, seed s at c · seeds + s
 };
-// One trial_loop over every graph (progress advanced once per graph; may be null).
+// One trial_loop over every graph (progress advanced once per graph; may be null): graph s of cell c is
+// planted_clique_graph(n, k, p, streams.stream(c << 32 | s).next()).
 [[nodiscard]] PlantedCliqueStudy run_planted_clique_study(const PlantedCliqueStudyOptions& options,
+                                                          const repro::RunContext& context,
                                                           core::Progress* progress = nullptr);
 
 // ---------------------------------------------------------------------------------------------------------------
-// 1D worlds (§2.7.1): world i from sim::generate_world1d(world, seed, stream_base + i), its consistency graph
-// at γ, the inliers as the reference set.
+// 1D worlds (§2.7.1): world i from sim::generate_world1d(world, streams.seed(), streams.index(i)), its
+// consistency graph at γ, the inliers as the reference set.
 struct World1DCliqueOptions {
   sim::World1DOptions world;
   double gamma = 0.0;  // > 0
   std::size_t worlds = 1;
   CliqueScaleOptions methods;
-  std::uint64_t seed = 0, stream_base = 0;
-  unsigned threads = 0;
   void validate() const;
 };
 [[nodiscard]] std::vector<CliqueGraphOutcome> run_world1d_clique_study(const World1DCliqueOptions& options,
+                                                                       const repro::RunContext& context,
                                                                        core::Progress* progress = nullptr);
 
 // Two-robot data sets (§2.7.2): data set i's candidates from sim::generate_candidates(scenario, candidates,
-// seed, i) — the candidate sets of run_merge_datasets with the same seed —, Q with `composition`, the graph
-// at γ(p) = consistency_threshold(p, dof), the inliers as the reference set. No merged solve is run.
+// streams.seed(), streams.index(i)) — the candidate sets of run_merge_datasets on the same streams —, Q with
+// `composition`, the graph at γ(p) = consistency_threshold(p, dof), the inliers as the reference set. No
+// merged solve is run.
 [[nodiscard]] std::vector<CliqueGraphOutcome> run_two_robot_clique_study(
     const sim::TwoRobotScenario2& scenario, const LocalPair<lie::SE2>& local,
     const sim::CandidateOptions& candidates, double p, pcm::Composition composition,
-    const CliqueScaleOptions& options, std::uint64_t seed, std::size_t count, unsigned threads,
+    const CliqueScaleOptions& options, const repro::RunContext& context, std::size_t count,
     core::Progress* progress = nullptr);
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -207,4 +208,34 @@ void record_planted_clique_study(repro::Results& results, const PlantedCliqueStu
                                                   const PlantedCliqueStudyOptions& options, double fraction,
                                                   std::string file);
 
-}  // namespace keel::eval
+// ---------------------------------------------------------------------------------------------------------------
+// The study of ext_clique_scale (beyond the thesis): exact, heuristic and densest subgraph on planted
+// cliques, on 1D worlds of exactly `world1d.measurements` measurements (the fractions of Fig. 2.3) and on the
+// Table 2.1 candidate sets (ch2_table2_1_city's scenario and candidate seed).
+struct CliqueScale {
+  struct Options {
+    PlantedCliqueStudyOptions planted;
+    World1DCliqueOptions world1d;  // its methods are planted.methods
+    int world1d_measurements = 0;
+    ScenarioFiles city;
+    sim::CandidateOptions city_candidates;
+    std::size_t city_datasets = 0;
+    double city_p = 0.11;
+    std::uint64_t city_seed = 0;  // the candidate seed of ch2_table2_1_city (its data sets, not this run's)
+    double figure_clique_fraction = 0.1;
+    static Options read(const core::ConfigTable& p);
+  };
+  struct Outcome {
+    Options options;
+    PlantedCliqueStudy planted;
+    std::vector<CliqueGraphOutcome> worlds, city;
+    double planted_time_s = 0, world1d_time_s = 0, city_time_s = 0;
+  };
+  // The planted graphs draw from the run's streams, the worlds from its streams shifted by 2^48 (apart from
+  // the planted graphs'), the candidate sets from city_seed's.
+  static Outcome run(const Options& options, const repro::RunContext& context);
+  static void record(repro::Results& results, const Outcome& outcome);
+  static std::vector<repro::Figure> figures(const Outcome& outcome);
+};
+
+}  // namespace keel::study::ch2

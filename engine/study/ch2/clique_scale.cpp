@@ -1,4 +1,4 @@
-#include "eval/clique_scale.hpp"
+#include "study/ch2/clique_scale.hpp"
 
 #include <fmt/format.h>
 
@@ -10,19 +10,18 @@
 #include "core/names.hpp"
 #include "repro/results.hpp"
 #include "core/random.hpp"
-#include "repro/shard.hpp"
 #include "core/timing.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 namespace {
 
 constexpr core::NameTable<CliqueScaleMethod, kCliqueScaleMethods> kCliqueScaleMethodNames{
-    "eval::CliqueScaleMethod",
+    "ch2::CliqueScaleMethod",
     {{{CliqueScaleMethod::exact, "exact"},
       {CliqueScaleMethod::heuristic, "heuristic"},
       {CliqueScaleMethod::densest, "densest"}}}};
@@ -215,22 +214,22 @@ std::vector<PlantedCliqueCell> PlantedCliqueStudyOptions::cells() const {
 }
 
 PlantedCliqueStudy run_planted_clique_study(const PlantedCliqueStudyOptions& options,
-                                            core::Progress* progress) {
+                                            const repro::RunContext& context, core::Progress* progress) {
   PlantedCliqueStudy study;
   study.cells = options.cells();
   study.seeds = options.seeds;
   const std::size_t total = study.cells.size() * options.seeds;
   study.outcomes.assign(total, {});
-  repro::trial_loop(
+  context.trials(
       total,
       [&](std::size_t t) {
         const std::size_t c = t / options.seeds, s = t % options.seeds;
         const auto& cell = study.cells[c];
-        const std::uint64_t graph_seed = core::Rng::stream(options.seed, c << 32 | s).next();
+        const std::uint64_t graph_seed = context.streams().stream(c << 32 | s).next();
         const auto planted = sim::planted_clique_graph(cell.n, cell.k, cell.p, graph_seed);
         study.outcomes[t] = compare_clique_methods(planted.graph, planted.planted, options.methods);
       },
-      options.threads, progress, study.outcomes);
+      progress, study.outcomes);
   return study;
 }
 
@@ -245,13 +244,15 @@ void World1DCliqueOptions::validate() const {
 }
 
 std::vector<CliqueGraphOutcome> run_world1d_clique_study(const World1DCliqueOptions& options,
+                                                         const repro::RunContext& context,
                                                          core::Progress* progress) {
   options.validate();
   std::vector<CliqueGraphOutcome> out(options.worlds);
-  repro::trial_loop(
+  context.trials(
       options.worlds,
       [&](std::size_t i) {
-        const auto w = sim::generate_world1d(options.world, options.seed, options.stream_base + i);
+        const auto w =
+            sim::generate_world1d(options.world, context.streams().seed(), context.streams().index(i));
         const auto Q = sim::world1d_consistency_matrix(w);
         const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, options.gamma);
         std::vector<int> inliers;
@@ -259,7 +260,7 @@ std::vector<CliqueGraphOutcome> run_world1d_clique_study(const World1DCliqueOpti
           if (w.labels[static_cast<std::size_t>(u)] == sim::MeasurementLabel::inlier) inliers.push_back(u);
         out[i] = compare_clique_methods(g, inliers, options.methods);
       },
-      options.threads, progress, out);
+      progress, out);
   return out;
 }
 
@@ -271,16 +272,17 @@ std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotSc
                                                            const sim::CandidateOptions& candidates, double p,
                                                            pcm::Composition composition,
                                                            const CliqueScaleOptions& options,
-                                                           std::uint64_t seed, std::size_t count,
-                                                           unsigned threads, core::Progress* progress) {
+                                                           const repro::RunContext& context,
+                                                           std::size_t count, core::Progress* progress) {
   options.validate();
   if (count < 1) throw std::invalid_argument("run_two_robot_clique_study: count must be >= 1");
   (void)pcm::consistency_threshold(p, 3);  // validates p
   std::vector<CliqueGraphOutcome> out(count);
-  repro::trial_loop(
+  context.trials(
       count,
       [&](std::size_t i) {
-        const auto set = sim::generate_candidates(scenario, candidates, seed, i);
+        const auto set = sim::generate_candidates(scenario, candidates, context.streams().seed(),
+                                                  context.streams().index(i));
         const auto maps = local_maps(local.a, local.b, set.candidates);
         pcm::ConsistencyOptions co;
         co.composition = composition;
@@ -289,7 +291,7 @@ std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotSc
         const auto g = pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, pcm::consistency_threshold(p, Q.dof));
         out[i] = compare_clique_methods(g, set.inliers(), options);
       },
-      threads, progress, out);
+      progress, out);
   return out;
 }
 
@@ -445,4 +447,106 @@ repro::Figure planted_clique_figure(const PlantedCliqueStudy& study, const Plant
   return fig;
 }
 
-}  // namespace keel::eval
+// ---------------------------------------------------------------------------------------------------------------
+// The study of ext_clique_scale
+
+CliqueScale::Options CliqueScale::Options::read(const core::ConfigTable& p) {
+  Options o;
+  PlantedCliqueStudyOptions& po = o.planted;
+  po.methods.exact_node_limit = static_cast<long long>(p.count("exact_node_limit"));
+  po.methods.reference_max_vertices = static_cast<int>(p.integer("reference_max_vertices"));
+  for (double n : p.numbers("sizes")) po.sizes.push_back(static_cast<int>(n));
+  po.clique_fractions = p.numbers("clique_fractions");
+  po.clique_min = static_cast<int>(p.integer("clique_min"));
+  po.densities = p.numbers("densities");
+  po.seeds = p.count("seeds");
+  // 1D worlds of §2.7.1 with exactly `world1d_measurements` measurements (the fractions of Fig. 2.3).
+  World1DCliqueOptions& wo = o.world1d;
+  wo.methods = po.methods;
+  const auto w1 = p.table("world1d");
+  const auto world_base = read_world1d_options(w1, false);
+  o.world1d_measurements = static_cast<int>(w1.count("measurements"));
+  const double inlier_fraction = w1.number("inlier_fraction"),
+               aliased_fraction = w1.number("aliased_fraction");
+  const double w1_p = w1.number("pcm_p");
+  wo.worlds = p.count("world1d_worlds");
+  // The Table 2.1 data sets (ch2_table2_1_city's scenario and candidate seed).
+  const auto city = p.table("city");
+  o.city_datasets = p.count("city_datasets");
+  o.city_p = city.number("pcm_p");
+  o.city_seed = static_cast<std::uint64_t>(city.integer("seed"));
+  o.city_candidates = read_candidate_options(city);
+  o.city = ScenarioFiles::read(city);
+  o.figure_clique_fraction = p.number("figure_clique_fraction");
+  try {
+    wo.world = sim::world1d_options_with_total(world_base, o.world1d_measurements, inlier_fraction,
+                                               aliased_fraction);
+    wo.gamma = pcm::consistency_threshold(w1_p, 1);
+    po.validate();
+    wo.validate();
+  } catch (const std::invalid_argument& e) {
+    throw core::ConfigError(fmt::format("{}: {}", p.file(), e.what()));
+  }
+  return o;
+}
+
+CliqueScale::Outcome CliqueScale::run(const Options& o, const repro::RunContext& context) {
+  Outcome out;
+  out.options = o;
+  const auto scenario = load_scenario_2d(o.city);
+  core::Progress progress =
+      context.progress(o.planted.cells().size() * o.planted.seeds + o.world1d.worlds + o.city_datasets);
+  // Planted cliques.
+  auto t0 = core::Clock::now();
+  out.planted = run_planted_clique_study(o.planted, context, &progress);
+  out.planted_time_s = core::seconds_since(t0);
+  // 1D worlds, on streams apart from the planted graphs'.
+  t0 = core::Clock::now();
+  out.worlds = run_world1d_clique_study(
+      o.world1d, context.with_streams(context.streams().offset(std::uint64_t{1} << 48)), &progress);
+  out.world1d_time_s = core::seconds_since(t0);
+  // The Table 2.1 candidate sets.
+  t0 = core::Clock::now();
+  const auto local = solve_local_pair(scenario);
+  out.city = run_two_robot_clique_study(scenario, local, o.city_candidates, o.city_p, pcm::Composition::joint,
+                                        o.planted.methods, context.with_streams(core::Streams(o.city_seed)),
+                                        o.city_datasets, &progress);
+  out.city_time_s = core::seconds_since(t0);
+  progress.finish();
+  return out;
+}
+
+void CliqueScale::record(repro::Results& r, const Outcome& out) {
+  const Options& o = out.options;
+  CliqueScaleTally tally;
+  r.timing("planted", out.planted_time_s);
+  record_planted_clique_study(r, out.planted, tally);
+
+  r.timing("world1d", out.world1d_time_s);
+  r.metric("world1d.worlds", static_cast<double>(o.world1d.worlds));
+  r.metric("world1d.gamma", o.world1d.gamma);
+  const double m = o.world1d_measurements;
+  double edges = 0;
+  for (const auto& w : out.worlds) edges += static_cast<double>(w.edges);
+  r.metric("world1d.density", edges / static_cast<double>(out.worlds.size()) / (0.5 * m * (m - 1.0)));
+  record_clique_group(r, "world1d", out.worlds, 0, out.worlds.size(), 0, tally);
+
+  r.timing("city", out.city_time_s);
+  r.metric("city.datasets", static_cast<double>(o.city_datasets));
+  r.metric("city.candidates", static_cast<double>(out.city.front().vertices));
+  edges = 0;
+  for (const auto& s : out.city)
+    edges += static_cast<double>(s.edges) / (0.5 * s.vertices * (s.vertices - 1.0));
+  r.metric("city.density", edges / static_cast<double>(out.city.size()));
+  record_clique_group(r, "city", out.city, 0, out.city.size(), 0, tally);
+
+  // Over every graph of the three families.
+  tally.record(r, o.planted.methods.reference_max_vertices);
+}
+
+std::vector<repro::Figure> CliqueScale::figures(const Outcome& out) {
+  return {
+      planted_clique_figure(out.planted, out.options.planted, out.options.figure_clique_fraction, ".png")};
+}
+
+}  // namespace keel::study::ch2

@@ -10,14 +10,16 @@
 #include <string>
 #include <vector>
 
-#include "eval/studies.hpp"
-#include "eval/world1d_study.hpp"
+#include "study/ch2/two_robot.hpp"
+#include "study/ch2/world1d.hpp"
 #include "kit/test_kit.hpp"
 #include "pcm/consistency.hpp"
 #include "sim/two_robot_test_graphs.hpp"
 
 using namespace keel;
-using namespace keel::eval;
+using namespace keel::study::ch2;
+using keel::core::Streams;
+using keel::repro::RunContext;
 using keel::sim::testing::small_candidate_options;
 using keel::sim::testing::square_laps;
 using keel::testkit::contains;
@@ -38,7 +40,8 @@ TEST_CASE("data sets in parallel equal data sets one by one; summaries pool what
   const std::vector<MergeMethod> methods = {MergeMethod::make("no_out", MergeMethodKind::no_outliers),
                                             MergeMethod::make("pcm", MergeMethodKind::pcm_exact),
                                             MergeMethod::make("heu", MergeMethodKind::pcm_heuristic)};
-  const auto runs = run_merge_datasets(s, local, small_candidate_options(), methods, 17, 4, 2, 1);
+  const auto runs =
+      run_merge_datasets(s, local, small_candidate_options(), methods, RunContext(Streams(17), 2), 4, 1);
   REQUIRE(runs.size() == 4);
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto one = run_merge_dataset(s, local.a, local.b, small_candidate_options(), methods, 17, i);
@@ -93,8 +96,7 @@ TEST_CASE(
   o.pcm_gamma = pcm::consistency_threshold(0.11, 1);
   o.ransac_gamma = o.pcm_gamma;
   o.worlds = 200;
-  o.seed = 3;
-  const auto study = run_world1d_study(o);
+  const auto study = run_world1d_study(o, RunContext(Streams(3)));
   const auto cmp = compare_to_combinatorial(study, {Selector1D::pcm_exact, Selector1D::ransac});
   REQUIRE(cmp.rows.size() == 2);
   CHECK(cmp.rows[0].match_rate == 1.0);  // PCM-Exact attains the combinatorial maximum (eq. 2.5)
@@ -113,7 +115,7 @@ TEST_CASE(
   t.sizes = {4, 12, 40};
   t.exhaustive_max = 12;
   t.pruned_max = 12;
-  const auto sweep = run_timing_sweep(t);
+  const auto sweep = run_timing_sweep(t, RunContext(Streams(3)));
   REQUIRE(sweep.curves.size() == 6);
   CHECK(sweep.curves[0].m == std::vector<double>{4, 12});  // exhaustive only up to its cap
   CHECK(sweep.curves[2].m == std::vector<double>{4, 12, 40});

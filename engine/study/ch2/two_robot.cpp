@@ -1,4 +1,4 @@
-#include "eval/studies.hpp"
+#include "study/ch2/two_robot.hpp"
 
 #include <fmt/format.h>
 
@@ -10,11 +10,10 @@
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "repro/results.hpp"
-#include "repro/shard.hpp"
 #include "graph/residuals.hpp"
 #include "pcm/consistency.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 std::vector<MergeMethod> methods_of(const std::vector<StudyMethod>& methods) {
   std::vector<MergeMethod> out;
@@ -83,16 +82,17 @@ template <class G>
 std::vector<MergeDataset<G>> run_merge_datasets(const sim::TwoRobotScenario<G>& scenario,
                                                 const LocalPair<G>& local,
                                                 const sim::CandidateOptions& candidates,
-                                                const std::vector<MergeMethod>& methods, std::uint64_t seed,
-                                                std::size_t count, unsigned threads, std::size_t keep,
-                                                core::Progress* progress) {
+                                                const std::vector<MergeMethod>& methods,
+                                                const repro::RunContext& context, std::size_t count,
+                                                std::size_t keep, core::Progress* progress) {
   std::vector<MergeDataset<G>> runs(count);
-  repro::trial_loop(  // one trial per data set; its record is the MergeDataset
+  context.trials(  // one trial per data set; its record is the MergeDataset
       count,
       [&](std::size_t i) {
-        runs[i] = run_merge_dataset(scenario, local.a, local.b, candidates, methods, seed, i, i == keep);
+        runs[i] = run_merge_dataset(scenario, local.a, local.b, candidates, methods, context.streams().seed(),
+                                    context.streams().index(i), i == keep);
       },
-      threads, progress, runs);
+      progress, runs);
   return runs;
 }
 
@@ -101,15 +101,16 @@ std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& sc
                                               const LocalPair<G>& local,
                                               const sim::CandidateOptions& candidates,
                                               const std::vector<std::vector<MergeMethod>>& method_sets,
-                                              std::uint64_t seed, std::size_t index, unsigned threads,
+                                              const repro::RunContext& context, std::size_t index,
                                               core::Progress* progress) {
   std::vector<MergeDataset<G>> sweep(method_sets.size());
-  repro::trial_loop(  // one trial per method set, all on data set `index`
+  context.trials(  // one trial per method set, all on data set `index`
       method_sets.size(),
       [&](std::size_t k) {
-        sweep[k] = run_merge_dataset(scenario, local.a, local.b, candidates, method_sets[k], seed, index);
+        sweep[k] = run_merge_dataset(scenario, local.a, local.b, candidates, method_sets[k],
+                                     context.streams().seed(), context.streams().index(index));
       },
-      threads, progress, sweep);
+      progress, sweep);
   return sweep;
 }
 
@@ -234,10 +235,10 @@ PoolCalibration pool_calibration(const LocalPair<lie::SE2>& local, const sim::Tw
   template void record_local_pair(repro::Results&, const sim::TwoRobotScenario<G>&, const LocalPair<G>&);    \
   template std::vector<MergeDataset<G>> run_merge_datasets(                                                  \
       const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
-      const std::vector<MergeMethod>&, std::uint64_t, std::size_t, unsigned, std::size_t, core::Progress*);  \
+      const std::vector<MergeMethod>&, const repro::RunContext&, std::size_t, std::size_t, core::Progress*); \
   template std::vector<MergeDataset<G>> run_method_sweep(                                                    \
       const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&,                    \
-      const std::vector<std::vector<MergeMethod>>&, std::uint64_t, std::size_t, unsigned, core::Progress*);  \
+      const std::vector<std::vector<MergeMethod>>&, const repro::RunContext&, std::size_t, core::Progress*); \
   template MethodSummary summarize_method(const std::vector<MergeDataset<G>>&, std::size_t);                 \
   template void record_dataset_timings(repro::Results&, const std::vector<MergeDataset<G>>&);                \
   template std::size_t same_selections(const std::vector<MergeDataset<G>>&, std::size_t, std::size_t);       \
@@ -247,4 +248,4 @@ KEEL_EVAL_STUDIES(lie::SE2)
 KEEL_EVAL_STUDIES(lie::SE3)
 #undef KEEL_EVAL_STUDIES
 
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

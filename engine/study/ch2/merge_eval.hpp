@@ -15,7 +15,7 @@
 #include "pcm/selection.hpp"
 #include "sim/two_robot.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 using merge::accepted_candidates;
 using merge::AnchorInit;
@@ -148,4 +148,4 @@ using MergeDataset3 = MergeDataset<lie::SE3>;
                                               const std::vector<MergeMethod>& methods, std::uint64_t seed,
                                               std::uint64_t index, bool keep_solutions = false);
 
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

@@ -1,5 +1,5 @@
 // The metrics of Tables 2.1–2.2 and one data set with every method; see merge.hpp.
-#include "eval/merge.hpp"
+#include "study/ch2/merge_eval.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 #include "core/names.hpp"
 #include "core/timing.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 using namespace keel::pcm;  // consistency metric and selection methods
 using namespace keel::sim;  // scenarios and candidates
@@ -219,4 +219,4 @@ MergeDataset3 run_merge_dataset(const TwoRobotScenario3& scenario, const LocalSo
   return run_dataset_impl(scenario, a, b, candidates, methods, seed, index, keep_solutions);
 }
 
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

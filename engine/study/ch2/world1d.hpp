@@ -1,7 +1,6 @@
-// Fig. 2.2 and Fig. 2.3 (§2.7.1) on the simulated 1D world (sim/world1d.hpp): the combinatorial "gold
-// standard" of eq. 2.5 — a search over the subsets S ∈ {0,1}^m that does not use the clique code — the count
-// of inconsistent pairs of a returned set (Fig. 2.2's second row), and the Monte-Carlo study that runs every
-// selector on the same worlds.
+// Fig. 2.2 and Fig. 2.3 (§2.7.1) on the simulated 1D world (sim/world1d.hpp): the Monte-Carlo study that
+// runs every selector on the same worlds, against the combinatorial gold standard of eq. 2.5
+// (pcm/combinatorial.hpp).
 #pragma once
 
 #include <cstdint>
@@ -9,38 +8,17 @@
 #include <string_view>
 #include <vector>
 
+#include "pcm/combinatorial.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
+#include "repro/run.hpp"
 #include "sim/world1d.hpp"
 
-namespace keel::core {
-class Progress;
-}
+namespace keel::study::ch2 {
 
-namespace keel::eval {
-
-// Combinatorial solution of eq. 2.5 straight from Q and γ, independent of the clique code: the largest S ⊆
-// {0..m−1} with q_uv <= γ and q_vu <= γ for all u ≠ v in S.
-enum class CombinatorialMethod {
-  exhaustive,  // all 2^m subsets, each tested for pairwise consistency (m <= kCombinatorialExhaustiveMax)
-  pruned,      // depth-first include/exclude over the candidates in index order; a candidate is only included
-               // when consistent with every included one, and a branch stops when even taking all remaining
-               // candidates could not reach the best size (m <= kCombinatorialPrunedMax)
-};
-std::string_view to_string(CombinatorialMethod m);
-CombinatorialMethod combinatorial_method_from_string(std::string_view s);  // "exhaustive" | "pruned"
-inline constexpr int kCombinatorialExhaustiveMax = 30;
-inline constexpr int kCombinatorialPrunedMax = 64;
-
-struct CombinatorialResult {
-  std::vector<int> selected;   // one maximum pairwise consistent set, sorted (exhaustive: smallest bitmask)
-  long long optimal_sets = 0;  // number of distinct maximum pairwise consistent sets
-  long long subsets_visited = 0;  // exhaustive: 2^m; pruned: search nodes
-  double time_s = 0.0;
-};
-// Throws std::invalid_argument for a bad Q or γ (as select_pcm) or m above the method's limit.
-[[nodiscard]] CombinatorialResult max_consistent_set_combinatorial(
-    const pcm::ConsistencyMatrix& Q, double gamma, CombinatorialMethod method = CombinatorialMethod::pruned);
+using pcm::CombinatorialMethod;
+using pcm::kCombinatorialExhaustiveMax;
+using pcm::kCombinatorialPrunedMax;
 
 // ---------------------------------------------------------------------------------------------------------------
 // Monte-Carlo study over 1D worlds (Figs. 2.2 and 2.3): every world is generated from its own random stream,
@@ -60,11 +38,8 @@ struct World1DStudyOptions {
   CombinatorialMethod combinatorial = CombinatorialMethod::pruned;
   std::vector<Selector1D> selectors = {Selector1D::combinatorial, Selector1D::pcm_exact,
                                        Selector1D::pcm_heuristic, Selector1D::scgp, Selector1D::ransac};
-  std::uint64_t seed = 0;         // experiment seed
-  std::uint64_t stream_base = 0;  // world i draws from Rng::stream(seed, stream_base + i)
-  std::size_t worlds = 1000;      // >= 1
-  unsigned threads = 0;           // 0 = keel::core::default_threads(); results do not depend on it
-  void validate() const;          // throws std::invalid_argument naming the field
+  std::size_t worlds = 1000;  // >= 1
+  void validate() const;      // throws std::invalid_argument naming the field
 };
 
 // One selector on one world.
@@ -83,9 +58,11 @@ struct World1DStudy {
   const std::vector<World1DOutcome>& of(Selector1D s) const;  // throws std::invalid_argument if not run
 };
 
-// Runs the study on options.threads threads (parallel_for over worlds; progress advanced once per world, may
-// be null).
+// Runs the study in one sharded trial loop on the context's threads: world i is
+// sim::generate_world1d(options.world, streams.seed(), streams.index(i)). Progress advances once per world
+// (may be null).
 [[nodiscard]] World1DStudy run_world1d_study(const World1DStudyOptions& options,
+                                             const repro::RunContext& context,
                                              core::Progress* progress = nullptr);
 
 // How selectors compare with the combinatorial maximum over a study's worlds (Fig. 2.2): histograms over
@@ -113,14 +90,13 @@ struct CombinatorialComparison {
                                                                const std::vector<Selector1D>& selectors);
 
 // Fig. 2.3: selection time against the number of measurements m. For each m, worlds of exactly m measurements
-// (sim::world1d_options_with_total with the given fractions) drawn from streams (seed, k << 32 | i), the same
-// for every curve; PCM-Exact, PCM-Heuristic, SCGP, RANSAC and the exhaustive enumeration (m <=
+// (sim::world1d_options_with_total with the given fractions) drawn from the context's streams k << 32 | i,
+// the same for every curve; PCM-Exact, PCM-Heuristic, SCGP, RANSAC and the exhaustive enumeration (m <=
 // exhaustive_max) in one pass, the pruned subset search (m <= pruned_max) in a second pass over the same
 // worlds.
 struct TimingSweepOptions {
-  World1DStudyOptions
-      base;  // noise model, thresholds, SCGP, worlds per size, seed, threads (counts are replaced)
-  std::vector<int> sizes;  // m, increasing, >= 1
+  World1DStudyOptions base;  // noise model, thresholds, SCGP, worlds per size (counts are replaced)
+  std::vector<int> sizes;    // m, increasing, >= 1
   double inlier_fraction = 0.5, aliased_fraction = 0.25;
   int exhaustive_max = kCombinatorialExhaustiveMax;  // in [1, kCombinatorialExhaustiveMax]
   int pruned_max = kCombinatorialPrunedMax;          // in [1, kCombinatorialPrunedMax]
@@ -140,11 +116,7 @@ struct TimingSweep {
   long long combinatorial_mismatch = 0;  // … of which with a different size
 };
 [[nodiscard]] TimingSweep run_timing_sweep(const TimingSweepOptions& options,
+                                           const repro::RunContext& context,
                                            core::Progress* progress = nullptr);
 
-// Number of pairs {u, v} of `set` that violate eq. 2.3 (q_uv > γ or q_vu > γ). `set` must hold distinct
-// indices in range (std::invalid_argument otherwise).
-[[nodiscard]] int count_inconsistent_pairs(const pcm::ConsistencyMatrix& Q, const std::vector<int>& set,
-                                           double gamma);
-
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "pcm/consistency.hpp"
-#include "eval/merge.hpp"
+#include "study/ch2/merge_eval.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/two_robot_test_graphs.hpp"
 #include "kit/test_kit.hpp"
@@ -18,7 +18,7 @@
 using namespace keel;
 using namespace keel::pcm;
 using namespace keel::sim;
-using namespace keel::eval;
+using namespace keel::study::ch2;
 using keel::sim::testing::small_candidate_options;
 using keel::sim::testing::square_laps;
 

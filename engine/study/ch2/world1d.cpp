@@ -1,4 +1,4 @@
-#include "eval/world1d_study.hpp"
+#include "study/ch2/world1d.hpp"
 
 #include <fmt/format.h>
 
@@ -10,11 +10,10 @@
 
 #include "core/names.hpp"
 #include "core/parallel.hpp"
-#include "repro/shard.hpp"
 #include "core/timing.hpp"
 #include "pcm/clique.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 using namespace keel::pcm;  // consistency matrices and the selection methods
 using namespace keel::sim;  // the 1D world
@@ -27,117 +26,10 @@ using core::seconds_since;
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------
-// Combinatorial solution of eq. 2.5
-
-namespace {
-constexpr core::NameTable<CombinatorialMethod, 2> kCombinatorialMethodNames{
-    "eval::CombinatorialMethod",
-    {{{CombinatorialMethod::exhaustive, "exhaustive"}, {CombinatorialMethod::pruned, "pruned"}}}};
-}  // namespace
-
-std::string_view to_string(CombinatorialMethod v) { return kCombinatorialMethodNames.name(v); }
-CombinatorialMethod combinatorial_method_from_string(std::string_view s) {
-  return kCombinatorialMethodNames.parse(s);
-}
-
-namespace {
-
-struct PrunedSearch {
-  const std::vector<std::uint64_t>& ok;  // ok[u]: candidates consistent with u (both directions), u excluded
-  int best = 0;
-  std::uint64_t best_set = 0;
-  long long optimal = 0;
-  long long nodes = 0;
-
-  // `cand`: candidates above every decided index that are consistent with every member of `cur`.
-  void run(std::uint64_t cur, int size, std::uint64_t cand) {
-    ++nodes;
-    if (size + std::popcount(cand) < best) return;  // cannot reach the best size: prune (keeps ties)
-    if (cand == 0) {
-      if (size > best) {
-        best = size;
-        best_set = cur;
-        optimal = 1;
-      } else if (size == best) {
-        ++optimal;
-      }
-      return;
-    }
-    const int j = std::countr_zero(cand);
-    const std::uint64_t bit = std::uint64_t{1} << j;
-    run(cur | bit, size + 1,
-        cand & ok[j]);            // include j (ok[j] excludes j and every candidate inconsistent with it)
-    run(cur, size, cand & ~bit);  // exclude j
-  }
-};
-
-}  // namespace
-
-CombinatorialResult max_consistent_set_combinatorial(const ConsistencyMatrix& Q, double gamma,
-                                                     CombinatorialMethod method) {
-  validate_consistency_matrix(Q, "max_consistent_set_combinatorial");
-  validate_gamma(gamma, "max_consistent_set_combinatorial");
-  const int m = Q.n;
-  const int limit =
-      method == CombinatorialMethod::exhaustive ? kCombinatorialExhaustiveMax : kCombinatorialPrunedMax;
-  if (m > limit) {
-    throw std::invalid_argument(
-        fmt::format("max_consistent_set_combinatorial ({}): m = {} measurements exceeds the limit {}",
-                    to_string(method), m, limit));
-  }
-  const auto t0 = Clock::now();
-  // ok[u]: bitmask of v ≠ u with q_uv <= γ and q_vu <= γ (the pairwise constraint of eq. 2.5 for s_u = s_v =
-  // 1).
-  std::vector<std::uint64_t> ok(m, 0);
-  for (int u = 0; u < m; ++u)
-    for (int v = 0; v < m; ++v)
-      if (v != u && Q.at(u, v) <= gamma && Q.at(v, u) <= gamma) ok[u] |= std::uint64_t{1} << v;
-
-  CombinatorialResult r;
-  std::uint64_t best_set = 0;
-  if (method == CombinatorialMethod::exhaustive) {
-    // Every S ∈ {0,1}^m (as a bitmask), kept when all its pairs are consistent; ‖S‖₀ is maximised.
-    int best = 0;
-    long long optimal = 1;  // the empty set, until a non-empty one is found
-    const std::uint64_t end = std::uint64_t{1} << m;
-    for (std::uint64_t s = 1; s < end; ++s) {
-      const int size = std::popcount(s);
-      if (size < best) continue;  // cannot be a maximum set: skip the pairwise test
-      bool consistent = true;
-      for (std::uint64_t rest = s; rest != 0 && consistent; rest &= rest - 1) {
-        const int u = std::countr_zero(rest);
-        consistent = (s & ~ok[u] & ~(std::uint64_t{1} << u)) == 0;
-      }
-      if (!consistent) continue;
-      if (size > best) {
-        best = size;
-        best_set = s;
-        optimal = 1;
-      } else {
-        ++optimal;
-      }
-    }
-    r.optimal_sets = optimal;
-    r.subsets_visited = static_cast<long long>(end);
-  } else {
-    PrunedSearch search{ok};
-    const std::uint64_t all = m == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << m) - 1;
-    search.run(0, 0, all);
-    best_set = search.best_set;
-    r.optimal_sets = search.optimal;
-    r.subsets_visited = search.nodes;
-  }
-  for (int u = 0; u < m; ++u)
-    if ((best_set >> u) & 1u) r.selected.push_back(u);
-  r.time_s = seconds_since(t0);
-  return r;
-}
-
-// ---------------------------------------------------------------------------------------------------------------
 // Monte-Carlo study
 
 namespace {
-constexpr core::NameTable<Selector1D, 5> kSelector1DNames{"eval::Selector1D",
+constexpr core::NameTable<Selector1D, 5> kSelector1DNames{"ch2::Selector1D",
                                                           {{{Selector1D::combinatorial, "combinatorial"},
                                                             {Selector1D::pcm_exact, "pcm_exact"},
                                                             {Selector1D::pcm_heuristic, "pcm_heuristic"},
@@ -178,7 +70,8 @@ const std::vector<World1DOutcome>& World1DStudy::of(Selector1D s) const {
   throw std::invalid_argument(fmt::format("World1DStudy: selector '{}' was not run", to_string(s)));
 }
 
-World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progress* progress) {
+World1DStudy run_world1d_study(const World1DStudyOptions& options, const repro::RunContext& context,
+                               core::Progress* progress) {
   options.validate();
   const std::size_t n = options.worlds, k = options.selectors.size();
   World1DStudy study;
@@ -197,10 +90,11 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
     repro::load(r, study.inliers[i]);
     for (std::size_t s = 0; s < k; ++s) repro::load(r, study.outcome[s][i]);
   };
-  repro::trial_loop(
+  context.trials(
       n,
       [&](std::size_t i) {
-        const World1D w = generate_world1d(options.world, options.seed, options.stream_base + i);
+        const World1D w =
+            generate_world1d(options.world, context.streams().seed(), context.streams().index(i));
         const ConsistencyMatrix Q = world1d_consistency_matrix(w);  // shared by every method, not timed
         study.measurements[i] = w.size();
         study.inliers[i] = w.count(MeasurementLabel::inlier);
@@ -243,7 +137,7 @@ World1DStudy run_world1d_study(const World1DStudyOptions& options, core::Progres
           o.time_s = t;
         }
       },
-      save, load, options.threads, progress);
+      save, load, progress);
   return study;
 }
 
@@ -331,7 +225,8 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* progress) {
+TimingSweep run_timing_sweep(const TimingSweepOptions& options, const repro::RunContext& context,
+                             core::Progress* progress) {
   options.validate();
   using S = Selector1D;
   struct Curve {
@@ -353,17 +248,18 @@ TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* 
     World1DStudyOptions o = options.base;
     o.world =
         world1d_options_with_total(options.base.world, m, options.inlier_fraction, options.aliased_fraction);
-    o.stream_base = static_cast<std::uint64_t>(k)
-                    << 32;  // independent worlds per size, the same for every curve
+    // Independent worlds per size, the same for every curve.
+    const repro::RunContext size_context =
+        context.with_streams(context.streams().offset(static_cast<std::uint64_t>(k) << 32));
     o.selectors = {S::pcm_exact, S::pcm_heuristic, S::scgp, S::ransac};
     o.combinatorial = CombinatorialMethod::exhaustive;
     if (runs_at(curves[0], m)) o.selectors.push_back(S::combinatorial);
-    const World1DStudy main = run_world1d_study(o, progress);
+    const World1DStudy main = run_world1d_study(o, size_context, progress);
     World1DStudy pruned;
     if (runs_at(curves[1], m)) {
       o.selectors = {S::combinatorial};
       o.combinatorial = CombinatorialMethod::pruned;
-      pruned = run_world1d_study(o, progress);
+      pruned = run_world1d_study(o, size_context, progress);
     }
     const auto& exact = main.of(S::pcm_exact);
     for (std::size_t c = 0; c < std::size(curves); ++c) {
@@ -392,23 +288,4 @@ TimingSweep run_timing_sweep(const TimingSweepOptions& options, core::Progress* 
   return out;
 }
 
-int count_inconsistent_pairs(const ConsistencyMatrix& Q, const std::vector<int>& set, double gamma) {
-  validate_consistency_matrix(Q, "count_inconsistent_pairs");
-  if (std::isnan(gamma)) throw std::invalid_argument("count_inconsistent_pairs: gamma is NaN");
-  std::vector<char> seen(Q.n, 0);
-  for (int u : set) {
-    if (u < 0 || u >= Q.n) {
-      throw std::invalid_argument(
-          fmt::format("count_inconsistent_pairs: index {} is out of range [0, {})", u, Q.n));
-    }
-    if (seen[u]) throw std::invalid_argument(fmt::format("count_inconsistent_pairs: index {} repeated", u));
-    seen[u] = 1;
-  }
-  int bad = 0;
-  for (std::size_t a = 0; a < set.size(); ++a)
-    for (std::size_t b = a + 1; b < set.size(); ++b)
-      if (Q.at(set[a], set[b]) > gamma || Q.at(set[b], set[a]) > gamma) ++bad;
-  return bad;
-}
-
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

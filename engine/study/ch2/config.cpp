@@ -1,4 +1,4 @@
-#include "eval/config.hpp"
+#include "study/ch2/config.hpp"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include "graph/trajectory.hpp"
 #include "graph/io.hpp"
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 namespace {
 
@@ -149,22 +149,25 @@ std::vector<MeasurementRegime> read_regimes(const core::ConfigTable& p, std::str
   return out;
 }
 
-sim::TwoRobotScenario2 load_scenario_2d(const core::ConfigTable& t) {
-  const std::string dataset = t.string("dataset");
-  const auto graph =
-      graph::read_pose_graph_2d(datasets::resolve_dataset_file(dataset, t.string("graph_file")));
-  const auto truth =
-      graph::read_poses_2d(datasets::resolve_dataset_file(dataset, t.string("ground_truth_file")));
-  return sim::split_two_robots(graph, truth, read_split(t));
+ScenarioFiles ScenarioFiles::read(const core::ConfigTable& t) {
+  ScenarioFiles f;
+  f.dataset = t.string("dataset");
+  f.graph_file = t.string("graph_file");
+  f.ground_truth_file = t.string("ground_truth_file");
+  f.split = read_split(t);
+  return f;
 }
 
-sim::TwoRobotScenario3 load_scenario_3d(const core::ConfigTable& t) {
-  const std::string dataset = t.string("dataset");
-  const auto graph =
-      graph::read_pose_graph_3d(datasets::resolve_dataset_file(dataset, t.string("graph_file")));
-  const auto truth =
-      graph::read_poses_3d(datasets::resolve_dataset_file(dataset, t.string("ground_truth_file")));
-  return sim::split_two_robots(graph, truth, read_split(t));
+sim::TwoRobotScenario2 load_scenario_2d(const ScenarioFiles& f) {
+  const auto graph = graph::read_pose_graph_2d(datasets::resolve_dataset_file(f.dataset, f.graph_file));
+  const auto truth = graph::read_poses_2d(datasets::resolve_dataset_file(f.dataset, f.ground_truth_file));
+  return sim::split_two_robots(graph, truth, f.split);
 }
 
-}  // namespace keel::eval
+sim::TwoRobotScenario3 load_scenario_3d(const ScenarioFiles& f) {
+  const auto graph = graph::read_pose_graph_3d(datasets::resolve_dataset_file(f.dataset, f.graph_file));
+  const auto truth = graph::read_poses_3d(datasets::resolve_dataset_file(f.dataset, f.ground_truth_file));
+  return sim::split_two_robots(graph, truth, f.split);
+}
+
+}  // namespace keel::study::ch2

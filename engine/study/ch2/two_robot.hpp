@@ -1,7 +1,7 @@
 // The chapter-2 studies behind the experiments (§2.7.2–2.7.3): the pieces every two-robot experiment shares —
 // the measurement regime of a scenario, the local maps solved once, the data sets run in parallel, per-method
-// summaries over the data sets — and the calibration of Q on a scenario's pool of true loop closures. Drivers
-// read their config (eval/config.hpp), call these, and record what comes back.
+// summaries over the data sets — and the calibration of Q on a scenario's pool of true loop closures. The
+// studies of tables.hpp read their options (study/ch2/config.hpp), call these, and record what comes back.
 #pragma once
 
 #include <cstddef>
@@ -13,7 +13,8 @@
 #include <vector>
 
 #include "core/statistics.hpp"
-#include "eval/merge.hpp"
+#include "study/ch2/merge_eval.hpp"
+#include "repro/run.hpp"
 #include "sim/two_robot.hpp"
 
 namespace keel::core {
@@ -23,7 +24,7 @@ namespace keel::repro {
 class Results;
 }  // namespace keel::repro
 
-namespace keel::eval {
+namespace keel::study::ch2 {
 
 // A method of a study with its display label (figures and tables).
 struct StudyMethod {
@@ -69,25 +70,25 @@ template <class G>
 void record_local_pair(repro::Results& results, const sim::TwoRobotScenario<G>& scenario,
                        const LocalPair<G>& local);
 
-// Data sets 0 … count−1 of a scenario with every method (run_merge_dataset), in parallel on `threads` threads
-// (0 = default). Data set i draws its candidates from Rng::stream(seed, i), so the result does not depend on
-// the thread count; `keep` (if < count) keeps that data set's merged solutions for figures. `progress` (may
-// be null) advances once per data set.
+// Data sets 0 … count−1 of a scenario with every method (run_merge_dataset), one sharded trial loop on the
+// context's threads. Data set i draws its candidates from the context's stream i, so the result does not
+// depend on the thread count; `keep` (if < count) keeps that data set's merged solutions for figures.
+// `progress` (may be null) advances once per data set.
 template <class G>
 [[nodiscard]] std::vector<MergeDataset<G>> run_merge_datasets(
     const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local,
-    const sim::CandidateOptions& candidates, const std::vector<MergeMethod>& methods, std::uint64_t seed,
-    std::size_t count, unsigned threads, std::size_t keep = std::numeric_limits<std::size_t>::max(),
-    core::Progress* progress = nullptr);
+    const sim::CandidateOptions& candidates, const std::vector<MergeMethod>& methods,
+    const repro::RunContext& context, std::size_t count,
+    std::size_t keep = std::numeric_limits<std::size_t>::max(), core::Progress* progress = nullptr);
 
 // Data set `index` with each of several method lists, in parallel: sweep[k] = run_merge_dataset(…,
-// method_sets[k], seed, index) — the same candidates for every list (a sweep of a method's parameter on one
-// data set).
+// method_sets[k], streams.seed(), streams.index(index)) — the same candidates for every list (a sweep of a
+// method's parameter on one data set).
 template <class G>
 [[nodiscard]] std::vector<MergeDataset<G>> run_method_sweep(
     const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local,
     const sim::CandidateOptions& candidates, const std::vector<std::vector<MergeMethod>>& method_sets,
-    std::uint64_t seed, std::size_t index, unsigned threads, core::Progress* progress = nullptr);
+    const repro::RunContext& context, std::size_t index, core::Progress* progress = nullptr);
 
 // Method k over the data sets (Tables 2.1/2.2): per-data-set columns, classifications pooled.
 struct MethodSummary {
@@ -137,4 +138,4 @@ struct PoolCalibration {
                                                pcm::Composition composition,
                                                const std::vector<double>& gammas);
 
-}  // namespace keel::eval
+}  // namespace keel::study::ch2

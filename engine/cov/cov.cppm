@@ -32,5 +32,7 @@ using keel::cov::FactorSummary;
 using keel::cov::MarginalCovariance;
 using keel::cov::Ordering;
 using keel::cov::ordering_from_string;
+using keel::cov::pair_marginals;
 using keel::cov::pair_marginals_2d;
+using keel::cov::pair_marginals_3d;
 }  // namespace keel::cov

@@ -44,6 +44,7 @@ namespace keel::cov {
 
 using graph::PoseGraph2D;
 using graph::PoseGraph3D;
+using lie::Mat12;
 using lie::Mat2;
 using lie::Mat3;
 using lie::Mat6;

@@ -5,10 +5,11 @@
 // H (information.hpp) is factorized once with CHOLMOD (supernodal LLᵀ, fill-reducing ordering chosen by
 // CHOLMOD); every query then asks for blocks of Σ = H⁻¹ without ever forming H⁻¹ densely: by default Σ_ab =
 // W_aᵀ W_b with W = L⁻¹ P E computed by sparse forward substitutions along the elimination tree, once per
-// distinct variable of a batch (Extraction, marginal_covariance.cpp). CHOLMOD stays inside the .cpp file.
+// distinct variable of a batch (Extraction, extraction.hpp). CHOLMOD stays inside the area's private files
+// (factor.hpp, extraction.hpp and their .cpp files).
 //
 // Thread-safety: a MarginalCovariance is immutable after construction. joint(), joint_many(), marginal() and
-// pair_marginals_2d() may be called concurrently from several threads on the same object: every call
+// the pair_marginals queries may be called concurrently from several threads on the same object: every call
 // allocates its own workspace (and, for Extraction::solve, its own cholmod_common), and the factor is only
 // read. joint_many(…, threads) itself spreads its column blocks and its queries over `threads` workers in the
 // same way.
@@ -85,6 +86,16 @@ class MarginalCovariance;
 [[nodiscard]] std::vector<Mat6> pair_marginals_2d(const MarginalCovariance& cov,
                                                   const std::vector<std::pair<int, int>>& pairs,
                                                   unsigned threads = 1);
+/// The same for SE(3) pose graphs: 12×12 joint covariances of (ξ_i, ξ_j), ξ = (ρ, φ). Throws
+/// std::invalid_argument if the poses are not SE(3) or a pair names a landmark.
+[[nodiscard]] std::vector<Mat12> pair_marginals_3d(const MarginalCovariance& cov,
+                                                   const std::vector<std::pair<int, int>>& pairs,
+                                                   unsigned threads = 1);
+/// pair_marginals_2d or pair_marginals_3d by the dimension of the poses: 6×6 or 12×12 blocks (the dispatch of
+/// the faces that take 2D and 3D files alike).
+[[nodiscard]] std::vector<MatX> pair_marginals(const MarginalCovariance& cov,
+                                               const std::vector<std::pair<int, int>>& pairs,
+                                               unsigned threads = 1);
 
 /// Marginal covariances of the variables of a SparseInformation (poses first, then landmarks; see
 /// information.hpp), in the Lie algebra of the left perturbation T = exp(ξ^) T̄ (eq. 5.14) for poses and in
@@ -125,6 +136,10 @@ class MarginalCovariance {
   std::unique_ptr<Impl> impl_;
   friend std::vector<Mat6> pair_marginals_2d(const MarginalCovariance&,
                                              const std::vector<std::pair<int, int>>&, unsigned);
+  friend std::vector<Mat12> pair_marginals_3d(const MarginalCovariance&,
+                                              const std::vector<std::pair<int, int>>&, unsigned);
+  friend std::vector<MatX> pair_marginals(const MarginalCovariance&, const std::vector<std::pair<int, int>>&,
+                                          unsigned);
 };
 
 }  // namespace keel::cov

@@ -1,22 +1,46 @@
-// keel.app — keel on a researcher's own files (see app/files.hpp).
+// keel.app — keel on a researcher's own files, the one door of the `keel` command and the Python module:
+// app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), and what a file holds or a
+// two-robot split writes (files.hpp).
 module;
 #include "app/files.hpp"
+#include "app/marginals.hpp"
+#include "app/pcm.hpp"
+#include "app/progress.hpp"
+#include "app/solve.hpp"
 export module keel.app;
 
 export namespace keel::app {
+// files
 using keel::app::graph_dimension;
 using keel::app::GraphSummary;
+using keel::app::read_labels;
+using keel::app::split_files;
+using keel::app::SplitFilesOptions;
+using keel::app::summarize;
+// solve
+using keel::app::AnyGraph;
+using keel::app::read_graph;
+using keel::app::Solution;
+using keel::app::Solution2;
+using keel::app::Solution3;
+using keel::app::solve;
+using keel::app::SolveOptions;
+// marginals
+using keel::app::factorize;
+using keel::app::marginals;
+using keel::app::Marginals;
+using keel::app::MarginalsRequest;
+// pcm
+using keel::app::Consistency;
+using keel::app::consistency;
 using keel::app::inter_robot_candidates;
 using keel::app::merged_graph;
+using keel::app::pcm;
 using keel::app::PcmOptions;
 using keel::app::PcmRun;
 using keel::app::PcmRun2;
 using keel::app::PcmRun3;
 using keel::app::Progress;
-using keel::app::read_labels;
-using keel::app::run_pcm;
-using keel::app::solve_options;
-using keel::app::split_files;
-using keel::app::SplitFilesOptions;
-using keel::app::summarize;
+using keel::app::score_selection;
+using keel::app::SelectionScore;
 }  // namespace keel::app

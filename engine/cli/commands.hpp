@@ -1,5 +1,7 @@
-// The `keel` command's pieces: the reproduction commands (repro.cpp) and the commands that run keel on a
-// user's files (tools.cpp). Included after the importing file's `import`s (DESIGN rule 4).
+// The `keel` command's pieces, one file per subcommand: the reproduction commands (list.cpp, diff.cpp,
+// bless.cpp, report.cpp, eta.cpp, prose_check.cpp, same.cpp) and the commands that run keel on a user's files
+// (check.cpp, solve.cpp, marginals.cpp, pcm.cpp, split.cpp). Included after the importing file's `import`s
+// (DESIGN rule 4).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -28,7 +30,19 @@ struct Common {
   bool json = false;   // machine-readable output on stdout
 };
 
-void add_repro_commands(CLI::App& app);
-void add_tool_commands(CLI::App& app);
+// Reproduction ("Reproduction" group of --help).
+void add_list_command(CLI::App& app);
+void add_diff_command(CLI::App& app);
+void add_bless_command(CLI::App& app);
+void add_report_command(CLI::App& app);
+void add_eta_command(CLI::App& app);
+void add_prose_check_command(CLI::App& app);
+void add_same_command(CLI::App& app);
+// A user's files ("Your data" group).
+void add_check_command(CLI::App& app);
+void add_solve_command(CLI::App& app);
+void add_marginals_command(CLI::App& app);
+void add_pcm_command(CLI::App& app);
+void add_split_command(CLI::App& app);
 
 }  // namespace keel::cli

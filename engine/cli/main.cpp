@@ -1,6 +1,6 @@
-// keel — one command for the reproduction machinery (repro.cpp: list, diff, bless, report, eta, same) and for
-// running keel on a researcher's own files (tools.cpp: check, solve, marginals, pcm, split). docs/USING.md
-// has a worked example of each. Exit codes: see Exit in commands.hpp.
+// keel — one command for the reproduction machinery (list, diff, bless, report, eta, prose-check, same) and
+// for running keel on a researcher's own files (check, solve, marginals, pcm, split); one file per subcommand
+// (commands.hpp). docs/USING.md has a worked example of each. Exit codes: see Exit in commands.hpp.
 import keel.core;
 import keel.datasets;
 import keel.graph;
@@ -54,8 +54,10 @@ int main(int argc, char** argv) {
       "Each command has --help. Exit codes: 0 done; 1 the work ran and the answer is no (a solver failed, "
       "results differ or leave their tolerance); 2 bad command line or experiment config; 3 an input file "
       "that cannot be read or parsed, or values the engine refuses. Worked examples: docs/USING.md.");
-  add_repro_commands(app);
-  add_tool_commands(app);
+  for (auto add : {add_list_command, add_diff_command, add_bless_command, add_report_command, add_eta_command,
+                   add_prose_check_command, add_same_command, add_check_command, add_solve_command,
+                   add_marginals_command, add_pcm_command, add_split_command})
+    add(app);
   const char* command = argc > 1 ? argv[1] : "keel";
   try {
     app.parse(argc, argv);

@@ -6,8 +6,7 @@
 
 #include "bindings.hpp"
 #include "candidates.hpp"
-#include "app/files.hpp"
-#include "merge/merge.hpp"
+#include "app/pcm.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
@@ -22,16 +21,6 @@ struct PcmSelection {
   pcm::CliqueResult search;
   double time_s = 0.0;
 };
-
-template <class G, class Graph, class Edge>
-pcm::ConsistencyMatrix consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges,
-                                   const pcm::ConsistencyOptions& options) {
-  const auto candidates = app::inter_robot_candidates(a, b, edges);
-  const auto la = merge::solve_local(a);
-  const auto lb = merge::solve_local(b);
-  const auto maps = merge::local_maps(la, lb, candidates);
-  return pcm::consistency_matrix(maps.a, maps.b, candidates, options);
-}
 
 pcm::ConsistencyMatrix q_from_array(const py::object& in, int dof) {
   const Array a = Array::ensure(in);
@@ -95,7 +84,7 @@ void bind_pcm(py::module_& m) {
       "consistency_matrix",
       [](const py::object& ga, const py::object& gb, const Candidates& c, const std::string& composition,
          unsigned threads) {
-        pcm::ConsistencyOptions o;
+        app::PcmOptions o;  // of which app::consistency uses local, composition and threads
         o.composition = pcm::composition_from_string(composition);
         o.threads = threads;
         pcm::ConsistencyMatrix Q;
@@ -104,13 +93,13 @@ void bind_pcm(py::module_& m) {
           const auto& a = ga.cast<const graph::PoseGraph2D&>();
           const auto& b = gb.cast<const graph::PoseGraph2D&>();
           py::gil_scoped_release release;
-          Q = consistency<lie::SE2>(a, b, std::get<0>(c.edges), o);
+          Q = app::consistency(a, b, std::get<0>(c.edges), o).q;
         } else if (py::isinstance<graph::PoseGraph3D>(ga) && py::isinstance<graph::PoseGraph3D>(gb) &&
                    c.dim() == 3) {
           const auto& a = ga.cast<const graph::PoseGraph3D&>();
           const auto& b = gb.cast<const graph::PoseGraph3D&>();
           py::gil_scoped_release release;
-          Q = consistency<lie::SE3>(a, b, std::get<1>(c.edges), o);
+          Q = app::consistency(a, b, std::get<1>(c.edges), o).q;
         } else {
           throw py::type_error(
               "consistency_matrix: graph_a, graph_b and candidates must all be 2D (Graph2D) or all 3D "

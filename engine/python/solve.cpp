@@ -1,16 +1,14 @@
 // keel Python module — batch solve (keel::pgo) and joint marginal covariances (keel::cov).
 #include <fmt/format.h>
 
-#include <chrono>
 #include <optional>
 #include <variant>
 
-#include "app/files.hpp"
+#include "app/marginals.hpp"
+#include "app/solve.hpp"
 #include "bindings.hpp"
-#include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
 #include "pgo/optimize.hpp"
-#include "pgo/options.hpp"
 
 namespace keel::python {
 
@@ -28,41 +26,41 @@ struct SolveResult {
   double solve_time_s = 0.0;
 };
 
-// The options of `keel solve` (app::solve_options); an array as `init` is a supplied initial guess.
-pgo::Options solve_options(const py::object& init, const std::string& robust, double robust_param,
-                           std::uint64_t seed, unsigned threads, int max_iterations) {
-  const std::string text = py::isinstance<py::str>(init) ? init.cast<std::string>() : "supplied";
-  return app::solve_options(text, robust, robust_param, seed, threads, max_iterations);
+// The options of `keel solve` (app::SolveOptions); an array as `init` is a supplied initial guess.
+app::SolveOptions solve_options(const py::object& init, const std::string& robust, double robust_param,
+                                std::uint64_t seed, unsigned threads, int max_iterations) {
+  app::SolveOptions o;
+  o.init = py::isinstance<py::str>(init) ? init.cast<std::string>() : "supplied";
+  o.robust = robust;
+  o.robust_parameter = robust_param;
+  o.seed = seed;
+  o.threads = threads;
+  o.max_iterations = max_iterations;
+  (void)o.pgo_options();  // invalid names and values raise ValueError before any work
+  return o;
 }
 
-template <class Result>
-Array edge_field(const Result& r, double pgo::EdgeReport::* field) {
-  Array out(static_cast<py::ssize_t>(r.edges.size()));
+Array edge_field(const std::vector<pgo::EdgeReport>& edges, double pgo::EdgeReport::* field) {
+  Array out(static_cast<py::ssize_t>(edges.size()));
   auto w = out.mutable_unchecked<1>();
-  for (std::size_t k = 0; k < r.edges.size(); ++k) w(k) = r.edges[k].*field;
+  for (std::size_t k = 0; k < edges.size(); ++k) w(k) = edges[k].*field;
   return out;
 }
 
 template <class Graph, class Estimate>
-SolveResult solve_graph(const Graph& g, const pgo::Options& o, const std::optional<Estimate>& supplied) {
-  decltype(pgo::optimize(g, o)) r;
-  double wall = 0.0;
+SolveResult solve_graph(const Graph& g, const app::SolveOptions& o, const std::optional<Estimate>& supplied) {
+  std::optional<app::Solution<Graph>> r;
   {
     py::gil_scoped_release release;
-    const auto t0 = std::chrono::steady_clock::now();
-    r = pgo::optimize(g, o, supplied ? &*supplied : nullptr);
-    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r = app::solve(g, o, supplied ? &*supplied : nullptr);
   }
-  Graph copy = g;
-  copy.poses = r.estimate.poses;
-  if constexpr (std::is_same_v<Graph, PoseGraph2D>) copy.landmarks = r.estimate.landmarks;
   SolveResult out;
-  out.poses = poses_to_array(copy.poses);
-  out.graph = py::cast(std::move(copy));
-  out.summary = r.summary;
-  out.edge_chi2 = edge_field(r, &pgo::EdgeReport::chi2);
-  out.edge_weights = edge_field(r, &pgo::EdgeReport::weight);
-  out.solve_time_s = wall;
+  out.poses = poses_to_array(r->graph.poses);
+  out.summary = r->summary;
+  out.edge_chi2 = edge_field(r->edges, &pgo::EdgeReport::chi2);
+  out.edge_weights = edge_field(r->edges, &pgo::EdgeReport::weight);
+  out.solve_time_s = r->solve_time_s;
+  out.graph = py::cast(std::move(r->graph));
   return out;
 }
 
@@ -77,48 +75,41 @@ cov::CovarianceOptions covariance_options(const std::string& ordering, const std
   return o;
 }
 
+// The graph (2D or 3D) at `poses` (default: the graph's own estimate), factorized (app::factorize).
 std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, const py::object& poses,
                                                         const cov::CovarianceOptions& options) {
   if (py::isinstance<PoseGraph2D>(g)) {
     const auto& graph = g.cast<const PoseGraph2D&>();
-    std::optional<std::vector<lie::SE2>> at;
-    if (!poses.is_none()) at = poses2_from_array(poses, "marginals (poses)");
+    pgo::Estimate2D at{poses.is_none() ? graph.poses : poses2_from_array(poses, "marginals (poses)"),
+                       graph.landmarks};
     py::gil_scoped_release release;
-    return std::make_unique<cov::MarginalCovariance>(
-        cov::information_matrix(graph, at ? *at : graph.poses, graph.landmarks), options);
+    return std::make_unique<cov::MarginalCovariance>(app::factorize(graph, at, options));
   }
   if (py::isinstance<PoseGraph3D>(g)) {
     const auto& graph = g.cast<const PoseGraph3D&>();
-    std::optional<std::vector<lie::SE3>> at;
-    if (!poses.is_none()) at = poses3_from_array(poses, "marginals (poses)");
+    pgo::Estimate3D at{poses.is_none() ? graph.poses : poses3_from_array(poses, "marginals (poses)")};
     py::gil_scoped_release release;
-    return std::make_unique<cov::MarginalCovariance>(cov::information_matrix(graph, at ? *at : graph.poses),
-                                                     options);
+    return std::make_unique<cov::MarginalCovariance>(app::factorize(graph, at, options));
   }
   throw py::type_error("marginals: graph must be a keel.Graph2D or keel.Graph3D");
 }
 
-bool is_2d(const cov::MarginalCovariance& mc) { return mc.num_poses() == 0 || mc.variable_dim(0) == 3; }
+// (m, 6, 6) for 2D, (m, 12, 12) for 3D, handed to numpy without a copy (matrices_as_array).
+template <class Query>
+py::array pairs_as_array(const Query& query) {
+  decltype(query()) out;
+  {
+    py::gil_scoped_release release;
+    out = query();
+  }
+  return matrices_as_array(std::move(out));
+}
 
 py::array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj, unsigned threads) {
   const auto pairs = pairs_from_object(pairs_obj, "marginals");
-  if (is_2d(mc)) {
-    std::vector<lie::Mat6> out;
-    {
-      py::gil_scoped_release release;
-      out = cov::pair_marginals_2d(mc, pairs, threads);
-    }
-    return matrices_as_array(std::move(out));  // no copy of the (m, 6, 6) result
-  }
-  std::vector<std::vector<int>> queries;
-  queries.reserve(pairs.size());
-  for (const auto& [i, j] : pairs) queries.push_back({i, j});
-  std::vector<lie::MatX> out;
-  {
-    py::gil_scoped_release release;
-    out = mc.joint_many(queries, threads);
-  }
-  return matrices_to_array(out, 12, 12);
+  if (mc.num_poses() > 0 && mc.variable_dim(0) == 6)
+    return pairs_as_array([&] { return cov::pair_marginals_3d(mc, pairs, threads); });
+  return pairs_as_array([&] { return cov::pair_marginals_2d(mc, pairs, threads); });
 }
 
 Array ids_query(const cov::MarginalCovariance& mc, const std::vector<int>& ids) {
@@ -154,7 +145,7 @@ ordering, supernodal, forward extraction).
 
 Exactly one of:
   pairs  (m, 2) ints or a list of (i, j): 2D -> (m, 6, 6) joint covariances [S_ii S_ij; S_ji S_jj]
-         (cov::pair_marginals_2d); 3D -> (m, 12, 12) (MarginalCovariance::joint_many). `threads` spreads the
+         (cov::pair_marginals_2d); 3D -> (m, 12, 12) (cov::pair_marginals_3d). `threads` spreads the
          work; the result does not depend on it.
   ids    a list of pose ids (repeats allowed): the (d k, d k) joint covariance, blocks in the order given.
 An id out of range raises IndexError; a graph that is not connected to pose 0 raises RuntimeError naming the
@@ -228,7 +219,7 @@ convention: cost = 1/2 sum rho(chi2_e), chi2_e = r_e^T Omega_e r_e.)doc")
       "solve",
       [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
          std::uint64_t seed, unsigned threads, int max_iterations) {
-        const pgo::Options o = solve_options(init, robust, robust_param, seed, threads, max_iterations);
+        const app::SolveOptions o = solve_options(init, robust, robust_param, seed, threads, max_iterations);
         const bool supplied = !py::isinstance<py::str>(init);
         if (py::isinstance<PoseGraph2D>(g)) {
           std::optional<pgo::Estimate2D> est;

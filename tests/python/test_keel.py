@@ -1,6 +1,6 @@
 """Tests of the Python module keel (engine/python), run by CTest as `python.bindings`:
 
-    PYTHONPATH=build/release/python KEEL_REFERENCE=build/release/engine/python/keel_python_reference \
+    PYTHONPATH=build/release/python KEEL_REFERENCE=build/release/tests/python/keel_python_reference \
         /usr/bin/python3 -m unittest -v test_keel        (from tests/python)
 
 * group operations against numpy matrix algebra (SE2, SE3);

@@ -3,13 +3,14 @@
 // that the bindings agree bit for bit. Not installed.
 //
 //   keel_python_reference solve <graph> [i j]...
-//       read the graph (2D or 3D by its first record, as keel.read_graph), solve it with pgo's defaults and
-//       initial_guess = odometry (keel.solve's defaults), then the joint marginals of the pairs (i, j) at the
-//       solution (gauge pose 0, default CovarianceOptions, one thread).
+//       read the graph (2D or 3D by its first record, as keel.read_graph), solve it with app::solve's
+//       defaults (keel.solve's defaults), then app::marginals of the pairs (i, j) at the solution (gauge pose
+//       0, default CovarianceOptions, one thread).
 //       -> {"dim", "poses": [[...]], "cost", "normalized_chi2", "iterations", "termination",
 //           "marginals": [[row-major 6x6 or 12x12]...]}
 //   keel_python_reference consistency <graph_a> <graph_b> <candidates.g2o>
-//       -> {"q": [[...]]} with composition joint, one thread (keel.consistency_matrix's defaults)
+//       -> {"q": [[...]]}: app::consistency with composition joint, one thread (keel.consistency_matrix's
+//       defaults)
 #include <fmt/format.h>
 
 #include <cmath>
@@ -19,11 +20,10 @@
 #include <vector>
 
 #include "app/files.hpp"
-#include "cov/information.hpp"
-#include "cov/marginal_covariance.hpp"
-#include "merge/merge.hpp"
+#include "app/marginals.hpp"
+#include "app/pcm.hpp"
+#include "app/solve.hpp"
 #include "graph/build.hpp"
-#include "app/files.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
 #include "graph/text_records.hpp"
@@ -60,33 +60,23 @@ std::string row(const lie::SE3& T) {
                      num(q[2]), num(q[3]));
 }
 
-bool is_3d(const std::string& file) { return app::graph_dimension(file) == 3; }
-
 template <class Graph>
 void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pairs) {
-  pgo::Options o;
-  o.initial_guess = pgo::InitialGuess::odometry;
-  const auto r = pgo::optimize(g, o);
+  const auto r = app::solve(g);
   std::string poses;
-  for (const auto& T : r.estimate.poses) poses += (poses.empty() ? "" : ",\n  ") + row(T);
+  for (const auto& T : r.graph.poses) poses += (poses.empty() ? "" : ",\n  ") + row(T);
   std::string marginals;
   if (!pairs.empty()) {
-    cov::SparseInformation H;
-    if constexpr (std::is_same_v<Graph, graph::PoseGraph2D>) {
-      H = cov::information_matrix(g, r.estimate.poses, g.landmarks);
-    } else {
-      H = cov::information_matrix(g, r.estimate.poses);
-    }
-    const cov::MarginalCovariance mc(H);
-    if constexpr (std::is_same_v<Graph, graph::PoseGraph2D>) {
-      for (const auto& m : cov::pair_marginals_2d(mc, pairs, 1))
-        marginals += (marginals.empty() ? "" : ",\n  ") + flat(m);
-    } else {
-      std::vector<std::vector<int>> queries;
-      for (const auto& [i, j] : pairs) queries.push_back({i, j});
-      for (const auto& m : mc.joint_many(queries, 1))
-        marginals += (marginals.empty() ? "" : ",\n  ") + flat(m);
-    }
+    app::MarginalsRequest request;
+    request.pairs = pairs;
+    const auto m = [&] {
+      if constexpr (std::is_same_v<Graph, graph::PoseGraph2D>) {
+        return app::marginals(g, pgo::Estimate2D{r.graph.poses, r.graph.landmarks}, request);
+      } else {
+        return app::marginals(g, pgo::Estimate3D{r.graph.poses}, request);
+      }
+    }();
+    for (const auto& block : m.pairs) marginals += (marginals.empty() ? "" : ",\n  ") + flat(block);
   }
   fmt::print(
       "{{\"dim\": {}, \"cost\": {}, \"normalized_chi2\": {}, \"iterations\": {}, \"termination\": \"{}\",\n"
@@ -95,13 +85,9 @@ void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pair
       pgo::to_string(r.summary.termination), poses, marginals);
 }
 
-template <class G, class Graph, class Edge>
+template <class Graph, class Edge>
 void consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges) {
-  const auto candidates = app::inter_robot_candidates(a, b, edges);
-  const auto la = merge::solve_local(a);
-  const auto lb = merge::solve_local(b);
-  const auto maps = merge::local_maps(la, lb, candidates);
-  const pcm::ConsistencyMatrix Q = pcm::consistency_matrix(maps.a, maps.b, candidates);
+  const pcm::ConsistencyMatrix Q = app::consistency(a, b, edges).q;
   std::string rows;
   for (int u = 0; u < Q.n; ++u) {
     std::string r;
@@ -120,7 +106,7 @@ int main(int argc, char** argv) {
       std::vector<std::pair<int, int>> pairs;
       for (std::size_t k = 2; k + 1 < args.size(); k += 2)
         pairs.emplace_back(std::stoi(args[k]), std::stoi(args[k + 1]));
-      if (is_3d(args[1])) {
+      if (app::graph_dimension(args[1]) == 3) {
         solve(graph::read_pose_graph_3d(args[1]), 3, pairs);
       } else {
         solve(graph::read_pose_graph_2d(args[1]), 2, pairs);
@@ -128,12 +114,12 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (args.size() == 4 && args[0] == "consistency") {
-      if (is_3d(args[1])) {
-        consistency<lie::SE3>(graph::read_pose_graph_3d(args[1]), graph::read_pose_graph_3d(args[2]),
-                              graph::read_g2o_edges_3d(args[3]));
+      if (app::graph_dimension(args[1]) == 3) {
+        consistency(graph::read_pose_graph_3d(args[1]), graph::read_pose_graph_3d(args[2]),
+                    graph::read_g2o_edges_3d(args[3]));
       } else {
-        consistency<lie::SE2>(graph::read_pose_graph_2d(args[1]), graph::read_pose_graph_2d(args[2]),
-                              graph::read_g2o_edges_2d(args[3]));
+        consistency(graph::read_pose_graph_2d(args[1]), graph::read_pose_graph_2d(args[2]),
+                    graph::read_g2o_edges_2d(args[3]));
       }
       return 0;
     }

@@ -1,0 +1,58 @@
+#include "app/solve.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "app/files.hpp"
+#include "core/timing.hpp"
+#include "graph/io.hpp"
+
+namespace keel::app {
+
+namespace {
+
+template <class Graph, class Estimate>
+Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Estimate* initial) {
+  const pgo::Options o = options.pgo_options();
+  const auto t0 = core::Clock::now();
+  auto r = pgo::optimize(g, o, initial);
+  Solution<Graph> out;
+  out.solve_time_s = core::seconds_since(t0);
+  out.graph = g;
+  out.graph.poses = std::move(r.estimate.poses);
+  if constexpr (requires { out.graph.landmarks; }) out.graph.landmarks = std::move(r.estimate.landmarks);
+  out.summary = std::move(r.summary);
+  out.edges = std::move(r.edges);
+  return out;
+}
+
+}  // namespace
+
+AnyGraph read_graph(const std::filesystem::path& file) {
+  if (graph_dimension(file) == 3) return graph::read_pose_graph_3d(file);
+  return graph::read_pose_graph_2d(file);
+}
+
+pgo::Options SolveOptions::pgo_options() const {
+  std::string guess = init;
+  std::replace(guess.begin(), guess.end(), '-', '_');
+  pgo::Options o;
+  o.initial_guess = pgo::initial_guess_from_string(guess);
+  o.robust_kernel = pgo::robust_kernel_from_string(robust);
+  o.robust_parameter = robust_parameter;
+  o.seed = seed;
+  o.threads = threads;
+  o.max_iterations = max_iterations;
+  o.validate();
+  return o;
+}
+
+Solution2 solve(const graph::PoseGraph2D& g, const SolveOptions& options, const pgo::Estimate2D* initial) {
+  return solve_impl(g, options, initial);
+}
+
+Solution3 solve(const graph::PoseGraph3D& g, const SolveOptions& options, const pgo::Estimate3D* initial) {
+  return solve_impl(g, options, initial);
+}
+
+}  // namespace keel::app

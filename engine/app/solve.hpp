@@ -1,0 +1,56 @@
+// keel::app — the batch maximum-likelihood solve of a user's pose graph (thesis eq. 2.1; keel.pgo, Ceres),
+// shared by `keel solve`, `keel marginals` and Python's keel.solve, so that the same inputs give
+// bit-identical results everywhere.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "graph/pose_graph.hpp"
+#include "pgo/optimize.hpp"
+#include "pgo/options.hpp"
+
+namespace keel::app {
+
+/// A graph file read by content: 2D or 3D (graph_dimension), g2o or iSAM.
+using AnyGraph = std::variant<graph::PoseGraph2D, graph::PoseGraph3D>;
+/// Reads a pose-graph file as the dimension of its first record says. Throws graph::ParseError naming file,
+/// line and field.
+[[nodiscard]] AnyGraph read_graph(const std::filesystem::path& file);
+
+/// The options of `keel solve` and Python's keel.solve: pgo's defaults with only these fields set.
+struct SolveOptions {
+  std::string init =
+      "odometry";               // a pgo::InitialGuess name ('-' may stand for '_': "as-read"), or "supplied"
+  std::string robust = "none";  // a pgo::RobustKernel name, on the loop closures
+  double robust_parameter = 5.0;  // Huber/Cauchy a or DCS φ (> 0)
+  std::uint64_t seed = 0;         // of init = "random"
+  unsigned threads = 1;           // Ceres threads (the last bits of a result depend on it); 0 = all cores
+  int max_iterations = 100;       // trust-region iterations (≥ 0)
+  /// pgo::Options with these fields set. Throws std::invalid_argument for an unknown name or an invalid
+  /// value.
+  [[nodiscard]] pgo::Options pgo_options() const;
+};
+
+template <class Graph>
+struct Solution {
+  Graph graph;                         // the input with the solution as its estimate (poses; 2D: landmarks)
+  pgo::Summary summary;                // the solver's summary (termination, costs, iterations, times)
+  std::vector<pgo::EdgeReport> edges;  // per edge: χ² and kernel weight at the solution
+  double solve_time_s = 0.0;           // wall time of pgo::optimize (initial estimate, set-up, solve)
+};
+using Solution2 = Solution<graph::PoseGraph2D>;
+using Solution3 = Solution<graph::PoseGraph3D>;
+
+/// Solves the graph from the initial guess of `options` (or `initial`, with init = "supplied"), pose 0 held
+/// constant. A solver failure is reported in summary.termination, not thrown; invalid options and graphs
+/// throw std::invalid_argument.
+[[nodiscard]] Solution2 solve(const graph::PoseGraph2D& g, const SolveOptions& options = {},
+                              const pgo::Estimate2D* initial = nullptr);
+[[nodiscard]] Solution3 solve(const graph::PoseGraph3D& g, const SolveOptions& options = {},
+                              const pgo::Estimate3D* initial = nullptr);
+
+}  // namespace keel::app

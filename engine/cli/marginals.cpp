@@ -1,0 +1,229 @@
+// keel marginals FILE — joint Lie-algebra marginal covariances at the solution (app::marginals: thesis ch. 5,
+// eq. 5.28 from a MAP solution; gauge pose 0 fixed).
+// <variant> before the imports: included after them, clang-19 rejects its hash helpers as a redefinition
+// (docs/DESIGN.md, toolchain notes).
+#include <variant>
+
+import keel.core;
+import keel.lie;
+import keel.graph;
+import keel.pgo;
+import keel.app;
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "tool_common.hpp"
+
+namespace keel::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct MarginalsArgs {
+  SolveArgs solve;
+  std::string pairs, poses;
+};
+
+// "i:j,k:l" or a file of "i j" lines.
+std::vector<std::pair<int, int>> parse_pairs(const std::string& spec) {
+  std::vector<std::pair<int, int>> out;
+  if (fs::exists(spec)) {
+    std::ifstream in(spec);
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+      ++number;
+      const auto hash = line.find('#');
+      if (hash != std::string::npos) line.erase(hash);
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      int i = 0, j = 0;
+      char extra = 0;
+      if (std::sscanf(line.c_str(), "%d %d %c", &i, &j, &extra) != 2 || i < 0 || j < 0) {
+        throw std::invalid_argument(
+            fmt::format("{}:{}: expected two non-negative pose ids 'i j', got '{}'", spec, number, line));
+      }
+      out.emplace_back(i, j);
+    }
+    if (out.empty()) throw std::invalid_argument(fmt::format("{}: no pair", spec));
+    return out;
+  }
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    const auto end = std::min(spec.find(',', start), spec.size());
+    const std::string item = spec.substr(start, end - start);
+    int i = 0, j = 0;
+    char extra = 0;
+    if (std::sscanf(item.c_str(), "%d:%d%c", &i, &j, &extra) != 2 || i < 0 || j < 0) {
+      throw std::invalid_argument(fmt::format(
+          "--pairs: '{}' is not a pair 'i:j' of pose ids (give 'i:j,k:l' or a file of 'i j' lines)", item));
+    }
+    out.emplace_back(i, j);
+    start = end + 1;
+  }
+  return out;
+}
+
+// "0,5,9" with ranges "10-20" (inclusive).
+std::vector<int> parse_ids(const std::string& spec) {
+  std::vector<int> out;
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    const auto end = std::min(spec.find(',', start), spec.size());
+    const std::string item = spec.substr(start, end - start);
+    int a = 0, b = 0;
+    char extra = 0;
+    const int n = std::sscanf(item.c_str(), "%d-%d%c", &a, &b, &extra);
+    if (n == 1 && a >= 0) {
+      out.push_back(a);
+    } else if (n == 2 && a >= 0 && b >= a) {
+      for (int k = a; k <= b; ++k) out.push_back(k);
+    } else {
+      throw std::invalid_argument(
+          fmt::format("--poses: '{}' is not a pose id or a range 'a-b' (give e.g. '0,5,10-20')", item));
+    }
+    start = end + 1;
+  }
+  return out;
+}
+
+template <class Graph>
+void check_pose_ids(const Graph& g, const std::vector<int>& ids, const char* what) {
+  for (int id : ids) {
+    if (id >= static_cast<int>(g.poses.size())) {
+      throw std::invalid_argument(fmt::format("{}: pose {} is not in the graph (it has {} poses: 0 … {})",
+                                              what, id, g.poses.size(), g.poses.size() - 1));
+    }
+  }
+}
+
+template <class Graph>
+void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage) {
+  const auto& sa = a.solve;
+  const bool planar = std::is_same_v<Graph, graph::PoseGraph2D>;
+  app::MarginalsRequest request;
+  request.threads = sa.options.threads;
+  if (!a.pairs.empty()) {
+    request.pairs = parse_pairs(a.pairs);
+    std::vector<int> flat;
+    for (auto [i, j] : request.pairs) {
+      flat.push_back(i);
+      flat.push_back(j);
+    }
+    check_pose_ids(g, flat, "--pairs");
+  } else {
+    request.ids = parse_ids(a.poses);
+    check_pose_ids(g, request.ids, "--poses");
+  }
+  stage(
+      fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), sa.options.init));
+  const auto solved = app::solve(g, sa.options);
+  check_solved(solved.summary);
+  const auto m = [&] {
+    if constexpr (planar) {
+      return app::marginals(g, pgo::Estimate2D{solved.graph.poses, solved.graph.landmarks}, request,
+                            stage.progress());
+    } else {
+      return app::marginals(g, pgo::Estimate3D{solved.graph.poses}, request, stage.progress());
+    }
+  }();
+  json out = {{"file", sa.file},
+              {"dimension", m.dimension},
+              {"gauge", "pose 0 fixed"},
+              {"perturbation", planar ? "left, T = exp(ξ^) T̄, ξ = (ρx, ρy, θ)"
+                                      : "left, T = exp(ξ^) T̄, ξ = (ρ, φ) (translation part first)"},
+              {"solve", summary_json(solved.summary)}};
+  if (!request.pairs.empty()) {
+    json list = json::array();
+    for (std::size_t k = 0; k < request.pairs.size(); ++k) {
+      list.push_back({{"i", request.pairs[k].first},
+                      {"j", request.pairs[k].second},
+                      {"covariance", matrix_json(m.pairs[k])}});
+    }
+    out["pairs"] = list;
+  } else {
+    out["poses"] = request.ids;
+    out["covariance"] = matrix_json(m.joint);
+  }
+  out["factorization_time_s"] = m.factor.analyze_time_s + m.factor.factorize_time_s;
+  out["extraction_time_s"] = m.extraction_time_s;
+  if (!sa.out.empty()) {
+    write_json(sa.out, out);
+    stage(fmt::format("wrote {}", sa.out));
+  }
+  if (sa.common.json) {
+    if (sa.out.empty())
+      fmt::print("{}\n", out.dump());
+    else
+      fmt::print("{}\n", json{{"out", sa.out}, {"solve", out["solve"]}}.dump(1));
+    return;
+  }
+  const auto& pairs = request.pairs;
+  const auto& ids = request.ids;
+  print_solve_summary(sa.file, solved.summary, g.poses.size());
+  fmt::print(
+      "marginals    {} ({}), gauge pose 0 fixed, left perturbation; factorization {:.3f} s, extraction "
+      "{:.3f} s\n",
+      pairs.empty() ? fmt::format("joint of {} poses", ids.size())
+                    : fmt::format("{} pair{}", pairs.size(), pairs.size() == 1 ? "" : "s"),
+      planar ? "ξ = (ρx, ρy, θ)" : "ξ = (ρ, φ)", out["factorization_time_s"].get<double>(),
+      m.extraction_time_s);
+  // The first block on screen; all of them in --out.
+  const json& first = pairs.empty() ? out["covariance"] : out["pairs"][0]["covariance"];
+  fmt::print("{}\n", pairs.empty()
+                         ? fmt::format("covariance of poses {}:", a.poses)
+                         : fmt::format("covariance of pair {}:{} (Σ_ii Σ_ij; Σ_ji Σ_jj):", pairs[0].first,
+                                       pairs[0].second));
+  const std::size_t shown = std::min<std::size_t>(first.size(), 12);
+  for (std::size_t r0 = 0; r0 < shown; ++r0) {
+    std::string line = " ";
+    for (std::size_t c = 0; c < std::min<std::size_t>(first[r0].size(), 12); ++c) {
+      line += fmt::format(" {:>11.4e}", first[r0][c].get<double>());
+    }
+    fmt::print("{}\n", line);
+  }
+  if (sa.out.empty())
+    fmt::print("(write every block with --out FILE.json)\n");
+  else
+    fmt::print("written      {}\n", sa.out);
+}
+
+void run_marginals(const MarginalsArgs& a) {
+  if (a.pairs.empty() == a.poses.empty()) {
+    throw CLI::ValidationError("marginals", "give exactly one of --pairs and --poses");
+  }
+  const Stages stage("marginals", a.solve.common.quiet);
+  stage(fmt::format("reading {}", a.solve.file));
+  std::visit([&](const auto& g) { marginals_file(a, g, stage); }, app::read_graph(a.solve.file));
+}
+
+}  // namespace
+
+void add_marginals_command(CLI::App& app) {
+  auto a = std::make_shared<MarginalsArgs>();
+  auto* c = app.add_subcommand(
+      "marginals",
+      "joint Lie-algebra marginal covariances at the solution (thesis ch. 5; gauge: pose 0 fixed)");
+  c->group("Your data");
+  c->add_option("file", a->solve.file, "the graph file")->required();
+  c->add_option("--pairs", a->pairs,
+                "pose pairs 'i:j,k:l' or a file of 'i j' lines: one 2d×2d joint per pair");
+  c->add_option("--poses", a->poses, "pose ids '0,5,10-20': their joint covariance");
+  c->add_option("--out", a->solve.out, "write every covariance to this JSON file");
+  add_solve_options(c, a->solve);
+  add_common(c, a->solve.common);
+  c->callback([a] { run_marginals(*a); });
+}
+
+}  // namespace keel::cli

@@ -1,0 +1,92 @@
+// keel solve FILE — batch maximum-likelihood solve of a pose graph (app::solve: keel.pgo, Ceres).
+// <variant> before the imports: included after them, clang-19 rejects its hash helpers as a redefinition
+// (docs/DESIGN.md, toolchain notes).
+#include <variant>
+
+import keel.core;
+import keel.graph;
+import keel.pgo;
+import keel.app;
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+
+#include "tool_common.hpp"
+
+namespace keel::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes the graph with the solution as its initial estimate: the format of --out's extension (.g2o or .txt),
+// otherwise the input's.
+template <class Graph>
+void write_solution(Graph g, const fs::path& out, const fs::path& input) {
+  const auto ext = out.extension();
+  if (ext != ".g2o" && ext != ".txt") {
+    const auto text = [&] {
+      std::ifstream in(input);
+      return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }();
+    const auto format = graph::detect_graph_format(text, input).value_or(graph::GraphFormat::g2o);
+    if (format == graph::GraphFormat::g2o) {
+      graph::write_g2o(g, out);
+    } else {
+      graph::write_isam(g, out);
+    }
+    return;
+  }
+  graph::write_pose_graph(g, out);
+}
+
+template <class Graph>
+void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
+  stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), a.options.init));
+  const auto s = app::solve(g, a.options);
+  check_solved(s.summary);
+  if (!a.out.empty()) {
+    write_solution(s.graph, a.out, a.file);
+    stage(fmt::format("wrote {}", a.out));
+  }
+  if (a.common.json) {
+    json j = {{"file", a.file},
+              {"poses", g.poses.size()},
+              {"edges", g.edges.size()},
+              {"summary", summary_json(s.summary)}};
+    if (!a.out.empty()) j["out"] = a.out;
+    fmt::print("{}\n", j.dump(1));
+  } else {
+    print_solve_summary(a.file, s.summary, g.poses.size());
+    if (!a.out.empty()) fmt::print("written      {}\n", a.out);
+  }
+}
+
+void run_solve(const SolveArgs& a) {
+  const Stages stage("solve", a.common.quiet);
+  stage(fmt::format("reading {}", a.file));
+  std::visit([&](const auto& g) { solve_file(a, g, stage); }, app::read_graph(a.file));
+}
+
+}  // namespace
+
+void add_solve_command(CLI::App& app) {
+  auto a = std::make_shared<SolveArgs>();
+  auto* c = app.add_subcommand("solve", "batch maximum-likelihood solve of a pose graph (Ceres)");
+  c->group("Your data");
+  c->add_option("file", a->file, "the graph file")->required();
+  c->add_option("--out", a->out,
+                "write the graph with the solution as its estimate (.g2o or .txt picks the format; other "
+                "names get the input's format)");
+  add_solve_options(c, *a);
+  add_common(c, a->common);
+  c->callback([a] { run_solve(*a); });
+}
+
+}  // namespace keel::cli

@@ -5,9 +5,10 @@
 // subproblems in degeneracy order on one bitset graph renumbered once (San Segundo et al.'s BBMC), greedy
 // colouring bounds that colour only the classes never branched on (Tomita et al.'s MCS, BBMCR), and a
 // branching set shrunk by Re-NUMBER and by MaxSAT unit propagation over the colour classes (Li & Quan 2010;
-// Li, Jiang & Manyà 2017). clique.cpp cites each step. With a node or time limit it returns the best clique,
-// a proven upper bound from colouring the unfinished subproblems, and the status. Everything is
-// deterministic: vertex orders break ties by vertex id.
+// Li, Jiang & Manyà 2017). clique_exact.cpp cites each step (the graph: consistency_graph.hpp; the heuristic:
+// clique_heuristic.cpp; the Bron–Kerbosch reference: clique_reference.cpp). With a node or time limit it
+// returns the best clique, a proven upper bound from colouring the unfinished subproblems, and the status.
+// Everything is deterministic: vertex orders break ties by vertex id.
 #pragma once
 
 #include <tuple>
@@ -18,50 +19,9 @@
 #include <vector>
 
 #include "core/bound.hpp"
+#include "pcm/consistency_graph.hpp"
 
 namespace keel::pcm {
-
-// Undirected simple graph on vertices 0..n-1 with dense bitset adjacency (one row of ceil(n/64) words per
-// vertex).
-class ConsistencyGraph {
- public:
-  ConsistencyGraph() = default;
-  explicit ConsistencyGraph(int n);  // n >= 0, no edges
-  // Edge list; duplicates are allowed (idempotent), self loops and out-of-range ids throw
-  // std::invalid_argument.
-  ConsistencyGraph(int n, const std::vector<std::pair<int, int>>& edges);
-
-  // From a symmetric boolean adjacency matrix (n rows of n entries). The diagonal is ignored (a measurement
-  // is always consistent with itself); a non-square or asymmetric matrix throws std::invalid_argument naming
-  // the entry.
-  static ConsistencyGraph from_matrix(const std::vector<std::vector<bool>>& adjacency);
-
-  // Consistency graph of §2.5 from the n x n matrix Q of consistency measures (row-major): edge {u, v} iff
-  // q_uv <= gamma and q_vu <= gamma. The diagonal is ignored; NaN entries or a wrong size throw.
-  static ConsistencyGraph from_threshold(int n, const std::vector<double>& q, double gamma);
-
-  void add_edge(int u, int v);        // idempotent; throws on self loop / out of range
-  bool adjacent(int u, int v) const;  // throws on out of range; adjacent(v, v) == false
-  int degree(int v) const;
-  int size() const { return n_; }
-  long long num_edges() const { return edges_; }
-  int words() const { return words_; }  // words per adjacency row
-  const std::uint64_t* row(int v) const { return adj_.data() + static_cast<std::size_t>(v) * words_; }
-  std::vector<int> neighbors(int v) const;  // ascending
-
-  // True iff `vertices` are distinct, in range and pairwise adjacent (the empty set is a clique).
-  bool is_clique(const std::vector<int>& vertices) const;
-
- private:
-  void check_vertex(int v, const char* what) const;
-  int n_ = 0;
-  int words_ = 0;
-  long long edges_ = 0;
-  std::vector<std::uint64_t> adj_;
-};
-
-// Core number of every vertex (Batagelj–Zaversnik, O(n + m)); a clique of size k lies in the (k-1)-core.
-std::vector<int> core_numbers(const ConsistencyGraph& g);
 
 enum class CliqueAlgorithm { exact, heuristic, brute_force };
 std::string_view to_string(CliqueAlgorithm a);
@@ -78,8 +38,8 @@ struct CliqueOptions {
   int max_ties = 16;          // cap on ties.size()
   double time_limit_s = 0.0;  // exact only; <= 0: none
   long long node_limit = 0;   // exact only; <= 0: none (nodes = branch-and-bound calls)
-  // Exact only: the bounds that shrink the branching set beyond greedy colouring (clique.cpp, class Search).
-  // Both are on by default; they change the node count and time, never the size found.
+  // Exact only: the bounds that shrink the branching set beyond greedy colouring (clique_exact.cpp, class
+  // Search). Both are on by default; they change the node count and time, never the size found.
   bool recolour = true;      // insertion and Re-NUMBER into the classes that are not branched on
   bool maxsat_bound = true;  // unit propagation on the MaxSAT encoding of the colour classes
   // Exact only: a clique known in advance (vertex ids, any order), used as the first incumbent when it is

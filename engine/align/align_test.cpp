@@ -1,88 +1,22 @@
-// Unit tests of engine/align: hulls (eqs. 3.3–3.4), the octagon sectors (eqs. 3.13–3.19), the alignment LPs
-// and bad inputs.
+// Unit tests of engine/align/align: the octagon sectors (eqs. 3.13–3.19), the projection to SE(2), the
+// alignment of exact copies by every method and over the shrinking region, the depth gate (eq. 3.9) and bad
+// inputs.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
-#include <string>
+#include <cstddef>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "align/align.hpp"
-#include "align/certificate.hpp"
-#include "align/hull.hpp"
-#include "align/sdp.hpp"
+#include "align/test_problems.hpp"
 #include "core/random.hpp"
-#include "kit/test_kit.hpp"
 
 using namespace keel::align;
+using namespace keel::align::test;
 using keel::core::Rng;
-
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// A smooth 3-component field of Gaussian bumps (distinctive enough that the dissimilarity has one zero).
-struct Field {
-  std::vector<double> cx, cy, sg, amp;
-  explicit Field(std::uint64_t seed, double size) {
-    Rng rng(seed);
-    for (int k = 0; k < 3 * 12; ++k) {
-      cx.push_back(rng.uniform(-2, size + 2));
-      cy.push_back(rng.uniform(-2, size + 2));
-      sg.push_back(rng.uniform(2.0, 4.0));
-      amp.push_back(rng.uniform(-1, 1));
-    }
-  }
-  void value(double x, double y, double* f) const {
-    for (int d = 0; d < 3; ++d) {
-      f[d] = 0;
-      for (int k = d * 12; k < (d + 1) * 12; ++k)
-        f[d] +=
-            amp[k] * std::exp(-((x - cx[k]) * (x - cx[k]) + (y - cy[k]) * (y - cy[k])) / (2 * sg[k] * sg[k]));
-    }
-  }
-};
-
-// Reference: a grid of n × n points (spacing 1 m); query: a copy of the reference seen through the inverse of
-// (theta, tx, ty), so align must return (theta, tx, ty).
-// With margin > 0 the query copies only the reference points at least `margin` from the grid's edge.
-AlignmentProblem exact_copy(int n, double theta, double tx, double ty, std::uint64_t seed = 7,
-                            int margin = 0) {
-  Field field(seed, n - 1.0);
-  AlignmentProblem p;
-  std::vector<double> fa;
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      p.ref_x.push_back(a);
-      p.ref_y.push_back(b);
-      double f[3];
-      field.value(a, b, f);
-      fa.insert(fa.end(), f, f + 3);
-    }
-  const double c = std::cos(theta), s = std::sin(theta);
-  std::vector<double> fb;
-  for (std::size_t i = 0; i < p.ref_x.size(); ++i) {  // p_query = Rᵀ (p_ref − t)
-    if (p.ref_x[i] < margin || p.ref_x[i] > n - 1 - margin || p.ref_y[i] < margin ||
-        p.ref_y[i] > n - 1 - margin)
-      continue;
-    const double dx = p.ref_x[i] - tx, dy = p.ref_y[i] - ty;
-    p.query_x.push_back(c * dx + s * dy);
-    p.query_y.push_back(-s * dx + c * dy);
-    fb.insert(fb.end(), fa.begin() + 3 * i, fa.begin() + 3 * i + 3);
-  }
-  p.dissimilarity = euclidean_dissimilarity(fa, fb, 3);
-  return p;
-}
-
-template <class F>
-void check_message(F&& f, const char* needle) {
-  const std::string m = keel::testkit::message_of(std::forward<F>(f));
-  CHECK_MESSAGE(keel::testkit::contains(m, needle), m);
-}
-
-double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
-
-}  // namespace
 
 TEST_CASE("Barni constants of eq. 3.14 for n = 2") {
   CHECK(kBarniAlpha1 == 1.0);
@@ -90,59 +24,6 @@ TEST_CASE("Barni constants of eq. 3.14 for n = 2") {
   const double delta = 2.0 / (1.0 + std::sqrt(1.0 + kBarniAlpha2 * kBarniAlpha2));
   CHECK(kBarniDelta == doctest::Approx(delta).epsilon(1e-15));
   CHECK(std::abs(kBarniDelta - 0.960434) < 5e-7);  // the and notes' value; the thesis prints 0.96044
-}
-
-TEST_CASE("lower hull planes under-estimate every point and touch the hull vertices") {
-  Rng rng(11);
-  for (int trial = 0; trial < 5; ++trial) {
-    std::vector<double> x, y, c;
-    for (int i = 0; i < 300; ++i) {
-      x.push_back(rng.uniform(-10, 10));
-      y.push_back(rng.uniform(0, 5));
-      c.push_back(std::sin(0.3 * x.back()) + 0.1 * y.back() * y.back() + 0.2 * rng.normal());
-    }
-    HullStats st;
-    const auto planes = lower_hull_planes(x, y, c, {}, &st);
-    REQUIRE(planes.size() >= 3);
-    CHECK(st.steep == 0);
-    std::size_t touching = 0;
-    for (const auto& pl : planes) {
-      std::size_t on = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        const double gap = c[i] - pl.at(x[i], y[i]);
-        CHECK(gap >= -1e-9);  // under-estimates every point
-        on += gap <= 1e-9;
-      }
-      CHECK(on >= 3);  // each plane is a facet: it passes through at least three points of the cloud
-    }
-    // The envelope max_m plane_m equals C at the lower-hull vertices: the cloud's minimum is one of them.
-    std::size_t imin = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      double env = -1e300;
-      for (const auto& pl : planes) env = std::max(env, pl.at(x[i], y[i]));
-      touching += std::abs(env - c[i]) <= 1e-9;
-      if (c[i] < c[imin]) imin = i;
-    }
-    double env_min = -1e300;
-    for (const auto& pl : planes) env_min = std::max(env_min, pl.at(x[imin], y[imin]));
-    CHECK(env_min == doctest::Approx(c[imin]).epsilon(1e-9));
-    CHECK(touching >= 3);
-  }
-}
-
-TEST_CASE("hull of degenerate clouds: flat dissimilarity joggles, collinear positions give a clear error") {
-  std::vector<double> x{0, 1, 0, 1, 0.5}, y{0, 0, 1, 1, 0.5}, c(5, 2.0);
-  HullStats st;
-  const auto planes = lower_hull_planes(x, y, c, {}, &st);
-  REQUIRE(!planes.empty());
-  for (const auto& pl : planes) CHECK(pl.at(0.5, 0.5) == doctest::Approx(2.0).epsilon(1e-6));
-  std::vector<double> lx{0, 1, 2, 3}, ly{0, 0, 0, 0}, lc{1, 0, 2, 1};
-  CHECK_THROWS((void)lower_hull_planes(lx, ly, lc));
-  std::vector<double> nx{0, 1, 0}, ny{0, 0, 1}, nc{1, NAN, 0};
-  check_message([&] { (void)lower_hull_planes(nx, ny, nc); }, "not finite");
-  CHECK_THROWS_AS((void)lower_hull_planes(std::vector<double>{0, 1}, std::vector<double>{0, 1},
-                                          std::vector<double>{0, 1}),
-                  std::invalid_argument);
 }
 
 TEST_CASE("each sector of eq. 3.19 admits exactly its octagon edge (sign-aware eq. 3.17)") {
@@ -288,62 +169,6 @@ TEST_CASE("bad inputs give clear errors") {
   check_message([&] { (void)align(p, o); }, "RegionOptions.shrink = 1.5");
   CHECK_THROWS_AS((void)method_from_string("octagon"), std::invalid_argument);
   CHECK(method_from_string("so_conv_hull") == Method::so_conv_hull);
-}
-
-TEST_CASE("the certificate finds the global optimum over SO(2): brute force over θ agrees") {
-  const auto p = exact_copy(12, 1.1, 0.5, -0.5, 5, 3);
-  AlignOptions o;
-  const Regions reg = global_regions(p, o);
-  const Certificate cert = certify_rotation(p, reg, o.lp, {});
-  CHECK(cert.status == keel::core::SearchStatus::optimal);
-  CHECK(cert.bound.lower <= cert.bound.upper);
-  CHECK(cert.bound.upper - cert.bound.lower <= 1e-6 * std::max(1.0, cert.bound.upper));
-  CHECK(std::abs(cert.bound.upper) < 1e-6);  // the exact copy has cost 0 at the true rotation
-  CHECK(angle_error(cert.theta, 1.1) < 1e-4);
-  // No θ on a fine grid beats the certified bound.
-  for (int k = 0; k < 90; ++k) {
-    const double th = -kPi + k * 2 * kPi / 90;
-    CHECK(rigid_objective(p, reg, o.lp, th) >= cert.bound.lower - 1e-9);
-  }
-}
-
-TEST_CASE("the certificate on a noisy problem: bound below every sampled θ, attained at its θ") {
-  auto p = exact_copy(12, -2.4, 0.0, 0.0, 9, 3);
-  Rng rng(3);
-  for (auto& c : p.dissimilarity) c += 0.3 * rng.uniform();
-  AlignOptions o;
-  const Regions reg = global_regions(p, o);
-  const Certificate cert = certify_rotation(p, reg, o.lp, {});
-  CHECK(cert.status == keel::core::SearchStatus::optimal);
-  CHECK(rigid_objective(p, reg, o.lp, cert.theta) == doctest::Approx(cert.bound.upper).epsilon(1e-9));
-  double best = 1e300;
-  for (int k = 0; k < 360; ++k) best = std::min(best, rigid_objective(p, reg, o.lp, -kPi + k * kPi / 180));
-  CHECK(best >= cert.bound.lower - 1e-9);
-  CHECK(best <= cert.bound.upper + 0.05 * std::abs(cert.bound.upper));
-}
-
-TEST_CASE("SOConvHull: the LP with tangent cuts equals the PSD form solved by DSDP") {
-  for (std::uint64_t seed : {2u, 4u, 6u}) {
-    auto p = exact_copy(11, 0.7 * static_cast<double>(seed), 0.3, -0.2, seed, 3);
-    Rng rng(seed);
-    for (auto& c : p.dissimilarity) c += 0.4 * rng.uniform();  // the relaxation now shrinks (c, s)
-    AlignOptions o;
-    const Regions reg = global_regions(p, o);
-    LpSettings s = o.lp;
-    s.disc_tolerance = 1e-9;
-    HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, s);
-    const LpSolution cuts = lp.solve();
-    REQUIRE(cuts.status == LpStatus::optimal);
-    const SdpSolution sdp = so_conv_hull_sdp(p, reg);
-    INFO("seed ", seed, " LP ", cuts.cost, " SDP ", sdp.cost);
-    MESSAGE("seed ", seed, ": LP with cuts ", cuts.cost, " (c, s) = (", cuts.params[0], ", ", cuts.params[1],
-            "), DSDP ", sdp.cost, " (", sdp.params[0], ", ", sdp.params[1], "), ", sdp.iterations,
-            " iterations");
-    CHECK(sdp.converged);
-    CHECK(std::abs(sdp.cost - cuts.cost) <= 1e-6 * std::max(1.0, std::abs(cuts.cost)));
-    CHECK(std::hypot(sdp.params[0], sdp.params[1]) <= 1 + 1e-6);
-    CHECK(std::hypot(cuts.params[0], cuts.params[1]) <= 1 + 1e-9);
-  }
 }
 
 TEST_CASE(

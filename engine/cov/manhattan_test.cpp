@@ -1,5 +1,6 @@
 // Real-data smoke test: Manhattan3500 (iSAM measurements and square-root information, read by keel::graph) at
-// its ground-truth poses. Skipped with a message when the dataset resolver finds no verified copy.
+// its ground-truth poses. In the doctest suite "datasets" (CTest datasets.cov): without a verified copy of
+// the files it fails, naming the file and scripts/fetch-datasets (tests/kit/dataset_files.hpp).
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
@@ -8,24 +9,19 @@
 
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
-#include "datasets/manifest.hpp"
 #include "graph/isam.hpp"
 #include "graph/trajectory.hpp"
+#include "kit/dataset_files.hpp"
 
 using namespace keel;
 using namespace keel::cov;
 
-TEST_CASE("Manhattan3500 at ground truth: factorization, pair marginals SPD and equal to joint()") {
-  PoseGraph2D g;
-  std::vector<SE2> poses;
-  try {
-    g = graph::read_isam_2d(datasets::resolve_dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
-    poses = graph::read_poses_2d(
-        datasets::resolve_dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
-  } catch (const datasets::DatasetError& e) {
-    MESSAGE("Manhattan3500 not available, test skipped: " << e.what());
-    return;
-  }
+TEST_CASE("Manhattan3500 at ground truth: factorization, pair marginals SPD and equal to joint()" *
+          doctest::test_suite("datasets")) {
+  const PoseGraph2D g =
+      graph::read_isam_2d(testkit::dataset_file("manhattan3500", "isam/manhattanOlson3500.txt"));
+  const std::vector<SE2> poses = graph::read_poses_2d(
+      testkit::dataset_file("manhattan3500", "derived/manhattanOlson3500_groundtruth_poses.txt"));
   REQUIRE(poses.size() == 3500);
   REQUIRE(g.edges.size() == 5598);
   const auto H = information_matrix(g, poses);

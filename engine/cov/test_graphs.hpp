@@ -7,6 +7,7 @@
 
 #include "core/random.hpp"
 #include "graph/pose_graph.hpp"
+#include "kit/test_kit.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
@@ -23,20 +24,6 @@ struct TestGraph3D {
   graph::PoseGraph3D graph;
   std::vector<lie::SE3> estimate;
 };
-
-// Random SPD information (correlated) with standard deviations around `sigma`.
-template <int D>
-Eigen::Matrix<double, D, D> random_information(core::Rng& rng, double sigma) {
-  Eigen::Matrix<double, D, D> C = Eigen::Matrix<double, D, D>::Identity();
-  for (int r = 0; r < D; ++r)
-    for (int c = 0; c < r; ++c) C(r, c) = rng.uniform(-0.3, 0.3);
-  Eigen::Matrix<double, D, D> S = Eigen::Matrix<double, D, D>::Zero();
-  for (int k = 0; k < D; ++k) S(k, k) = sigma * rng.uniform(0.5, 1.5);
-  const Eigen::Matrix<double, D, D> L = S * C;  // covariance L Lᵀ
-  const Eigen::Matrix<double, D, D> Li =
-      L.template triangularView<Eigen::Lower>().solve(Eigen::Matrix<double, D, D>::Identity());
-  return Li.transpose() * Li;
-}
 
 // n poses on a wandering path that starts at `start` (default far from the origin), odometry + loop closures
 // (i+3, i) and (0, n/2), m landmarks each seen by three poses. Measurements are the truth; the estimate is
@@ -59,7 +46,7 @@ inline TestGraph2D small_graph_2d(int n, int m, unsigned seed, double noise,
     e.i = i;
     e.j = j;
     e.measurement = truth[static_cast<std::size_t>(i)].inverse() * truth[static_cast<std::size_t>(j)];
-    e.information = random_information<3>(rng, 0.1);
+    e.information = testkit::random_information<3>(rng, testkit::InformationDraw::correlated, 0.1);
     tg.graph.edges.push_back(e);
   };
   for (int i = 0; i + 1 < n; ++i) add_edge(i, i + 1);
@@ -76,7 +63,7 @@ inline TestGraph2D small_graph_2d(int n, int m, unsigned seed, double noise,
       lm.pose = (p + 2 * s) % n;
       lm.landmark = k;
       lm.position = truth[static_cast<std::size_t>(lm.pose)].inverse() * l;
-      lm.information = random_information<2>(rng, 0.1);
+      lm.information = testkit::random_information<2>(rng, testkit::InformationDraw::correlated, 0.1);
       tg.graph.landmark_measurements.push_back(lm);
     }
   }
@@ -116,7 +103,7 @@ inline TestGraph3D small_graph_3d(int n, unsigned seed, double noise) {
     e.i = i;
     e.j = j;
     e.measurement = truth[static_cast<std::size_t>(i)].inverse() * truth[static_cast<std::size_t>(j)];
-    e.information = random_information<6>(rng, 0.1);
+    e.information = testkit::random_information<6>(rng, testkit::InformationDraw::correlated, 0.1);
     tg.graph.edges.push_back(e);
   };
   for (int i = 0; i + 1 < n; ++i) add_edge(i, i + 1);

@@ -1,8 +1,10 @@
 // The real benchmark files, read through the manifest resolver (datasets/manifest.toml; the shared copy in
 // ../shared/datasets is found without fetching): counts against SOURCE.md, read → write → read round trips,
 // the square-root-information reading checked against the measured noise, ground-truth chaining against the
-// derived files, and the resolver's own behaviour (search order, sha256 check, error text). Set
-// KEEL_SKIP_DATASET_TESTS=1 to skip the tests that need the data (they fail by default when it is missing).
+// derived files, and the resolver's own behaviour (search order, sha256 check, error text). The test cases
+// that need the data are in the doctest suite "datasets" (CTest datasets.datasets, label "datasets";
+// unit.datasets runs the rest): without a verified copy of a file they fail, naming the file and
+// scripts/fetch-datasets (tests/kit/dataset_files.hpp); nothing skips them.
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
@@ -13,7 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,32 +24,27 @@
 #include "graph/isam.hpp"
 #include "datasets/sha256.hpp"
 #include "graph/trajectory.hpp"
+#include "kit/dataset_files.hpp"
+#include "kit/test_kit.hpp"
 
 using namespace keel::datasets;
 using namespace keel::graph;
 using keel::lie::kPi;
 using keel::lie::Vec3;
 using keel::lie::Vec6;
+using keel::testkit::round_trip;
+using keel::testkit::round_trip_file;
 namespace fs = std::filesystem;
 
 namespace {
 
 fs::path source_root() { return fs::path(KEEL_SOURCE_DIR); }
 
-bool skip_data() {
-  const char* s = std::getenv("KEEL_SKIP_DATASET_TESTS");
-  return s && std::string(s) == "1";
-}
-
+// The verified copy of a data set file of this checkout; the test case fails naming the file and the fetch
+// command when there is none.
 fs::path data(const std::string& name, const std::string& path) {
-  return resolve_dataset_file(name, path, source_root());
+  return keel::testkit::dataset_file(name, path, source_root());
 }
-
-#define NEEDS_DATA()                                                \
-  if (skip_data()) {                                                \
-    MESSAGE("KEEL_SKIP_DATASET_TESTS=1: skipped (needs datasets)"); \
-    return;                                                         \
-  }
 
 int odometry_count(const auto& g) {
   int n = 0;
@@ -144,8 +140,8 @@ void check_far(const std::vector<double>& s) {
 
 }  // namespace
 
-TEST_CASE("manifest lists every file and each resolves to a verified copy") {
-  NEEDS_DATA();
+TEST_CASE("manifest lists every file and each resolves to a verified copy" *
+          doctest::test_suite("datasets")) {
   const DatasetManifest m = load_dataset_manifest(source_root() / "datasets" / "manifest.toml");
   std::size_t files = 0;
   for (const auto& d : m.datasets) {
@@ -168,8 +164,7 @@ TEST_CASE("manifest lists every file and each resolves to a verified copy") {
   CHECK(files == 24);
 }
 
-TEST_CASE("counts match SOURCE.md") {
-  NEEDS_DATA();
+TEST_CASE("counts match SOURCE.md" * doctest::test_suite("datasets")) {
   struct Count2 {
     const char* name;
     const char* path;
@@ -226,8 +221,7 @@ TEST_CASE("counts match SOURCE.md") {
           .size() == 3500);
 }
 
-TEST_CASE("real files: read -> write -> read gives the same graph") {
-  NEEDS_DATA();
+TEST_CASE("real files: read -> write -> read gives the same graph" * doctest::test_suite("datasets")) {
   const std::pair<const char*, const char*> twod[] = {
       {"manhattan3500", "isam/manhattanOlson3500.txt"},
       {"manhattan3500", "se-sync/manhattan.g2o"},
@@ -241,17 +235,13 @@ TEST_CASE("real files: read -> write -> read gives the same graph") {
     CAPTURE(path);
     const PoseGraph2D g = read_pose_graph_2d(data(name, path));
     if (g.landmark_measurements.empty()) {
-      std::ostringstream s;
-      write_g2o(g, s);
-      std::istringstream in(s.str());
-      const PoseGraph2D back = read_g2o_2d(in, "mem.g2o");
+      const PoseGraph2D back =
+          round_trip([&](auto& s) { write_g2o(g, s); }, [](auto& in) { return read_g2o_2d(in, "mem.g2o"); });
       CHECK_MESSAGE(graph_difference(g, back, 1e-13).empty(), graph_difference(g, back, 1e-13));
     }
     // iSAM text keeps no vertices: the poses of the reread graph are the chained odometry.
-    std::ostringstream s;
-    write_isam(g, s);
-    std::istringstream in(s.str());
-    PoseGraph2D back = read_isam_2d(in, "mem.txt");
+    PoseGraph2D back =
+        round_trip([&](auto& s) { write_isam(g, s); }, [](auto& in) { return read_isam_2d(in, "mem.txt"); });
     PoseGraph2D expected = g;
     if (g.has_initial_poses) expected.poses = back.poses;
     CHECK_MESSAGE(graph_difference(expected, back, 1e-10).empty(), graph_difference(expected, back, 1e-10));
@@ -264,15 +254,11 @@ TEST_CASE("real files: read -> write -> read gives the same graph") {
   for (const auto& [name, path] : threed) {
     CAPTURE(path);
     const PoseGraph3D g = read_pose_graph_3d(data(name, path));
-    std::ostringstream a;
-    write_g2o(g, a);
-    std::istringstream ain(a.str());
-    const PoseGraph3D from_g2o = read_g2o_3d(ain, "mem.g2o");
+    const PoseGraph3D from_g2o =
+        round_trip([&](auto& s) { write_g2o(g, s); }, [](auto& in) { return read_g2o_3d(in, "mem.g2o"); });
     CHECK_MESSAGE(graph_difference(g, from_g2o, 1e-13).empty(), graph_difference(g, from_g2o, 1e-13));
-    std::ostringstream b;
-    write_isam(g, b);
-    std::istringstream bin(b.str());
-    const PoseGraph3D from_isam = read_isam_3d(bin, "mem.txt");
+    const PoseGraph3D from_isam =
+        round_trip([&](auto& s) { write_isam(g, s); }, [](auto& in) { return read_isam_3d(in, "mem.txt"); });
     PoseGraph3D expected = g;
     if (g.has_initial_poses) expected.poses = from_isam.poses;
     CHECK_MESSAGE(graph_difference(expected, from_isam, 1e-10).empty(),
@@ -280,14 +266,14 @@ TEST_CASE("real files: read -> write -> read gives the same graph") {
   }
   // Cross-format: the iSAM Manhattan file written as g2o and read back is the same graph.
   const PoseGraph2D m = read_isam_2d(data("manhattan3500", "isam/manhattanOlson3500.txt"));
-  const fs::path tmp = fs::temp_directory_path() / "keel_graph_manhattan_roundtrip.g2o";
-  write_pose_graph(m, tmp);
-  CHECK(graph_difference(m, read_pose_graph_2d(tmp), 1e-13).empty());
-  fs::remove(tmp);
+  const PoseGraph2D back = round_trip_file(
+      "keel_graph_manhattan_roundtrip.g2o", [&](const fs::path& f) { write_pose_graph(m, f); },
+      [](const fs::path& f) { return read_pose_graph_2d(f); });
+  CHECK(graph_difference(m, back, 1e-13).empty());
 }
 
-TEST_CASE("the iSAM numbers are square-root information: whitened noise has unit spread") {
-  NEEDS_DATA();
+TEST_CASE("the iSAM numbers are square-root information: whitened noise has unit spread" *
+          doctest::test_suite("datasets")) {
   // Manhattan3500: 44.72 = √2000 on every axis; noise σ = 0.0224.
   {
     const auto noisy = read_isam_2d(data("manhattan3500", "isam/manhattanOlson3500.txt"));
@@ -346,8 +332,7 @@ TEST_CASE("the iSAM numbers are square-root information: whitened noise has unit
   }
 }
 
-TEST_CASE("ground-truth chaining reproduces the derived files") {
-  NEEDS_DATA();
+TEST_CASE("ground-truth chaining reproduces the derived files" * doctest::test_suite("datasets")) {
   const GroundTruthOptions grid{.translation_step = 0.5, .angle_step = 0.5 * kPi};
   const std::pair<const char*, std::pair<const char*, const char*>> grids[] = {
       {"manhattan3500",
@@ -407,8 +392,8 @@ TEST_CASE("ground-truth chaining reproduces the derived files") {
   CHECK(sphere.max_edge_rotation_error < 5e-6);
 }
 
-TEST_CASE("resolver: search order, sha256 verification and the error text") {
-  NEEDS_DATA();
+TEST_CASE("resolver: search order, sha256 verification and the error text" *
+          doctest::test_suite("datasets")) {
   const fs::path tmp = fs::temp_directory_path() / "keel_resolver_test";
   fs::remove_all(tmp);
   fs::create_directories(tmp / "repo" / "datasets");

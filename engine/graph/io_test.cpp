@@ -27,17 +27,12 @@ using keel::lie::SO3;
 using keel::lie::Vec3;
 using keel::lie::Vec6;
 
-namespace {
+using keel::testkit::random_information;  // information over six orders of magnitude
+                                          // (InformationDraw::spread)
+using keel::testkit::round_trip;
+using keel::testkit::round_trip_file;
 
-template <int N>
-Eigen::Matrix<double, N, N> random_information(keel::core::Rng& rng) {
-  // D (S) D with S symmetric positive definite (smallest eigenvalue ≥ ½) and D diagonal with entries 10^[−2,
-  // 4): information matrices over six orders of magnitude.
-  const Eigen::Matrix<double, N, N> S = keel::testkit::random_spd(rng, N, 1.0, 0.5);
-  Eigen::Matrix<double, N, 1> d;
-  for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, rng.uniform(-2.0, 4.0));
-  return d.asDiagonal() * S * d.asDiagonal();
-}
+namespace {
 
 // Uniform on {0, …, n − 1}.
 int pick(keel::core::Rng& rng, int n) { return std::min(n - 1, static_cast<int>(rng.uniform() * n)); }
@@ -112,12 +107,6 @@ PoseGraph3D random_graph_3d(keel::core::Rng& rng, int n, int loops) {
   return g;
 }
 
-std::string g2o_string(const PoseGraph2D& g) {
-  std::ostringstream s;
-  write_g2o(g, s);
-  return s.str();
-}
-
 template <class F>
 std::string error_of(F&& f) {
   try {
@@ -168,15 +157,13 @@ TEST_CASE("g2o 2D round trip of random graphs is exact") {
   keel::core::Rng rng(1);
   for (int t = 0; t < 20; ++t) {
     PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, 0);
-    std::istringstream in(g2o_string(g));
-    const PoseGraph2D back = read_g2o_2d(in, "mem.g2o");
+    const PoseGraph2D back =
+        round_trip([&](auto& s) { write_g2o(g, s); }, [](auto& in) { return read_g2o_2d(in, "mem.g2o"); });
     CHECK(back.has_initial_poses);
     CHECK_MESSAGE(graph_difference(g, back, 1e-14).empty(), graph_difference(g, back, 1e-14));
     // Without vertices, the reader chains the odometry: equal to the poses the generator chained.
-    std::ostringstream s;
-    write_g2o(g, s, {.write_vertices = false});
-    std::istringstream in2(s.str());
-    const PoseGraph2D chained = read_g2o_2d(in2, "mem.g2o");
+    const PoseGraph2D chained = round_trip([&](auto& s) { write_g2o(g, s, {.write_vertices = false}); },
+                                           [](auto& in) { return read_g2o_2d(in, "mem.g2o"); });
     CHECK_FALSE(chained.has_initial_poses);
     CHECK(graph_difference(g, chained, 1e-9).empty());
   }
@@ -186,10 +173,8 @@ TEST_CASE("iSAM 2D round trip of random graphs with landmarks") {
   keel::core::Rng rng(2);
   for (int t = 0; t < 20; ++t) {
     const PoseGraph2D g = random_graph_2d(rng, 2 + t * 5, t * 3, t % 4 * 3);
-    std::ostringstream s;
-    write_isam(g, s);
-    std::istringstream in(s.str());
-    const PoseGraph2D back = read_isam_2d(in, "mem.txt");
+    const PoseGraph2D back =
+        round_trip([&](auto& s) { write_isam(g, s); }, [](auto& in) { return read_isam_2d(in, "mem.txt"); });
     CHECK_FALSE(back.has_initial_poses);
     CHECK_MESSAGE(graph_difference(g, back, 1e-9).empty(), graph_difference(g, back, 1e-9));
     // The square-root information reproduces Ω to rounding.
@@ -204,15 +189,11 @@ TEST_CASE("g2o and iSAM 3D round trips of random graphs") {
   keel::core::Rng rng(3);
   for (int t = 0; t < 20; ++t) {
     const PoseGraph3D g = random_graph_3d(rng, 2 + t * 4, t * 2);
-    std::ostringstream a;
-    write_g2o(g, a);
-    std::istringstream ain(a.str());
-    const PoseGraph3D from_g2o = read_g2o_3d(ain, "mem.g2o");
+    const PoseGraph3D from_g2o =
+        round_trip([&](auto& s) { write_g2o(g, s); }, [](auto& in) { return read_g2o_3d(in, "mem.g2o"); });
     CHECK_MESSAGE(graph_difference(g, from_g2o, 1e-13).empty(), graph_difference(g, from_g2o, 1e-13));
-    std::ostringstream b;
-    write_isam(g, b);
-    std::istringstream bin(b.str());
-    const PoseGraph3D from_isam = read_isam_3d(bin, "mem.txt");
+    const PoseGraph3D from_isam =
+        round_trip([&](auto& s) { write_isam(g, s); }, [](auto& in) { return read_isam_3d(in, "mem.txt"); });
     CHECK_MESSAGE(graph_difference(g, from_isam, 1e-9).empty(), graph_difference(g, from_isam, 1e-9));
   }
 }
@@ -274,24 +255,20 @@ TEST_CASE("rpy_for_writing reproduces rotations next to gimbal lock") {
 TEST_CASE("derived pose lists, landmarks and TUM round trip") {
   keel::core::Rng rng(5);
   const PoseGraph2D g = random_graph_2d(rng, 30, 0, 4);
-  std::ostringstream a, b, c, d;
-  write_poses_2d(g.poses, a);
-  write_landmarks_2d(g.landmarks, b);
-  std::istringstream ain(a.str()), bin(b.str());
-  const auto poses = read_poses_2d(ain, "p.txt");
-  const auto lms = read_landmarks_2d(bin, "l.txt");
+  const auto poses = round_trip([&](auto& s) { write_poses_2d(g.poses, s); },
+                                [](auto& in) { return read_poses_2d(in, "p.txt"); });
+  const auto lms = round_trip([&](auto& s) { write_landmarks_2d(g.landmarks, s); },
+                              [](auto& in) { return read_landmarks_2d(in, "l.txt"); });
   REQUIRE(poses.size() == g.poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) CHECK(poses[k].is_approx(g.poses[k], 1e-13));
   REQUIRE(lms.size() == g.landmarks.size());
   for (std::size_t k = 0; k < lms.size(); ++k) CHECK(lms[k] == g.landmarks[k]);
   const PoseGraph3D g3 = random_graph_3d(rng, 30, 0);
-  write_poses_3d(g3.poses, c);
-  std::istringstream cin(c.str());
-  const auto p3 = read_poses_3d(cin, "p3.txt");
+  const auto p3 = round_trip([&](auto& s) { write_poses_3d(g3.poses, s); },
+                             [](auto& in) { return read_poses_3d(in, "p3.txt"); });
   for (std::size_t k = 0; k < p3.size(); ++k) CHECK(p3[k].is_approx(g3.poses[k], 1e-13));
-  write_tum(g3.poses, d);
-  std::istringstream din(d.str());
-  const auto tum = read_tum(din, "t.tum");
+  const auto tum =
+      round_trip([&](auto& s) { write_tum(g3.poses, s); }, [](auto& in) { return read_tum(in, "t.tum"); });
   REQUIRE(tum.size() == g3.poses.size());
   for (std::size_t k = 0; k < tum.size(); ++k) {
     CHECK(tum[k].timestamp == static_cast<double>(k));
@@ -574,12 +551,12 @@ TEST_CASE("edge-only g2o files (inter-robot candidates): exact round trip, two i
   std::vector<Edge3> e3 = g3.edges;
   e2[0].j = e2[0].i;  // the ids are in two id spaces: (i, i) is a valid candidate
   e3[0].j = e3[0].i;
-  const fs::path f2 = fs::temp_directory_path() / "keel_edges_2d.g2o";
-  const fs::path f3 = fs::temp_directory_path() / "keel_edges_3d.g2o";
-  write_g2o_edges(e2, f2);
-  write_g2o_edges(e3, f3);
-  const auto b2 = read_g2o_edges_2d(f2);
-  const auto b3 = read_g2o_edges_3d(f3);
+  const auto b2 = round_trip_file(
+      "keel_edges_2d.g2o", [&](const fs::path& f) { write_g2o_edges(e2, f); },
+      [](const fs::path& f) { return read_g2o_edges_2d(f); });
+  const auto b3 = round_trip_file(
+      "keel_edges_3d.g2o", [&](const fs::path& f) { write_g2o_edges(e3, f); },
+      [](const fs::path& f) { return read_g2o_edges_3d(f); });
   REQUIRE(b2.size() == e2.size());
   REQUIRE(b3.size() == e3.size());
   for (std::size_t k = 0; k < e2.size(); ++k) {
@@ -597,8 +574,6 @@ TEST_CASE("edge-only g2o files (inter-robot candidates): exact round trip, two i
     CHECK((b3[k].measurement.matrix() - e3[k].measurement.matrix()).norm() <= 1e-14);
     CHECK((b3[k].information - e3[k].information).norm() <= 1e-12 * e3[k].information.norm());
   }
-  fs::remove(f2);
-  fs::remove(f3);
 
   auto edges2 = [](const std::string& text) {
     return error_of([&] {

@@ -14,6 +14,9 @@
 using namespace keel;
 using namespace keel::pgo;
 using namespace keel::pgo::detail;
+using keel::testkit::InformationDraw;
+// Information as B Bᵀ / N + ½ I (InformationDraw::spd): symmetric positive definite, eigenvalues ≥ ½.
+using keel::testkit::random_information;
 
 namespace {
 
@@ -31,12 +34,6 @@ lie::SE3 random_se3(core::Rng& rng, double t = 5.0, double angle = 3.0) {
   for (int k = 0; k < 3; ++k) axis(k) = uni(rng, -1, 1);
   xi.tail<3>() = axis.normalized() * uni(rng, 0.0, angle);
   return lie::SE3::exp(xi);
-}
-
-// B Bᵀ / N + ½ I with B i.i.d. N(0, 1): symmetric positive definite, eigenvalues ≥ ½.
-template <int N>
-Eigen::Matrix<double, N, N> random_information(core::Rng& rng) {
-  return Eigen::Matrix<double, N, N>(testkit::random_spd(rng, N, 1.0, 0.5));
 }
 
 // Central differences of a SizedCostFunction over its raw parameters, against its analytic Jacobian.
@@ -83,7 +80,7 @@ TEST_CASE(
   core::Rng rng(7);
   for (int trial = 0; trial < 200; ++trial) {
     const lie::SE2 z = random_se2(rng), Ti = random_se2(rng), Tj = random_se2(rng);
-    const lie::Mat3 omega = random_information<3>(rng);
+    const lie::Mat3 omega = random_information<3>(rng, InformationDraw::spd);
     const lie::Mat3 U = sqrt_information(omega, "test");
     CHECK((U.transpose() * U - omega).norm() < 1e-10);
     PoseEdge2Cost f(z, U);
@@ -105,7 +102,7 @@ TEST_CASE("landmark 2D: residual and analytic Jacobian") {
     lie::Vec2 z, l;
     for (int k = 0; k < 2; ++k) z(k) = uni(rng, -3, 3);
     for (int k = 0; k < 2; ++k) l(k) = uni(rng, -8, 8);
-    const lie::Mat2 U = sqrt_information(random_information<2>(rng), "test");
+    const lie::Mat2 U = sqrt_information(random_information<2>(rng, InformationDraw::spd), "test");
     Landmark2Cost f(z, U);
     auto pi = to_params(Ti);
     std::array<double, 2> pl{l(0), l(1)};
@@ -121,7 +118,7 @@ TEST_CASE("pose edge 3D (autodiff): residual matches pose_graph.hpp, including r
   core::Rng rng(9);
   for (int trial = 0; trial < 200; ++trial) {
     const lie::SE3 z = random_se3(rng), Ti = random_se3(rng), Tj = random_se3(rng);
-    const lie::Mat6 U = sqrt_information(random_information<6>(rng), "test");
+    const lie::Mat6 U = sqrt_information(random_information<6>(rng, InformationDraw::spd), "test");
     std::unique_ptr<ceres::CostFunction> f(make_pose_edge3(z, U));
     auto pi = to_params(Ti), pj = to_params(Tj);
     if (trial % 2)
@@ -147,7 +144,7 @@ TEST_CASE(
   const Se3Manifold manifold;
   for (int trial = 0; trial < 50; ++trial) {
     const lie::SE3 z = random_se3(rng, 2.0, 1.0), Ti = random_se3(rng), Tj = random_se3(rng);
-    const lie::Mat6 U = sqrt_information(random_information<6>(rng), "test");
+    const lie::Mat6 U = sqrt_information(random_information<6>(rng, InformationDraw::spd), "test");
     std::unique_ptr<ceres::CostFunction> f(make_pose_edge3(z, U));
     Pose3Params p[2] = {to_params(Ti), to_params(Tj)};
     const double* ptrs[] = {p[0].data(), p[1].data()};
@@ -185,7 +182,7 @@ TEST_CASE("inter-robot edges (autodiff): residual of the global poses Δa Ti, Δ
     {
       const lie::SE2 z = random_se2(rng), Da = random_se2(rng), Ti = random_se2(rng), Db = random_se2(rng),
                      Tj = random_se2(rng);
-      const lie::Mat3 U = sqrt_information(random_information<3>(rng), "test");
+      const lie::Mat3 U = sqrt_information(random_information<3>(rng, InformationDraw::spd), "test");
       std::unique_ptr<ceres::CostFunction> f(make_inter_robot2(z, U));
       auto a = to_params(Da), i = to_params(Ti), b = to_params(Db), j = to_params(Tj);
       const double* ptrs[] = {a.data(), i.data(), b.data(), j.data()};
@@ -196,7 +193,7 @@ TEST_CASE("inter-robot edges (autodiff): residual of the global poses Δa Ti, Δ
     {
       const lie::SE3 z = random_se3(rng), Da = random_se3(rng), Ti = random_se3(rng), Db = random_se3(rng),
                      Tj = random_se3(rng);
-      const lie::Mat6 U = sqrt_information(random_information<6>(rng), "test");
+      const lie::Mat6 U = sqrt_information(random_information<6>(rng, InformationDraw::spd), "test");
       std::unique_ptr<ceres::CostFunction> f(make_inter_robot3(z, U));
       auto a = to_params(Da), i = to_params(Ti), b = to_params(Db), j = to_params(Tj);
       const double* ptrs[] = {a.data(), i.data(), b.data(), j.data()};

@@ -18,16 +18,13 @@
 
 using namespace keel;
 using namespace keel::pgo;
+using keel::testkit::InformationDraw;
+// Information as scale · (B Bᵀ / N + I) (InformationDraw::spd, minimum eigenvalue 1): eigenvalues ≥ scale.
+using keel::testkit::random_information;
 
 namespace {
 
 double normal(core::Rng& rng, double sigma) { return sigma * rng.normal(); }
-
-// scale · (B Bᵀ / N + I), B with i.i.d. N(0, 1) entries: symmetric positive definite, eigenvalues ≥ scale.
-template <int N>
-Eigen::Matrix<double, N, N> random_information(core::Rng& rng, double scale) {
-  return scale * Eigen::Matrix<double, N, N>(testkit::random_spd(rng, N, 1.0, 1.0));
-}
 
 // Three laps of a circle of radius 8 (20 poses a lap), heading along the circle.
 std::vector<lie::SE2> circle_truth(int n, double radius = 8.0, double phase = 0.0) {
@@ -55,10 +52,11 @@ graph::PoseGraph2D synthetic_2d(const std::vector<lie::SE2>& T, const std::vecto
   graph::PoseGraph2D g;
   const int n = static_cast<int>(T.size());
   for (int k = 0; k + 1 < n; ++k)
-    g.edges.push_back(edge2(T, k, k + 1, random_information<3>(rng, info_scale)));
-  for (int k = 20; k < n; ++k) g.edges.push_back(edge2(T, k - 20, k, random_information<3>(rng, info_scale)));
+    g.edges.push_back(edge2(T, k, k + 1, random_information<3>(rng, InformationDraw::spd, info_scale, 1.0)));
+  for (int k = 20; k < n; ++k)
+    g.edges.push_back(edge2(T, k - 20, k, random_information<3>(rng, InformationDraw::spd, info_scale, 1.0)));
   for (int k = 0; k + 7 < n; k += 5)
-    g.edges.push_back(edge2(T, k, k + 7, random_information<3>(rng, info_scale)));
+    g.edges.push_back(edge2(T, k, k + 7, random_information<3>(rng, InformationDraw::spd, info_scale, 1.0)));
   for (int k = 0; k < n; ++k)
     for (int l = 0; l < static_cast<int>(L.size()); ++l)
       if ((T[k].translation() - L[l]).norm() < 9.0) {
@@ -66,7 +64,7 @@ graph::PoseGraph2D synthetic_2d(const std::vector<lie::SE2>& T, const std::vecto
         m.pose = k;
         m.landmark = l;
         m.position = T[k].rotation().transpose() * (L[l] - T[k].translation());
-        m.information = random_information<2>(rng, info_scale);
+        m.information = random_information<2>(rng, InformationDraw::spd, info_scale, 1.0);
         g.landmark_measurements.push_back(m);
       }
   g.poses = T;
@@ -99,7 +97,7 @@ graph::PoseGraph3D synthetic_3d(const std::vector<lie::SE3>& T, core::Rng& rng) 
     e.i = i;
     e.j = j;
     e.measurement = T[i].inverse() * T[j];
-    e.information = random_information<6>(rng, 20.0);
+    e.information = random_information<6>(rng, InformationDraw::spd, 20.0, 1.0);
     g.edges.push_back(e);
   };
   for (int k = 0; k + 1 < n; ++k) add(k, k + 1);
@@ -254,7 +252,7 @@ TEST_CASE("a gross outlier loop closure: DCS switches it off, no kernel and Hube
   core::Rng rng(4);
   const auto T = circle_truth(60);
   graph::PoseGraph2D g = synthetic_2d(T, {}, rng, 100.0);
-  graph::Edge2 outlier = edge2(T, 5, 33, random_information<3>(rng, 100.0));
+  graph::Edge2 outlier = edge2(T, 5, 33, random_information<3>(rng, InformationDraw::spd, 100.0, 1.0));
   outlier.measurement = outlier.measurement * lie::SE2(4.0, -3.0, 1.2);
   g.edges.push_back(outlier);
   const std::size_t k_out = g.edges.size() - 1;
@@ -311,7 +309,7 @@ TEST_CASE("two robots with an unknown offset: anchors recover it (2D)") {
     e.robot_b = 1;
     e.pose_b = 1 + 5 * k;
     e.measurement = localA[e.pose_a].inverse() * (delta_b * localB[e.pose_b]);
-    e.information = random_information<3>(rng, 50.0);
+    e.information = random_information<3>(rng, InformationDraw::spd, 50.0, 1.0);
     mg.inter_robot_edges.push_back(e);
   }
   // Perturbed local guesses (pose 0 of each robot is the local gauge), identity anchors.
@@ -362,7 +360,7 @@ TEST_CASE("two robots with an unknown offset: anchors recover it (3D)") {
     e.robot_b = 0;
     e.pose_b = 4 + 7 * k;
     e.measurement = (delta_b * localB[e.pose_a]).inverse() * localA[e.pose_b];
-    e.information = random_information<6>(rng, 20.0);
+    e.information = random_information<6>(rng, InformationDraw::spd, 20.0, 1.0);
     mg.inter_robot_edges.push_back(e);
   }
   for (std::size_t k = 1; k < localA.size(); ++k) mg.robots[0].poses[k] = perturb(localA[k], rng, 0.2, 0.1);

@@ -1,11 +1,15 @@
 // The shared test kit of every area's unit tests (docs/DESIGN.md "Naming and errors"): numerical Jacobians by
-// central differences, random matrices, SPD matrices, tangents and poses drawn from keel::core::Rng
-// (identical on every standard library, unlike std::normal_distribution), and a check that a call throws a
-// given message. Unit tests include it as "kit/test_kit.hpp"; it imports nothing (DESIGN rule 4).
+// central differences, random matrices, SPD and information matrices, tangents and poses drawn from
+// keel::core::Rng (identical on every standard library, unlike std::normal_distribution), write-then-read
+// round trips through memory or a file, and a check that a call throws a given message. Unit tests include it
+// as "kit/test_kit.hpp"; it imports nothing (DESIGN rule 4).
 #pragma once
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <filesystem>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -70,6 +74,43 @@ inline MatX random_spd(core::Rng& rng, Eigen::Index n, double scale = 1.0, doubl
   return B * B.transpose() / static_cast<double>(n) + min_eigenvalue * MatX::Identity(n, n);
 }
 
+// How random_information draws. Each form keeps the numbers its tests drew before the kit held it.
+enum class InformationDraw {
+  spread,  // D S D: S = random_spd(rng, N, 1, ½) (eigenvalues ≥ ½), then D diagonal with entries 10^U[−2, 4):
+           // information over six orders of magnitude (scale and min_eigenvalue unused)
+  correlated,  // (L Lᵀ)⁻¹, L = S C: C unit lower triangular with entries U[−0.3, 0.3] drawn row by row, then
+               // S diagonal with entries scale · U[0.5, 1.5]: correlated, standard deviations around `scale`
+  spd,         // scale · random_spd(rng, N, 1, min_eigenvalue) = scale · (B Bᵀ / N + min_eigenvalue · I)
+};
+
+// A random N × N information matrix (symmetric positive definite) drawn as `draw` says.
+template <int N>
+Eigen::Matrix<double, N, N> random_information(core::Rng& rng, InformationDraw draw = InformationDraw::spread,
+                                               double scale = 1.0, double min_eigenvalue = 0.5) {
+  using Mat = Eigen::Matrix<double, N, N>;
+  switch (draw) {
+    case InformationDraw::spread: {
+      const Mat S = random_spd(rng, N, 1.0, 0.5);
+      Eigen::Matrix<double, N, 1> d;
+      for (int r = 0; r < N; ++r) d(r) = std::pow(10.0, rng.uniform(-2.0, 4.0));
+      return d.asDiagonal() * S * d.asDiagonal();
+    }
+    case InformationDraw::correlated: {
+      Mat C = Mat::Identity();
+      for (int r = 0; r < N; ++r)
+        for (int c = 0; c < r; ++c) C(r, c) = rng.uniform(-0.3, 0.3);
+      Mat S = Mat::Zero();
+      for (int k = 0; k < N; ++k) S(k, k) = scale * rng.uniform(0.5, 1.5);
+      const Mat L = S * C;  // covariance L Lᵀ
+      const Mat Li = L.template triangularView<Eigen::Lower>().solve(Mat::Identity());
+      return Li.transpose() * Li;
+    }
+    case InformationDraw::spd:
+      return scale * Mat(random_spd(rng, N, 1.0, min_eigenvalue));
+  }
+  throw std::invalid_argument("random_information: unknown InformationDraw");
+}
+
 // A tangent of group G with entries N(0, scale²); for SE(2)/SE(3) the translation part (ρ, the first 2 or 3
 // entries) has scale `translation_scale` instead.
 template <class G>
@@ -89,6 +130,32 @@ typename G::Tangent random_tangent(core::Rng& rng, double scale = 1.0) {
 template <class G>
 G random_pose(core::Rng& rng, double rotation_scale = 1.0, double translation_scale = 1.0) {
   return G::exp(random_tangent<G>(rng, rotation_scale, translation_scale));
+}
+
+// The round trip of a writer/reader pair through memory: write(std::ostream&) writes, read(std::istream&)
+// reads what was written back; returns what read returns.
+template <class Write, class Read>
+auto round_trip(Write&& write, Read&& read) {
+  std::ostringstream out;
+  std::forward<Write>(write)(static_cast<std::ostream&>(out));
+  std::istringstream in(out.str());
+  return std::forward<Read>(read)(static_cast<std::istream&>(in));
+}
+
+// The same through the file `name` in the temporary directory: write(path) writes it, read(path) reads it
+// back; the file is removed afterwards (also when read throws).
+template <class Write, class Read>
+auto round_trip_file(const std::string& name, Write&& write, Read&& read) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / name;
+  struct Remove {
+    std::filesystem::path file;
+    ~Remove() {
+      std::error_code ec;
+      std::filesystem::remove(file, ec);
+    }
+  } remove{file};
+  std::forward<Write>(write)(file);
+  return std::forward<Read>(read)(file);
 }
 
 // Runs f and reports whether it threw an Ex whose message contains `needle`.

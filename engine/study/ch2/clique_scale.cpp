@@ -35,6 +35,9 @@ int count_hits(const std::vector<int>& selected, const std::vector<char>& in_ref
 }  // namespace
 
 std::string_view to_string(CliqueScaleMethod m) { return kCliqueScaleMethodNames.name(m); }
+CliqueScaleMethod clique_scale_method_from_string(std::string_view s) {
+  return kCliqueScaleMethodNames.parse(s);
+}
 
 int first_moment_clique_number(int n, double p) {
   if (n < 1) throw std::invalid_argument(fmt::format("first_moment_clique_number: n = {} must be >= 1", n));

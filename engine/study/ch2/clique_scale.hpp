@@ -44,7 +44,8 @@ enum class CliqueScaleMethod { exact, heuristic, densest };
 inline constexpr std::size_t kCliqueScaleMethods = 3;
 inline constexpr std::array<CliqueScaleMethod, kCliqueScaleMethods> kAllCliqueScaleMethods = {
     CliqueScaleMethod::exact, CliqueScaleMethod::heuristic, CliqueScaleMethod::densest};
-std::string_view to_string(CliqueScaleMethod m);  // "exact" | "heuristic" | "densest"
+std::string_view to_string(CliqueScaleMethod m);                        // "exact" | "heuristic" | "densest"
+CliqueScaleMethod clique_scale_method_from_string(std::string_view s);  // throws std::invalid_argument
 
 struct CliqueScaleOptions {
   // The exact search stops after this many branch-and-bound nodes (not a time limit, so that its result does

@@ -14,17 +14,29 @@ namespace keel::cli {
 
 void add_bless_command(CLI::App& app) {
   auto a = std::make_shared<ReproArgs>();
-  repro_command(app, "bless", "write latest.json as the baseline (numbers only; on purpose)", *a, true)
-      ->callback([a] {
-        if (a->ids.empty()) {
-          throw CLI::ValidationError(
-              "ids", "bless needs explicit experiment ids (baselines change only on purpose)");
-        }
-        for (const auto& id : resolve_ids(*a)) {
-          repro::bless(load(*a, id), a->results);
-          fmt::print("blessed {}\n", repro::baseline_path(a->results, id, a->profile).string());
-        }
-      });
+  auto allow_dirty = std::make_shared<bool>(false);
+  auto* c =
+      repro_command(app, "bless", "write latest.json as the baseline (numbers only; on purpose)", *a, true);
+  c->add_flag("--allow-dirty", *allow_dirty,
+              "bless a result of uncommitted code (the baseline then names no commit; marked, and the report "
+              "says so)");
+  c->callback([a, allow_dirty] {
+    if (a->ids.empty()) {
+      throw CLI::ValidationError("ids",
+                                 "bless needs explicit experiment ids (baselines change only on purpose)");
+    }
+    for (const auto& id : resolve_ids(*a)) {
+      const bool dirty = repro::bless(load(*a, id), a->results, *allow_dirty);
+      fmt::print("blessed {}\n", repro::baseline_path(a->results, id, a->profile).string());
+      if (dirty) {
+        fmt::print(
+            stderr,
+            "warning: {} was blessed from uncommitted code (--allow-dirty): its baseline names no commit "
+            "and the report marks it\n",
+            id);
+      }
+    }
+  });
 }
 
 }  // namespace keel::cli

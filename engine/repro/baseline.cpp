@@ -1,4 +1,5 @@
 #include "repro/baseline.hpp"
+#include "repro/experiment.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -82,10 +83,20 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
         fmt::format("experiment.toml changed since the baseline was blessed (hash {} -> {})", bh, lh));
   }
 
-  auto tol_of = [&](const std::string& name) { return config.tolerance_for(name).value_or(Tolerance{}); };
-
   const json& bm = base.at("metrics");
   const json& lm = latest.at("metrics");
+  // A tolerance in flips (docs/GRADING.md) allows flips / D, D the baseline's count of the decisions' units.
+  auto tol_of = [&](const std::string& name) {
+    const Tolerance t = config.tolerance_for(name).value_or(Tolerance{});
+    if (t.flips < 0) return t;
+    if (!bm.contains(t.of)) {
+      throw std::runtime_error(
+          fmt::format("{}: the tolerance of '{}' counts flips of '{}', which is no metric of the "
+                      "baseline",
+                      config.file.string(), name, t.of));
+    }
+    return t.resolve_flips(as_number(bm.at(t.of)));
+  };
   for (auto it = bm.begin(); it != bm.end(); ++it) {
     DiffRow r{it.key(), number_text(as_number(it.value())), "-", tol_of(it.key()).describe(), true, ""};
     if (!lm.contains(it.key())) {
@@ -147,7 +158,15 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   // A tolerance key that names nothing is a typo that would silently fall back to the default.
   for (const auto& [key, tol] : config.tolerances) {
     if (key == "default") continue;
-    if (!bm.contains(key) && !lm.contains(key) && !bs.contains(key) && !ls.contains(key)) {
+    bool names_something = bm.contains(key) || lm.contains(key) || bs.contains(key) || ls.contains(key);
+    if (key.rfind("*.", 0) == 0) {
+      for (const json* names : {&bm, &lm, &bs, &ls}) {
+        for (auto it = names->begin(); it != names->end() && !names_something; ++it) {
+          names_something = tolerance_group(it.key()) == key;
+        }
+      }
+    }
+    if (!names_something) {
       d.rows.push_back({fmt::format("tolerance '{}'", key), "-", "-", tol.describe(), false,
                         "[tolerance] key names no metric or series of this experiment"});
     }
@@ -180,13 +199,26 @@ DiffResult diff_against_baseline(const ExperimentConfig& config, const std::file
   return d;
 }
 
-void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir) {
+bool bless(const ExperimentConfig& config, const std::filesystem::path& results_dir, bool allow_dirty) {
   const auto lp = latest_path(results_dir, config.id);
   json latest = read_json(lp, "run the experiment before blessing it");
   if (latest.value("profile", "") != config.profile) {
     throw std::runtime_error(fmt::format("{}: was produced with profile '{}', not '{}'", lp.string(),
                                          latest.value("profile", "?"), config.profile));
   }
+  // A baseline names the commit that made it; a result of uncommitted code names none (docs/GRADING.md).
+  const std::string sha =
+      latest.contains("provenance") ? latest["provenance"].value("git_sha", "unknown") : "unknown";
+  const bool dirty = !clean_commit(sha);
+  if (dirty && !allow_dirty) {
+    throw std::runtime_error(fmt::format(
+        "{}: produced by git {}, a tree with uncommitted changes under engine/, experiments/ or the CMake "
+        "files, so "
+        "no commit made these numbers; commit, rerun (scripts/reproduce --profile {} --bless {}), or pass "
+        "--allow-dirty to bless anyway (the baseline and the report then say so)",
+        lp.string(), sha, config.profile, config.id));
+  }
+  if (dirty) latest["provenance"]["blessed_dirty"] = true;
   // The figure data stay out of the baseline (megabytes of samples); an index of the figures (file and
   // title) stays, so a report rendered from the baseline links the PNGs drawn from the same run.
   if (latest.contains("figures")) {
@@ -196,6 +228,7 @@ void bless(const ExperimentConfig& config, const std::filesystem::path& results_
     latest["figures"] = index;
   }
   write_file_atomic(baseline_path(results_dir, config.id, config.profile), latest.dump(1) + "\n");
+  return dirty;
 }
 
 bool same_results(const std::filesystem::path& a, const std::filesystem::path& b, std::string* why) {

@@ -38,7 +38,11 @@ std::filesystem::path baseline_path(const std::filesystem::path& results_dir, co
                                                const std::filesystem::path& results_dir);
 
 // Copies latest.json to baseline.<profile>.json without the figure data (baselines hold numbers only).
-void bless(const ExperimentConfig& config, const std::filesystem::path& results_dir);
+// Refuses a result whose provenance names no commit (git_sha "-dirty" or unknown: see clean_commit) unless
+// allow_dirty, which marks the baseline ("blessed_dirty": true, shown by the report). Returns whether it
+// blessed such a result.
+bool bless(const ExperimentConfig& config, const std::filesystem::path& results_dir,
+           bool allow_dirty = false);
 
 // True when the two result files agree in everything but provenance and timings (wall time, threads). `why`
 // gets the first difference. Used by the determinism test (1 thread vs 2 threads).

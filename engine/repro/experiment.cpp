@@ -1,4 +1,5 @@
 #include "repro/experiment.hpp"
+#include "repro/machine.hpp"
 
 #include <fmt/format.h>
 
@@ -71,21 +72,22 @@ std::string git_describe(const std::string& path) {
   return dirty.empty() ? sha : fmt::format("{}-dirty", sha);
 }
 
-bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base) {
-  if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return true;
+bool clean_commit(const std::string& sha) {
+  if (sha.empty() || sha == "unknown" || sha.find("-dirty") != std::string::npos) return false;
   for (char c : sha)
-    if (!std::isxdigit(static_cast<unsigned char>(c))) return true;
-  // experiments/common holds code that drivers include (shared glue), so it counts as the experiment's code
-  // too.
+    if (!std::isxdigit(static_cast<unsigned char>(c))) return false;
+  return true;
+}
+
+bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base) {
+  if (!clean_commit(sha)) return true;
   std::string folder = shell_quote(fmt::format(":/experiments/{}", id));
   if (!base.empty()) folder += " " + shell_quote(fmt::format(":/experiments/{}", base));
   const std::string out = run_capture(fmt::format(
-      "git diff --name-only {} -- ':/engine' ':/CMakeLists.txt' ':/cmake' ':/experiments/common' {} 2>&1; "
-      "echo \"rc=$?\"",
-      sha, folder));
-  const std::string untracked = run_capture(fmt::format(
-      "git status --porcelain --untracked-files=normal -- ':/engine' ':/experiments/common' {} 2>/dev/null",
+      "git diff --name-only {} -- ':/engine' ':/CMakeLists.txt' ':/cmake' {} 2>&1; echo \"rc=$?\"", sha,
       folder));
+  const std::string untracked = run_capture(
+      fmt::format("git status --porcelain --untracked-files=normal -- ':/engine' {} 2>/dev/null", folder));
   return out != "rc=0" || !untracked.empty();
 }
 
@@ -274,6 +276,7 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
   prov.seed = ex->seed();
   prov.wall_time_s = wall;
   prov.threads = threads;
+  prov.machine = this_machine();
   try {
     ex->results().write(out_path, prov);
   } catch (const std::exception& e) {

@@ -50,10 +50,14 @@ using ExperimentBody = std::function<void(Experiment&)>;
 // "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
 std::string git_describe(const std::string& path);
 
-// Whether the engine, the build files, experiments/common (glue drivers include) or experiments/<id> differ
-// between commit `sha` (as git_describe wrote it) and the working tree now. A "-dirty" or unknown sha counts
-// as changed: such a result cannot be tied to committed code. `base` (a variant's params_from, or empty) adds
-// experiments/<base>, whose driver and parameters the variant uses.
+// Whether `sha` (as git_describe wrote it) names a commit: not "-dirty", not "unknown". Only such a result
+// can be traced to the code that made it, so only such a result is blessed (docs/GRADING.md "Baselines").
+bool clean_commit(const std::string& sha);
+
+// Whether the engine, the build files or experiments/<id> differ between commit `sha` (as git_describe wrote
+// it) and the working tree now. A "-dirty" or unknown sha counts as changed: such a result cannot be tied to
+// committed code. `base` (a variant's params_from, or empty) adds experiments/<base>, whose driver and
+// parameters the variant uses.
 bool code_changed_since(const std::string& sha, const std::string& id, const std::string& base = "");
 
 }  // namespace keel::repro

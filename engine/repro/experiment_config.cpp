@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -31,7 +32,26 @@ bool Tolerance::accepts(double ours, double base) const {
   return abs < 0 && rel < 0 && d == 0.0;
 }
 
+std::string tolerance_group(std::string_view name) {
+  name = name.substr(0, name.find('@'));  // "dcs.tpr@0.11": the level tag may hold dots itself
+  const auto dot = name.rfind('.');
+  return fmt::format("*.{}", dot == std::string_view::npos ? name : name.substr(dot + 1));
+}
+
+Tolerance Tolerance::resolve_flips(double count) const {
+  Tolerance t = *this;
+  if (flips >= 0 && count > 0) t.abs = std::max(abs, flips / count);
+  return t;
+}
+
 std::string Tolerance::describe() const {
+  if (flips >= 0) {
+    const std::string rest = abs >= 0 && rel >= 0 ? fmt::format(": abs {:g} or rel {:g}", abs, rel)
+                             : abs >= 0           ? fmt::format(": abs {:g}", abs)
+                             : rel >= 0           ? fmt::format(" or rel {:g}", rel)
+                                                  : "";
+    return fmt::format("{:g} flip(s) of {}{}", flips, of, rest);
+  }
   if (abs >= 0 && rel >= 0) return fmt::format("abs {:g} or rel {:g}", abs, rel);
   if (abs >= 0) return fmt::format("abs {:g}", abs);
   if (rel >= 0) return fmt::format("rel {:g}", rel);
@@ -40,6 +60,7 @@ std::string Tolerance::describe() const {
 
 std::optional<Tolerance> ExperimentConfig::tolerance_for(std::string_view metric) const {
   if (auto it = tolerances.find(metric); it != tolerances.end()) return it->second;
+  if (auto it = tolerances.find(tolerance_group(metric)); it != tolerances.end()) return it->second;
   if (auto it = tolerances.find(std::string_view("default")); it != tolerances.end()) return it->second;
   return std::nullopt;
 }
@@ -79,16 +100,27 @@ std::shared_ptr<ConfigTableData> overlay(const ConfigTableData& base, const Conf
   return out;
 }
 
-Tolerance parse_tolerance(const ConfigTable& t) {
+// A [tolerance] entry; `profile` (when given) is returned through `only_profile`.
+Tolerance parse_tolerance(const ConfigTable& t, std::string& only_profile) {
   Tolerance tol;
   if (t.has("abs")) tol.abs = t.number("abs");
   if (t.has("rel")) tol.rel = t.number("rel");
+  if (t.has("flips")) tol.flips = t.number("flips");
+  if (t.has("of")) tol.of = t.string("of");
+  only_profile = t.has("profile") ? t.string("profile") : "";
   t.finish();
-  if ((t.has("abs") && !(tol.abs >= 0)) || (t.has("rel") && !(tol.rel >= 0))) {
+  if ((t.has("abs") && !(tol.abs >= 0)) || (t.has("rel") && !(tol.rel >= 0)) ||
+      (t.has("flips") && !(tol.flips >= 0))) {
     throw ConfigError(fmt::format("{}: [{}] tolerances must be >= 0", t.file(), t.name()));
   }
-  if (!t.has("abs") && !t.has("rel")) {
-    throw ConfigError(fmt::format("{}: [{}] needs 'abs' and/or 'rel'", t.file(), t.name()));
+  if (t.has("flips") != t.has("of")) {
+    throw ConfigError(
+        fmt::format("{}: [{}] 'flips' needs 'of' (the metric that counts the decisions' units, e.g. "
+                    "of = \"datasets\") and 'of' needs 'flips'",
+                    t.file(), t.name()));
+  }
+  if (!t.has("abs") && !t.has("rel") && !t.has("flips")) {
+    throw ConfigError(fmt::format("{}: [{}] needs 'abs', 'rel' and/or 'flips'", t.file(), t.name()));
   }
   return tol;
 }
@@ -174,7 +206,11 @@ ExperimentConfig ExperimentConfig::load(const std::filesystem::path& file, const
   if (root.has("thesis")) c.thesis = root.table("thesis");
   if (root.has("tolerance")) {
     ConfigTable tol = root.table("tolerance");
-    for (const auto& k : tol.keys()) c.tolerances[k] = parse_tolerance(tol.table(k));
+    for (const auto& k : tol.keys()) {
+      std::string only_profile;
+      const Tolerance t = parse_tolerance(tol.table(k), only_profile);
+      if (only_profile.empty() || only_profile == c.profile) c.tolerances[k] = t;
+    }
   }
   // Report-only tables are read by the report; mark them here so finish() only catches typos at the top
   // level.

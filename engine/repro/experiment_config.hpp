@@ -22,9 +22,20 @@ using core::ConfigTable;
 struct Tolerance {
   double abs = -1.0;  // < 0: not set
   double rel = -1.0;  // < 0: not set
+  // Discrete decisions (docs/GRADING.md "Results on another machine"): `flips` decisions of the `of` units (a
+  // metric holding their count D, e.g. "datasets") may flip, so a rate averaged over them may move by flips /
+  // D. Resolved into `abs` by resolve_flips() against the baseline's count. flips < 0: not set.
+  double flips = -1.0;
+  std::string of;
   bool accepts(double ours, double base) const;
   std::string describe() const;
+  // This tolerance with abs raised to flips / count (count = the baseline's value of metric `of`).
+  Tolerance resolve_flips(double count) const;
 };
+
+// The wildcard [tolerance] key that covers `name`: "*." and its last dot-separated part up to an '@'
+// ("dataset.pcm_exact.tpr" and "dcs.tpr@0.11" -> "*.tpr").
+std::string tolerance_group(std::string_view name);
 
 // One experiment's experiment.toml, resolved for one profile.
 struct ExperimentConfig {
@@ -45,7 +56,9 @@ struct ExperimentConfig {
   std::uint64_t hash = 0;  // FNV-1a of the file bytes and the profile name
   ConfigTable params;      // [params] with [profiles.<profile>] laid over it
   ConfigTable thesis;      // [thesis]: source, claim, values, agreement
-  std::map<std::string, Tolerance, std::less<>> tolerances;  // [tolerance]; key "default" applies to the rest
+  // [tolerance]: per metric or series name; "*.<last>" for every name whose last dot-separated part (up to an
+  // '@') is <last>; "default" for the rest. An entry with profile = "<name>" belongs to that profile only.
+  std::map<std::string, Tolerance, std::less<>> tolerances;
   std::optional<Tolerance> tolerance_for(std::string_view metric) const;
 
   // Loads and validates: unknown top-level keys, a missing profile, an id that differs from the folder name,

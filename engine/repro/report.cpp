@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -396,10 +397,26 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     }
   }
   const json& p = r["provenance"];
-  fmt::format_to(os, "<sub>{}profile `{}`, seed {}, git {}, config {}, {}, {} threads, wall {} s</sub>\n\n",
-                 from_baseline ? fmt::format("{}: ", file_name) : "", run_profile, p.value("seed", 0),
-                 p.value("git_sha", "?"), p.value("config_hash", "?"), p.value("compiler", "?"),
-                 p.value("threads", 0), number_text(s.wall));
+  // The machine (docs/GRADING.md "Results on another machine"): CPU, the features libm and the BLAS dispatch
+  // on, glibc, and the BLAS kernel family.
+  std::string machine;
+  if (p.contains("machine")) {
+    const json& m = p["machine"];
+    machine =
+        fmt::format(", {} ({}), glibc {}, BLAS {}{}", m.value("cpu_model", "?"), m.value("cpu_features", "?"),
+                    m.value("glibc", "?"), std::filesystem::path(m.value("blas", "?")).filename().string(),
+                    m.contains("blas_core") ? fmt::format(" ({})", m.value("blas_core", "")) : "");
+    if (m.contains("overrides")) machine += fmt::format(", run with {}", m.value("overrides", ""));
+  }
+  const std::string sha = p.value("git_sha", "?");
+  const std::string dirty = p.value("blessed_dirty", false) || (from_baseline && !clean_commit(sha))
+                                ? " — **blessed from uncommitted code: no commit made these numbers**"
+                                : "";
+  fmt::format_to(os,
+                 "<sub>{}profile `{}`, seed {}, git {}, config {}, {}, {} threads, wall {} s{}{}</sub>\n\n",
+                 from_baseline ? fmt::format("{}: ", file_name) : "", run_profile, p.value("seed", 0), sha,
+                 p.value("config_hash", "?"), p.value("compiler", "?"), p.value("threads", 0),
+                 number_text(s.wall), machine, dirty);
   s.body = std::move(text);
   return s;
 }

@@ -31,6 +31,7 @@ using keel::repro::fnv1a64;
 using keel::repro::Tolerance;
 // results, figures, experiment main
 using keel::repro::Check;
+using keel::repro::clean_commit;
 using keel::repro::code_changed_since;
 using keel::repro::ecdf_layer;
 using keel::repro::Experiment;

@@ -6,14 +6,19 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "repro/baseline.hpp"
+#include "repro/experiment.hpp"
 #include "repro/experiment_config.hpp"
+#include "repro/machine.hpp"
 #include "repro/results.hpp"
 
 using namespace keel::repro;
@@ -172,6 +177,43 @@ TEST_CASE("tolerance descriptions") {
   CHECK(t.describe() == "rel 1e-06");
 }
 
+TEST_CASE("tolerance in flips: wildcard names, one profile, flips / D, clear errors") {
+  Scratch s("flips");
+  const std::string text = fmt::format(
+      "{}\"*.tpr\" = {{ flips = 1, of = \"datasets\", profile = \"full\" }}\n\"*.chi2\" = {{ rel = 0.05 }}\n",
+      kGood);
+  const auto file = s.write("experiments/demo/experiment.toml", text);
+  const auto quick = ExperimentConfig::load(file, "quick");
+  const auto full = ExperimentConfig::load(file, "full");
+  CHECK(tolerance_group("dataset.pcm_exact.tpr") == "*.tpr");
+  CHECK(tolerance_group("dcs.tpr@0.11") == "*.tpr");
+  CHECK(tolerance_group("tpr") == "*.tpr");
+  // The profile = "full" entry exists for the full profile only; the quick profile falls back to the default.
+  CHECK(quick.tolerance_for("dcs.tpr")->rel == 1e-6);
+  CHECK(quick.tolerance_for("dcs.tpr")->flips < 0);
+  REQUIRE(full.tolerance_for("dcs.tpr@0.11").has_value());
+  const Tolerance t = *full.tolerance_for("dcs.tpr@0.11");
+  CHECK(t.flips == 1);
+  CHECK(t.describe() == "1 flip(s) of datasets");
+  const Tolerance r = t.resolve_flips(81);
+  CHECK(r.abs == doctest::Approx(1.0 / 81));
+  CHECK(r.accepts(0.969547 - 0.0123, 0.969547));
+  CHECK_FALSE(r.accepts(0.969547 - 0.0124, 0.969547));
+  CHECK(quick.tolerance_for("x.chi2")->rel == 0.05);
+  CHECK(quick.tolerance_for("a.b")->abs == 0.01);  // an exact name wins over a wildcard
+  for (const auto& [bad, message] :
+       {std::pair<std::string, std::string>{"\"*.tpr\" = { flips = 1 }", "'flips' needs 'of'"},
+        {"\"*.tpr\" = { of = \"datasets\" }", "'flips' needs 'of'"},
+        {"\"*.tpr\" = { flips = -1, of = \"datasets\" }", "must be >= 0"},
+        {"\"*.tpr\" = { profile = \"full\" }", "needs 'abs', 'rel' and/or 'flips'"}}) {
+    CAPTURE(bad);
+    const std::string e = error_of([&] {
+      (void)ExperimentConfig::load(s.write("experiments/demo/experiment.toml", kGood + bad + "\n"), "quick");
+    });
+    CHECK(e.find(message) != std::string::npos);
+  }
+}
+
 TEST_CASE("rounding of result values") {
   CHECK(round_significant(0.1 + 0.2) == 0.3);
   CHECK(round_significant(123456.789, 4) == 123500.0);
@@ -241,6 +283,7 @@ TEST_CASE("results round trip through baseline diff and bless") {
   Results::Provenance p;
   p.id = "demo";
   p.profile = "quick";
+  p.git_sha = "0123456789ab";
   r.write(latest_path(results, "demo"), p);
   // No baseline yet: a clear error that says how to create one.
   CHECK(error_of([&] { (void)diff_against_baseline(c, results); }).find("--bless demo") != std::string::npos);
@@ -275,6 +318,162 @@ TEST_CASE("results round trip through baseline diff and bless") {
   CHECK(format_diff(d).find("tolerance 'a.bb'") != std::string::npos);
   std::string why;
   CHECK_FALSE(same_results(latest_path(results, "demo"), baseline_path(results, "demo", "quick"), &why));
+}
+
+TEST_CASE("bless refuses a result of uncommitted code unless allowed, and marks it") {
+  Scratch s("bless_dirty");
+  auto c = ExperimentConfig::load(s.write("experiments/demo/experiment.toml", kGood), "quick");
+  const fs::path results = s.root / "results";
+  Results r;
+  r.metric("a.b", 0.5);
+  r.metric("c", 2.0);
+  r.series("s", {1.0, 2.0, 3.0});
+  Results::Provenance p;
+  p.id = "demo";
+  p.profile = "quick";
+  auto baseline = [&] {
+    std::ifstream in(baseline_path(results, "demo", "quick"));
+    return nlohmann::json::parse(in);
+  };
+  for (const std::string sha : {"0123456789ab-dirty", "unknown", "", "not a sha"}) {
+    CAPTURE(sha);
+    CHECK_FALSE(clean_commit(sha));
+    p.git_sha = sha;
+    r.write(latest_path(results, "demo"), p);
+    fs::remove(baseline_path(results, "demo", "quick"));
+    const std::string e = error_of([&] { (void)bless(c, results); });
+    CHECK(e.find("uncommitted changes") != std::string::npos);
+    CHECK(e.find("--allow-dirty") != std::string::npos);
+    CHECK_FALSE(fs::exists(baseline_path(results, "demo", "quick")));
+    CHECK(bless(c, results, true));
+    CHECK(baseline()["provenance"]["blessed_dirty"] == true);
+  }
+  p.git_sha = "0123456789ab";
+  CHECK(clean_commit(p.git_sha));
+  r.write(latest_path(results, "demo"), p);
+  CHECK_FALSE(bless(c, results));
+  CHECK_FALSE(baseline()["provenance"].contains("blessed_dirty"));
+}
+
+TEST_CASE("provenance names the machine: CPU, its features, glibc, BLAS, packages") {
+  const Machine& m = this_machine();
+  CHECK_FALSE(m.cpu_model.empty());
+  CHECK_FALSE(m.glibc.empty());
+  CHECK(m.glibc.find('.') != std::string::npos);  // "2.36"
+  // Each recorded feature is one of those libm and the BLAS dispatch on.
+  std::istringstream features(m.cpu_features);
+  for (std::string f; features >> f;) {
+    CHECK((f == "sse4_2" || f == "avx" || f == "avx2" || f == "fma" || f == "avx512f"));
+  }
+  Scratch s("machine");
+  Results r;
+  r.metric("x", 1.0);
+  Results::Provenance p;
+  p.id = "demo";
+  p.profile = "quick";
+  p.machine = m;
+  const fs::path file = s.root / "latest.json";
+  r.write(file, p);
+  std::ifstream in(file);
+  const auto doc = nlohmann::json::parse(in);
+  REQUIRE(doc["provenance"].contains("machine"));
+  CHECK(doc["provenance"]["machine"]["cpu_model"] == m.cpu_model);
+  CHECK(doc["provenance"]["machine"]["glibc"] == m.glibc);
+  if (!m.packages.empty()) CHECK(doc["provenance"]["machine"]["packages"].size() == m.packages.size());
+}
+
+// The figure contract from the writer's side: one result with every layer type and every optional key,
+// written to $KEEL_FIGURE_SAMPLE when set; CTest repro.figure_contract then validates it against
+// scripts/figure_schema.json with scripts/figure_spec.py, so the writer and the renderer cannot drift apart.
+TEST_CASE("figure contract: a result using every layer type and key") {
+  Results r;
+  r.timing("solve", 0.25);
+  r.timing("certify", 0.5);
+  Figure f;
+  f.file = "contract.png";
+  f.title = "every layer";
+  f.rows = 2;
+  f.cols = 2;
+  f.width = 8;
+  f.height = 6;
+  Panel a;
+  a.title = "lines";
+  a.xlabel = "x";
+  a.ylabel = "y";
+  a.xscale = "log";
+  a.yscale = "logit";
+  a.legend = "upper left";
+  a.xlim = std::pair{0.1, 10.0};
+  a.ylim = std::pair{0.01, 0.99};
+  Layer line = line_layer({0.1, 1.0, 10.0}, {0.1, 0.5, 0.9}, "line", "C0", "o", "--");
+  line.linewidth = 1.5;
+  line.alpha = 0.8;
+  a.layers.push_back(line);
+  Layer timed = line_layer({1.0, 2.0}, {}, "timings", "C1");
+  timed.y_timings = {"solve", "certify"};
+  a.layers.push_back(timed);
+  a.layers.push_back(hline_layer(0.5, "half", "k"));
+  Layer v;
+  v.type = "vline";
+  v.value = 1.0;
+  v.label = "one";
+  v.color = "r";
+  v.linestyle = ":";
+  v.linewidth = 2;
+  v.alpha = 0.5;
+  a.layers.push_back(v);
+  a.layers.push_back(histogram_layer({1, 2, 3}, {0.2, 0.5, 0.3}, "histogram", "C2"));
+  a.layers.push_back(ecdf_layer({3, 1, 2}, "ecdf", "C3", 0.5, "-."));
+  Panel b;
+  b.aspect = "equal";
+  b.colorbar = "value";
+  b.legend = "none";
+  Layer sc = scatter_layer({0, 1, 2}, {0, 1, std::numeric_limits<double>::quiet_NaN()}, "scatter", "C4", 9,
+                           0.5, "x");
+  sc.c = {0.0, 0.5, 1.0};
+  sc.cmap = "viridis";
+  sc.vmin = 0;
+  sc.vmax = 1;
+  b.layers.push_back(sc);
+  Layer seg;
+  seg.type = "segments";
+  seg.x0 = {0, 1};
+  seg.y0 = {0, 1};
+  seg.x1 = {1, 2};
+  seg.y1 = {1, std::numeric_limits<double>::infinity()};
+  seg.c = {0.2, 0.8};
+  seg.cmap = "plasma";
+  seg.vmin = 0;
+  seg.vmax = 1;
+  seg.color = "k";
+  seg.linewidth = 0.5;
+  seg.alpha = 0.9;
+  seg.label = "segments";
+  b.layers.push_back(seg);
+  f.panels = {a, b, Panel{}};
+  f.panels[2].layers.push_back(line_layer({0, 1}, {1, 0}, "", ""));
+  r.figure(f);
+  Figure plain;
+  plain.file = "plain.png";
+  Panel only;
+  only.layers.push_back(line_layer({0, 1}, {0, 1}, "", ""));
+  plain.panels = {only};
+  r.figure(plain);
+  Results::Provenance p;
+  p.id = "contract";
+  p.profile = "quick";
+  Scratch s("contract");
+  fs::path out = s.root / "contract.json";
+  if (const char* env = std::getenv("KEEL_FIGURE_SAMPLE")) out = env;
+  r.write(out, p);
+  std::ifstream in(out);
+  const auto doc = nlohmann::json::parse(in);
+  REQUIRE(doc["figures"].size() == 2);
+  CHECK(doc["figures"][0]["panels"].size() == 3);
+  CHECK(doc["figures"][0]["layout"] == nlohmann::json{2, 2});
+  CHECK(doc["figures"][0]["panels"][1]["layers"][0]["y"][2] == "nan");
+  CHECK(doc["figures"][0]["panels"][1]["layers"][1]["y1"][1] == "inf");
+  CHECK(doc["figures"][0]["panels"][0]["layers"][1]["y_timings"] == nlohmann::json{"solve", "certify"});
 }
 
 TEST_CASE("histogram_layer outlines unit-width bins; mismatched sizes are an error") {

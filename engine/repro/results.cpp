@@ -253,6 +253,19 @@ void Results::write(const std::filesystem::path& path, const Provenance& prov) c
                        {"wall_time_s", round_significant(prov.wall_time_s, 4)},
                        {"threads", prov.threads}};
   if (prov.shards > 0) doc["provenance"]["merged_shards"] = prov.shards;
+  const Machine& host = prov.machine;
+  json machine = json::object();
+  for (const auto& [key, text] : {std::pair<const char*, const std::string*>{"cpu_model", &host.cpu_model},
+                                  {"cpu_features", &host.cpu_features},
+                                  {"glibc", &host.glibc},
+                                  {"blas", &host.blas},
+                                  {"lapack", &host.lapack},
+                                  {"blas_core", &host.blas_core},
+                                  {"overrides", &host.overrides}}) {
+    if (!text->empty()) machine[key] = *text;
+  }
+  if (!host.packages.empty()) machine["packages"] = host.packages;
+  if (!machine.empty()) doc["provenance"]["machine"] = machine;
   write_file_atomic(path, doc.dump(1) + "\n");
 }
 

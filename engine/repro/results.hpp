@@ -1,6 +1,7 @@
-// What an experiment run produces: scalar metrics, named series, claim checks, declarative figures (rendered
-// by scripts/plot.py, whose header documents the figure contract) and provenance. Written as JSON with sorted
-// keys to a temporary name and renamed (DESIGN convention 8). nlohmann::json stays inside results.cpp.
+// What an experiment run produces: scalar metrics, named series, claim checks, declarative figures (the
+// figure contract is scripts/figure_schema.json; scripts/plot.py renders them) and provenance. Written as
+// JSON with sorted keys to a temporary name and renamed (DESIGN convention 8). nlohmann::json stays inside
+// results.cpp.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +10,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "repro/machine.hpp"
 
 namespace keel::repro {
 
@@ -88,6 +91,9 @@ class Results {
     double wall_time_s = 0;
     unsigned threads = 0;
     std::size_t shards = 0;  // > 0: merged from this many partials (core/shard.hpp); wall time is the merge's
+    // The machine of this run (of a merge: the merging machine's; its shards ran where the scheduler put
+    // them).
+    Machine machine;
   };
   // Writes the JSON document atomically (temporary file + rename), creating parent folders.
   void write(const std::filesystem::path& path, const Provenance& prov) const;

@@ -136,7 +136,7 @@ done
 rc=0 diff_rc=0
 EOF
   if [ "$do_bless" -eq 1 ]; then
-    echo "[ \${#ok_ids[@]} -eq 0 ] || \"\$keel\" bless --profile $profile \"\${ok_ids[@]}\" || rc=1"
+    echo "[ \${#ok_ids[@]} -eq 0 ] || \"\$keel\" bless --profile $profile ${bless_args[*]} \"\${ok_ids[@]}\" || rc=1"
   fi
   cat <<EOF
 if [ \${#ok_ids[@]} -gt 0 ]; then "\$keel" diff --profile $profile "\${ok_ids[@]}" || diff_rc=\$?; fi

@@ -34,8 +34,6 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-void write_text(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
-
 }  // namespace
 
 TEST_CASE("app::pcm on the files of split_files selects what the in-memory pipeline selects") {

@@ -199,7 +199,10 @@ ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
   // Threshold sets S_k: the k largest entries of v₁ (ties: lower index first).
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return v1(a) > v1(b); });
+  // std::sort with the index as tie-break = a stable sort of 0..n-1 (std::stable_sort trips clang-19's
+  // deprecation of libstdc++ 12's get_temporary_buffer under -Werror, docs/DESIGN.md toolchain facts).
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return v1(a) > v1(b) || (v1(a) == v1(b) && a < b); });
 
   int best_k = 1;
   double best_score = -std::numeric_limits<double>::infinity();

@@ -28,8 +28,6 @@ using core::format_duration;
 Experiment::Experiment(ExperimentConfig config, unsigned threads)
     : config_(std::move(config)), threads_(threads) {}
 
-namespace {
-
 std::string run_capture(const std::string& cmd) {
   std::string out;
   if (FILE* p = ::popen(cmd.c_str(), "r")) {
@@ -40,6 +38,8 @@ std::string run_capture(const std::string& cmd) {
   while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
   return out;
 }
+
+namespace {
 
 std::string shell_quote(const std::string& s) {
   std::string q = "'";

@@ -47,6 +47,9 @@ using ExperimentBody = std::function<void(Experiment&)>;
 
 [[nodiscard]] int experiment_main(int argc, char** argv, const ExperimentBody& body);
 
+// The standard output of a shell command, trailing newlines removed ("" when it cannot run).
+std::string run_capture(const std::string& cmd);
+
 // "abc1234" or "abc1234-dirty" for the repository holding `path`; "unknown" outside git.
 std::string git_describe(const std::string& path);
 

@@ -3,13 +3,14 @@
 #include <dlfcn.h>
 #include <gnu/libc-version.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "repro/experiment.hpp"
 
 namespace keel::repro {
 namespace {
@@ -18,16 +19,6 @@ std::string trim(std::string s) {
   const auto b = s.find_first_not_of(" \t\n");
   const auto e = s.find_last_not_of(" \t\n");
   return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-std::string capture(const std::string& cmd) {
-  std::string out;
-  if (FILE* p = ::popen(cmd.c_str(), "r")) {
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    ::pclose(p);
-  }
-  return out;
 }
 
 // The first loaded shared object whose file name starts with `prefix` (from /proc/self/maps), resolved.
@@ -81,7 +72,7 @@ Machine describe() {
     }
   }
   // The libraries whose arithmetic reaches the results: libc/libm, the BLAS and LAPACK, and the solvers.
-  std::istringstream versions(capture(
+  std::istringstream versions(run_capture(
       "dpkg-query -W -f='${binary:Package} ${Version} ${db:Status-Abbrev}\\n' libc6 libopenblas0-pthread "
       "libopenblas0-openmp libopenblas0-serial libblas3 liblapack3 libatlas3-base libceres3 libcholmod3 "
       "coinor-libclp1 libdsdp-5.8gf libsdpa-dev libqhull-r8.0 libeigen3-dev 2>/dev/null"));

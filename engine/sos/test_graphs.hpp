@@ -11,25 +11,13 @@
 #include "graph/pose_graph.hpp"
 #include "lie/se2.hpp"
 #include "lie/types.hpp"
+#include "sos/certify.hpp"
 
 namespace keel::sos::test {
 
-// The counterexample: 4 poses, complete graph, rotation-only measurements, unit weights (ω_R = ω_x = ω_y = 1,
-// i.e. Ω = diag(1, 1, 2) in keel's χ² convention).
-inline graph::PoseGraph2D counterexample() {
-  const double theta[6] = {0.23, 0.43, 1.13, -1.81, 1.36, -1.35};
-  const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-  graph::PoseGraph2D g;
-  g.poses.assign(4, lie::SE2::identity());
-  for (int k = 0; k < 6; ++k) {
-    graph::Edge2 e;
-    e.i = pairs[k][0], e.j = pairs[k][1];
-    e.measurement = lie::SE2(0, 0, theta[k]);
-    e.information = lie::Mat3(Eigen::Vector3d(1, 1, 2).asDiagonal());
-    g.edges.push_back(e);
-  }
-  return g;
-}
+// The counterexample of ch4_exactness: 4 poses, complete graph, rotation-only measurements, unit weights
+// (sos::exactness_counterexample, certify.hpp).
+inline graph::PoseGraph2D counterexample() { return exactness_counterexample(); }
 
 // A random planar graph: odometry chain plus loop closures, poses from a random walk, measurements with
 // noise.

@@ -147,7 +147,7 @@ TEST_CASE("SSC Jacobians throw at gimbal lock") {
   CHECK_NOTHROW(ssc::head_to_tail(a, b));  // the mean itself is fine
 }
 
-TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise") {
+TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise" * doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(25);
   Vec6 a, b;
   a << 1.0, 0.5, -0.2, 0.2, -0.3, 0.8;
@@ -181,7 +181,7 @@ TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise") {
                                     sample_covariance_about_zero(d_h2t)) > 0.1);
 }
 
-TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise") {
+TEST_CASE("SSC 2D propagation matches Monte Carlo at small noise" * doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(26);
   const Vec3 a(1.0, 2.0, 0.7), b(-0.5, 1.5, -2.2);
   MatX L = testkit::random_matrix(rng, 6, 6, 5e-4);

@@ -72,7 +72,7 @@ TEST_CASE("unscented transform is exact for linear maps and for the mean of quad
   CHECK(q0.mean(0) == doctest::Approx(mu1 * mu1 + s * s).epsilon(1e-12));
 }
 
-TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate noise") {
+TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate noise" * doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(303);
   VecX x_hat(12);
   x_hat << 1.0, 2.0, 0.5, 0.3, -0.4, 1.2, 4.0, -1.0, 0.2, -0.2, 0.3, -2.5;
@@ -116,7 +116,7 @@ TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate 
   WARN(e_ut < e_lin);
 }
 
-TEST_CASE("SSC -> Lie conversion vs Monte Carlo, SE2") {
+TEST_CASE("SSC -> Lie conversion vs Monte Carlo, SE2" * doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(304);
   VecX x_hat(6);
   x_hat << 1.0, -2.0, 0.8, 3.0, 1.0, -2.9;

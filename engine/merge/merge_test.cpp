@@ -107,7 +107,7 @@ TEST_CASE("local_maps: ids are the distinct poses touched, joint their marginal 
   CHECK(maps.time_s >= 0.0);
 }
 
-TEST_CASE("consistency of true inlier pairs follows chi2(3)") {
+TEST_CASE("consistency of true inlier pairs follows chi2(3)" * doctest::test_suite("monte_carlo")) {
   std::vector<double> q;
   for (std::uint64_t g = 0; g < 40; ++g) {
     const auto p = pipeline<lie::SE2>(1000 + g);

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "convex/sdp.hpp"
+#include "core/blas.hpp"
+#include "core/parallel.hpp"
 #include "kit/test_kit.hpp"
 
 using namespace keel::convex;
@@ -127,4 +129,30 @@ TEST_CASE("bad programs and settings give clear errors") {
   s.solver = SdpSolver::sdpa;
   CHECK(message_of([&] { (void)solve_sdp(none, s); }).find("SDPA needs at least one constraint") !=
         std::string::npos);
+}
+
+// DSDP and SDPA call the BLAS, so it is loaded here: trial loops run it on one thread (core/blas.hpp) and
+// give its count back afterwards.
+TEST_CASE("trial loops run OpenBLAS on one thread and give its thread count back") {
+  namespace core = keel::core;
+  if (core::blas_threads() == 0) {
+    // Another BLAS than OpenBLAS (Debian's alternatives): the calls do nothing and say so.
+    MESSAGE("the loaded BLAS is not OpenBLAS");
+    CHECK(core::set_blas_threads(2) == 0);
+    return;
+  }
+  const int before = core::set_blas_threads(2);
+  REQUIRE(core::blas_threads() == 2);
+  for (const unsigned threads : {1u, 2u}) {
+    std::vector<int> seen(16, 0);
+    core::parallel_for(seen.size(), [&](std::size_t i) { seen[i] = core::blas_threads(); }, threads);
+    for (const int s : seen) CHECK(s == 1);
+    CHECK(core::blas_threads() == 2);
+  }
+  {
+    const core::SingleThreadedBlas guard;
+    CHECK(core::blas_threads() == 1);
+  }
+  CHECK(core::blas_threads() == 2);
+  core::set_blas_threads(before);
 }

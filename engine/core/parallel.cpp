@@ -5,10 +5,12 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "core/blas.hpp"
 #include "core/progress.hpp"
 
 namespace keel::core {
@@ -30,6 +32,11 @@ bool inside_parallel_for() { return worker_depth > 0; }
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& body, unsigned threads,
                   Progress* progress) {
   if (threads == 0) threads = default_threads();
+  // The trials are the parallelism: their BLAS calls run on one thread (core/blas.hpp), at any thread count,
+  // so that a trial's numbers do not depend on the machine's cores. A nested loop is already inside such a
+  // guard.
+  std::optional<SingleThreadedBlas> one_blas_thread;
+  if (worker_depth == 0) one_blas_thread.emplace();
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(n, 1)));
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};

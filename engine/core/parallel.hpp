@@ -15,8 +15,8 @@ class Progress;
 unsigned default_threads();
 
 // Calls body(i) for i in [0, n) on `threads` threads (0 = default_threads()). Advances `progress` (may be
-// null) by one per finished index. The first exception thrown by any body is rethrown here after all workers
-// stopped.
+// null) by one per finished index. The outermost loop runs the BLAS on one thread while it lasts
+// (core/blas.hpp). The first exception thrown by any body is rethrown here after all workers stopped.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& body, unsigned threads = 0,
                   Progress* progress = nullptr);
 

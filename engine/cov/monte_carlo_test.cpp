@@ -67,7 +67,8 @@ double max_z_score(const MatX& S, const MatX& P, int samples) {
 }  // namespace
 
 TEST_CASE(
-    "Monte Carlo: the joint marginals are the covariance of the left perturbations xi = log(T_hat T^-1)" * doctest::test_suite("monte_carlo")) {
+    "Monte Carlo: the joint marginals are the covariance of the left perturbations xi = log(T_hat T^-1)" *
+    doctest::test_suite("monte_carlo")) {
   // 8 poses far from the origin with loop closures; small noise so that first order holds.
   auto tg = test::small_graph_2d(8, 0, /*seed=*/31, /*noise=*/0.0);
   const std::vector<SE2> truth = tg.graph.poses;

@@ -261,7 +261,8 @@ TEST_CASE("fourth-order joint: exact chain error is sixth order against quadratu
   }
 }
 
-TEST_CASE("fourth-order joint vs Monte Carlo: single correlated compositions" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("fourth-order joint vs Monte Carlo: single correlated compositions" *
+          doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(303);
   Vec6 x1, x2;
   x1 << 1.0, 0.5, -0.2, 0.3, -0.4, 0.9;
@@ -326,7 +327,8 @@ TEST_CASE("fourth-order joint vs Monte Carlo: single correlated compositions" * 
   }
 }
 
-TEST_CASE("fourth-order joint vs Monte Carlo: Fig. 5.4-like chain with AR(1) correlation" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("fourth-order joint vs Monte Carlo: Fig. 5.4-like chain with AR(1) correlation" *
+          doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(304);
   Mat4 Tm = Mat4::Identity();
   Tm(0, 3) = 1.0;

@@ -99,7 +99,8 @@ TEST_CASE("fourth-order compounding reduces to first order as the noise vanishes
   }
 }
 
-TEST_CASE("fourth-order compounding vs Monte Carlo (Barfoot-Furgale style chain)" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("fourth-order compounding vs Monte Carlo (Barfoot-Furgale style chain)" *
+          doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(203);
   // T_bar = [I | (1, 0, 0)] (eq. 5.42); per-step covariance in the spirit of eq. 5.41 but with
   // moderate isotropic rotational noise (sigma_phi ~ 0.1 rad per step).

@@ -147,7 +147,8 @@ TEST_CASE("SSC Jacobians throw at gimbal lock") {
   CHECK_NOTHROW(ssc::head_to_tail(a, b));  // the mean itself is fine
 }
 
-TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("SSC first-order propagation matches Monte Carlo at small noise" *
+          doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(25);
   Vec6 a, b;
   a << 1.0, 0.5, -0.2, 0.2, -0.3, 0.8;

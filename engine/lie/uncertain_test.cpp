@@ -66,7 +66,9 @@ constexpr int kSamples = 100000;
 
 }  // namespace
 
-TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo" * doctest::test_suite("monte_carlo"), G, SO3, SE2, SE3) {
+TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo" *
+                       doctest::test_suite("monte_carlo"),
+                   G, SO3, SE2, SE3) {
   keel::core::Rng rng(101);
   constexpr int D = G::DoF;
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng)};
@@ -99,7 +101,9 @@ TEST_CASE_TEMPLATE("compose: joint (eq. 5.39) and independent vs Monte Carlo" * 
   CHECK(normalized_covariance_error(ind.cov, mc_ind) < 0.02);
 }
 
-TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise" * doctest::test_suite("monte_carlo"), G, SO3, SE2, SE3) {
+TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise" *
+                       doctest::test_suite("monte_carlo"),
+                   G, SO3, SE2, SE3) {
   keel::core::Rng rng(102);
   constexpr int D = G::DoF;
   const G mean = random_pose<G>(rng);
@@ -114,7 +118,8 @@ TEST_CASE_TEMPLATE("inverse (eqs. 5.43-5.45) vs Monte Carlo, also at large noise
   }
 }
 
-TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo" * doctest::test_suite("monte_carlo"), G, SO3, SE2, SE3) {
+TEST_CASE_TEMPLATE("relative pose (eqs. 5.48, 5.51) vs Monte Carlo" * doctest::test_suite("monte_carlo"), G,
+                   SO3, SE2, SE3) {
   keel::core::Rng rng(103);
   constexpr int D = G::DoF;
   const std::vector<G> means{random_pose<G>(rng), random_pose<G>(rng)};

@@ -72,7 +72,8 @@ TEST_CASE("unscented transform is exact for linear maps and for the mean of quad
   CHECK(q0.mean(0) == doctest::Approx(mu1 * mu1 + s * s).epsilon(1e-12));
 }
 
-TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate noise" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("SSC -> Lie conversion (eqs. 5.60-5.62) vs Monte Carlo, SE3, moderate noise" *
+          doctest::test_suite("monte_carlo")) {
   keel::core::Rng rng(303);
   VecX x_hat(12);
   x_hat << 1.0, 2.0, 0.5, 0.3, -0.4, 1.2, 4.0, -1.0, 0.2, -0.2, 0.3, -2.5;

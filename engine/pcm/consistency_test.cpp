@@ -102,8 +102,9 @@ TEST_CASE_TEMPLATE("relative_pose equals keel::lie::relative (eq. 5.51) with and
 // true anchor. With the joint composition the squared distances must follow χ²(dof); the independent
 // composition, which over-counts the relative-pose uncertainty of correlated poses, must give much smaller
 // values.
-TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freedom (joint composition)" * doctest::test_suite("monte_carlo"), G,
-                   SE2, SE3) {
+TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freedom (joint composition)" *
+                       doctest::test_suite("monte_carlo"),
+                   G, SE2, SE3) {
   constexpr int d = G::DoF;
   using J = typename G::Jacobian;
   using V = typename G::Tangent;
@@ -154,7 +155,8 @@ TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freed
   CHECK(mean_ind < 0.5 * d);
 }
 
-TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual convention" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual convention" *
+          doctest::test_suite("monte_carlo")) {
   Rng rng(5);
   const SE2 X(3.0, -1.0, 2.5);
   lie::Mat3 Sr;

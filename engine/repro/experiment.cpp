@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/blas.hpp"
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "repro/shard.hpp"
@@ -161,6 +162,9 @@ int experiment_main(int argc, char** argv, const ExperimentBody& body) {
     return 2;
   }
   if (threads == 0) threads = default_threads();
+  // The whole run, its serial parts too, on one BLAS thread: its numbers then do not depend on the machine's
+  // cores (core/blas.hpp).
+  const core::SingleThreadedBlas one_blas_thread;
 
   std::optional<Experiment> ex;
   try {

@@ -68,7 +68,8 @@ TEST_CASE("data sets in parallel equal data sets one by one; summaries pool what
   CHECK(contains(message_of([&] { (void)method_index({}, "x", "[claims]"); }), "[claims] names method 'x'"));
 }
 
-TEST_CASE("the pool's χ² at the truth is s² and Q's calibration follows χ²(3) after resampling at scale s" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("the pool's χ² at the truth is s² and Q's calibration follows χ²(3) after resampling at scale s" *
+          doctest::test_suite("monte_carlo")) {
   const auto base = scenario(5);
   for (double s : {1.0, 0.25}) {
     MeasurementRegime g{"s", "", true, s, 99};

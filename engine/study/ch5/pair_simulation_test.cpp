@@ -12,7 +12,8 @@ using keel::core::Streams;
 using keel::repro::RunContext;
 namespace testkit = keel::testkit;
 
-TEST_CASE("pair study: joint prediction agrees with Monte Carlo, independent does not, deterministic" * doctest::test_suite("monte_carlo")) {
+TEST_CASE("pair study: joint prediction agrees with Monte Carlo, independent does not, deterministic" *
+          doctest::test_suite("monte_carlo")) {
   std::vector<SE2> poses = {SE2(0, 0, 0), SE2(10, 5, 1.0), SE2(-4, 8, -2.0)};
   // Strongly correlated pair covariance (like poses far apart along a chain with a common drift).
   Mat6 S = Mat6::Zero();

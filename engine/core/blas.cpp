@@ -1,0 +1,39 @@
+#include "core/blas.hpp"
+
+#include <dlfcn.h>
+
+namespace keel::core {
+
+namespace {
+
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+
+// The OpenBLAS entry points, looked up once in the loaded libraries (null when the BLAS is not OpenBLAS).
+struct OpenBlas {
+  SetThreads set = nullptr;
+  GetThreads get = nullptr;
+};
+
+const OpenBlas& openblas() {
+  static const OpenBlas o{reinterpret_cast<SetThreads>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads")),
+                          reinterpret_cast<GetThreads>(::dlsym(RTLD_DEFAULT, "openblas_get_num_threads"))};
+  return o;
+}
+
+}  // namespace
+
+int blas_threads() {
+  const OpenBlas& o = openblas();
+  return o.get ? o.get() : 0;
+}
+
+int set_blas_threads(int n) {
+  const OpenBlas& o = openblas();
+  if (!o.set || !o.get || n < 1) return 0;
+  const int previous = o.get();
+  if (previous != n) o.set(n);
+  return previous;
+}
+
+}  // namespace keel::core

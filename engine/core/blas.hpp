@@ -1,0 +1,40 @@
+// The BLAS's own threads. OpenBLAS runs its kernels on a pool of threads of its own, as many as the machine
+// has cores unless OPENBLAS_NUM_THREADS says otherwise. keel parallelizes over trials (core::parallel_for)
+// and runs every experiment on one BLAS thread (repro::experiment_main), for two reasons measured on a 2-core
+// machine:
+//  * determinism: OpenBLAS splits a product differently on 1 and 2 threads, so a result depended on the core
+//  count
+//    of the machine it ran on (ch4_exactness's quick profile: gap_order1.max of n4_noise050 moved in the last
+//    bits between OPENBLAS_NUM_THREADS=1 and 2);
+//  * oversubscription: trial threads that each start BLAS threads wait on each other (two concurrent 2-thread
+//  runs
+//    of that profile: 26.1 s with OpenBLAS's default, 13.1 s with one BLAS thread; one run alone: 11.6
+//    vs 12.5 s).
+// OpenBLAS is found at run time (the BLAS is whatever libblas.so.3 Debian's alternatives select); with
+// another BLAS these calls do nothing.
+#pragma once
+
+namespace keel::core {
+
+// OpenBLAS's thread count, or 0 when the loaded BLAS is not OpenBLAS.
+int blas_threads();
+
+// Sets OpenBLAS's thread count (n >= 1); returns the previous count, or 0 when the BLAS is not OpenBLAS. A
+// process-wide setting: call it while no BLAS call is in flight.
+int set_blas_threads(int n);
+
+// One BLAS thread for the lifetime of the guard, then the previous count again.
+class SingleThreadedBlas {
+ public:
+  SingleThreadedBlas() : previous_(set_blas_threads(1)) {}
+  ~SingleThreadedBlas() {
+    if (previous_ > 1) set_blas_threads(previous_);
+  }
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+ private:
+  int previous_;
+};
+
+}  // namespace keel::core

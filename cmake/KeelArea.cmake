@@ -1,7 +1,10 @@
-# keel_area(<name> [RECURSE] [DEPENDS <targets>...] [LINK <libs>...] [TEST_DEPENDS <targets>...])
+# keel_area(<name> [RECURSE] [DEPENDS <targets>...] [LINK <libs>...] [TEST_DEPENDS <targets>...]
+#           [TEST_SPLIT <test files>...])
 # RECURSE: sources and tests also in sub-folders of the area (engine/study/ch2/, ...).
 # TEST_DEPENDS: libraries only the unit tests link (independent references from a later area, e.g. random graphs
 # from keel_sim_impl for the clique tests of pcm).
+# TEST_SPLIT: test files whose cases run as a CTest of their own, unit.<name>.<stem> (clique_test.cpp ->
+# unit.pcm.clique), so that CTest runs a long file beside the rest of the area's tests instead of after them.
 #
 # One engine area = one folder engine/<name>/ with
 #   *.hpp / *.cpp      ordinary headers and sources that import nothing (DESIGN rule 1) -> library keel_<name>_impl
@@ -11,7 +14,7 @@
 # Consumers (drivers, CLI, benchmarks, facade tests) link keel_<name> and `import keel.<name>;`.
 function(keel_area name)
   keel_register_area(${name})
-  cmake_parse_arguments(A "RECURSE" "" "DEPENDS;LINK;TEST_DEPENDS" ${ARGN})
+  cmake_parse_arguments(A "RECURSE" "" "DEPENDS;LINK;TEST_DEPENDS;TEST_SPLIT" ${ARGN})
   keel_tiers_check(${name} "${A_DEPENDS}" "${A_TEST_DEPENDS}")
   set(dir ${CMAKE_CURRENT_SOURCE_DIR})
   set(glob GLOB)
@@ -53,7 +56,23 @@ function(keel_area name)
       set(skip "--test-suite-exclude=${KEEL_UNIT_SKIP_SUITES}")
       set(unit_skip "datasets,${KEEL_UNIT_SKIP_SUITES}")
     endif()
-    add_test(NAME unit.${name} COMMAND keel_${name}_tests --test-suite-exclude=${unit_skip})
+    set(split_out "")
+    foreach(file ${A_TEST_SPLIT})
+      if(NOT EXISTS ${dir}/${file})
+        message(FATAL_ERROR "keel_area(${name}): TEST_SPLIT names ${file}, which is not in ${dir}")
+      endif()
+      string(REGEX REPLACE "_test\\.cpp$" "" stem ${file})
+      add_test(NAME unit.${name}.${stem}
+               COMMAND keel_${name}_tests --test-suite-exclude=${unit_skip} --source-file=*/${file})
+      set_tests_properties(unit.${name}.${stem} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+      list(APPEND split_out "*/${file}")
+    endforeach()
+    set(rest "")
+    if(split_out)
+      string(REPLACE ";" "," split_out "${split_out}")
+      set(rest "--source-file-exclude=${split_out}")
+    endif()
+    add_test(NAME unit.${name} COMMAND keel_${name}_tests --test-suite-exclude=${unit_skip} ${rest})
     set_tests_properties(unit.${name} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
     set(dataset_tests FALSE)
     foreach(test ${tests})

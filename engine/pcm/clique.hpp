@@ -42,6 +42,10 @@ struct CliqueOptions {
   // Search). Both are on by default; they change the node count and time, never the size found.
   bool recolour = true;      // insertion and Re-NUMBER into the classes that are not branched on
   bool maxsat_bound = true;  // unit propagation on the MaxSAT encoding of the colour classes
+  // Run each bound only while it pays for itself: while the work it has cost (adjacency words read, counted,
+  // so the node count never depends on timing) stays within a small share of the search's work plus a node's
+  // work for every candidate it removed. false: each bound that is on runs at every candidate.
+  bool adaptive_bounds = true;
   // Exact only: a clique known in advance (vertex ids, any order), used as the first incumbent when it is
   // larger than the greedy one; std::invalid_argument if it is not a clique of g.
   std::vector<int> initial_clique;

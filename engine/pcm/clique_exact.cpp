@@ -72,6 +72,15 @@ struct OrderedGraph {
 //   * the remaining B is coloured on into classes kmin + 1, … and branched on from the highest colour down,
 //   so
 //     the prune test |C| + colour < target stays valid when the incumbent grows.
+// The two bounds in the third and fourth steps each run only while they pay for themselves (class Search's
+// `pays`): the search counts the adjacency words it reads — in colouring and branching (the work of a node)
+// and in each bound — and a bound runs at a candidate only while its words so far are at most
+// kFreeShare of the node work plus, for every candidate it removed, the mean work of a node (a removed
+// candidate saves at least the child node it would have opened). Measured on the clique family of
+// bench_clique: on consistency graphs of 1D worlds (m = 2000) the bounds removed no candidate in 4,554 tries,
+// each reading ~3·10⁵ words, and made the search 6–22× slower than colouring alone; on G(300, 0.7) they halve
+// the nodes and still cost 25 % more time; on planted graphs with k ≥ 2 % of n they never run. Counting
+// words, not time, keeps the node count and the answer independent of the machine and its load.
 class Search {
  public:
   Search(const OrderedGraph& g, const CliqueOptions& opt, Clock::time_point t0) : g_(g), opt_(opt), t0_(t0) {}
@@ -226,6 +235,24 @@ class Search {
     for (int l = from; l <= depth; ++l) pool_[l].assign(g_.words, 0);
   }
 
+  // The work accounting behind `pays` (see the class comment), in words of adjacency rows and classes read.
+  // Fitted to wall times of bench_clique's family (G(200, 0.7) and G(300, 0.7) with and without the bounds,
+  // time = a·words + b·nodes, then the bounds' share): a node costs kNodeWords words beside the words it
+  // reads, a bound's visit of a class kClassWords beside the words it reads, and a word read by a bound costs
+  // kBoundWordCost words of colouring (short scans, more branches). A bound may spend kFreeShare of the node
+  // work without removing anything.
+  static constexpr double kNodeWords = 190.0;
+  static constexpr int kClassWords = 2;  // a bound's visit of one class, beside the words it reads
+  static constexpr double kBoundWordCost = 8.0;
+  static constexpr double kFreeShare = 0.02;
+  double node_work_ = 0, renumber_work_ = 0, maxsat_work_ = 0;
+  long long renumber_hits_ = 0, maxsat_hits_ = 0;
+  bool pays(double work, long long hits) const {
+    if (!opt_.adaptive_bounds) return true;
+    const double per_node = node_work_ / static_cast<double>(std::max(nodes, 1LL));
+    return kBoundWordCost * work <= kFreeShare * node_work_ + static_cast<double>(hits) * per_node;
+  }
+
   bool limit_hit() {
     if (opt_.node_limit > 0 && nodes >= opt_.node_limit) {
       stop = SearchStatus::node_limit;
@@ -255,23 +282,31 @@ class Search {
   std::uint64_t* restricted(int k) { return reduced_.data() + static_cast<std::size_t>(k) * kw_; }
 
   // Number of neighbours of u in class k, stopping at 2; the neighbour when there is exactly one.
-  int neighbours_in(const std::uint64_t* ru, const std::uint64_t* c, int& q) const {
+  // `words` counts the words read.
+  int neighbours_in(const std::uint64_t* ru, const std::uint64_t* c, int& q, double& words) const {
     int count = 0;
     for (int w = 0; w < kw_; ++w) {
       const std::uint64_t x = ru[w] & c[w];
       if (!x) continue;
       count += std::popcount(x);
-      if (count > 1) return count;
+      if (count > 1) {
+        words += w + 1 + kClassWords;
+        return count;
+      }
       q = w * 64 + std::countr_zero(x);
     }
+    words += kw_ + kClassWords;
     return count;
   }
 
   // Re-places the branching candidate u (see the class comment): inserts it into a class where it has no
   // neighbour, or Re-NUMBERs it, or refutes it by unit propagation over the classes not yet used at this
-  // node, marking the classes of the conflict as used. Returns true when u need not be branched on.
-  bool settle(int u, int ncls) {
+  // node, marking the classes of the conflict as used. Returns true when u need not be branched on. Runs
+  // insertion and Re-NUMBER when `renumber`, unit propagation when `maxsat`; the first pass belongs to
+  // Re-NUMBER when it runs (it is what finds the insertions), else to the MaxSAT bound.
+  bool settle(int u, int ncls, bool renumber, bool maxsat) {
     const std::uint64_t* ru = row(u);
+    double pass = 0;
     // One cheap pass: the number of neighbours of u in each class, stopping at 2 (classes are large near the
     // root, so this usually stops in the first words).
     // A class used by an earlier conflict keeps its members: a refutation holds only for the classes it saw,
@@ -281,16 +316,19 @@ class Search {
       single_[k] = -1;
       if (used_[k]) continue;
       int q = -1;
-      const int c = neighbours_in(ru, cls(k), q);
+      const int c = neighbours_in(ru, cls(k), q, pass);
       if (c == 0) {
         set_bit(cls(k), u);
+        (renumber ? renumber_work_ : maxsat_work_) += pass;
+        ++(renumber ? renumber_hits_ : maxsat_hits_);
         return true;
       }
       single_[k] = c == 1 ? q : -1;
       units += c == 1 ? 1 : 0;
     }
+    (renumber ? renumber_work_ : maxsat_work_) += pass;
     if (units == 0) return false;  // no class forces anything: neither rule applies
-    if (opt_.recolour)
+    if (renumber)
       for (int k1 = 0; k1 < ncls; ++k1) {
         const int q = single_[k1];
         if (q < 0) continue;
@@ -299,15 +337,19 @@ class Search {
           if (k2 == k1 || used_[k2]) continue;
           const std::uint64_t* c2 = cls(k2);
           bool free = true;
-          for (int w = 0; w < kw_ && free; ++w) free = (rq[w] & c2[w]) == 0;
+          int w = 0;
+          for (; w < kw_ && free; ++w) free = (rq[w] & c2[w]) == 0;
+          renumber_work_ += w + kClassWords;
           if (!free) continue;
           clear_bit(cls(k1), q);
           set_bit(cls(k1), u);
           set_bit(cls(k2), q);
+          ++renumber_hits_;
           return true;
         }
       }
-    if (!opt_.maxsat_bound) return false;
+    if (!maxsat) return false;
+    double words = 0;
     // Unit propagation from "u is in the clique": restricted(k) = class k ∩ N(u) ∩ N(forced vertices).
     chain_.clear();
     int unit = -1, q = -1;
@@ -317,6 +359,7 @@ class Search {
       const std::uint64_t* c = cls(k);
       std::uint64_t* r = restricted(k);
       for (int w = 0; w < kw_; ++w) r[w] = c[w] & ru[w];
+      words += kw_ + kClassWords;
       if (unit < 0 && single_[k] >= 0) {
         unit = k;
         q = single_[k];
@@ -338,9 +381,12 @@ class Search {
             v = w * 64 + std::countr_zero(r[w]);
           }
         }
+        words += kw_ + kClassWords;
         if (count == 0) {  // conflict: {u} and the classes of the chain and k hold at most |chain| + 1 − 1
           used_[k] = 1;
           for (const int c : chain_) used_[c] = 1;
+          maxsat_work_ += words;
+          ++maxsat_hits_;
           return true;
         }
         if (count == 1 && unit < 0) {
@@ -349,6 +395,7 @@ class Search {
         }
       }
     }
+    maxsat_work_ += words;
     return false;
   }
 
@@ -358,6 +405,7 @@ class Search {
   void take_class(Add&& add) {
     U_.resize(kw_);
     std::copy(Q_.begin(), Q_.begin() + kw_, U_.begin());
+    node_work_ += kw_;
     for (int w = 0; w < kw_; ++w)
       while (U_[w]) {
         const int u = w * 64 + std::countr_zero(U_[w]);
@@ -366,6 +414,7 @@ class Search {
         add(u);
         const std::uint64_t* ru = row(u);
         for (int x = w; x < kw_; ++x) U_[x] &= ~ru[x];
+        node_work_ += kw_ - w;
       }
   }
 
@@ -385,15 +434,20 @@ class Search {
       ++ncls;
     }
     if (!any(Q_.data(), kw_)) return ncls;
-    if (ncls == kmin && kmin > 0 && (opt_.recolour || opt_.maxsat_bound)) {
+    if (ncls == kmin && kmin > 0 &&
+        ((opt_.recolour && pays(renumber_work_, renumber_hits_)) ||
+         (opt_.maxsat_bound && pays(maxsat_work_, maxsat_hits_)))) {
       if (reduced_.size() < need) reduced_.resize(need);
       used_.assign(ncls, 0);
       state_.resize(ncls);
       single_.resize(ncls);
       for (int w = 0; w < kw_; ++w)
         for (std::uint64_t b = Q_[w]; b; b &= b - 1) {
+          const bool renumber = opt_.recolour && pays(renumber_work_, renumber_hits_);
+          const bool maxsat = opt_.maxsat_bound && pays(maxsat_work_, maxsat_hits_);
+          if (!renumber && !maxsat) continue;
           const int u = w * 64 + std::countr_zero(b);
-          if (settle(u, ncls)) clear_bit(Q_.data(), u);
+          if (settle(u, ncls, renumber, maxsat)) clear_bit(Q_.data(), u);
         }
     }
     int col = ncls;
@@ -410,6 +464,7 @@ class Search {
   // One node: colour P and branch.
   void expand(int depth) {
     ++nodes;
+    node_work_ += kNodeWords;
     if (limit_hit()) {
       aborted = true;
       return;
@@ -434,6 +489,7 @@ class Search {
         NP[w] = P[w] & ru[w];
         nonempty |= NP[w] != 0;
       }
+      node_work_ += kw_;
       if (nonempty)
         expand(depth + 1);
       else

@@ -10,7 +10,9 @@
 
 #include "core/random.hpp"
 #include "pcm/clique.hpp"
+#include "pcm/consistency.hpp"
 #include "sim/random_graph.hpp"
+#include "sim/world1d.hpp"
 #include "kit/test_kit.hpp"
 
 using namespace keel::pcm;
@@ -318,10 +320,11 @@ TEST_CASE(
         CAPTURE(p);
         CAPTURE(planted);
         const int omega = clique_number_reference(g);
-        for (int bounds = 0; bounds < 4; ++bounds) {
+        for (int bounds = 0; bounds < 8; ++bounds) {
           CliqueOptions o;
           o.recolour = (bounds & 1) != 0;
           o.maxsat_bound = (bounds & 2) != 0;
+          o.adaptive_bounds = (bounds & 4) != 0;
           const auto r = maximum_clique_exact(g, o);
           CAPTURE(bounds);
           REQUIRE(static_cast<int>(r.clique.size()) == omega);
@@ -367,10 +370,12 @@ TEST_CASE("every bound setting finds the same clique number on dense graphs wher
           REQUIRE(clique_number_reference(g) == omega);
           ++checked;
         }
-        for (int bounds = 1; bounds < 4; ++bounds) {
+        for (int bounds = 1; bounds < 8; ++bounds) {
+          if ((bounds & 3) == 0) continue;
           CliqueOptions o;
           o.recolour = (bounds & 1) != 0;
           o.maxsat_bound = (bounds & 2) != 0;
+          o.adaptive_bounds = (bounds & 4) != 0;  // off: the bounds run at every candidate
           CAPTURE(bounds);
           const auto r = maximum_clique_exact(g, o);
           REQUIRE(static_cast<int>(r.clique.size()) == omega);
@@ -381,6 +386,34 @@ TEST_CASE("every bound setting finds the same clique number on dense graphs wher
       }
   CHECK(graphs == 360);
   CHECK(checked == 18);
+}
+
+TEST_CASE("adaptive bounds: deterministic, and they stop where they prune nothing") {
+  // A 1D-world consistency graph (the Fig. 2.3 generator, m = 400) on which neither bound removes a
+  // candidate: the adaptive default then explores exactly the nodes of colouring alone, as do the bounds
+  // forced on (they prune nothing). On a dense graph where the bounds do prune, the default's node count lies
+  // between the forced bounds' and colouring's, and repeated runs agree node for node.
+  const auto o1 = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 400, 0.5, 0.25);
+  const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o1, 20180522, 3));
+  const auto world = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
+  const auto g = random_graph(150, 0.7, 77);
+  for (const auto* graph : {&world, &g}) {
+    CliqueOptions plain, forced, adaptive;
+    plain.recolour = plain.maxsat_bound = false;
+    forced.adaptive_bounds = false;
+    const auto a = maximum_clique_exact(*graph, plain);
+    const auto f = maximum_clique_exact(*graph, forced);
+    const auto d = maximum_clique_exact(*graph, adaptive);
+    const auto d2 = maximum_clique_exact(*graph, adaptive);
+    CHECK(d.clique == d2.clique);
+    CHECK(d.nodes_explored == d2.nodes_explored);
+    CHECK(a.clique.size() == d.clique.size());
+    CHECK(f.clique.size() == d.clique.size());
+    CHECK(d.nodes_explored <= a.nodes_explored);
+    CHECK(d.nodes_explored >= f.nodes_explored);
+    if (graph == &world) CHECK(d.nodes_explored == a.nodes_explored);
+    if (graph == &g) CHECK(f.nodes_explored < a.nodes_explored);  // the bounds do prune here
+  }
 }
 
 TEST_CASE("a stopped search reports a valid bound at every node limit") {

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -29,43 +31,112 @@ using Mat = Eigen::MatrixXd;
 
 // The data of F_d: the 0/1 adjacency A of the consistency graph and, for weighted affinities, M (already zero
 // on inconsistent pairs, 1 on the diagonal). Binary affinities use M = A + I without storing it. C̄ = 11ᵀ − A
-// − I, so C̄u = (Σu)·1 − Au − u needs no matrix of its own. The products cost one pass over the columns in the
-// support of u: after the first steps the projection onto u >= 0 leaves few non-zero entries (about the size
-// of the cluster), so Au = Σ_{j in supp u} u_j A_{:,j} reads a small part of the matrix instead of all n²
-// entries.
+// − I, so C̄u = (Σu)·1 − Au − u needs no matrix of its own.
+//
+// Two storages. Dense: A (and M) as n x n matrices; the products cost one pass over the columns in the
+// support of u when it is small (after the first steps the projection onto u >= 0 leaves about the cluster's
+// size of non-zero entries), else a dense matrix-vector product. Sparse (compressed rows of the adjacency;
+// M's off-diagonal weights beside them): Au = Σ_{j in supp u} u_j A_{:,j} scattered over the neighbours of
+// the support when they are fewer than half the stored entries, else gathered row by row; the cost follows
+// the edges, not n². A is symmetric, so a row is also a column. The two differ only in the order of the sums.
 struct Problem {
-  Mat A, M;
   bool binary = true;
-  static void product(const Mat& X, const Vec& u, const std::vector<int>& support, Vec& out) {
-    const auto n = u.size();
-    if (static_cast<Eigen::Index>(support.size()) * 4 > n) {
-      out.noalias() = X * u;
-      return;
-    }
-    out.setZero(n);
-    for (const int j : support) out.noalias() += u(j) * X.col(j);
-  }
+  bool sparse = false;
+  Mat A, M;                      // dense storage
+  std::vector<int> start, next;  // sparse storage: the neighbours of i are next[start[i] … start[i+1])
+  std::vector<double> weight;    // sparse, weighted: M_{i,next[k]} beside next[k]
+
   void products(const Vec& u, Vec& Mu, Vec& Cu) const {
     support_.clear();
     for (Eigen::Index i = 0; i < u.size(); ++i)
       if (u(i) != 0.0) support_.push_back(static_cast<int>(i));
-    product(A, u, support_, Au_);  // A and M are symmetric
-    if (binary)
-      Mu = Au_ + u;
-    else
-      product(M, u, support_, Mu);
+    if (sparse) {
+      sparse_product(u, nullptr, Au_);
+      if (binary) {
+        Mu = Au_ + u;
+      } else {
+        sparse_product(u, weight.data(), Mu);
+        Mu += u;
+      }
+    } else {
+      dense_product(A, u, Au_);  // A and M are symmetric
+      if (binary)
+        Mu = Au_ + u;
+      else
+        dense_product(M, u, Mu);
+    }
     Cu = Vec::Constant(u.size(), u.sum()) - Au_ - u;
+  }
+
+ private:
+  void dense_product(const Mat& X, const Vec& u, Vec& out) const {
+    const auto n = u.size();
+    if (static_cast<Eigen::Index>(support_.size()) * 4 > n) {
+      out.noalias() = X * u;
+      return;
+    }
+    out.setZero(n);
+    for (const int j : support_) out.noalias() += u(j) * X.col(j);
+  }
+  // out = Xu for X = A (w == nullptr) or X = M − I (w: the weights beside `next`).
+  void sparse_product(const Vec& u, const double* w, Vec& out) const {
+    const int n = static_cast<int>(u.size());
+    std::size_t touched = 0;
+    for (const int j : support_) touched += static_cast<std::size_t>(start[j + 1] - start[j]);
+    if (2 * touched < next.size()) {
+      out.setZero(n);
+      for (const int j : support_) {
+        const double uj = u(j);
+        for (int k = start[j]; k < start[j + 1]; ++k) out(next[k]) += w ? w[k] * uj : uj;
+      }
+      return;
+    }
+    out.resize(n);
+    for (int i = 0; i < n; ++i) {
+      double sum = 0.0;
+      for (int k = start[i]; k < start[i + 1]; ++k) sum += w ? w[k] * u(next[k]) : u(next[k]);
+      out(i) = sum;
+    }
   }
   mutable std::vector<int> support_;
   mutable Vec Au_;
 };
 
-Mat adjacency(const ConsistencyGraph& g) {
+bool use_sparse(const ConsistencyGraph& g, DensestOptions::Storage storage) {
+  switch (storage) {
+    case DensestOptions::Storage::dense:
+      return false;
+    case DensestOptions::Storage::sparse:
+      return true;
+    case DensestOptions::Storage::automatic:
+      break;
+  }
+  const double n = g.size();
+  return g.size() >= kSparseVertices || n < 2 ||
+         2.0 * static_cast<double>(g.num_edges()) < kSparseDensity * n * (n - 1.0);
+}
+
+// The adjacency in the chosen storage (weights are filled by the weighted overload).
+Problem adjacency(const ConsistencyGraph& g, bool sparse) {
   const int n = g.size();
-  Mat A = Mat::Zero(n, n);
-  for (int v = 0; v < n; ++v)
-    for (int w : g.neighbors(v)) A(v, w) = 1.0;
-  return A;
+  Problem p;
+  p.sparse = sparse;
+  if (sparse) {
+    p.start.assign(static_cast<std::size_t>(n) + 1, 0);
+    p.next.reserve(static_cast<std::size_t>(2 * g.num_edges()));
+    for (int v = 0; v < n; ++v) {
+      const std::uint64_t* r = g.row(v);
+      for (int w = 0; w < g.words(); ++w)
+        for (std::uint64_t bits = r[w]; bits; bits &= bits - 1)
+          p.next.push_back(w * 64 + std::countr_zero(bits));
+      p.start[static_cast<std::size_t>(v) + 1] = static_cast<int>(p.next.size());
+    }
+  } else {
+    p.A = Mat::Zero(n, n);
+    for (int v = 0; v < n; ++v)
+      for (int w : g.neighbors(v)) p.A(v, w) = 1.0;
+  }
+  return p;
 }
 
 // Raw selection, its repair to a maximal clique, and the violation count (see the header).
@@ -142,10 +213,18 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
 
   // The smallest penalty that makes an active constraint bind: d = min over I of (Mu)_i / (C̄u)_i, with I the
   // vertices in the support of u that have an inconsistent partner in it.
+  // With PenaltyStep::mean, the mean of those ratios instead (the CLIPPER paper's schedule).
   auto penalty_step = [&](const Vec& mu, const Vec& cu, const Vec& x) {
-    double step = std::numeric_limits<double>::infinity();
+    double step = std::numeric_limits<double>::infinity(), sum = 0.0;
+    int active = 0;
     for (int i = 0; i < n; ++i)
-      if (cu(i) > o.eps && x(i) > o.eps) step = std::min(step, std::fabs(mu(i) / cu(i)));
+      if (cu(i) > o.eps && x(i) > o.eps) {
+        const double ratio = std::fabs(mu(i) / cu(i));
+        step = std::min(step, ratio);
+        sum += ratio;
+        ++active;
+      }
+    if (o.penalty_step == DensestOptions::PenaltyStep::mean && active > 0) return sum / active;
     return step;
   };
   double d = penalty_step(Mu, Cu, u);
@@ -194,6 +273,7 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
     }
     d += step;
   }
+  r.sparse = p.sparse;
   r.penalty = d;
   r.objective = objective(u, Mu, Cu);
   round_and_repair(g, u, r.objective, o.eps, r);
@@ -204,8 +284,8 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
 }  // namespace
 
 DensestResult densest_subgraph(const ConsistencyGraph& g, const DensestOptions& options) {
-  Problem p;
-  p.A = adjacency(g);
+  options.validate();
+  Problem p = adjacency(g, use_sparse(g, options.storage));
   p.binary = true;
   return solve(g, p, options);
 }
@@ -217,10 +297,7 @@ DensestResult densest_subgraph(const ConsistencyGraph& g, const std::vector<doub
   if (affinity.size() != nn)
     throw std::invalid_argument(
         fmt::format("densest_subgraph: affinity has {} entries, expected n² = {}", affinity.size(), nn));
-  Problem p;
-  p.A = adjacency(g);
-  p.binary = false;
-  p.M = Mat::Identity(n, n);
+  options.validate();
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       if (i == j) continue;
@@ -233,8 +310,20 @@ DensestResult densest_subgraph(const ConsistencyGraph& g, const std::vector<doub
         throw std::invalid_argument(
             fmt::format("densest_subgraph: affinity is not symmetric: ({}, {}) = {:g}, ({}, {}) = {:g}", i, j,
                         a, j, i, b));
-      if (p.A(i, j) != 0.0) p.M(i, j) = a;
     }
+  Problem p = adjacency(g, use_sparse(g, options.storage));
+  p.binary = false;
+  if (p.sparse) {
+    p.weight.resize(p.next.size());
+    for (int i = 0; i < n; ++i)
+      for (int k = p.start[i]; k < p.start[i + 1]; ++k)
+        p.weight[k] = affinity[static_cast<std::size_t>(i) * n + p.next[k]];
+  } else {
+    p.M = Mat::Identity(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (i != j && p.A(i, j) != 0.0) p.M(i, j) = affinity[static_cast<std::size_t>(i) * n + j];
+  }
   return solve(g, p, options);
 }
 

@@ -114,6 +114,25 @@ std::vector<MergeDataset<G>> run_method_sweep(const sim::TwoRobotScenario<G>& sc
   return sweep;
 }
 
+template <class G>
+std::vector<pcm::ConsistencyMatrix> dataset_consistency_matrices(const sim::TwoRobotScenario<G>& scenario,
+                                                                 const LocalPair<G>& local,
+                                                                 const sim::CandidateOptions& candidates,
+                                                                 std::uint64_t seed, std::size_t count,
+                                                                 std::uint64_t index_base) {
+  std::vector<pcm::ConsistencyMatrix> out;
+  out.reserve(count);
+  pcm::ConsistencyOptions co;
+  co.threads = 1;
+  co.composition = pcm::Composition::joint;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto set = sim::generate_candidates(scenario, candidates, seed, index_base + i);
+    const auto maps = merge::local_maps(local.a, local.b, set.candidates);
+    out.push_back(pcm::consistency_matrix(maps.a, maps.b, set.candidates, co));
+  }
+  return out;
+}
+
 const std::vector<double>& MethodSummary::column(std::string_view name) const {
   const auto it = columns.find(name);
   if (it != columns.end()) return it->second;
@@ -243,7 +262,10 @@ PoolCalibration pool_calibration(const LocalPair<lie::SE2>& local, const sim::Tw
   template void record_dataset_timings(repro::Results&, const std::vector<MergeDataset<G>>&);                \
   template std::size_t same_selections(const std::vector<MergeDataset<G>>&, std::size_t, std::size_t);       \
   template std::size_t proven_optimal(const std::vector<MergeDataset<G>>&, std::size_t);                     \
-  template double pool_chi2_at_truth(const sim::TwoRobotScenario<G>&);
+  template double pool_chi2_at_truth(const sim::TwoRobotScenario<G>&);                                       \
+  template std::vector<pcm::ConsistencyMatrix> dataset_consistency_matrices(                                 \
+      const sim::TwoRobotScenario<G>&, const LocalPair<G>&, const sim::CandidateOptions&, std::uint64_t,     \
+      std::size_t, std::uint64_t);
 KEEL_EVAL_STUDIES(lie::SE2)
 KEEL_EVAL_STUDIES(lie::SE3)
 #undef KEEL_EVAL_STUDIES

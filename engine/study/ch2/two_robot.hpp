@@ -113,6 +113,17 @@ template <class G>
 template <class G>
 void record_dataset_timings(repro::Results& results, const std::vector<MergeDataset<G>>& runs);
 
+// The matrices Q (eq. 2.4, joint composition) that the PCM methods of run_merge_datasets select from, for
+// data sets 0 … count−1: data set i draws its candidates from streams (seed, index_base + i) as
+// run_merge_datasets does with a context's streams, so for the experiment's seed they are that experiment's
+// data sets. Serial (one data set after another); bench_clique's family of real consistency graphs is built
+// from it.
+template <class G>
+[[nodiscard]] std::vector<pcm::ConsistencyMatrix> dataset_consistency_matrices(
+    const sim::TwoRobotScenario<G>& scenario, const LocalPair<G>& local,
+    const sim::CandidateOptions& candidates, std::uint64_t seed, std::size_t count,
+    std::uint64_t index_base = 0);
+
 // Data sets on which methods `i` and `j` selected the same candidates, and on which `i`'s clique search was
 // proven optimal.
 template <class G>

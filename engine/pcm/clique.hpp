@@ -44,7 +44,10 @@ struct CliqueOptions {
   bool maxsat_bound = true;  // unit propagation on the MaxSAT encoding of the colour classes
   // Run each bound only while it pays for itself: while the work it has cost (adjacency words read, counted,
   // so the node count never depends on timing) stays within a small share of the search's work plus a node's
-  // work for every candidate it removed. false: each bound that is on runs at every candidate.
+  // work for every candidate it removed. false: each bound that is on runs at every candidate. A search with
+  // a node_limit runs them at every candidate as well: nodes are then its budget, and a removed candidate
+  // always saves nodes (ext_clique_scale's node-limited comparison: adaptive bounds found 2.3 vertices
+  // smaller cliques within 10⁶ nodes on G(2000, 0.5) with a planted 40).
   bool adaptive_bounds = true;
   // Exact only: a clique known in advance (vertex ids, any order), used as the first incumbent when it is
   // larger than the greedy one; std::invalid_argument if it is not a clique of g.

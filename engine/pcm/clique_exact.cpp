@@ -248,7 +248,7 @@ class Search {
   double node_work_ = 0, renumber_work_ = 0, maxsat_work_ = 0;
   long long renumber_hits_ = 0, maxsat_hits_ = 0;
   bool pays(double work, long long hits) const {
-    if (!opt_.adaptive_bounds) return true;
+    if (!opt_.adaptive_bounds || opt_.node_limit > 0) return true;  // nodes are the budget: see clique.hpp
     const double per_node = node_work_ / static_cast<double>(std::max(nodes, 1LL));
     return kBoundWordCost * work <= kFreeShare * node_work_ + static_cast<double>(hits) * per_node;
   }

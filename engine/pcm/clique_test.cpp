@@ -392,7 +392,8 @@ TEST_CASE("adaptive bounds: deterministic, and they stop where they prune nothin
   // A 1D-world consistency graph (the Fig. 2.3 generator, m = 400) on which neither bound removes a
   // candidate: the adaptive default then explores exactly the nodes of colouring alone, as do the bounds
   // forced on (they prune nothing). On a dense graph where the bounds do prune, the default's node count lies
-  // between the forced bounds' and colouring's, and repeated runs agree node for node.
+  // between the forced bounds' and colouring's, and repeated runs agree node for node. A node-limited search
+  // runs the bounds at every candidate.
   const auto o1 = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 400, 0.5, 0.25);
   const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o1, 20180522, 3));
   const auto world = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
@@ -413,6 +414,12 @@ TEST_CASE("adaptive bounds: deterministic, and they stop where they prune nothin
     CHECK(d.nodes_explored >= f.nodes_explored);
     if (graph == &world) CHECK(d.nodes_explored == a.nodes_explored);
     if (graph == &g) CHECK(f.nodes_explored < a.nodes_explored);  // the bounds do prune here
+    // With a node limit (here not reached) nodes are the budget: the bounds run at every candidate.
+    CliqueOptions limited;
+    limited.node_limit = 100'000'000;
+    const auto l = maximum_clique_exact(*graph, limited);
+    CHECK(l.nodes_explored == f.nodes_explored);
+    CHECK(l.clique == f.clique);
   }
 }
 

@@ -112,8 +112,7 @@ bool use_sparse(const ConsistencyGraph& g, DensestOptions::Storage storage) {
       break;
   }
   const double n = g.size();
-  return g.size() >= kSparseVertices || n < 2 ||
-         2.0 * static_cast<double>(g.num_edges()) < kSparseDensity * n * (n - 1.0);
+  return n < 2 || 2.0 * static_cast<double>(g.num_edges()) < kSparseDensity * n * (n - 1.0);
 }
 
 // The adjacency in the chosen storage (weights are filled by the weighted overload).

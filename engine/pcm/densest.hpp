@@ -35,9 +35,8 @@ struct DensestOptions {
   double tol_f = 1e-9;   // inner stop: |F(u⁺) − F(u)|
   double eps = 1e-9;     // support threshold on u and on the constraint activity (C̄u)_i
   // How M and the adjacency are stored for the products Mu and C̄u: `automatic` picks compressed sparse rows
-  // when the graph's edge density is below kSparseDensity or it has at least kSparseVertices vertices, else
-  // dense n x n matrices. Both give the same iterates up to the order of floating-point sums
-  // (densest_test.cpp checks the answers agree).
+  // when the graph's edge density is below kSparseDensity, else dense n x n matrices. Both give the same
+  // iterates up to the order of floating-point sums (densest_test.cpp checks the answers agree).
   enum class Storage { automatic, dense, sparse };
   Storage storage = Storage::automatic;
   // How far each homotopy step raises d: `minimum`, the smallest ratio (Mu)_i / (C̄u)_i over the active
@@ -50,12 +49,13 @@ struct DensestOptions {
   void validate() const;
 };
 
-// When Storage::automatic chooses sparse rows: edge density 2|E| / (n(n − 1)) below kSparseDensity, or n >=
-// kSparseVertices (a dense matrix of 18 MB or more, whose products are bound by memory traffic). Measured on
-// bench_clique's family, sparse against dense (same process): 0.04–0.77× the time at densities 0.05–0.21 and
-// at n = 2000 up to density 0.64 (0.42–0.86×); 1.2–2.6× at densities 0.38–0.65 with n <= 1000.
+// The edge density 2|E| / (n(n − 1)) below which Storage::automatic chooses sparse rows. Measured on
+// bench_clique's family, sparse against dense (same process): 0.04–0.77× the time at densities 0.05–0.21, and
+// 1.2–2.6× at densities 0.38–0.65 with n <= 1000. At n = 2000 sparse rows are faster up to density 0.64
+// (0.42–0.86×) but are not chosen there: on G(2000, 0.5) with a planted 20 (ext_clique_scale) the two paths
+// part at rounding level and round to a different raw selection, and above this density the dense products
+// keep today's answers exactly.
 inline constexpr double kSparseDensity = 0.3;
-inline constexpr int kSparseVertices = 1500;
 
 struct DensestResult {
   std::vector<int> raw;        // the rounded selection, ascending (may hold inconsistent pairs)

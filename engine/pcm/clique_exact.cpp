@@ -24,7 +24,10 @@ using namespace detail;
 // order, so low indices are the dense end. Subproblem j is "vertex j plus a clique of its neighbours with
 // smaller index": every clique is found in the subproblem of its highest-index vertex, and subproblem j only
 // touches the ceil(j / 64) words of indices below j (San Segundo et al.'s BBMC keeps one global bitset graph
-// in its initial order in the same way, so no subproblem rebuilds an adjacency).
+// in its initial order in the same way, so no subproblem rebuilds an adjacency). Only the vertices whose core
+// number admits a clique of `min_size` vertices are kept (the target never falls below it, so the others can
+// never join a clique the search looks for): on easy graphs, where the greedy clique meets the degeneracy
+// bound, nothing is renumbered at all (1D worlds of m = 1000: the renumbering alone cost 1.5 ms of 3.5).
 struct OrderedGraph {
   int n = 0;
   int words = 0;
@@ -33,22 +36,27 @@ struct OrderedGraph {
   std::vector<int> core;           // core number by search index
   const std::uint64_t* row(int j) const { return adj.data() + static_cast<std::size_t>(j) * words; }
 
-  OrderedGraph(const ConsistencyGraph& g, const Degeneracy& d) : n(g.size()), words(g.words()) {
-    id.resize(n);
-    core.resize(n);
-    std::vector<int> index(n);
-    for (int j = 0; j < n; ++j) {
-      id[j] = d.order[n - 1 - j];
-      index[id[j]] = j;
-      core[j] = d.core[id[j]];
+  OrderedGraph(const ConsistencyGraph& g, const Degeneracy& d, int min_size) {
+    const int all = g.size();
+    std::vector<int> index(static_cast<std::size_t>(all), -1);
+    for (int k = all - 1; k >= 0; --k) {
+      const int v = d.order[k];
+      if (d.core[v] + 1 < min_size) continue;
+      index[v] = static_cast<int>(id.size());
+      id.push_back(v);
+      core.push_back(d.core[v]);
     }
+    n = static_cast<int>(id.size());
+    words = (n + 63) / 64;
     adj.assign(static_cast<std::size_t>(n) * words, 0);
     for (int j = 0; j < n; ++j) {
       const std::uint64_t* r = g.row(id[j]);
       std::uint64_t* out = adj.data() + static_cast<std::size_t>(j) * words;
-      for (int w = 0; w < words; ++w)
-        for (std::uint64_t bits = r[w]; bits; bits &= bits - 1)
-          set_bit(out, index[w * 64 + std::countr_zero(bits)]);
+      for (int w = 0; w < g.words(); ++w)
+        for (std::uint64_t bits = r[w]; bits; bits &= bits - 1) {
+          const int l = index[w * 64 + std::countr_zero(bits)];
+          if (l >= 0) set_bit(out, l);
+        }
     }
   }
 };
@@ -546,7 +554,9 @@ CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions
           "repeated, or a pair not adjacent)");
     if (opt.initial_clique.size() > initial.size()) initial = sorted(opt.initial_clique);
   }
-  const OrderedGraph og(g, d);
+  const int first_target =
+      opt.report_ties ? static_cast<int>(initial.size()) : static_cast<int>(initial.size()) + 1;
+  const OrderedGraph og(g, d, first_target);
 
   Search s(og, opt, t0);
   s.best = static_cast<int>(initial.size());
@@ -554,7 +564,7 @@ CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions
 
   // Subproblems from the dense end: subproblem j holds every clique whose highest search index is j.
   int stopped_at = -1;
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < og.n; ++j) {
     if (og.core[j] + 1 < s.target()) continue;  // k-core pruning
     s.solve(j);
     if (s.aborted) {
@@ -573,7 +583,7 @@ CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions
     // The subproblem in progress is bounded by its root colouring, the unopened ones by colouring their
     // candidates (under the final incumbent: a vertex whose core number admits no larger clique is left out).
     r.upper_bound = std::max(r.upper_bound, s.root_bound);
-    for (int j = stopped_at + 1; j < n; ++j)
+    for (int j = stopped_at + 1; j < og.n; ++j)
       if (og.core[j] + 1 > r.upper_bound) r.upper_bound = std::max(r.upper_bound, s.colour_bound(j));
   }
   // A stopped search whose best clique meets its bound is still proven maximum.

@@ -132,14 +132,14 @@ TEST_CASE("densest subgraph: sparse rows and dense matrices give the same answer
   // paths can end at different local maxima, each a maximal clique.
   auto rng = keel::core::Rng::stream(29, 0);
   int world_runs = 0, world_same = 0;
-  for (int trial = 0; trial < 50; ++trial) {
-    const bool planted = trial < 30;
+  for (int trial = 0; trial < 30; ++trial) {
+    const bool planted = trial < 18;
     keel::pcm::ConsistencyGraph g;
     if (planted) {
-      const int n = 20 + static_cast<int>(rng.uniform(0.0, 280.0));
+      const int n = 20 + static_cast<int>(rng.uniform(0.0, 180.0));
       g = keel::sim::planted_clique_graph(n, n / 8 + 2, rng.uniform(0.02, 0.5), 500 + trial).graph;
     } else {
-      const int m = 20 + static_cast<int>(rng.uniform(0.0, 280.0));
+      const int m = 20 + static_cast<int>(rng.uniform(0.0, 180.0));
       const auto o = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, m, 0.5, 0.25);
       const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o, 31, trial));
       g = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
@@ -175,7 +175,7 @@ TEST_CASE("densest subgraph: sparse rows and dense matrices give the same answer
       }
     }
   }
-  CHECK(world_same >= world_runs - 2);  // measured: 39 of 40
+  CHECK(world_same >= world_runs - 2);
 }
 
 TEST_CASE("densest subgraph: automatic storage is sparse below kSparseDensity and dense above") {

@@ -395,48 +395,49 @@ constexpr ExactVariant kExactVariants[] = {{"colouring", false, false, false},
                                            {"both", true, true, false},
                                            {"default", true, true, true}};
 
+void run_family_exact(benchmark::State& state, std::size_t group, std::size_t index, ExactVariant v) {
+  const auto* f = family_graph(state, group, index);
+  if (!f) return;
+  pcm::CliqueOptions o;
+  o.recolour = v.recolour;
+  o.maxsat_bound = v.maxsat;
+  o.adaptive_bounds = v.adaptive;
+  pcm::CliqueResult r;
+  for (auto _ : state) {
+    r = pcm::maximum_clique(f->graph, pcm::CliqueAlgorithm::exact, o);
+    benchmark::DoNotOptimize(r.clique.data());
+  }
+  state.counters["clique"] = static_cast<double>(r.clique.size());
+  state.counters["nodes"] = static_cast<double>(r.nodes_explored);
+}
+
+void run_family_densest(benchmark::State& state, std::size_t group, std::size_t index) {
+  const auto* f = family_graph(state, group, index);
+  if (!f) return;
+  pcm::DensestResult r;
+  for (auto _ : state) {
+    r = pcm::densest_subgraph(f->graph);
+    benchmark::DoNotOptimize(r.selection.data());
+  }
+  state.counters["selection"] = static_cast<double>(r.selection.size());
+  state.counters["inner"] = static_cast<double>(r.inner_iterations);
+}
+
+// One run per repetition, three repetitions, their median (graphs take from microseconds to seconds).
+void family_timing(benchmark::internal::Benchmark* b) {
+  b->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+}
+
 void register_family() {
   auto& groups = family();
   for (std::size_t gi = 0; gi < groups.size(); ++gi)
     for (std::size_t i = 0; i < groups[gi].names.size(); ++i) {
       const std::string& name = groups[gi].names[i];
       for (const auto& v : kExactVariants)
-        benchmark::RegisterBenchmark(fmt::format("Family/{}/exact_{}", name, v.name).c_str(),
-                                     [gi, i, v](benchmark::State& state) {
-                                       const auto* f = family_graph(state, gi, i);
-                                       if (!f) return;
-                                       pcm::CliqueOptions o;
-                                       o.recolour = v.recolour;
-                                       o.maxsat_bound = v.maxsat;
-                                       o.adaptive_bounds = v.adaptive;
-                                       pcm::CliqueResult r;
-                                       for (auto _ : state) {
-                                         r = pcm::maximum_clique(f->graph, pcm::CliqueAlgorithm::exact, o);
-                                         benchmark::DoNotOptimize(r.clique.data());
-                                       }
-                                       state.counters["clique"] = static_cast<double>(r.clique.size());
-                                       state.counters["nodes"] = static_cast<double>(r.nodes_explored);
-                                     })
-            ->Unit(benchmark::kMillisecond)
-            ->Iterations(1)
-            ->Repetitions(3)
-            ->ReportAggregatesOnly(true);
-      benchmark::RegisterBenchmark(fmt::format("Family/{}/densest", name).c_str(),
-                                   [gi, i](benchmark::State& state) {
-                                     const auto* f = family_graph(state, gi, i);
-                                     if (!f) return;
-                                     pcm::DensestResult r;
-                                     for (auto _ : state) {
-                                       r = pcm::densest_subgraph(f->graph);
-                                       benchmark::DoNotOptimize(r.selection.data());
-                                     }
-                                     state.counters["selection"] = static_cast<double>(r.selection.size());
-                                     state.counters["inner"] = static_cast<double>(r.inner_iterations);
-                                   })
-          ->Unit(benchmark::kMillisecond)
-          ->Iterations(1)
-          ->Repetitions(3)
-          ->ReportAggregatesOnly(true);
+        family_timing(benchmark::RegisterBenchmark(fmt::format("Family/{}/exact_{}", name, v.name).c_str(),
+                                                   run_family_exact, gi, i, v));
+      family_timing(benchmark::RegisterBenchmark(fmt::format("Family/{}/densest", name).c_str(),
+                                                 run_family_densest, gi, i));
     }
 }
 

@@ -21,9 +21,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -33,6 +31,7 @@
 #include <Eigen/Sparse>
 
 #include "clipper/clipper.h"
+#include "dimacs.hpp"
 
 namespace {
 
@@ -53,36 +52,11 @@ struct Graph {
   }
 };
 
-Graph read_dimacs(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  std::string line;
+Graph to_graph(const side_by_side::DimacsGraph& d) {
   Graph g;
-  int n = -1;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == 'c') continue;
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "p") {
-      std::string format;
-      long long m = 0;
-      if (!(s >> format >> n >> m) || n < 0) throw std::runtime_error(path + ": bad problem line");
-      g.edges.reserve(static_cast<std::size_t>(m));
-    } else if (tag == "e") {
-      int u = 0, v = 0;
-      if (n < 0 || !(s >> u >> v) || u < 1 || v < 1 || u > n || v > n || u == v)
-        throw std::runtime_error(path + ":" + std::to_string(number) + ": bad edge line");
-      g.edges.emplace_back(std::min(u, v) - 1, std::max(u, v) - 1);
-    } else {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": unknown line tag '" + tag + "'");
-    }
-  }
-  if (n < 0) throw std::runtime_error(path + ": no problem line");
-  g.n = n;
-  std::sort(g.edges.begin(), g.edges.end());
-  g.edges.erase(std::unique(g.edges.begin(), g.edges.end()), g.edges.end());
-  g.adjacent.assign(static_cast<std::size_t>(n), {});
+  g.n = d.n;
+  g.edges = d.edges;
+  g.adjacent.assign(static_cast<std::size_t>(g.n), {});
   for (const auto& [u, v] : g.edges) {
     g.adjacent[static_cast<std::size_t>(u)].push_back(v);
     g.adjacent[static_cast<std::size_t>(v)].push_back(u);
@@ -123,9 +97,9 @@ int main(int argc, char** argv) {
   if (("," + methods + ",").find(",clipper,") == std::string::npos) return 0;
   try {
     for (const auto& file : files) {
-      const Graph g = read_dimacs(file);
-      std::string name = file.substr(file.find_last_of('/') + 1);
-      name = name.substr(0, name.rfind(".clq"));
+      const auto dimacs = side_by_side::read_dimacs(file);
+      const Graph g = to_graph(dimacs);
+      const std::string& name = dimacs.name;
 
       const clipper::SpMat a = upper_adjacency(g);
       Eigen::MatrixXd a_plus_i;

@@ -75,7 +75,7 @@ if [ ! -e "$clipper_build/libclipper.so" ]; then
       -DFETCHCONTENT_FULLY_DISCONNECTED=ON
   timed "CLIPPER library build" "$scratch/logs/clipper.log" cmake --build "$clipper_build" --target clipper
 fi
-if [ ! -x "$clipper_bin" ] || [ "$here/clipper_clique.cpp" -nt "$clipper_bin" ] \
+if [ ! -x "$clipper_bin" ] || [ "$here/clipper_clique.cpp" -nt "$clipper_bin" ] || [ "$here/dimacs.hpp" -nt "$clipper_bin" ] \
    || [ "$clipper_build/libclipper.so" -nt "$clipper_bin" ]; then
   # CLIPPER's library is compiled with -march=native -mavx -mfma (its public flags); the driver matches them.
   timed "CLIPPER driver build" "$scratch/logs/clipper.log" \

@@ -15,48 +15,18 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "dimacs.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/densest.hpp"
 
 namespace {
 
 using keel::pcm::ConsistencyGraph;
-
-ConsistencyGraph read_dimacs(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  std::string line;
-  int n = -1;
-  std::vector<std::pair<int, int>> edges;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == 'c') continue;
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "p") {
-      std::string format;
-      long long m = 0;
-      if (!(s >> format >> n >> m) || n < 0) throw std::runtime_error(path + ": bad problem line");
-      edges.reserve(static_cast<std::size_t>(m));
-    } else if (tag == "e") {
-      int u = 0, v = 0;
-      if (n < 0 || !(s >> u >> v) || u < 1 || v < 1 || u > n || v > n || u == v)
-        throw std::runtime_error(path + ":" + std::to_string(number) + ": bad edge line");
-      edges.emplace_back(u - 1, v - 1);
-    } else {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": unknown line tag '" + tag + "'");
-    }
-  }
-  if (n < 0) throw std::runtime_error(path + ": no problem line");
-  return ConsistencyGraph(n, edges);
-}
 
 template <class O>
 constexpr bool kHasBoundSwitches = requires(O o) {
@@ -138,9 +108,9 @@ int main(int argc, char** argv) {
   };
   try {
     for (const auto& file : files) {
-      const ConsistencyGraph g = read_dimacs(file);
-      std::string name = file.substr(file.find_last_of('/') + 1);
-      name = name.substr(0, name.rfind(".clq"));
+      const auto dimacs = side_by_side::read_dimacs(file);
+      const ConsistencyGraph g(dimacs.n, dimacs.edges);
+      const std::string& name = dimacs.name;
       struct Variant {
         const char* name;
         bool recolour, maxsat;

@@ -34,7 +34,30 @@ void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
   if (i == j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", i));
 }
 
-Edge2 parse_edge_se2(detail::RecordScanner& sc) {
+// Under InformationCheck::diagonal_blocks: the problem of the translation or rotation block, or empty (then
+// `indefinite` says whether the whole matrix fails).
+template <int N>
+std::string block_problem(const Eigen::Matrix<double, N, N>& W, int nt, bool& indefinite) {
+  const int nr = N - nt;
+  std::string why;
+  if (nt == 2) {
+    why = detail::information_problem(Mat2(W.template topLeftCorner<2, 2>()));
+  } else {
+    why = detail::information_problem(Mat3(W.template topLeftCorner<3, 3>()));
+  }
+  if (!why.empty()) return "translation block " + why;
+  if (nr == 1) {
+    if (!(std::isfinite(W(N - 1, N - 1)) && W(N - 1, N - 1) > 0.0))
+      return fmt::format("rotation entry {:.6g} is not positive", W(N - 1, N - 1));
+  } else {
+    why = detail::information_problem(Mat3(W.template bottomRightCorner<3, 3>()));
+    if (!why.empty()) return "rotation block " + why;
+  }
+  indefinite = !detail::information_problem(W).empty();
+  return {};
+}
+
+Edge2 parse_edge_se2(detail::RecordScanner& sc, InformationCheck check, int& indefinite) {
   sc.expect(kEdgeSE2);
   Edge2 e;
   e.i = sc.id(1);
@@ -43,14 +66,21 @@ Edge2 parse_edge_se2(detail::RecordScanner& sc) {
   sc.numbers(3, 11, v);
   e.measurement = SE2(v[0], v[1], v[2]);
   e.information = detail::symmetric_from_upper<3>(v + 3);
-  if (auto why = detail::information_problem(e.information); !why.empty()) {
-    sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
+  if (check == InformationCheck::positive_definite) {
+    if (auto why = detail::information_problem(e.information); !why.empty()) {
+      sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
+    }
+  } else {
+    bool bad = false;
+    if (auto why = block_problem<3>(e.information, 2, bad); !why.empty())
+      sc.fail_fields(6, 11, fmt::format("the information matrix's {}", why));
+    indefinite += bad ? 1 : 0;
   }
   e.line = sc.line();
   return e;
 }
 
-Edge3 parse_edge_se3(detail::RecordScanner& sc) {
+Edge3 parse_edge_se3(detail::RecordScanner& sc, InformationCheck check, int& indefinite) {
   sc.expect(kEdgeSE3);
   Edge3 e;
   e.i = sc.id(1);
@@ -62,22 +92,31 @@ Edge3 parse_edge_se3(detail::RecordScanner& sc) {
   if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
   e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
   const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
-  if (auto p = detail::information_problem(w_g2o); !p.empty())
-    sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
+  bool bad = false;
+  if (check == InformationCheck::positive_definite) {
+    if (auto p = detail::information_problem(w_g2o); !p.empty())
+      sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
+  } else if (auto p = block_problem<6>(w_g2o, 3, bad); !p.empty()) {
+    sc.fail_fields(10, 30, fmt::format("the information matrix's {}", p));
+  }
   // (t, q_vec) -> (t, φ): q_vec ≈ φ/2, J = diag(I, ½I), Ω = Jᵀ Ω_g2o J.
   Mat6 W = w_g2o;
   W.block<3, 3>(0, 3) *= 0.5;
   W.block<3, 3>(3, 0) *= 0.5;
   W.block<3, 3>(3, 3) *= 0.25;
-  if (auto p = detail::information_problem(W); !p.empty()) {
-    sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
+  if (check == InformationCheck::positive_definite) {
+    if (auto p = detail::information_problem(W); !p.empty()) {
+      sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
+    }
+  } else {
+    indefinite += bad ? 1 : 0;
   }
   e.information = W;
   e.line = sc.line();
   return e;
 }
 
-PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
+PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, InformationCheck check) {
   detail::RecordScanner sc(text, name);
   PoseGraph2D g;
   g.source = name;
@@ -91,7 +130,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
       sc.numbers(2, 4, v);
       vertices.push_back({id, SE2(v[0], v[1], v[2]), sc.line()});
     } else if (tag == "EDGE_SE2") {
-      const Edge2 e = parse_edge_se2(sc);
+      const Edge2 e = parse_edge_se2(sc, check, g.indefinite_information);
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
     } else if (is_3d_tag(tag)) {
@@ -107,7 +146,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name) {
   return g;
 }
 
-PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
+PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, InformationCheck check) {
   detail::RecordScanner sc(text, name);
   PoseGraph3D g;
   g.source = name;
@@ -124,7 +163,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name) {
       if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(5, 8, why);
       vertices.push_back({id, SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2])), sc.line()});
     } else if (tag == "EDGE_SE3:QUAT") {
-      const Edge3 e = parse_edge_se3(sc);
+      const Edge3 e = parse_edge_se3(sc, check, g.indefinite_information);
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
     } else if (is_2d_tag(tag)) {
@@ -175,7 +214,7 @@ void put_edge(std::string& s, const Edge3& e) {
 // each other (the two ids live in different id spaces).
 template <class Edge>
 std::vector<Edge> parse_g2o_edges(std::string_view text, const std::string& name, std::string_view edge_tag,
-                                  Edge (*parse)(detail::RecordScanner&)) {
+                                  Edge (*parse)(detail::RecordScanner&, InformationCheck, int&)) {
   detail::RecordScanner sc(text, name);
   std::vector<Edge> edges;
   while (sc.next()) {
@@ -185,7 +224,8 @@ std::vector<Edge> parse_g2o_edges(std::string_view text, const std::string& name
           fmt::format("unexpected tag {}: an edge file holds {} records only (no vertices, no other edges)",
                       detail::quote_token(tag), edge_tag));
     }
-    edges.push_back(parse(sc));
+    int unused = 0;
+    edges.push_back(parse(sc, InformationCheck::positive_definite, unused));
   }
   if (edges.empty()) detail::fail_at(name, 0, fmt::format("no {} record (an empty edge file)", edge_tag));
   return edges;
@@ -235,17 +275,17 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
 
 }  // namespace
 
-PoseGraph2D read_g2o_2d(const std::filesystem::path& file) {
-  return parse_g2o_2d(detail::read_file_text(file), file.string());
+PoseGraph2D read_g2o_2d(const std::filesystem::path& file, InformationCheck information) {
+  return parse_g2o_2d(detail::read_file_text(file), file.string(), information);
 }
-PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name) {
-  return parse_g2o_2d(detail::read_stream_text(in, name), name);
+PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name, InformationCheck information) {
+  return parse_g2o_2d(detail::read_stream_text(in, name), name, information);
 }
-PoseGraph3D read_g2o_3d(const std::filesystem::path& file) {
-  return parse_g2o_3d(detail::read_file_text(file), file.string());
+PoseGraph3D read_g2o_3d(const std::filesystem::path& file, InformationCheck information) {
+  return parse_g2o_3d(detail::read_file_text(file), file.string(), information);
 }
-PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name) {
-  return parse_g2o_3d(detail::read_stream_text(in, name), name);
+PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name, InformationCheck information) {
+  return parse_g2o_3d(detail::read_stream_text(in, name), name, information);
 }
 
 std::vector<Edge2> read_g2o_edges_2d(const std::filesystem::path& file) {

@@ -23,11 +23,16 @@
 
 namespace keel::graph {
 
-PoseGraph2D read_g2o_2d(const std::filesystem::path& file);
+/// `information`: what each edge's information matrix must satisfy (pose_graph.hpp, InformationCheck).
+PoseGraph2D read_g2o_2d(const std::filesystem::path& file,
+                        InformationCheck information = InformationCheck::positive_definite);
 /// In-memory variant (the fuzzers use it): `name` is the file name used in error messages and in `source`.
-PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name);
-PoseGraph3D read_g2o_3d(const std::filesystem::path& file);
-PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name);
+PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name,
+                        InformationCheck information = InformationCheck::positive_definite);
+PoseGraph3D read_g2o_3d(const std::filesystem::path& file,
+                        InformationCheck information = InformationCheck::positive_definite);
+PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name,
+                        InformationCheck information = InformationCheck::positive_definite);
 
 struct G2oWriteOptions {
   bool write_vertices =

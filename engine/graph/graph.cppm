@@ -21,6 +21,7 @@ using keel::graph::landmark_residual;
 // data model
 using keel::graph::Edge2;
 using keel::graph::Edge3;
+using keel::graph::InformationCheck;
 using keel::graph::LandmarkMeasurement2;
 using keel::graph::PoseGraph2D;
 using keel::graph::PoseGraph3D;

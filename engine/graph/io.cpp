@@ -52,14 +52,16 @@ GraphFormat format_or_throw(std::string_view text, const std::string& name) {
                   detail::quote_token(sc.tag())));
 }
 
-PoseGraph2D read_2d(const std::string& text, const std::string& name) {
+PoseGraph2D read_2d(const std::string& text, const std::string& name, InformationCheck information) {
   std::istringstream in(text);
-  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_2d(in, name) : read_isam_2d(in, name);
+  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_2d(in, name, information)
+                                                         : read_isam_2d(in, name);
 }
 
-PoseGraph3D read_3d(const std::string& text, const std::string& name) {
+PoseGraph3D read_3d(const std::string& text, const std::string& name, InformationCheck information) {
   std::istringstream in(text);
-  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_3d(in, name) : read_isam_3d(in, name);
+  return format_or_throw(text, name) == GraphFormat::g2o ? read_g2o_3d(in, name, information)
+                                                         : read_isam_3d(in, name);
 }
 
 GraphFormat format_for_writing(const std::filesystem::path& file) {
@@ -106,17 +108,17 @@ std::string difference_common(const Graph& a, const Graph& b, double tol) {
 
 }  // namespace
 
-PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file) {
-  return read_2d(detail::read_file_text(file), file.string());
+PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file, InformationCheck information) {
+  return read_2d(detail::read_file_text(file), file.string(), information);
 }
-PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name) {
-  return read_2d(detail::read_stream_text(in, name), name);
+PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name, InformationCheck information) {
+  return read_2d(detail::read_stream_text(in, name), name, information);
 }
-PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file) {
-  return read_3d(detail::read_file_text(file), file.string());
+PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file, InformationCheck information) {
+  return read_3d(detail::read_file_text(file), file.string(), information);
 }
-PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name) {
-  return read_3d(detail::read_stream_text(in, name), name);
+PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name, InformationCheck information) {
+  return read_3d(detail::read_stream_text(in, name), name, information);
 }
 
 void write_pose_graph(const PoseGraph2D& graph, const std::filesystem::path& file) {

@@ -30,10 +30,15 @@ std::string_view to_string(GraphFormat format);  // "g2o", "isam"
 [[nodiscard]] std::optional<GraphFormat> detect_graph_format(std::string_view text,
                                                              const std::filesystem::path& name);
 
-PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file);
-PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name);
-PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file);
-PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name);
+/// `information` applies to g2o files (iSAM text stores square roots, positive semidefinite by construction).
+PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file,
+                               InformationCheck information = InformationCheck::positive_definite);
+PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name,
+                               InformationCheck information = InformationCheck::positive_definite);
+PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file,
+                               InformationCheck information = InformationCheck::positive_definite);
+PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name,
+                               InformationCheck information = InformationCheck::positive_definite);
 
 /// By extension: .g2o → g2o, .txt → iSAM text; anything else throws std::invalid_argument.
 void write_pose_graph(const PoseGraph2D& graph, const std::filesystem::path& file);

@@ -592,3 +592,33 @@ TEST_CASE("edge-only g2o files (inter-robot candidates): exact round trip, two i
   });
   CHECK_CONTAINS(m3, "cand3.g2o:1: unexpected tag 'EDGE_SE2': an edge file holds EDGE_SE3:QUAT records only");
 }
+
+TEST_CASE("g2o information read for the isotropic model: only the diagonal blocks, indefinite ones counted") {
+  const std::string v = "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n";
+  // Identity blocks, coupling I15 = 5 between translation x and rotation y: the 6 × 6 matrix is indefinite.
+  const std::string coupled =
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1  1 0 0 0 5 0  1 0 0 0 0  1 0 0 0  1 0 0  1 0  1\n";
+  const std::string fine = "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1" + kEdge3Tail + "\n";
+  CHECK_CONTAINS(g2o3(v + coupled), "the information matrix is not positive definite");
+  std::istringstream in(v + coupled + fine);
+  const auto g = read_g2o_3d(in, "coupled.g2o", InformationCheck::diagonal_blocks);
+  CHECK(g.edges.size() == 2);
+  CHECK(g.indefinite_information == 1);
+  CHECK(g.edges[0].information(0, 4) == doctest::Approx(2.5));  // (t, q_vec) → (t, φ): the coupling halves
+  // A diagonal block that is not positive definite is refused even so, naming the block.
+  const std::string bad_rotation =
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1  1 0 0 0 0 0  1 0 0 0 0  1 0 0 0  -1 0 0  1 0  1\n";
+  std::istringstream in2(v + bad_rotation);
+  std::string m;
+  try {
+    (void)read_g2o_3d(in2, "bad.g2o", InformationCheck::diagonal_blocks);
+  } catch (const ParseError& e) {
+    m = e.what();
+  }
+  CHECK_CONTAINS(m,
+                 "bad.g2o:3: EDGE_SE3:QUAT fields 10-30 (I11..I66): the information matrix's rotation block");
+  // 2D: the rotation entry alone.
+  std::istringstream in3("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 3 1 0 1\n");
+  const auto g2 = read_g2o_2d(in3, "coupled2.g2o", InformationCheck::diagonal_blocks);
+  CHECK(g2.indefinite_information == 1);
+}

@@ -49,6 +49,13 @@ struct LandmarkMeasurement2 {
   int line = 0;
 };
 
+// What a reader demands of each edge's information matrix. positive_definite: the whole matrix (the
+// anisotropic maximum-likelihood model of eq. 2.1 needs it). diagonal_blocks: only the translation and the
+// rotation blocks (the isotropic model of pgo::solve_certified uses nothing else); edges whose whole matrix
+// is then not positive definite are counted in the graph's `indefinite_information`. Only g2o files can hold
+// such matrices (iSAM text stores a square root).
+enum class InformationCheck { positive_definite, diagonal_blocks };
+
 struct PoseGraph2D {
   std::vector<SE2> poses;  // initial estimate (VERTEX lines, or chained odometry, or ground truth)
   std::vector<Edge2> edges;
@@ -56,6 +63,7 @@ struct PoseGraph2D {
   std::vector<LandmarkMeasurement2> landmark_measurements;
   std::string source;              // file the graph was read from
   bool has_initial_poses = false;  // true when the file itself carried vertex estimates
+  int indefinite_information = 0;  // edges read under InformationCheck::diagonal_blocks whose Ω is not PD
 };
 
 struct PoseGraph3D {
@@ -63,6 +71,7 @@ struct PoseGraph3D {
   std::vector<Edge3> edges;
   std::string source;
   bool has_initial_poses = false;
+  int indefinite_information = 0;  // as in PoseGraph2D
 };
 
 // The pose-graph type of a group: PoseGraph2D for SE(2), PoseGraph3D for SE(3).

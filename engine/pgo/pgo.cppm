@@ -6,6 +6,7 @@
 // block, no import of another facade. Consumers also import keel.lie (SE2, SE3, ...) and keel.graph
 // (PoseGraph2D, readers) themselves.
 module;
+#include "pgo/certified.hpp"
 #include "pgo/multi_robot.hpp"
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
@@ -64,4 +65,17 @@ using keel::pgo::global_landmarks;
 using keel::pgo::global_poses;
 using keel::pgo::initial_estimate;
 using keel::pgo::optimize;
+// certified solve of the isotropic model (certified.hpp)
+using keel::pgo::Certificate;
+using keel::pgo::CertifiedOptions;
+using keel::pgo::CertifiedResult2D;
+using keel::pgo::CertifiedResult3D;
+using keel::pgo::CertifiedSummary;
+using keel::pgo::CertifiedTermination;
+using keel::pgo::certify;
+using keel::pgo::isotropic_cost;
+using keel::pgo::isotropic_weights;
+using keel::pgo::IsotropicWeights;
+using keel::pgo::RankRecord;
+using keel::pgo::solve_certified;
 }  // namespace keel::pgo

@@ -1,0 +1,1210 @@
+// Certified pose-graph optimization (certified.hpp): the isotropic problem, chordal initialization, the
+// Newton solve on the Burer–Monteiro lift, the certificate with its rounding margin, the staircase and the
+// rounding back to SO(d).
+//
+// Conventions. X = [t_1 … t_n | Y_1 … Y_n] ∈ R^{r×(n+dn)}; F(X) = tr(X M Xᵀ). Per edge e = (i, j) with data
+// (R̃, t̃, κ, τ) M collects (blocks indexed by the columns of X; only the upper triangle is stored)
+//   M[t_i,t_i] += τ,  M[t_j,t_j] += τ,  M[t_i,t_j] −= τ,
+//   M[Y_i,Y_i] += κ R̃R̃ᵀ + τ t̃t̃ᵀ,  M[Y_j,Y_j] += κ I,  M[Y_i,Y_j] −= κ R̃,
+//   M[Y_i,t_i] += τ t̃,  M[Y_i,t_j] −= τ t̃,
+// so that tr(X M Xᵀ) = Σ κ‖Y_j − Y_i R̃‖² + τ‖t_j − t_i − Y_i t̃‖² (R̃R̃ᵀ rather than I keeps M exact for
+// rotations stored to rounding). The Euclidean gradient is ∇F = 2 X M.
+#include "pgo/certified.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/blas.hpp"
+#include "core/timing.hpp"
+#include "pgo/sparse_cholesky.hpp"
+
+namespace keel::pgo {
+
+namespace {
+
+constexpr int kMaxRank = 12;
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxRank, kMaxRank>;
+using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxRank, 1>;
+constexpr int kMaxTangent = kMaxRank * 3 + kMaxRank;  // p_rot ≤ r·d with d ≤ 3, plus r translations
+using Block =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 2 * kMaxTangent, 2 * kMaxTangent>;
+constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;  // u = 2⁻⁵³
+
+// γ_k = k u / (1 − k u) (Higham §3.1).
+double gamma(double k) { return k * kUnitRoundoff / (1.0 - k * kUnitRoundoff); }
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
+
+struct EdgeData {
+  int i = 0, j = 0;
+  Small R;     // R̃ (d × d)
+  SmallVec t;  // t̃ (d)
+  double kappa = 0.0, tau = 0.0;
+};
+
+struct Problem {
+  int d = 2;
+  int n = 0;
+  std::vector<EdgeData> edges;
+  int max_degree = 0;
+  std::string source;
+};
+
+std::string edge_name(const std::string& source, int index, int line) {
+  std::string s = fmt::format("edge {}", index);
+  if (line > 0) s += fmt::format(" (line {})", line);
+  if (!source.empty()) s += fmt::format(" of '{}'", source);
+  return s;
+}
+
+template <class Edge>
+void check_weights(const IsotropicWeights& w, const Edge& e) {
+  if (!(std::isfinite(w.kappa) && w.kappa > 0.0 && std::isfinite(w.tau) && w.tau > 0.0))
+    fail(fmt::format(
+        "isotropic weights of the edge ({}, {}){} are not positive and finite (κ = {}, τ = {}): the "
+        "information's rotation or translation block has a non-positive inverse trace",
+        e.i, e.j, e.line > 0 ? fmt::format(" on line {}", e.line) : std::string(), w.kappa, w.tau));
+}
+
+template <class Graph>
+Problem make_problem(const Graph& g, int d) {
+  Problem P;
+  P.d = d;
+  P.source = g.source;
+  int n = static_cast<int>(g.poses.size());
+  for (const auto& e : g.edges) n = std::max({n, e.i + 1, e.j + 1});
+  P.n = n;
+  if (n < 2)
+    fail(fmt::format("solve_certified: the graph{} has fewer than two poses",
+                     g.source.empty() ? "" : " '" + g.source + "'"));
+  P.edges.reserve(g.edges.size());
+  std::vector<int> degree(static_cast<std::size_t>(n), 0);
+  for (std::size_t k = 0; k < g.edges.size(); ++k) {
+    const auto& e = g.edges[k];
+    if (e.i < 0 || e.j < 0 || e.i == e.j)
+      fail(fmt::format("solve_certified: {} joins poses {} and {}",
+                       edge_name(g.source, static_cast<int>(k), e.line), e.i, e.j));
+    const IsotropicWeights w = isotropic_weights(e);
+    check_weights(w, e);
+    EdgeData x;
+    x.i = e.i;
+    x.j = e.j;
+    x.R = e.measurement.rotation();
+    x.t = e.measurement.translation();
+    x.kappa = w.kappa;
+    x.tau = w.tau;
+    P.edges.push_back(std::move(x));
+    ++degree[static_cast<std::size_t>(e.i)];
+    ++degree[static_cast<std::size_t>(e.j)];
+  }
+  P.max_degree = *std::max_element(degree.begin(), degree.end());
+  // Connected: every pose reachable from pose 0 (the gauge).
+  std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
+  for (const auto& e : P.edges) {
+    adj[static_cast<std::size_t>(e.i)].push_back(e.j);
+    adj[static_cast<std::size_t>(e.j)].push_back(e.i);
+  }
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  std::vector<int> stack = {0};
+  seen[0] = 1;
+  while (!stack.empty()) {
+    const int v = stack.back();
+    stack.pop_back();
+    for (int w : adj[static_cast<std::size_t>(v)])
+      if (!seen[static_cast<std::size_t>(w)]) {
+        seen[static_cast<std::size_t>(w)] = 1;
+        stack.push_back(w);
+      }
+  }
+  for (int v = 0; v < n; ++v)
+    if (!seen[static_cast<std::size_t>(v)])
+      fail(fmt::format(
+          "solve_certified: pose {} of {} is not connected to pose 0 (the certified solve needs a "
+          "connected graph)",
+          v, g.source.empty() ? std::string("the graph") : "'" + g.source + "'"));
+  return P;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// A block-sparse symmetric pattern (upper triangle, compressed columns) over blocks of given sizes; the
+// blocks adjacent in the graph carry an off-diagonal block. Block −1 means "not a variable" (the gauge).
+class BlockPattern {
+ public:
+  BlockPattern(std::vector<int> sizes, const std::vector<std::pair<int, int>>& pairs)
+      : size_(std::move(sizes)) {
+    const int nb = static_cast<int>(size_.size());
+    offset_.assign(static_cast<std::size_t>(nb) + 1, 0);
+    for (int b = 0; b < nb; ++b)
+      offset_[static_cast<std::size_t>(b) + 1] =
+          offset_[static_cast<std::size_t>(b)] + size_[static_cast<std::size_t>(b)];
+    rows_.assign(static_cast<std::size_t>(nb), {});
+    for (const auto& [a, b] : pairs) {
+      if (a < 0 || b < 0 || a == b) continue;
+      rows_[static_cast<std::size_t>(std::max(a, b))].push_back(std::min(a, b));
+    }
+    for (int b = 0; b < nb; ++b) {
+      auto& r = rows_[static_cast<std::size_t>(b)];
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      r.push_back(b);
+    }
+    start_.assign(static_cast<std::size_t>(nb), {});
+    const int N = offset_.back();
+    col_start_.assign(static_cast<std::size_t>(N) + 1, 0);
+    for (int b = 0; b < nb; ++b) {
+      const auto& r = rows_[static_cast<std::size_t>(b)];
+      auto& st = start_[static_cast<std::size_t>(b)];
+      st.resize(r.size());
+      int acc = 0;
+      for (std::size_t q = 0; q < r.size(); ++q) {
+        st[q] = acc;
+        acc += size_[static_cast<std::size_t>(r[q])];
+      }
+      const int off_rows = acc - size_[static_cast<std::size_t>(b)];
+      for (int cc = 0; cc < size_[static_cast<std::size_t>(b)]; ++cc) {
+        const int c = offset_[static_cast<std::size_t>(b)] + cc;
+        col_start_[static_cast<std::size_t>(c) + 1] =
+            col_start_[static_cast<std::size_t>(c)] + off_rows + cc + 1;
+      }
+    }
+    row_index_.resize(static_cast<std::size_t>(col_start_.back()));
+    for (int b = 0; b < nb; ++b) {
+      const auto& r = rows_[static_cast<std::size_t>(b)];
+      for (int cc = 0; cc < size_[static_cast<std::size_t>(b)]; ++cc) {
+        int q = col_start_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(b)] + cc)];
+        for (const int a : r) {
+          const int len = a == b ? cc + 1 : size_[static_cast<std::size_t>(a)];
+          for (int ri = 0; ri < len; ++ri)
+            row_index_[static_cast<std::size_t>(q++)] = offset_[static_cast<std::size_t>(a)] + ri;
+        }
+      }
+    }
+  }
+  [[nodiscard]] int dimension() const { return offset_.back(); }
+  [[nodiscard]] int offset(int b) const { return offset_[static_cast<std::size_t>(b)]; }
+  [[nodiscard]] int block_size(int b) const { return size_[static_cast<std::size_t>(b)]; }
+  // Position of block row a in block column b ≥ a.
+  [[nodiscard]] int position(int a, int b) const {
+    const auto& r = rows_[static_cast<std::size_t>(b)];
+    return static_cast<int>(std::lower_bound(r.begin(), r.end(), a) - r.begin());
+  }
+  // Index into the values of entry (row ri of block a, column cc of block b), a ≤ b, a at `pos` in column b;
+  // for a = b only ri ≤ cc.
+  [[nodiscard]] int index(int pos, int b, int ri, int cc) const {
+    return col_start_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(b)] + cc)] +
+           start_[static_cast<std::size_t>(b)][static_cast<std::size_t>(pos)] + ri;
+  }
+  [[nodiscard]] const std::vector<int>& block_rows(int b) const { return rows_[static_cast<std::size_t>(b)]; }
+  [[nodiscard]] int diagonal_position(int b) const {
+    return static_cast<int>(rows_[static_cast<std::size_t>(b)].size()) - 1;
+  }
+  const std::vector<int>& col_start() const { return col_start_; }
+  const std::vector<int>& row_index() const { return row_index_; }
+
+  // values += the block H (size_a × size_b) at (a, b) (a ≠ b; the transpose goes in when a > b).
+  template <class Mat>
+  void add_off_diagonal(std::vector<double>& values, int a, int b, int pos, const Mat& H) const {
+    if (a < b) {
+      for (int cc = 0; cc < block_size(b); ++cc)
+        for (int ri = 0; ri < block_size(a); ++ri)
+          values[static_cast<std::size_t>(index(pos, b, ri, cc))] += H(ri, cc);
+    } else {
+      for (int cc = 0; cc < block_size(a); ++cc)
+        for (int ri = 0; ri < block_size(b); ++ri)
+          values[static_cast<std::size_t>(index(pos, a, ri, cc))] += H(cc, ri);
+    }
+  }
+  template <class Mat>
+  void add_diagonal(std::vector<double>& values, int b, const Mat& H) const {
+    const int pos = diagonal_position(b);
+    for (int cc = 0; cc < block_size(b); ++cc)
+      for (int ri = 0; ri <= cc; ++ri) values[static_cast<std::size_t>(index(pos, b, ri, cc))] += H(ri, cc);
+  }
+
+ private:
+  std::vector<int> size_, offset_;
+  std::vector<std::vector<int>> rows_;   // per block column: the block rows (sorted, itself last)
+  std::vector<std::vector<int>> start_;  // per block column: the first local row of each block row
+  std::vector<int> col_start_, row_index_;
+};
+
+// Pose v ≥ 1 is block v − 1 (pose 0 is the gauge).
+std::vector<std::pair<int, int>> free_pairs(const Problem& P) {
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(P.edges.size());
+  for (const auto& e : P.edges) pairs.emplace_back(e.i - 1, e.j - 1);
+  return pairs;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The point on the lift: Q_i ∈ O(r) (Y_i = first d columns), translations T (r × n).
+struct Point {
+  int r = 0;
+  std::vector<Small> Q;
+  Eigen::MatrixXd T;
+  [[nodiscard]] auto Y(int i, int d) const { return Q[static_cast<std::size_t>(i)].leftCols(d); }
+};
+
+double cost(const Problem& P, const Point& X) {
+  double f = 0.0;
+  const int d = P.d;
+  for (const auto& e : P.edges) {
+    const auto Yi = X.Y(e.i, d);
+    const auto Yj = X.Y(e.j, d);
+    const Small ER = Yj - Yi * e.R;
+    const SmallVec et = X.T.col(e.j) - X.T.col(e.i) - Yi * e.t;
+    f += e.kappa * ER.squaredNorm() + e.tau * et.squaredNorm();
+  }
+  return f;
+}
+
+// ∇F = 2 X M: per pose the r × d block of Y_i and the r-vector of t_i.
+struct Gradient {
+  std::vector<Small> GY;
+  Eigen::MatrixXd GT;
+};
+
+Gradient gradient(const Problem& P, const Point& X) {
+  const int d = P.d, r = X.r;
+  Gradient G;
+  G.GY.assign(static_cast<std::size_t>(P.n), Small::Zero(r, d));
+  G.GT = Eigen::MatrixXd::Zero(r, P.n);
+  for (const auto& e : P.edges) {
+    const auto Yi = X.Y(e.i, d);
+    const auto Yj = X.Y(e.j, d);
+    const Small ER = Yj - Yi * e.R;
+    const SmallVec et = X.T.col(e.j) - X.T.col(e.i) - Yi * e.t;
+    G.GY[static_cast<std::size_t>(e.j)] += 2.0 * e.kappa * ER;
+    G.GY[static_cast<std::size_t>(e.i)] -=
+        2.0 * e.kappa * ER * e.R.transpose() + 2.0 * e.tau * et * e.t.transpose();
+    G.GT.col(e.j) += 2.0 * e.tau * et;
+    G.GT.col(e.i) -= 2.0 * e.tau * et;
+  }
+  return G;
+}
+
+// The generators of the part of so(r) that moves the first d columns: G = e_a e_bᵀ − e_b e_aᵀ, a < d, a < b <
+// r.
+std::vector<std::pair<int, int>> generators(int r, int d) {
+  std::vector<std::pair<int, int>> g;
+  for (int a = 0; a < d; ++a)
+    for (int b = a + 1; b < r; ++b) g.emplace_back(a, b);
+  return g;
+}
+
+// D_k = Q G_k E (r × d): column a is −q_b, column b (when b < d) is +q_a.
+Small tangent_basis(const Small& Q, int d, int a, int b) {
+  Small D = Small::Zero(Q.rows(), d);
+  D.col(a) = -Q.col(b);
+  if (b < d) D.col(b) = Q.col(a);
+  return D;
+}
+
+// ⟨W, e_x e_yᵀ E⟩ = W(x, y) when y < d.
+double pick(const Small& W, int d, int x, int y) { return y < d ? W(x, y) : 0.0; }
+
+// ⟨W, G_k G_l E⟩ for generators k = (a, b), l = (a', b'):
+// G_k G_l = δ_{b a'} e_a e_b'ᵀ − δ_{b b'} e_a e_a'ᵀ − δ_{a a'} e_b e_b'ᵀ + δ_{a b'} e_b e_a'ᵀ.
+double curvature_term(const Small& W, int d, std::pair<int, int> k, std::pair<int, int> l) {
+  const auto [a, b] = k;
+  const auto [a2, b2] = l;
+  double s = 0.0;
+  if (b == a2) s += pick(W, d, a, b2);
+  if (b == b2) s -= pick(W, d, a, a2);
+  if (a == a2) s -= pick(W, d, b, b2);
+  if (a == b2) s += pick(W, d, b, a2);
+  return s;
+}
+
+// Q exp(B) by the Cayley transform Q (I − B/2)⁻¹ (I + B/2) (orthogonal, and equal to exp(B) to second order,
+// so the curvature term of the Newton model is the one of this retraction).
+Small retract(const Small& Q, const Small& B) {
+  const int r = static_cast<int>(Q.rows());
+  const Small I = Small::Identity(r, r);
+  const Small C = (I - 0.5 * B).partialPivLu().solve(I + 0.5 * B);
+  return Q * C;
+}
+
+// ‖grad F‖ in the tangent coordinates of the local solve (pose 0 held): the translation gradient and the
+// components of the Y-gradient along the generators.
+double riemannian_gradient_norm(const Problem& P, const Point& X,
+                                const std::vector<std::pair<int, int>>& gens) {
+  const Gradient G = gradient(P, X);
+  double s = G.GT.rightCols(P.n - 1).squaredNorm();
+  for (int v = 1; v < P.n; ++v)
+    for (const auto& [a, b] : gens) {
+      const double gk = G.GY[static_cast<std::size_t>(v)]
+                            .cwiseProduct(tangent_basis(X.Q[static_cast<std::size_t>(v)], P.d, a, b))
+                            .sum();
+      s += gk * gk;
+    }
+  return std::sqrt(s);
+}
+
+struct LocalOutcome {
+  int iterations = 0;
+  double cost = 0.0;
+  double gradient_norm = 0.0;
+  std::string ordering;
+};
+
+// Newton with Levenberg–Marquardt damping on the lift at the rank of X (pose 0 held).
+LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) {
+  const int d = P.d, r = X.r;
+  const auto gens = generators(r, d);
+  const int prot = static_cast<int>(gens.size());
+  const int p = prot + r;
+  const int nb = P.n - 1;
+  BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), p), free_pairs(P));
+  std::vector<int> pos(P.edges.size(), -1);
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const int a = P.edges[k].i - 1, b = P.edges[k].j - 1;
+    if (a >= 0 && b >= 0) pos[k] = pattern.position(std::min(a, b), std::max(a, b));
+  }
+  detail::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
+                              detail::FillOrdering::automatic, false);
+  const int N = pattern.dimension();
+  std::vector<double> hessian(chol.values().size());
+  Eigen::VectorXd g(N), step(N), diag(N);
+
+  LocalOutcome out;
+  out.ordering = chol.ordering_name();
+  double f = cost(P, X);
+  double lambda = 1e-10;
+  double nu = 2.0;
+  bool rebuild = true;
+  std::vector<Small> D(static_cast<std::size_t>(P.n) * static_cast<std::size_t>(prot));
+  std::vector<double> curvature(static_cast<std::size_t>(nb) * static_cast<std::size_t>(prot * prot));
+  double gnorm = 0.0;
+  double best_gradient = std::numeric_limits<double>::infinity();
+  double last_decrease = std::numeric_limits<double>::infinity();
+  int stalled = 0;
+
+  for (int it = 0; it < o.max_iterations; ++it) {
+    if (rebuild) {
+      // Tangent basis per pose, the gradient in tangent coordinates and the Hessian.
+      for (int v = 0; v < P.n; ++v)
+        for (int k = 0; k < prot; ++k)
+          D[static_cast<std::size_t>(v) * prot + k] =
+              tangent_basis(X.Q[static_cast<std::size_t>(v)], d, gens[static_cast<std::size_t>(k)].first,
+                            gens[static_cast<std::size_t>(k)].second);
+      const Gradient G = gradient(P, X);
+      for (int v = 1; v < P.n; ++v) {
+        const int o0 = pattern.offset(v - 1);
+        for (int k = 0; k < prot; ++k)
+          g(o0 + k) =
+              G.GY[static_cast<std::size_t>(v)].cwiseProduct(D[static_cast<std::size_t>(v) * prot + k]).sum();
+        g.segment(o0 + prot, r) = G.GT.col(v);
+        const Small W = X.Q[static_cast<std::size_t>(v)].transpose() * G.GY[static_cast<std::size_t>(v)];
+        double* C = &curvature[static_cast<std::size_t>(v - 1) * prot * prot];
+        for (int k = 0; k < prot; ++k)
+          for (int l = 0; l < prot; ++l)
+            C[k * prot + l] =
+                0.5 *
+                (curvature_term(W, d, gens[static_cast<std::size_t>(k)], gens[static_cast<std::size_t>(l)]) +
+                 curvature_term(W, d, gens[static_cast<std::size_t>(l)], gens[static_cast<std::size_t>(k)]));
+      }
+      gnorm = g.norm();
+      // Stationarity: |F − tr Λ| and the first-order change of F along X are at most ‖grad‖·‖X‖; the
+      // certificate needs them well inside the gap tolerance.
+      const double xnorm = std::sqrt(X.T.squaredNorm() + static_cast<double>(P.n) * d);
+      if (gnorm * xnorm <= o.stationarity_tolerance * o.gap_tolerance * std::max(f, 1.0)) break;
+      // At the rounding floor of the gradient Newton steps stop halving it: five rebuilds without that end
+      // the solve (the certificate then judges the point).
+      if (gnorm < 0.5 * best_gradient) {
+        best_gradient = gnorm;
+        stalled = 0;
+      } else if (last_decrease <= 1e-10 * std::max(f, 1.0) && ++stalled >= 5) {
+        break;
+      }
+      std::fill(hessian.begin(), hessian.end(), 0.0);
+      Block J(d * r + r, 2 * p);
+      for (std::size_t k = 0; k < P.edges.size(); ++k) {
+        const auto& e = P.edges[k];
+        const double sk = std::sqrt(2.0 * e.kappa), st = std::sqrt(2.0 * e.tau);
+        J.setZero();
+        // Rows: vec(δ(Y_j − Y_i R̃)) (r·d) then δ(t_j − t_i − Y_i t̃) (r); columns: [b_i, t_i, b_j, t_j].
+        for (int q = 0; q < prot; ++q) {
+          const Small& Di = D[static_cast<std::size_t>(e.i) * prot + q];
+          const Small& Dj = D[static_cast<std::size_t>(e.j) * prot + q];
+          const Small DiR = Di * e.R;
+          for (int c = 0; c < d; ++c) {
+            J.block(c * r, q, r, 1) = -sk * DiR.col(c);
+            J.block(c * r, p + q, r, 1) = sk * Dj.col(c);
+          }
+          J.block(d * r, q, r, 1) = -st * (Di * e.t);
+        }
+        for (int c = 0; c < r; ++c) {
+          J(d * r + c, prot + c) = -st;
+          J(d * r + c, p + prot + c) = st;
+        }
+        const Block H = J.transpose() * J;
+        const int a = e.i - 1, b = e.j - 1;
+        if (a >= 0) pattern.add_diagonal(hessian, a, H.topLeftCorner(p, p));
+        if (b >= 0) pattern.add_diagonal(hessian, b, H.bottomRightCorner(p, p));
+        if (a >= 0 && b >= 0) pattern.add_off_diagonal(hessian, a, b, pos[k], H.topRightCorner(p, p));
+      }
+      for (int b = 0; b < nb; ++b) {
+        Block C = Block::Zero(p, p);  // the curvature acts on the rotation coordinates only
+        const double* c = &curvature[static_cast<std::size_t>(b) * prot * prot];
+        for (int k = 0; k < prot; ++k)
+          for (int l = 0; l < prot; ++l) C(k, l) = c[k * prot + l];
+        const int dp = pattern.diagonal_position(b);
+        for (int cc = 0; cc < p; ++cc)
+          diag(pattern.offset(b) + cc) = hessian[static_cast<std::size_t>(pattern.index(dp, b, cc, cc))];
+        pattern.add_diagonal(hessian, b, C);
+      }
+      rebuild = false;
+    }
+    ++out.iterations;
+    // Damped system (H + λ diag(H_GN)) δ = −g.
+    auto& values = chol.values();
+    values = hessian;
+    const double floor = 1e-12 * diag.maxCoeff();
+    for (int b = 0; b < nb; ++b) {
+      const int dp = pattern.diagonal_position(b);
+      for (int cc = 0; cc < p; ++cc) {
+        const int c = pattern.offset(b) + cc;
+        values[static_cast<std::size_t>(pattern.index(dp, b, cc, cc))] += lambda * std::max(diag(c), floor);
+      }
+    }
+    if (!chol.factorize()) {
+      lambda *= nu;
+      nu *= 2.0;
+      if (lambda > 1e16) break;
+      continue;
+    }
+    const Eigen::VectorXd minus_g = -g;
+    chol.solve(minus_g.data(), step.data(), 1);
+    // Model decrease −(gᵀδ + ½ δᵀ H δ) with the undamped H: from the damped system, H δ = −g − λ diag δ.
+    double damped = 0.0;
+    for (int c = 0; c < N; ++c) damped += step(c) * step(c) * std::max(diag(c), floor);
+    const double predicted = -g.dot(step) - 0.5 * (-g.dot(step) - lambda * damped);
+    if (!(predicted > 0.0)) {
+      lambda *= nu;
+      nu *= 2.0;
+      if (lambda > 1e16) break;
+      continue;
+    }
+    // Below the rounding of F a decrease cannot be measured: such a step is judged by the gradient instead.
+    const bool below_rounding = predicted <= 64.0 * kUnitRoundoff * std::max(std::abs(f), 1e-300);
+    Point trial = X;
+    for (int v = 1; v < P.n; ++v) {
+      const int o0 = pattern.offset(v - 1);
+      Small B = Small::Zero(r, r);
+      for (int k = 0; k < prot; ++k) {
+        const auto [a, b] = gens[static_cast<std::size_t>(k)];
+        B(a, b) += step(o0 + k);
+        B(b, a) -= step(o0 + k);
+      }
+      trial.Q[static_cast<std::size_t>(v)] = retract(X.Q[static_cast<std::size_t>(v)], B);
+      trial.T.col(v) += step.segment(o0 + prot, r);
+    }
+    const double f_new = cost(P, trial);
+    const double rho = (f - f_new) / predicted;
+    bool accept = rho > 1e-4;
+    if (below_rounding) {
+      accept = riemannian_gradient_norm(P, trial, gens) < gnorm;
+      if (!accept) break;  // neither F nor the gradient can be improved in double precision
+    }
+    if (accept) {
+      last_decrease = f - f_new;
+      X = std::move(trial);
+      f = f_new;
+      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      lambda = std::max(lambda, 1e-14);
+      nu = 2.0;
+      rebuild = true;
+    } else {
+      lambda *= nu;
+      nu *= 2.0;
+      if (lambda > 1e16) break;
+    }
+  }
+  out.cost = f;
+  out.gradient_norm = rebuild ? riemannian_gradient_norm(P, X, gens) : gnorm;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Linear least squares over the translations (t_0 = 0) for the rotation parts of X: T = argmin F.
+void optimal_translations(const Problem& P, Point& X) {
+  const int r = X.r, d = P.d, nb = P.n - 1;
+  BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), 1), free_pairs(P));
+  detail::SparseCholesky chol(nb, pattern.col_start(), pattern.row_index(), detail::FillOrdering::automatic,
+                              false);
+  auto& L = chol.values();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nb, r);  // right-hand sides, one column per coordinate
+  Eigen::Matrix<double, 1, 1> one;
+  for (const auto& e : P.edges) {
+    const int a = e.i - 1, b = e.j - 1;
+    one(0, 0) = e.tau;
+    if (a >= 0) pattern.add_diagonal(L, a, one);
+    if (b >= 0) pattern.add_diagonal(L, b, one);
+    if (a >= 0 && b >= 0) {
+      one(0, 0) = -e.tau;
+      pattern.add_off_diagonal(L, a, b, pattern.position(std::min(a, b), std::max(a, b)), one);
+    }
+    const SmallVec c = X.Y(e.i, d) * e.t;
+    if (b >= 0) B.row(b) += e.tau * c.transpose();
+    if (a >= 0) B.row(a) -= e.tau * c.transpose();
+  }
+  if (!chol.factorize())
+    fail("solve_certified: the translation Laplacian is singular (is the graph connected?)");
+  Eigen::MatrixXd T(nb, r);
+  chol.solve(B.data(), T.data(), r);
+  X.T.col(0).setZero();
+  X.T.rightCols(nb) = T.transpose();
+}
+
+Small project_to_rotation(const Small& A) {
+  Eigen::JacobiSVD<Small> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Small U = svd.matrixU();
+  const Small V = svd.matrixV();
+  if ((U * V.transpose()).determinant() < 0) U.col(U.cols() - 1) *= -1.0;
+  return U * V.transpose();
+}
+
+// Chordal initialization: rotations by linear least squares with R_0 = I (rows of [R_1 … R_{n−1}] solve the
+// rotation Laplacian), projected onto SO(d); then the translations.
+Point chordal_initialization(const Problem& P) {
+  const int d = P.d, nb = P.n - 1;
+  BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), d), free_pairs(P));
+  detail::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
+                              detail::FillOrdering::automatic, false);
+  auto& L = chol.values();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(pattern.dimension(), d);  // Bᵀ stacked: column = row of R
+  for (const auto& e : P.edges) {
+    const int a = e.i - 1, b = e.j - 1;
+    const Small RRt = e.kappa * e.R * e.R.transpose();
+    const Small kI = e.kappa * Small::Identity(d, d);
+    if (a >= 0) pattern.add_diagonal(L, a, RRt);
+    if (b >= 0) pattern.add_diagonal(L, b, kI);
+    if (a >= 0 && b >= 0)
+      pattern.add_off_diagonal(L, a, b, pattern.position(std::min(a, b), std::max(a, b)),
+                               Small(-e.kappa * e.R));
+    if (a < 0) B.middleRows(pattern.offset(b), d) += (e.kappa * e.R).transpose();  // B_j += κ R̃ (rows)
+    if (b < 0) B.middleRows(pattern.offset(a), d) += e.kappa * e.R;                // B_i += κ R̃ᵀ
+  }
+  if (!chol.factorize())
+    fail("solve_certified: the rotation Laplacian of the chordal initialization is singular");
+  Eigen::MatrixXd Z(pattern.dimension(), d);
+  chol.solve(B.data(), Z.data(), d);
+  Point X;
+  X.r = d;
+  X.Q.assign(static_cast<std::size_t>(P.n), Small::Identity(d, d));
+  for (int v = 1; v < P.n; ++v)
+    X.Q[static_cast<std::size_t>(v)] =
+        project_to_rotation(Small(Z.middleRows(pattern.offset(v - 1), d).transpose()));
+  X.T = Eigen::MatrixXd::Zero(d, P.n);
+  optimal_translations(P, X);
+  return X;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The certificate matrix S + η D over the columns [pose 0: Y_0 | pose v ≥ 1: t_v, Y_v].
+struct CertificateMatrix {
+  BlockPattern pattern;
+  std::vector<int> pos;  // per edge
+  explicit CertificateMatrix(const Problem& P)
+      : pattern(
+            [&] {
+              std::vector<int> s(static_cast<std::size_t>(P.n), P.d + 1);
+              s[0] = P.d;
+              return s;
+            }(),
+            [&] {
+              std::vector<std::pair<int, int>> pairs;
+              for (const auto& e : P.edges) pairs.emplace_back(e.i, e.j);
+              return pairs;
+            }()) {
+    pos.resize(P.edges.size());
+    for (std::size_t k = 0; k < P.edges.size(); ++k)
+      pos[k] = pattern.position(std::min(P.edges[k].i, P.edges[k].j), std::max(P.edges[k].i, P.edges[k].j));
+  }
+};
+
+// Λ_i = sym(Y_iᵀ (X M)_{Y_i}) = sym(Y_iᵀ ∇_{Y_i}F) / 2.
+std::vector<Small> multipliers(const Problem& P, const Point& X, const Gradient& G) {
+  std::vector<Small> Lam(static_cast<std::size_t>(P.n));
+  for (int v = 0; v < P.n; ++v) {
+    const Small A = 0.5 * X.Y(v, P.d).transpose() * G.GY[static_cast<std::size_t>(v)];
+    Lam[static_cast<std::size_t>(v)] = 0.5 * (A + A.transpose());
+  }
+  return Lam;
+}
+
+// M's entries of one edge as blocks in the local coordinates of pose blocks (pose 0 has no translation
+// column). Returns through `add(a, b, row, col, value)` with a, b the poses and row/col local indices
+// (translation 0 when present, rotation c at 1 + c; for pose 0 rotation c at c).
+template <class Add>
+void edge_entries(const EdgeData& e, int d, Add&& add) {
+  const int ti = e.i == 0 ? -1 : 0, tj = e.j == 0 ? -1 : 0;
+  const int ri = e.i == 0 ? 0 : 1, rj = e.j == 0 ? 0 : 1;
+  if (ti >= 0) add(e.i, e.i, ti, ti, e.tau);
+  if (tj >= 0) add(e.j, e.j, tj, tj, e.tau);
+  if (ti >= 0 && tj >= 0) add(e.i, e.j, ti, tj, -e.tau);
+  for (int c = 0; c < d; ++c) {
+    for (int c2 = 0; c2 < d; ++c2) {
+      double rr = 0.0;
+      for (int m = 0; m < d; ++m) rr += e.R(c, m) * e.R(c2, m);
+      add(e.i, e.i, ri + c, ri + c2, e.kappa * rr + e.tau * e.t(c) * e.t(c2));
+      if (c == c2) add(e.j, e.j, rj + c, rj + c2, e.kappa);
+      add(e.i, e.j, ri + c, rj + c2, -e.kappa * e.R(c, c2));
+    }
+    if (ti >= 0) add(e.i, e.i, ti, ri + c, e.tau * e.t(c));  // translation first: the upper triangle
+    if (tj >= 0) add(e.i, e.j, ri + c, tj, -e.tau * e.t(c));
+  }
+}
+
+// The certificate at X: Λ from the first-order conditions, the shift η* of the gap tolerance and the proof of
+// S + η* D ⪰ 0 by a margin-cleared Cholesky factorization. When `escape` is given and the test fails, it
+// receives a direction v (over the columns of the certificate matrix) with vᵀ S v < 0 when one is found.
+struct EscapeDirection {
+  Eigen::VectorXd v;
+  double rayleigh = 0.0;  // vᵀ S v / vᵀ D v
+  bool found = false;
+};
+
+Certificate certificate_at(const Problem& P, const Point& X, double gap_tolerance, EscapeDirection* escape) {
+  const auto t0 = core::Clock::now();
+  const int d = P.d;
+  Certificate C;
+  const double F = cost(P, X);
+  const Gradient G = gradient(P, X);
+  const std::vector<Small> Lam = multipliers(P, X, G);
+  double trace = 0.0, trace_abs = 0.0;
+  for (const auto& L : Lam)
+    for (int c = 0; c < d; ++c) {
+      trace += L(c, c);
+      trace_abs += std::abs(L(c, c));
+    }
+  C.trace_lambda = trace;
+  const double dn = static_cast<double>(d) * P.n;
+  const double eta = (gap_tolerance * std::max(F, 1.0) - (F - trace)) / dn;
+  C.shift = eta;
+  C.bound.upper = F;
+  CertificateMatrix CM(P);
+  const BlockPattern& pat = CM.pattern;
+  const int N = pat.dimension();
+  C.size = N;
+  std::vector<double> S(pat.row_index().size(), 0.0), Sabs(S.size(), 0.0);
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const int pos = CM.pos[k];
+    edge_entries(P.edges[k], d, [&](int a, int b, int row, int col, double value) {
+      int idx = 0;
+      if (a == b) {
+        if (row > col) return;  // upper triangle only (the lower one is its mirror)
+        idx = pat.index(pat.diagonal_position(a), a, row, col);
+      } else if (a < b) {
+        idx = pat.index(pos, b, row, col);
+      } else {
+        idx = pat.index(pos, a, col, row);
+      }
+      S[static_cast<std::size_t>(idx)] += value;
+      Sabs[static_cast<std::size_t>(idx)] += std::abs(value);
+    });
+  }
+  // − Λ on the rotation blocks, + η on their diagonal.
+  for (int v = 0; v < P.n; ++v) {
+    const int rot = v == 0 ? 0 : 1;
+    const int dp = pat.diagonal_position(v);
+    for (int c2 = 0; c2 < d; ++c2)
+      for (int c = 0; c <= c2; ++c) {
+        const int idx = pat.index(dp, v, rot + c, rot + c2);
+        const double lam = Lam[static_cast<std::size_t>(v)](c, c2);
+        S[static_cast<std::size_t>(idx)] -= lam;
+        Sabs[static_cast<std::size_t>(idx)] += std::abs(lam);
+      }
+  }
+  const std::vector<double> S_unshifted = S;
+  auto diagonal_index = [&](int col) {
+    return pat.col_start()[static_cast<std::size_t>(col) + 1] - 1;  // the diagonal is last in its column
+  };
+  auto is_rotation = [&](int col) {
+    // Pose 0 occupies columns 0 … d−1 (all rotation); pose v ≥ 1 starts with its translation.
+    if (col < d) return true;
+    return (col - d) % (d + 1) != 0;
+  };
+  detail::SparseCholesky chol(N, pat.col_start(), pat.row_index(), detail::FillOrdering::automatic, true);
+  C.max_row_count = chol.max_row_count();
+  // One test: S + η·D ⪰ 0, proven by the Cholesky factorization of W(S + η·D)W − μI.
+  auto proven_at = [&](double eta) {
+    std::vector<double> Sh = S_unshifted, Ah = Sabs;
+    for (int col = 0; col < N; ++col)
+      if (is_rotation(col)) {
+        Sh[static_cast<std::size_t>(diagonal_index(col))] += eta;
+        Ah[static_cast<std::size_t>(diagonal_index(col))] += eta;
+      }
+    std::vector<double> w(static_cast<std::size_t>(N), 1.0);
+    for (int col = 0; col < N; ++col) {
+      const double a = Sh[static_cast<std::size_t>(diagonal_index(col))];
+      if (!(a > 0.0) || !std::isfinite(a)) return false;  // a non-positive diagonal: not PSD (or not finite)
+      // W = 2^−round(log2(a)/2): exact scaling by a power of two, close to Jacobi's.
+      w[static_cast<std::size_t>(col)] = std::ldexp(1.0, -static_cast<int>(std::lround(std::log2(a) / 2.0)));
+    }
+    auto& A = chol.values();
+    std::vector<double> row_abs(static_cast<std::size_t>(N), 0.0);
+    double trace_scaled = 0.0, max_diag = 0.0;
+    for (int col = 0; col < N; ++col)
+      for (int q = pat.col_start()[static_cast<std::size_t>(col)];
+           q < pat.col_start()[static_cast<std::size_t>(col) + 1]; ++q) {
+        const int row = pat.row_index()[static_cast<std::size_t>(q)];
+        const double sc = w[static_cast<std::size_t>(row)] * w[static_cast<std::size_t>(col)];
+        A[static_cast<std::size_t>(q)] = sc * Sh[static_cast<std::size_t>(q)];
+        const double ab = sc * Ah[static_cast<std::size_t>(q)];
+        row_abs[static_cast<std::size_t>(row)] += ab;
+        if (row != col) row_abs[static_cast<std::size_t>(col)] += ab;
+        if (row == col) {
+          trace_scaled += A[static_cast<std::size_t>(q)];
+          max_diag = std::max(max_diag, A[static_cast<std::size_t>(q)]);
+        }
+      }
+    // Forming the entries of S: each is a sum of at most 2·(max degree) + 3 rounded terms (products of two or
+    // three stored numbers), so |error| ≤ γ_{2·deg+6} · Σ|terms|; in 2-norm at most the largest row sum.
+    const double formation =
+        gamma(2.0 * P.max_degree + 6.0) * *std::max_element(row_abs.begin(), row_abs.end());
+    // What the factorization must clear besides its own backward error: the rounding of forming the entries,
+    // and of subtracting μ on the diagonal (u · max diagonal).
+    const double fixed = formation + kUnitRoundoff * max_diag + N * std::numeric_limits<double>::denorm_min();
+    // A posteriori: factorize W(S + ηD)W − μI; with the computed factor L̂, L̂L̂ᵀ = W(S + ηD)W − μI + ΔA and
+    // ‖ΔA‖₂ ≤ E (SparseCholesky::backward_error_bound), so W(S + ηD)W ⪰ (μ − E − fixed)·I ⪰ 0 once
+    // 1.01·(E + fixed) ≤ μ (the 1 % covers the rounding of E and of μ's own arithmetic). μ starts small and
+    // is raised to what the last factor needed, at most three factorizations.
+    const std::vector<double> scaled = A;
+    double mu = 1.01 * fixed + 1e-4 * gamma(C.max_row_count + 1.0) * trace_scaled;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      A = scaled;
+      for (int col = 0; col < N; ++col) A[static_cast<std::size_t>(diagonal_index(col))] -= mu;
+      C.rounding_margin = mu;
+      if (!chol.factorize()) return false;
+      const double needed = 1.01 * (chol.backward_error_bound() + fixed);
+      if (needed <= mu) return true;
+      mu = 1.05 * needed;
+    }
+    return false;
+  };
+  // η* uses the whole gap tolerance; the proof is tried at η*/2 (so the rounding of the bound itself stays
+  // inside the tolerance) and, when that holds, once more at η*/1000 for a tighter reported bound.
+  // `proven`: S + η_proven·D ⪰ 0 holds (a valid lower bound); certified when that bound is within the gap.
+  bool proven = false;
+  double eta_proven = 0.0;
+  if (eta > 0.0 && proven_at(0.5 * eta)) {
+    proven = true;
+    eta_proven = 0.5 * eta;
+    const double mu_half = C.rounding_margin;
+    for (const double fraction : {1e-3, 3e-2}) {
+      if (proven_at(fraction * eta)) {
+        eta_proven = fraction * eta;
+        break;
+      }
+    }
+    if (eta_proven == 0.5 * eta) C.rounding_margin = mu_half;
+  } else {
+    C.message =
+        eta > 0.0
+            ? std::string("the factorization of W(S + η·D)W − μI broke down at η = η*/2")
+            : fmt::format("not stationary enough for the gap tolerance: F − tr(Λ) = {:.3g} exceeds {:.3g}",
+                          F - trace, gap_tolerance * std::max(F, 1.0));
+    // Outside the tolerance: the tightest bound that can still be proven, the shift raised tenfold at a time.
+    const double eta_ref = gap_tolerance * std::max(F, 1.0) / dn;
+    for (const double m : {10.0, 100.0, 1e3, 1e4, 1e5}) {
+      if (proven_at(m * eta_ref)) {
+        proven = true;
+        eta_proven = m * eta_ref;
+        break;
+      }
+    }
+  }
+  C.tolerance_shift = eta;
+  C.shift = proven ? eta_proven : eta;
+  bool certified = false;
+  // The lower bound: tr(Λ) − η d n, rounded down (the trace's own rounding, γ_{dn} Σ|Λ_cc|).
+  if (proven) {
+    C.bound.lower = trace - gamma(dn) * trace_abs - eta_proven * dn * (1.0 + 4.0 * kUnitRoundoff);
+    certified = core::Bound::relative_gap_of(C.bound.lower, C.bound.upper) <= gap_tolerance;
+    C.certified = certified;
+    const std::string proof = fmt::format("S + {:.3g}·D ⪰ 0 proven with rounding margin μ = {:.3g} (scaled)",
+                                          eta_proven, C.rounding_margin);
+    C.message = certified ? proof : C.message + "; " + proof + ", outside the gap tolerance";
+  }
+  if (!certified && escape) {
+    // A direction of negative curvature: σ doubled from max(η, tiny) until S + σD factorizes, then inverse
+    // iteration v ← (S + σD)⁻¹ D v, whose Rayleigh quotient vᵀSv / vᵀDv tends to the smallest generalized
+    // eigenvalue.
+    double sigma = std::max(eta, 1e-12 * std::max(1.0, F / dn));
+    bool ok = false;
+    for (int attempt = 0; attempt < 80 && !ok; ++attempt) {
+      auto& A = chol.values();
+      A = S_unshifted;
+      for (int col = 0; col < N; ++col)
+        if (is_rotation(col)) A[static_cast<std::size_t>(diagonal_index(col))] += sigma;
+      ok = chol.factorize();
+      if (!ok) sigma *= 2.0;
+    }
+    if (ok) {
+      Eigen::VectorXd v(N), Dv(N);
+      for (int col = 0; col < N; ++col) v(col) = is_rotation(col) ? std::cos(0.7 * col + 0.3) : 0.0;
+      auto apply_S = [&](const Eigen::VectorXd& x) {
+        Eigen::VectorXd y = Eigen::VectorXd::Zero(N);
+        for (int col = 0; col < N; ++col)
+          for (int q = pat.col_start()[static_cast<std::size_t>(col)];
+               q < pat.col_start()[static_cast<std::size_t>(col) + 1]; ++q) {
+            const int row = pat.row_index()[static_cast<std::size_t>(q)];
+            const double s = S_unshifted[static_cast<std::size_t>(q)];
+            y(row) += s * x(col);
+            if (row != col) y(col) += s * x(row);
+          }
+        return y;
+      };
+      double q = 0.0;
+      for (int iter = 0; iter < 60; ++iter) {
+        for (int col = 0; col < N; ++col) Dv(col) = is_rotation(col) ? v(col) : 0.0;
+        Eigen::VectorXd next(N);
+        chol.solve(Dv.data(), next.data(), 1);
+        double dnorm = 0.0;
+        for (int col = 0; col < N; ++col)
+          if (is_rotation(col)) dnorm += next(col) * next(col);
+        v = next / std::sqrt(dnorm);
+        q = v.dot(apply_S(v));  // vᵀDv = 1
+        if (iter >= 8 && q < -0.5 * sigma) break;
+      }
+      escape->v = v;
+      escape->rayleigh = q;
+      // Below −η* the staircase can descend; in [−η*, 0) the test failed by its rounding margin only, and a
+      // lift would not help.
+      escape->found = q < -std::max(eta, 0.0);
+    }
+  }
+  C.time_s = core::seconds_since(t0);
+  return C;
+}
+
+// Lift X to rank r + 1 along the escape direction v, with a backtracking step that decreases F.
+bool lift(const Problem& P, Point& X, const EscapeDirection& esc) {
+  const int d = P.d, r = X.r;
+  const int n = P.n;
+  // v's layout: pose 0 rotation c at c; pose v ≥ 1: translation at d + (v−1)(d+1), rotation c one further.
+  auto rot_index = [&](int v, int c) { return v == 0 ? c : d + (v - 1) * (d + 1) + 1 + c; };
+  auto trans_index = [&](int v) { return d + (v - 1) * (d + 1); };
+  double vr = 0.0;
+  for (int v = 0; v < n; ++v)
+    for (int c = 0; c < d; ++c) vr += esc.v(rot_index(v, c)) * esc.v(rot_index(v, c));
+  const double scale = std::sqrt(static_cast<double>(n) / vr);
+  Point base;
+  base.r = r + 1;
+  base.Q.resize(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) {
+    Small Q = Small::Identity(r + 1, r + 1);
+    Q.topLeftCorner(r, r) = X.Q[static_cast<std::size_t>(v)];
+    base.Q[static_cast<std::size_t>(v)] = Q;
+  }
+  base.T = Eigen::MatrixXd::Zero(r + 1, n);
+  base.T.topRows(r) = X.T;
+  const double f0 = cost(P, X);
+  for (double alpha = 1.0; alpha > 1e-12; alpha *= 0.5) {
+    Point trial = base;
+    for (int v = 0; v < n; ++v) {
+      Small B = Small::Zero(r + 1, r + 1);
+      for (int c = 0; c < d; ++c) {
+        // Generator (c, r): its tangent moves column c by −q_r = −e_r; we want +α v_c e_r.
+        const double coef = -alpha * scale * esc.v(rot_index(v, c));
+        B(c, r) += coef;
+        B(r, c) -= coef;
+      }
+      trial.Q[static_cast<std::size_t>(v)] = base.Q[static_cast<std::size_t>(v)] * [&] {
+        const Small I = Small::Identity(r + 1, r + 1);
+        return Small((I - 0.5 * B).partialPivLu().solve(I + 0.5 * B));
+      }();
+      if (v > 0) trial.T(r, v) = alpha * scale * esc.v(trans_index(v));
+    }
+    if (cost(P, trial) < f0) {
+      X = std::move(trial);
+      return true;
+    }
+  }
+  return false;
+}
+
+// Rounding a rank-r point to SO(d)ⁿ and its optimal translations.
+Point round_to_rotations(const Problem& P, const Point& X) {
+  const int d = P.d, r = X.r, n = P.n;
+  Point R;
+  R.r = d;
+  R.Q.resize(static_cast<std::size_t>(n));
+  if (r == d) {
+    for (int v = 0; v < n; ++v) R.Q[static_cast<std::size_t>(v)] = project_to_rotation(Small(X.Y(v, d)));
+  } else {
+    Small YYt = Small::Zero(r, r);
+    for (int v = 0; v < n; ++v) YYt += X.Y(v, d) * X.Y(v, d).transpose();
+    Eigen::SelfAdjointEigenSolver<Small> eig(YYt);
+    const Small U = eig.eigenvectors().rightCols(d);  // top d eigenvectors (ascending order)
+    std::vector<Small> blocks(static_cast<std::size_t>(n));
+    int positive = 0;
+    for (int v = 0; v < n; ++v) {
+      blocks[static_cast<std::size_t>(v)] = U.transpose() * X.Y(v, d);
+      if (blocks[static_cast<std::size_t>(v)].determinant() > 0) ++positive;
+    }
+    for (int v = 0; v < n; ++v) {
+      Small b = blocks[static_cast<std::size_t>(v)];
+      if (2 * positive < n) b.row(d - 1) *= -1.0;
+      R.Q[static_cast<std::size_t>(v)] = project_to_rotation(b);
+    }
+  }
+  // Gauge: R_0 = I.
+  const Small R0t = R.Q[0].transpose();
+  for (auto& Q : R.Q) Q = R0t * Q;
+  R.T = Eigen::MatrixXd::Zero(d, n);
+  optimal_translations(P, R);
+  return R;
+}
+
+template <class Pose>
+Point point_from_poses(const Problem& P, const std::vector<Pose>& poses) {
+  if (static_cast<int>(poses.size()) < P.n)
+    fail(fmt::format("certify: {} poses given for a graph of {}", poses.size(), P.n));
+  Point X;
+  X.r = P.d;
+  X.Q.resize(static_cast<std::size_t>(P.n));
+  X.T.resize(P.d, P.n);
+  for (int v = 0; v < P.n; ++v) {
+    X.Q[static_cast<std::size_t>(v)] = poses[static_cast<std::size_t>(v)].rotation();
+    X.T.col(v) = poses[static_cast<std::size_t>(v)].translation();
+  }
+  // Translations relative to pose 0 (the gauge of the certificate matrix), in pose 0's frame so that R_0 = I
+  // is not required: F is invariant under a common rigid motion.
+  const Small R0t = X.Q[0].transpose();
+  const Eigen::VectorXd t0 = X.T.col(0);
+  for (int v = 0; v < P.n; ++v) {
+    X.Q[static_cast<std::size_t>(v)] = R0t * X.Q[static_cast<std::size_t>(v)];
+    X.T.col(v) = R0t * (X.T.col(v) - t0);
+  }
+  return X;
+}
+
+lie::SE2 to_pose(const Small& R, const Eigen::VectorXd& t, const lie::SE2*) {
+  return lie::SE2(t(0), t(1), std::atan2(R(1, 0), R(0, 0)));
+}
+lie::SE3 to_pose(const Small& R, const Eigen::VectorXd& t, const lie::SE3*) {
+  return lie::SE3(lie::SO3::from_matrix_unchecked(lie::Mat3(R)), lie::Vec3(t));
+}
+
+template <class Pose, class Graph>
+void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary& S,
+                std::vector<Pose>& poses) {
+  o.validate();
+  // CHOLMOD's supernodal factorizations call the BLAS: one BLAS thread keeps the result independent of the
+  // machine's core count (core/blas.hpp), and is what the side-by-side measurements use.
+  const core::SingleThreadedBlas one_blas_thread;
+  const auto t_total = core::Clock::now();
+  const int d = std::is_same_v<Pose, lie::SE2> ? 2 : 3;
+  if (o.max_rank < d) fail(fmt::format("CertifiedOptions: max_rank must be >= {} (got {})", d, o.max_rank));
+  const Problem P = make_problem(graph, d);
+  S.poses = P.n;
+  S.edges = static_cast<int>(P.edges.size());
+  S.dimension = d;
+  S.problem = fmt::format(
+      "isotropic (chordal) SE({}) synchronization: Σ κ‖R_j − R_i R̃‖²_F + τ‖t_j − t_i − R_i t̃‖² with "
+      "SE-Sync's κ, τ "
+      "from each edge's information",
+      d);
+  auto t0 = core::Clock::now();
+  Point X;
+  if (o.chordal_initialization) {
+    X = chordal_initialization(P);
+  } else {
+    if (static_cast<int>(graph.poses.size()) < P.n)
+      fail("solve_certified: chordal_initialization = false needs an estimate for every pose in the graph");
+    X = point_from_poses(P, graph.poses);
+  }
+  S.initial_cost = cost(P, X);
+  S.initialization_time_s = core::seconds_since(t0);
+
+  double best_lower = -std::numeric_limits<double>::infinity();
+  bool rank_limited = false;
+  for (;;) {
+    const auto t_rank = core::Clock::now();
+    t0 = core::Clock::now();
+    const LocalOutcome local = local_solve(P, X, o);
+    S.local_time_s += core::seconds_since(t0);
+    S.iterations += local.iterations;
+    if (S.ordering.empty()) S.ordering = local.ordering;
+    RankRecord rec;
+    rec.rank = X.r;
+    rec.iterations = local.iterations;
+    rec.cost = local.cost;
+    rec.gradient_norm = local.gradient_norm;
+    EscapeDirection esc;
+    t0 = core::Clock::now();
+    const Certificate C = certificate_at(P, X, o.gap_tolerance, X.r < o.max_rank ? &esc : nullptr);
+    S.certificate_time_s += core::seconds_since(t0);
+    if (std::isfinite(C.bound.lower)) best_lower = std::max(best_lower, C.bound.lower);
+    rec.certified = C.certified;
+    rec.lambda_min_estimate = esc.found ? esc.rayleigh : 0.0;
+    rec.time_s = core::seconds_since(t_rank);
+    S.staircase.push_back(rec);
+    S.final_rank = X.r;
+    S.certificate = C;
+    if (C.certified) break;
+    if (X.r >= o.max_rank || !esc.found || !lift(P, X, esc)) {
+      rank_limited = X.r >= o.max_rank;
+      if (!esc.found && X.r < o.max_rank)
+        S.message = fmt::format(
+            "the certificate failed at rank {} but S has no curvature below −η* = {:.3g} (estimate {:.3g}): "
+            "the "
+            "test is at the limit of double precision for this gap tolerance",
+            X.r, S.certificate.tolerance_shift, esc.rayleigh);
+      break;
+    }
+  }
+  // Back to SO(d)ⁿ, polish at rank d, certify the returned point.
+  t0 = core::Clock::now();
+  if (X.r > d) {
+    X = round_to_rotations(P, X);
+    S.rounding_time_s = core::seconds_since(t0);
+    t0 = core::Clock::now();
+    const LocalOutcome local = local_solve(P, X, o);
+    S.local_time_s += core::seconds_since(t0);
+    S.iterations += local.iterations;
+    t0 = core::Clock::now();
+    Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
+    S.certificate_time_s += core::seconds_since(t0);
+    if (std::isfinite(C.bound.lower)) best_lower = std::max(best_lower, C.bound.lower);
+    S.certificate = C;
+  } else {
+    // Already SO(d)ⁿ (to rounding): re-project and re-solve the translations so the returned rotations are
+    // orthonormal; F changes in the last bits only.
+    Point R = round_to_rotations(P, X);
+    if (cost(P, R) <= S.certificate.bound.upper * (1.0 + 1e-12)) X = std::move(R);
+    S.rounding_time_s = core::seconds_since(t0);
+  }
+  S.final_cost = cost(P, X);
+  S.certificate.bound.upper = S.final_cost;
+  if (std::isfinite(best_lower)) S.certificate.bound.lower = std::max(S.certificate.bound.lower, best_lower);
+  const double gap = S.certificate.bound.relative_gap();
+  S.certificate.certified = std::isfinite(best_lower) && gap <= o.gap_tolerance;
+  if (S.certificate.certified) {
+    S.termination = CertifiedTermination::certified;
+    S.status = core::SearchStatus::optimal;
+    S.message = fmt::format("numerically certified at rank {}: relative gap {:.3g} ≤ {:.3g}", S.final_rank,
+                            gap, o.gap_tolerance);
+  } else {
+    S.termination = rank_limited ? CertifiedTermination::rank_limit : CertifiedTermination::not_certified;
+    S.status = core::SearchStatus::unproven;
+    if (S.message.empty())
+      S.message = rank_limited
+                      ? fmt::format("the staircase reached max_rank = {} without a certificate", o.max_rank)
+                      : fmt::format("not certified: {}", S.certificate.message);
+  }
+  poses.resize(static_cast<std::size_t>(P.n));
+  for (int v = 0; v < P.n; ++v)
+    poses[static_cast<std::size_t>(v)] = to_pose(
+        X.Q[static_cast<std::size_t>(v)], Eigen::VectorXd(X.T.col(v)), static_cast<const Pose*>(nullptr));
+  S.total_time_s = core::seconds_since(t_total);
+}
+
+template <class Pose, class Graph>
+Certificate certify_impl(const Graph& graph, const std::vector<Pose>& poses, double gap_tolerance) {
+  if (!(gap_tolerance > 0.0)) fail(fmt::format("certify: gap_tolerance must be > 0 (got {})", gap_tolerance));
+  const int d = std::is_same_v<Pose, lie::SE2> ? 2 : 3;
+  const Problem P = make_problem(graph, d);
+  const Point X = point_from_poses(P, poses);
+  const core::SingleThreadedBlas one_blas_thread;  // as in solve_impl
+  return certificate_at(P, X, gap_tolerance, nullptr);
+}
+
+template <class Pose, class Graph>
+double cost_impl(const Graph& graph, const std::vector<Pose>& poses) {
+  const int d = std::is_same_v<Pose, lie::SE2> ? 2 : 3;
+  const Problem P = make_problem(graph, d);
+  return cost(P, point_from_poses(P, poses));
+}
+
+}  // namespace
+
+IsotropicWeights isotropic_weights(const graph::Edge2& e) {
+  const lie::Mat2 tt = e.information.topLeftCorner<2, 2>();
+  IsotropicWeights w;
+  w.tau = 2.0 / tt.inverse().trace();
+  w.kappa = e.information(2, 2);
+  return w;
+}
+
+IsotropicWeights isotropic_weights(const graph::Edge3& e) {
+  const lie::Mat3 tt = e.information.topLeftCorner<3, 3>();
+  const lie::Mat3 qq = 4.0 * e.information.bottomRightCorner<3, 3>();
+  IsotropicWeights w;
+  w.tau = 3.0 / tt.inverse().trace();
+  w.kappa = 3.0 / (2.0 * qq.inverse().trace());
+  return w;
+}
+
+void CertifiedOptions::validate() const {
+  if (!(gap_tolerance > 0.0 && gap_tolerance < 1.0))
+    fail(fmt::format("CertifiedOptions: gap_tolerance must be in (0, 1) (got {})", gap_tolerance));
+  if (max_rank > kMaxRank)
+    fail(fmt::format("CertifiedOptions: max_rank must be <= {} (got {})", kMaxRank, max_rank));
+  if (max_iterations < 1)
+    fail(fmt::format("CertifiedOptions: max_iterations must be >= 1 (got {})", max_iterations));
+  if (!(stationarity_tolerance > 0.0 && stationarity_tolerance <= 1.0))
+    fail(fmt::format("CertifiedOptions: stationarity_tolerance must be in (0, 1] (got {})",
+                     stationarity_tolerance));
+}
+
+std::string_view to_string(CertifiedTermination t) {
+  switch (t) {
+    case CertifiedTermination::certified:
+      return "certified";
+    case CertifiedTermination::rank_limit:
+      return "rank_limit";
+    case CertifiedTermination::not_certified:
+      return "not_certified";
+  }
+  return "unknown";
+}
+
+double isotropic_cost(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses) {
+  return cost_impl(graph, poses);
+}
+double isotropic_cost(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses) {
+  return cost_impl(graph, poses);
+}
+
+CertifiedResult2D solve_certified(const graph::PoseGraph2D& graph, const CertifiedOptions& options) {
+  if (!graph.landmark_measurements.empty())
+    fail(
+        "solve_certified: graphs with landmarks are not supported (the isotropic model covers pose-pose "
+        "edges)");
+  CertifiedResult2D r;
+  solve_impl(graph, options, r.summary, r.poses);
+  return r;
+}
+
+CertifiedResult3D solve_certified(const graph::PoseGraph3D& graph, const CertifiedOptions& options) {
+  CertifiedResult3D r;
+  solve_impl(graph, options, r.summary, r.poses);
+  return r;
+}
+
+Certificate certify(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
+                    double gap_tolerance) {
+  return certify_impl(graph, poses, gap_tolerance);
+}
+Certificate certify(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses,
+                    double gap_tolerance) {
+  return certify_impl(graph, poses, gap_tolerance);
+}
+
+}  // namespace keel::pgo

@@ -1,0 +1,167 @@
+// keel::pgo — certified pose-graph optimization in 2D and 3D: a globally optimal solution of the isotropic
+// (chordal) model with a dual certificate whose lower bound survives floating-point rounding.
+//
+// The problem (Rosen, Carlone, Bandeira, Leonard, "SE-Sync", IJRR 2019, Problem 1; the chordal form of the
+// thesis's eq. 2.1 with isotropic noise):
+//
+//     minimize  F(t, R) = Σ_e κ_e ‖R_j − R_i R̃_e‖²_F + τ_e ‖t_j − t_i − R_i t̃_e‖²      over R_i ∈ SO(d), t_i
+//     ∈ Rᵈ,
+//
+// where edge e = (i, j) measures z_e = (R̃_e, t̃_e) ≈ T_i⁻¹ T_j (graph/pose_graph.hpp). κ_e and τ_e come from
+// the edge's information Ω (keel's residual order: translation first) as SE-Sync derives them from a g2o file
+// (isotropic_weights() below), so the optimum is SE-Sync's on the same file. F is twice the negative
+// log-likelihood of the Langevin–Gaussian model with those concentrations; it is not the anisotropic cost of
+// pgo::optimize (which keel solve reports without --certify).
+//
+// Method (certified.cpp):
+//  1. Chordal initialization: the rotations by linear least squares over R^{d×d} with R_0 = I, projected onto
+//     SO(d), then the translations by linear least squares.
+//  2. Local solve on the Burer–Monteiro lift: X = [t_1 … t_n | Y_1 … Y_n] ∈ R^{r×(n+dn)} with Y_i ∈ St(d, r)
+//  and
+//     F(X) = tr(X M Xᵀ) (M the sparse connection Laplacian of the graph, see certified.cpp). Each Y_i is the
+//     first d columns of an orthogonal Q_i ∈ O(r), moved as Q_i exp(B_i) with B_i in the part of so(r) that
+//     moves those columns; the translations move freely; pose 0 is the gauge. Newton steps (Gauss–Newton
+//     matrix plus the curvature of the retraction, i.e. the Riemannian Hessian) with Levenberg–Marquardt
+//     damping, factorized by CHOLMOD.
+//  3. Certificate: Λ_i = sym(Y_iᵀ (X M)_{Y_i}) from the first-order conditions, S = M − diag(0, Λ). For every
+//     feasible point (and every point of the semidefinite relaxation) F ≥ tr(Λ) − η·d·n when S + η·D ⪰ 0, D
+//     the identity on the rotation coordinates and zero on the translations (translation 0 removed: the
+//     gauge). S + η·D ⪰ 0 is proven by a Cholesky factorization of W(S + η·D)W − μI, with W a power-of-two
+//     diagonal scaling (exact in floating point). μ must exceed the backward error of the computed factor L̂,
+//     bounded a posteriori from L̂ itself (Higham Thm 10.3: |ΔA| ≤ γ_{k+1}|L̂||L̂ᵀ| entrywise, so ‖ΔA‖₂ ≤ max_i
+//     γ_{k_i+1}(|L̂||L̂ᵀ|1)_i), plus the rounding of forming the matrix. η* is the largest shift the gap
+//     tolerance allows:
+//         η* = (gap_tolerance · max(F, 1) − (F − tr Λ)) / (d · n);
+//     the proof is tried at η*/2, then at η*/1000 and η*/33 for a tighter bound. When η*/2 fails, the shift
+//     is raised tenfold at a time (up to 10⁵·gap_tolerance·max(F, 1)/(dn)) and the tightest bound that can be
+//     proven is reported, not certified: on some data sets the scaled shift that 1e-6 asks for lies below
+//     what a double-precision Cholesky factorization can resolve.
+//  4. When the certificate fails at rank r: the Riemannian staircase. A direction of negative curvature of S
+//     (inverse iteration on S + σD, σ found by factorizations) lifts X to rank r + 1 with a decrease, and
+//     step 2 resumes, up to CertifiedOptions::max_rank.
+//  5. Rounding to SO(d)ⁿ (the top-d left singular subspace of Y, the determinant sign of the majority, a
+//     projection per block, then optimal translations), a local solve at rank d from there, and the
+//     certificate again at the returned point.
+//
+// "Numerically certified": the lower bound is rigorous for the data as stored (κ, τ, R̃, t̃ in double), with
+// every rounding error of the test bounded as above; the upper bound is the cost of the returned estimate,
+// whose rotations are orthonormal to rounding.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/bound.hpp"
+#include "graph/pose_graph.hpp"
+#include "pgo/optimize.hpp"
+
+namespace keel::pgo {
+
+// κ (rotation) and τ (translation) of one edge, from its information Ω over keel's residual (translation
+// first, then the rotation angle in 2D or rotation vector φ in 3D):
+//   2D:  τ = 2 / tr(Ω_tt⁻¹),  κ = Ω_θθ;
+//   3D:  τ = 3 / tr(Ω_tt⁻¹),  κ = 3 / (2 tr(Ω_qq⁻¹)) with Ω_qq = 4 Ω_φφ, the block of the g2o file over the
+//        quaternion's vector part (q_vec ≈ φ/2; graph/g2o.hpp converts Ω_qq to Ω_φφ = Ω_qq / 4 on reading).
+// Only the diagonal blocks are used (cross terms are ignored), so blocks of an indefinite Ω are accepted as
+// long as κ and τ come out positive and finite. Throws std::invalid_argument otherwise, naming the edge.
+struct IsotropicWeights {
+  double kappa = 0.0;
+  double tau = 0.0;
+};
+[[nodiscard]] IsotropicWeights isotropic_weights(const graph::Edge2& e);
+[[nodiscard]] IsotropicWeights isotropic_weights(const graph::Edge3& e);
+
+struct CertifiedOptions {
+  double gap_tolerance = 1e-6;  // certified when (F − lower) / max(1, F) ≤ this (> 0)
+  int max_rank = 10;            // the staircase stops at this rank (≥ d, ≤ 12)
+  int max_iterations = 300;     // Newton iterations per rank (≥ 1)
+  // Stop a rank's local solve when ‖Riemannian gradient‖·‖X‖ (a bound on |F − tr Λ|) is at most this ×
+  // gap_tolerance × max(F, 1), in (0, 1].
+  double stationarity_tolerance = 1e-2;
+  bool chordal_initialization = true;  // false: start from the poses as read (or chained odometry)
+  void validate() const;               // throws std::invalid_argument naming the field
+};
+
+// The certificate of one point (the last one tested is the one reported).
+struct Certificate {
+  bool certified = false;
+  core::Bound bound;          // lower: proven; upper: F at the point
+  double trace_lambda = 0.0;  // tr(Λ)
+  double shift = 0.0;         // η proven: S + η·D ⪰ 0 (D the identity on the rotation coordinates)
+  double tolerance_shift =
+      0.0;  // η* = (gap_tolerance · max(F, 1) − (F − tr Λ)) / (d n), the largest the gap allows
+  double rounding_margin = 0.0;  // μ (in the scaled matrix) that the factorization had to clear
+  int max_row_count = 0;         // largest row count of the symbolic factor (supernodal, padded)
+  int size = 0;                  // order of S (translation 0 removed)
+  double time_s = 0.0;
+  std::string message;
+};
+
+// One rank of the staircase.
+struct RankRecord {
+  int rank = 0;
+  int iterations = 0;                // Newton iterations (accepted and rejected)
+  double cost = 0.0;                 // F at the end of the rank's local solve
+  double gradient_norm = 0.0;        // ‖Riemannian gradient‖₂ there
+  bool certified = false;            // whether the certificate held at that point
+  double lambda_min_estimate = 0.0;  // when not certified: the Rayleigh quotient of the escape direction
+  double time_s = 0.0;
+};
+
+enum class CertifiedTermination {
+  certified,      // the returned estimate carries a certificate within the gap tolerance
+  rank_limit,     // the staircase reached max_rank without a certificate
+  not_certified,  // the rank-d point after rounding could not be certified (the bound is still valid)
+};
+std::string_view to_string(CertifiedTermination t);
+
+struct CertifiedSummary {
+  CertifiedTermination termination = CertifiedTermination::not_certified;
+  core::SearchStatus status = core::SearchStatus::unproven;  // optimal exactly when certified
+  std::string problem;                                       // the problem solved, in words
+  std::string message;
+  int poses = 0;
+  int edges = 0;
+  int dimension = 2;
+  double initial_cost = 0.0;  // F at the initial estimate
+  double final_cost = 0.0;    // F at the returned estimate
+  int final_rank = 0;         // rank of the last local solve before rounding
+  std::vector<RankRecord> staircase;
+  Certificate certificate;
+  std::string ordering;  // CHOLMOD's fill-reducing ordering of the Newton systems
+  int iterations = 0;    // Newton iterations over all ranks (and the final rank-d solve)
+  double initialization_time_s = 0.0;
+  double local_time_s = 0.0;
+  double certificate_time_s = 0.0;
+  double rounding_time_s = 0.0;
+  double total_time_s = 0.0;
+};
+
+struct CertifiedResult2D {
+  CertifiedSummary summary;
+  std::vector<lie::SE2> poses;
+};
+struct CertifiedResult3D {
+  CertifiedSummary summary;
+  std::vector<lie::SE3> poses;
+};
+
+// F (the isotropic cost above) at given poses.
+[[nodiscard]] double isotropic_cost(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses);
+[[nodiscard]] double isotropic_cost(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses);
+
+// The certified solve, on one BLAS thread (core::SingleThreadedBlas: a process-wide setting, restored on
+// return). The graph must be connected (throws std::invalid_argument naming a pose that no path reaches) and
+// free of landmarks (2D). Poses that no edge touches are refused like that too.
+[[nodiscard]] CertifiedResult2D solve_certified(const graph::PoseGraph2D& graph,
+                                                const CertifiedOptions& options = {});
+[[nodiscard]] CertifiedResult3D solve_certified(const graph::PoseGraph3D& graph,
+                                                const CertifiedOptions& options = {});
+
+// The certificate at given poses (no solve): what a user runs on a solution found elsewhere.
+[[nodiscard]] Certificate certify(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
+                                  double gap_tolerance = 1e-6);
+[[nodiscard]] Certificate certify(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses,
+                                  double gap_tolerance = 1e-6);
+
+}  // namespace keel::pgo

@@ -19,11 +19,15 @@ using keel::app::SplitFilesOptions;
 using keel::app::summarize;
 // solve
 using keel::app::AnyGraph;
+using keel::app::CertifiedSolution;
+using keel::app::CertifiedSolution2;
+using keel::app::CertifiedSolution3;
 using keel::app::read_graph;
 using keel::app::Solution;
 using keel::app::Solution2;
 using keel::app::Solution3;
 using keel::app::solve;
+using keel::app::solve_certified;
 using keel::app::SolveOptions;
 // marginals
 using keel::app::factorize;

@@ -1,6 +1,8 @@
 #include "app/solve.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <type_traits>
 #include <utility>
 
 #include "app/files.hpp"
@@ -26,11 +28,45 @@ Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Es
   return out;
 }
 
+template <class Graph>
+CertifiedSolution<Graph> certified_impl(const Graph& g, const SolveOptions& options) {
+  pgo::CertifiedOptions o;
+  o.gap_tolerance = options.gap_tolerance;
+  o.max_rank = options.max_rank;
+  const auto t0 = core::Clock::now();
+  auto r = pgo::solve_certified(g, o);
+  CertifiedSolution<Graph> out;
+  out.solve_time_s = core::seconds_since(t0);
+  out.graph = g;
+  out.graph.poses = std::move(r.poses);
+  out.graph.has_initial_poses = true;
+  out.summary = std::move(r.summary);
+  if (g.indefinite_information > 0) {
+    out.anisotropic_cost = std::numeric_limits<double>::quiet_NaN();  // undefined with indefinite information
+  } else if constexpr (std::is_same_v<Graph, graph::PoseGraph2D>) {
+    pgo::Estimate2D at;
+    at.poses = out.graph.poses;
+    out.anisotropic_cost = pgo::evaluate(g, at).cost;
+  } else {
+    pgo::Estimate3D at;
+    at.poses = out.graph.poses;
+    out.anisotropic_cost = pgo::evaluate(g, at).cost;
+  }
+  return out;
+}
+
 }  // namespace
 
-AnyGraph read_graph(const std::filesystem::path& file) {
-  if (graph_dimension(file) == 3) return graph::read_pose_graph_3d(file);
-  return graph::read_pose_graph_2d(file);
+CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const SolveOptions& options) {
+  return certified_impl(g, options);
+}
+CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptions& options) {
+  return certified_impl(g, options);
+}
+
+AnyGraph read_graph(const std::filesystem::path& file, graph::InformationCheck information) {
+  if (graph_dimension(file) == 3) return graph::read_pose_graph_3d(file, information);
+  return graph::read_pose_graph_2d(file, information);
 }
 
 pgo::Options SolveOptions::pgo_options() const {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "graph/pose_graph.hpp"
+#include "pgo/certified.hpp"
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
 
@@ -19,7 +20,10 @@ namespace keel::app {
 using AnyGraph = std::variant<graph::PoseGraph2D, graph::PoseGraph3D>;
 /// Reads a pose-graph file as the dimension of its first record says. Throws graph::ParseError naming file,
 /// line and field.
-[[nodiscard]] AnyGraph read_graph(const std::filesystem::path& file);
+/// `information` as in graph::InformationCheck (diagonal_blocks for the certified solve's isotropic model).
+[[nodiscard]] AnyGraph read_graph(
+    const std::filesystem::path& file,
+    graph::InformationCheck information = graph::InformationCheck::positive_definite);
 
 /// The options of `keel solve` and Python's keel.solve: pgo's defaults with only these fields set.
 struct SolveOptions {
@@ -30,6 +34,11 @@ struct SolveOptions {
   std::uint64_t seed = 0;         // of init = "random"
   unsigned threads = 1;           // Ceres threads (the last bits of a result depend on it); 0 = all cores
   int max_iterations = 100;       // trust-region iterations (≥ 0)
+  // certify = true: the certified solve of the isotropic model instead (pgo::solve_certified; init, robust,
+  // seed, threads and max_iterations do not apply).
+  bool certify = false;
+  double gap_tolerance = 1e-6;  // relative duality gap that counts as certified
+  int max_rank = 10;            // the staircase's last rank
   /// pgo::Options with these fields set. Throws std::invalid_argument for an unknown name or an invalid
   /// value.
   [[nodiscard]] pgo::Options pgo_options() const;
@@ -44,6 +53,23 @@ struct Solution {
 };
 using Solution2 = Solution<graph::PoseGraph2D>;
 using Solution3 = Solution<graph::PoseGraph3D>;
+
+/// The certified solve (pgo::solve_certified) and, at its estimate, the anisotropic maximum-likelihood cost
+/// of eq. 2.1 that `solve` minimizes (the two problems differ; both costs are reported).
+template <class Graph>
+struct CertifiedSolution {
+  Graph graph;  // the input with the certified estimate as its poses
+  pgo::CertifiedSummary summary;
+  double anisotropic_cost = 0.0;  // ½ Σ rᵀΩr at the certified estimate (pgo::evaluate); NaN when some Ω is
+                                  // not positive definite (graph.indefinite_information > 0)
+  double solve_time_s = 0.0;
+};
+using CertifiedSolution2 = CertifiedSolution<graph::PoseGraph2D>;
+using CertifiedSolution3 = CertifiedSolution<graph::PoseGraph3D>;
+/// Throws std::invalid_argument for invalid options, a disconnected graph, landmarks or weights that are not
+/// positive.
+[[nodiscard]] CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const SolveOptions& options);
+[[nodiscard]] CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptions& options);
 
 /// Solves the graph from the initial guess of `options` (or `initial`, with init = "supplied"), pose 0 held
 /// constant. A solver failure is reported in summary.termination, not thrown; invalid options and graphs

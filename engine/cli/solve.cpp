@@ -11,11 +11,13 @@ import keel.app;
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "tool_common.hpp"
 
@@ -68,10 +70,69 @@ void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
   }
 }
 
+template <class Graph>
+void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
+  stage(fmt::format("certified solve ({} poses, {} edges, gap tolerance {:g}, ranks up to {})",
+                    g.poses.size(), g.edges.size(), a.options.gap_tolerance, a.options.max_rank));
+  const auto s = app::solve_certified(g, a.options);
+  if (!a.out.empty()) {
+    write_solution(s.graph, a.out, a.file);
+    stage(fmt::format("wrote {}", a.out));
+  }
+  if (a.common.json) {
+    json j = {
+        {"file", a.file},
+        {"poses", s.summary.poses},
+        {"edges", s.summary.edges},
+        {"anisotropic_cost", std::isfinite(s.anisotropic_cost) ? json(s.anisotropic_cost) : json(nullptr)},
+        {"indefinite_information", g.indefinite_information},
+        {"certificate", certificate_json(s.summary)}};
+    if (!a.out.empty()) j["out"] = a.out;
+    fmt::print("{}\n", j.dump(1));
+  } else {
+    print_certified_summary(a.file, s.summary, s.anisotropic_cost);
+    if (!a.out.empty()) fmt::print("written      {}\n", a.out);
+  }
+}
+
 void run_solve(const SolveArgs& a) {
   const Stages stage("solve", a.common.quiet);
   stage(fmt::format("reading {}", a.file));
-  std::visit([&](const auto& g) { solve_file(a, g, stage); }, app::read_graph(a.file));
+  // The isotropic model of --certify reads only the diagonal blocks of each information matrix; the
+  // anisotropic solve needs all of it and names the option that reads such a file.
+  const auto read = [&] {
+    if (a.options.certify) return app::read_graph(a.file, graph::InformationCheck::diagonal_blocks);
+    try {
+      return app::read_graph(a.file);
+    } catch (const graph::ParseError& e) {
+      if (std::string_view(e.what()).find("not positive definite") == std::string_view::npos) throw;
+      throw CommandFailed(
+          fmt::format("{}\n(the anisotropic solve needs every information matrix positive "
+                      "definite; `keel solve --certify` reads this file: its isotropic model uses "
+                      "only the translation and rotation blocks)",
+                      e.what()));
+    }
+  };
+  const app::AnyGraph graph = read();
+  std::visit(
+      [&](const auto& g) {
+        if (g.indefinite_information > 0)
+          fmt::print(
+              stderr,
+              "keel solve: warning: {} of {} information matrices are not positive definite; the isotropic "
+              "model uses only their translation and rotation blocks (positive definite in every edge)\n",
+              g.indefinite_information, g.edges.size());
+      },
+      graph);
+  std::visit(
+      [&](const auto& g) {
+        if (a.options.certify) {
+          certify_file(a, g, stage);
+        } else {
+          solve_file(a, g, stage);
+        }
+      },
+      graph);
 }
 
 }  // namespace
@@ -85,6 +146,13 @@ void add_solve_command(CLI::App& app) {
                 "write the graph with the solution as its estimate (.g2o or .txt picks the format; other "
                 "names get the input's format)");
   add_solve_options(c, *a);
+  c->add_flag("--certify", a->options.certify,
+              "solve the isotropic (chordal) model with a global-optimality certificate instead (SE-Sync's "
+              "problem: chordal initialization, Riemannian staircase); --init/--robust do not apply");
+  c->add_option("--gap-tolerance", a->options.gap_tolerance, "--certify: relative duality gap that certifies")
+      ->capture_default_str();
+  c->add_option("--max-rank", a->options.max_rank, "--certify: the staircase's last rank")
+      ->capture_default_str();
   add_common(c, a->common);
   c->callback([a] { run_solve(*a); });
 }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -95,6 +96,75 @@ inline void add_solve_options(CLI::App* c, SolveArgs& a) {
   c->add_option("--max-iterations", o.max_iterations, "trust-region iterations")->capture_default_str();
 }
 
+inline json certificate_json(const pgo::CertifiedSummary& s) {
+  const auto& c = s.certificate;
+  json stairs = json::array();
+  for (const auto& r : s.staircase)
+    stairs.push_back({{"rank", r.rank},
+                      {"iterations", r.iterations},
+                      {"cost", r.cost},
+                      {"gradient_norm", r.gradient_norm},
+                      {"certified", r.certified},
+                      {"lambda_min_estimate", r.lambda_min_estimate},
+                      {"time_s", r.time_s}});
+  return {{"termination", std::string(pgo::to_string(s.termination))},
+          {"status", std::string(core::to_string(s.status))},
+          {"message", s.message},
+          {"problem", s.problem},
+          {"initial_cost", s.initial_cost},
+          {"final_cost", s.final_cost},
+          {"certified", c.certified},
+          {"lower_bound", c.bound.lower},
+          {"upper_bound", c.bound.upper},
+          {"relative_gap", c.bound.relative_gap()},
+          {"lambda_min_lower_bound", std::isfinite(c.bound.lower) ? json(-c.shift) : json(nullptr)},
+          {"trace_lambda", c.trace_lambda},
+          {"rounding_margin", c.rounding_margin},
+          {"certificate_order", c.size},
+          {"final_rank", s.final_rank},
+          {"staircase", stairs},
+          {"iterations", s.iterations},
+          {"ordering", s.ordering},
+          {"times_s",
+           {{"initialization", s.initialization_time_s},
+            {"local", s.local_time_s},
+            {"certificate", s.certificate_time_s},
+            {"rounding", s.rounding_time_s},
+            {"total", s.total_time_s}}}};
+}
+
+inline void print_certified_summary(const std::string& file, const pgo::CertifiedSummary& s,
+                                    double anisotropic) {
+  const auto& c = s.certificate;
+  fmt::print("solved       {} ({} poses, {} edges, SE({}))\n", file, s.poses, s.edges, s.dimension);
+  fmt::print("problem      {}\n", s.problem);
+  fmt::print("termination  {} ({})\n", pgo::to_string(s.termination), s.message);
+  fmt::print("cost         F = {:.10g} (chordal initialization {:.10g}); anisotropic ½Σ rᵀΩr here {}\n",
+             s.final_cost, s.initial_cost,
+             std::isfinite(anisotropic)
+                 ? fmt::format("{:.10g}", anisotropic)
+                 : std::string("n/a (not every information matrix is positive definite)"));
+  if (std::isfinite(c.bound.lower)) {
+    fmt::print(
+        "certificate  F* ≥ {:.10g} (relative gap {:.3g}); λ_min(S) ≥ −{:.3g} on the rotations, proven with "
+        "rounding margin {:.3g} (S of order {})\n",
+        c.bound.lower, c.bound.relative_gap(), c.shift, c.rounding_margin, c.size);
+  } else {
+    fmt::print("certificate  none: {}\n", c.message);
+  }
+  std::string stairs;
+  for (const auto& r : s.staircase)
+    stairs +=
+        fmt::format("{}rank {} ({} it, F {:.8g}{})", stairs.empty() ? "" : " → ", r.rank, r.iterations,
+                    r.cost, r.certified ? ", certified" : fmt::format(", λ ≈ {:.3g}", r.lambda_min_estimate));
+  fmt::print("staircase    {}\n", stairs);
+  fmt::print(
+      "time         {:.3f} s (initialization {:.3f}, local {:.3f}, certificate {:.3f}, rounding {:.3f}); {} "
+      "Newton iterations, CHOLMOD ordering {}\n",
+      s.total_time_s, s.initialization_time_s, s.local_time_s, s.certificate_time_s, s.rounding_time_s,
+      s.iterations, s.ordering);
+}
+
 inline void check_solved(const pgo::Summary& s) {
   if (s.termination == pgo::Termination::failure)
     throw CommandFailed(fmt::format("the solve failed: {}", s.message));
@@ -104,8 +174,11 @@ inline void print_solve_summary(const std::string& file, const pgo::Summary& s, 
   fmt::print("solved       {} ({} poses)\n", file, poses);
   fmt::print("termination  {} after {} iterations ({})\n", pgo::to_string(s.termination), s.iterations,
              s.message);
-  fmt::print("cost         {:.10g} (initial {:.10g}); χ² {:.10g}; normalized χ² {:.6g}\n", s.final_cost,
-             s.initial_cost, s.final_chi2, s.normalized_chi2);
+  // Normalized χ² is undefined (NaN) when the graph has no redundancy: say so instead of printing "nan".
+  fmt::print("cost         {:.10g} (initial {:.10g}); χ² {:.10g}; normalized χ² {}\n", s.final_cost,
+             s.initial_cost, s.final_chi2,
+             std::isfinite(s.normalized_chi2) ? fmt::format("{:.6g}", s.normalized_chi2)
+                                              : std::string("n/a (no redundant measurements)"));
   fmt::print("time         {:.3f} s\n", s.total_time_s);
 }
 

@@ -178,6 +178,15 @@ std::vector<graph::Edge3> edges3_from_arrays(const py::object& ids, const py::ob
 }
 
 std::vector<std::pair<int, int>> pairs_from_object(const py::object& o, const std::string& who) {
+  // Ids are integers: a float (or other non-integer) array would be truncated by the conversion below.
+  if (const py::array any = py::array::ensure(o); any) {
+    const char kind = any.dtype().kind();
+    if (any.size() > 0 && kind != 'i' && kind != 'u')
+      throw std::invalid_argument(fmt::format("{}: pairs must be integers (got an array of dtype {})", who,
+                                              py::str(any.dtype()).cast<std::string>()));
+  } else {
+    PyErr_Clear();
+  }
   IntArray a = IntArray::ensure(o);
   if (!a || a.ndim() != 2 || a.shape(1) != 2) {
     PyErr_Clear();

@@ -3,6 +3,8 @@
 
 #include <Eigen/LU>
 
+#include <stdexcept>
+
 #include "bindings.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
@@ -32,6 +34,14 @@ std::string repr(const SE3& T) {
                      t.x(), t.y(), t.z(), q[0], q[1], q[2], q[3]);
 }
 
+// Poses are never built from NaN or infinity: ValueError naming the constructor.
+template <class M>
+const M& finite(const M& v, const char* who) {
+  if (!v.allFinite())
+    throw std::invalid_argument(fmt::format("{}: the input holds a non-finite number", who));
+  return v;
+}
+
 void bind_se2(py::module_& m) {
   py::class_<SE2>(m, "SE2", R"doc(
 A planar rigid motion T = [R(theta), t; 0, 1] (keel::lie::SE2).
@@ -39,16 +49,22 @@ A planar rigid motion T = [R(theta), t; 0, 1] (keel::lie::SE2).
 Tangent (Lie algebra) order: [rho_x, rho_y, theta]; exp([rho; theta]) = [R(theta), V(theta) rho; 0, 1], so the
 tangent's first two entries are NOT the translation unless theta = 0. theta is stored as an angle and reported in
 (-pi, pi]. Units: whatever the translation is in (metres in the data sets), radians.)doc")
-      .def(py::init<double, double, double>(), py::arg("x") = 0.0, py::arg("y") = 0.0, py::arg("theta") = 0.0,
-           "The pose with translation (x, y) and heading theta (radians).")
+      .def(
+          py::init([](double x, double y, double theta) {
+            (void)finite(lie::Vec3(x, y, theta), "SE2");
+            return SE2(x, y, theta);
+          }),
+          py::arg("x") = 0.0, py::arg("y") = 0.0, py::arg("theta") = 0.0,
+          "The pose with translation (x, y) and heading theta (radians); ValueError for a non-finite number.")
       .def_static(
-          "from_matrix", [](const lie::Mat3& T) { return SE2::from_matrix(T); }, py::arg("matrix"),
+          "from_matrix", [](const lie::Mat3& T) { return SE2::from_matrix(finite(T, "SE2.from_matrix")); },
+          py::arg("matrix"),
           "From a 3x3 homogeneous matrix. The rotation block must be orthonormal within 1e-5 (Frobenius norm "
           "of "
           "R^T R - I) and the bottom row [0, 0, 1]; ValueError otherwise. The rotation is projected onto "
           "SO(2).")
       .def_static(
-          "exp", [](const lie::Vec3& xi) { return SE2::exp(xi); }, py::arg("xi"),
+          "exp", [](const lie::Vec3& xi) { return SE2::exp(finite(xi, "SE2.exp")); }, py::arg("xi"),
           "Exponential map of the tangent xi = [rho_x, rho_y, theta].")
       .def(
           "log", [](const SE2& T) -> lie::Vec3 { return T.log(); },
@@ -104,13 +120,14 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
           py::init([](const py::object& rotation, const py::object& translation) {
             const lie::Mat3 R = rotation.is_none() ? lie::Mat3::Identity() : rotation.cast<lie::Mat3>();
             const lie::Vec3 t = translation.is_none() ? lie::Vec3::Zero() : translation.cast<lie::Vec3>();
-            return SE3(lie::SO3::from_matrix(R), t);
+            return SE3(lie::SO3::from_matrix(finite(R, "SE3 (rotation)")), finite(t, "SE3 (translation)"));
           }),
           py::arg("rotation") = py::none(), py::arg("translation") = py::none(),
           "From a 3x3 rotation matrix (default identity; orthonormal within 1e-5, then projected onto SO(3); "
           "ValueError otherwise) and a translation (default zero).")
       .def_static(
-          "from_matrix", [](const lie::Mat4& T) { return SE3::from_matrix(T); }, py::arg("matrix"),
+          "from_matrix", [](const lie::Mat4& T) { return SE3::from_matrix(finite(T, "SE3.from_matrix")); },
+          py::arg("matrix"),
           "From a 4x4 homogeneous matrix (rotation block orthonormal within 1e-5, bottom row [0, 0, 0, 1]; "
           "ValueError otherwise).")
       .def_static(
@@ -122,7 +139,7 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
           "From a translation and a quaternion q = [qx, qy, qz, qw] whose norm is within 1e-3 of 1 (it is "
           "normalised; ValueError otherwise) — exactly how the graph readers build VERTEX_SE3:QUAT poses.")
       .def_static(
-          "exp", [](const lie::Vec6& xi) { return SE3::exp(xi); }, py::arg("xi"),
+          "exp", [](const lie::Vec6& xi) { return SE3::exp(finite(xi, "SE3.exp")); }, py::arg("xi"),
           "Exponential map of xi = [rho; phi] (translation part first, thesis eq. 5.6).")
       .def(
           "log", [](const SE3& T) -> lie::Vec6 { return T.log(); },

@@ -1,6 +1,7 @@
 // keel Python module — batch solve (keel::pgo) and joint marginal covariances (keel::cov).
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 #include <variant>
 
@@ -62,6 +63,52 @@ SolveResult solve_graph(const Graph& g, const app::SolveOptions& o, const std::o
   out.solve_time_s = r->solve_time_s;
   out.graph = py::cast(std::move(r->graph));
   return out;
+}
+
+// ---- certified solve (pgo::solve_certified through app::solve_certified)
+struct CertifiedSolveResult {
+  py::object graph;  // the input with the certified estimate as its poses
+  Array poses;
+  pgo::CertifiedSummary summary;
+  double anisotropic_cost = 0.0;
+  double solve_time_s = 0.0;
+};
+
+template <class Graph>
+CertifiedSolveResult certify_graph(const Graph& g, const app::SolveOptions& o) {
+  std::optional<app::CertifiedSolution<Graph>> r;
+  {
+    py::gil_scoped_release release;
+    r = app::solve_certified(g, o);
+  }
+  CertifiedSolveResult out;
+  out.poses = poses_to_array(r->graph.poses);
+  out.summary = r->summary;
+  out.anisotropic_cost = r->anisotropic_cost;
+  out.solve_time_s = r->solve_time_s;
+  out.graph = py::cast(std::move(r->graph));
+  return out;
+}
+
+py::object finite_or_none(double x) {
+  return std::isfinite(x) ? py::object(py::float_(x)) : py::object(py::none());
+}
+
+py::dict certificate_dict(const pgo::CertifiedSummary& s) {
+  const auto& c = s.certificate;
+  py::dict d;
+  d["certified"] = c.certified;
+  d["lower_bound"] = finite_or_none(c.bound.lower);
+  d["upper_bound"] = c.bound.upper;
+  d["relative_gap"] = finite_or_none(c.bound.relative_gap());
+  d["lambda_min_lower_bound"] =
+      std::isfinite(c.bound.lower) ? py::object(py::float_(-c.shift)) : py::object(py::none());
+  d["tolerance_shift"] = c.tolerance_shift;
+  d["trace_lambda"] = c.trace_lambda;
+  d["rounding_margin"] = c.rounding_margin;
+  d["order"] = c.size;
+  d["message"] = c.message;
+  return d;
 }
 
 // ---- marginal covariances
@@ -215,27 +262,119 @@ convention: cost = 1/2 sum rho(chi2_e), chi2_e = r_e^T Omega_e r_e.)doc")
                            pgo::to_string(r.summary.termination), r.summary.final_cost, r.summary.iterations);
       });
 
+  py::class_<CertifiedSolveResult>(m, "CertifiedSolveResult", R"doc(
+The result of keel.solve(..., certify=True) (pgo::solve_certified): the estimate of the isotropic (chordal)
+problem sum kappa ||R_j - R_i R_ij||_F^2 + tau ||t_j - t_i - R_i t_ij||^2 (SE-Sync's, with its kappa and tau from
+each edge's information) and its certificate: a lower bound on the global minimum that survives rounding.)doc")
+      .def_readonly("poses", &CertifiedSolveResult::poses,
+                    "The estimate: (n, 3) [x, y, theta] or (n, 7) [t, q].")
+      .def_readonly("graph", &CertifiedSolveResult::graph,
+                    "A copy of the input graph with the estimate as its poses.")
+      .def_property_readonly(
+          "cost", [](const CertifiedSolveResult& r) { return r.summary.final_cost; },
+          "The isotropic cost F at the estimate (the certificate's upper bound).")
+      .def_property_readonly(
+          "initial_cost", [](const CertifiedSolveResult& r) { return r.summary.initial_cost; },
+          "F at the chordal initialization.")
+      .def_property_readonly(
+          "anisotropic_cost",
+          [](const CertifiedSolveResult& r) { return finite_or_none(r.anisotropic_cost); },
+          "1/2 sum r^T Omega r (what keel.solve minimizes without certify) at the estimate; None when some "
+          "information matrix is not positive definite.")
+      .def_property_readonly(
+          "certified", [](const CertifiedSolveResult& r) { return r.summary.certificate.certified; },
+          "True when the relative gap between cost and the proven lower bound is within gap_tolerance.")
+      .def_property_readonly(
+          "certificate", [](const CertifiedSolveResult& r) { return certificate_dict(r.summary); },
+          "The certificate as a dict: certified, lower_bound (None when nothing was proven), upper_bound, "
+          "relative_gap, lambda_min_lower_bound (S + eta D >= 0 proven: lambda_min over the rotations >= "
+          "-eta), "
+          "tolerance_shift (eta* of the gap tolerance), trace_lambda, rounding_margin, order, message.")
+      .def_property_readonly(
+          "termination",
+          [](const CertifiedSolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },
+          "'certified', 'rank_limit' or 'not_certified' (pgo::CertifiedTermination).")
+      .def_property_readonly(
+          "message", [](const CertifiedSolveResult& r) { return r.summary.message; }, "Why it stopped.")
+      .def_property_readonly(
+          "problem", [](const CertifiedSolveResult& r) { return r.summary.problem; },
+          "The problem solved, in words.")
+      .def_property_readonly(
+          "rank", [](const CertifiedSolveResult& r) { return r.summary.final_rank; },
+          "The staircase's last rank before rounding.")
+      .def_property_readonly(
+          "staircase",
+          [](const CertifiedSolveResult& r) {
+            py::list l;
+            for (const auto& k : r.summary.staircase) {
+              py::dict d;
+              d["rank"] = k.rank;
+              d["iterations"] = k.iterations;
+              d["cost"] = k.cost;
+              d["gradient_norm"] = k.gradient_norm;
+              d["certified"] = k.certified;
+              d["lambda_min_estimate"] = k.lambda_min_estimate;
+              d["time_s"] = k.time_s;
+              l.append(d);
+            }
+            return l;
+          },
+          "One dict per rank of the Riemannian staircase.")
+      .def_property_readonly(
+          "iterations", [](const CertifiedSolveResult& r) { return r.summary.iterations; },
+          "Newton iterations over all ranks.")
+      .def_property_readonly(
+          "times",
+          [](const CertifiedSolveResult& r) {
+            py::dict d;
+            d["initialization"] = r.summary.initialization_time_s;
+            d["local"] = r.summary.local_time_s;
+            d["certificate"] = r.summary.certificate_time_s;
+            d["rounding"] = r.summary.rounding_time_s;
+            d["total"] = r.summary.total_time_s;
+            return d;
+          },
+          "Seconds per stage.")
+      .def_readonly("solve_time_s", &CertifiedSolveResult::solve_time_s, "Wall time of the solve in seconds.")
+      .def("__repr__", [](const CertifiedSolveResult& r) {
+        return fmt::format(
+            "CertifiedSolveResult(termination='{}', cost={:.17g}, lower_bound={:.17g}, rank={})",
+            pgo::to_string(r.summary.termination), r.summary.final_cost, r.summary.certificate.bound.lower,
+            r.summary.final_rank);
+      });
+
   m.def(
       "solve",
       [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
-         std::uint64_t seed, unsigned threads, int max_iterations) {
+         std::uint64_t seed, unsigned threads, int max_iterations, bool certify, double gap_tolerance,
+         int max_rank) -> py::object {
+        if (certify) {
+          app::SolveOptions o;
+          o.certify = true;
+          o.gap_tolerance = gap_tolerance;
+          o.max_rank = max_rank;
+          if (py::isinstance<PoseGraph2D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph2D&>(), o));
+          if (py::isinstance<PoseGraph3D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph3D&>(), o));
+          throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");
+        }
         const app::SolveOptions o = solve_options(init, robust, robust_param, seed, threads, max_iterations);
         const bool supplied = !py::isinstance<py::str>(init);
         if (py::isinstance<PoseGraph2D>(g)) {
           std::optional<pgo::Estimate2D> est;
           if (supplied) est = pgo::Estimate2D{poses2_from_array(init, "solve (init)"), {}};
-          return solve_graph(g.cast<const PoseGraph2D&>(), o, est);
+          return py::cast(solve_graph(g.cast<const PoseGraph2D&>(), o, est));
         }
         if (py::isinstance<PoseGraph3D>(g)) {
           std::optional<pgo::Estimate3D> est;
           if (supplied) est = pgo::Estimate3D{poses3_from_array(init, "solve (init)")};
-          return solve_graph(g.cast<const PoseGraph3D&>(), o, est);
+          return py::cast(solve_graph(g.cast<const PoseGraph3D&>(), o, est));
         }
         throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");
       },
       py::arg("graph"), py::arg("init") = "odometry", py::arg("robust") = "none",
       py::arg("robust_param") = 5.0, py::arg("seed") = 0, py::arg("threads") = 1,
-      py::arg("max_iterations") = 100, R"doc(
+      py::arg("max_iterations") = 100, py::arg("certify") = false, py::arg("gap_tolerance") = 1e-6,
+      py::arg("max_rank") = 10, R"doc(
 Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
 sparse normal Cholesky (CHOLMOD), pose 0 held constant. The options are pgo's defaults with ONLY these set,
 exactly as the CLI `keel solve` does (same inputs give bit-identical results):
@@ -249,7 +388,14 @@ exactly as the CLI `keel solve` does (same inputs give bit-identical results):
                   thread counts (Ceres reduces per thread), so keep it fixed where results are compared
   max_iterations  trust-region iterations (>= 0)
 Returns a SolveResult. Graphs with inconsistent edges raise ValueError naming the edge; a solver failure is
-reported in SolveResult.termination / message, not raised.)doc");
+reported in SolveResult.termination / message, not raised.
+
+certify=True solves the isotropic (chordal) model instead, as `keel solve --certify` does
+(pgo::solve_certified: chordal initialization, Newton on the Burer-Monteiro lift, the Riemannian staircase up
+to `max_rank`, a certificate with a rounding-error margin, certified when the relative gap is within
+`gap_tolerance`); init, robust, robust_param, seed, threads and max_iterations do not apply. Returns a
+CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
+ValueError.)doc");
 
   py::class_<cov::MarginalCovariance>(m, "MarginalCovariance", R"doc(
 The factorized information matrix of a graph at given poses (keel::cov::MarginalCovariance), to query joint

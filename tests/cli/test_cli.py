@@ -147,6 +147,50 @@ class Solve(unittest.TestCase):
         s = keel_json("solve", dataset("parking-garage", "se-sync/parking-garage.g2o"))["summary"]
         self.assertEqual(s["termination"], "converged")
 
+    def test_certify(self):
+        j = keel_json("solve", "data/square.g2o", "--certify")
+        c = j["certificate"]
+        self.assertEqual(c["termination"], "certified")
+        self.assertTrue(c["certified"])
+        self.assertLessEqual(c["lower_bound"], c["final_cost"])
+        self.assertLessEqual(c["relative_gap"], 1e-6)
+        self.assertEqual(c["final_rank"], 2)
+        self.assertIn("isotropic", c["problem"])
+        self.assertGreater(j["anisotropic_cost"], 0.0)
+        out, _ = keel("solve", "data/square.g2o", "--certify")
+        for line in ("problem", "termination  certified", "certificate  F* ≥", "staircase    rank 2"):
+            self.assertIn(line, out)
+        with tempfile.TemporaryDirectory() as d:
+            # The certified estimate written out, then certified again from the file: the same cost.
+            path = os.path.join(d, "certified.g2o")
+            keel("solve", "data/square.g2o", "--certify", "--out", path, "--quiet")
+            again = keel_json("solve", path, "--certify")["certificate"]
+            self.assertAlmostEqual(again["final_cost"], c["final_cost"], delta=1e-9 * c["final_cost"])
+        _, err = keel("solve", "data/square.g2o", "--certify", "--gap-tolerance", "0", expect=3)
+        self.assertIn("gap_tolerance", err)
+
+    def test_indefinite_information(self):
+        # One edge whose 3 x 3 information couples x and theta beyond positive definiteness (|I13| > sqrt(I11 I33)).
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "coupled.g2o")
+            with open(path, "w") as f:
+                f.write("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
+                        "EDGE_SE2 0 1 1 0 0 1 0 3 1 0 1\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"
+                        "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n")
+            _, err = keel("solve", path, expect=1)
+            self.assertIn("not positive definite", err)
+            self.assertIn("keel solve --certify", err)
+            j = keel_json("solve", path, "--certify")
+            self.assertEqual(j["indefinite_information"], 1)
+            self.assertIsNone(j["anisotropic_cost"])
+            _, err = keel("solve", path, "--certify", "--quiet")
+            self.assertIn("1 of 3 information matrices are not positive definite", err)
+
+    def test_certify_3d(self):
+        c = keel_json("solve", dataset("se-sync-benchmarks", "tinyGrid3D.g2o"), "--certify")["certificate"]
+        self.assertEqual(c["termination"], "certified")
+        self.assertEqual(c["final_rank"], 3)
+
 
 class Marginals(unittest.TestCase):
     def test_closed_form_of_one_edge(self):

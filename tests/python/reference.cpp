@@ -8,6 +8,9 @@
 //       0, default CovarianceOptions, one thread).
 //       -> {"dim", "poses": [[...]], "cost", "normalized_chi2", "iterations", "termination",
 //           "marginals": [[row-major 6x6 or 12x12]...]}
+//   keel_python_reference certify <graph>
+//       app::solve_certified with keel.solve(certify=True)'s defaults
+//       -> {"dim", "poses": [[...]], "cost", "lower_bound", "rank", "iterations", "termination"}
 //   keel_python_reference consistency <graph_a> <graph_b> <candidates.g2o>
 //       -> {"q": [[...]]}: app::consistency with composition joint, one thread (keel.consistency_matrix's
 //       defaults)
@@ -85,6 +88,21 @@ void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pair
       pgo::to_string(r.summary.termination), poses, marginals);
 }
 
+template <class Graph>
+void certify(const Graph& g, int dim) {
+  app::SolveOptions o;
+  o.certify = true;
+  const auto r = app::solve_certified(g, o);
+  std::string poses;
+  for (const auto& T : r.graph.poses) poses += (poses.empty() ? "" : ",\n  ") + row(T);
+  const double lower = r.summary.certificate.bound.lower;
+  fmt::print(
+      "{{\"dim\": {}, \"cost\": {}, \"lower_bound\": {}, \"rank\": {}, \"iterations\": {}, "
+      "\"termination\": \"{}\",\n\"poses\": [\n  {}]}}\n",
+      dim, num(r.summary.final_cost), std::isfinite(lower) ? num(lower) : std::string("null"),
+      r.summary.final_rank, r.summary.iterations, pgo::to_string(r.summary.termination), poses);
+}
+
 template <class Graph, class Edge>
 void consistency(const Graph& a, const Graph& b, const std::vector<Edge>& edges) {
   const pcm::ConsistencyMatrix Q = app::consistency(a, b, edges).q;
@@ -113,6 +131,14 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
+    if (args.size() == 2 && args[0] == "certify") {
+      if (app::graph_dimension(args[1]) == 3) {
+        certify(graph::read_pose_graph_3d(args[1]), 3);
+      } else {
+        certify(graph::read_pose_graph_2d(args[1]), 2);
+      }
+      return 0;
+    }
     if (args.size() == 4 && args[0] == "consistency") {
       if (app::graph_dimension(args[1]) == 3) {
         consistency(graph::read_pose_graph_3d(args[1]), graph::read_pose_graph_3d(args[2]),
@@ -125,6 +151,7 @@ int main(int argc, char** argv) {
     }
     fmt::print(stderr,
                "usage: keel_python_reference solve <graph> [i j]...\n"
+               "       keel_python_reference certify <graph>\n"
                "       keel_python_reference consistency <graph_a> <graph_b> <candidates.g2o>\n");
     return 2;
   } catch (const std::exception& e) {

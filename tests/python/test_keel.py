@@ -264,6 +264,38 @@ class TestReference(unittest.TestCase):
         _, m = self.compare_solve(self.file3d, [(1, 2), (7, 99)])
         self.assertEqual(m.shape, (2, 12, 12))
 
+    def test_certified_solve(self):
+        for path in (self.file2d, self.file3d):
+            ref = reference("certify", path)
+            g = keel.read_graph(path)
+            r = keel.solve(g, certify=True)
+            self.assertIsInstance(r, keel.CertifiedSolveResult)
+            self.assertEqual(r.termination, ref["termination"])
+            self.assertEqual(r.cost, ref["cost"])
+            self.assertEqual(r.certificate["lower_bound"], ref["lower_bound"])
+            self.assertEqual(r.rank, ref["rank"])
+            self.assertEqual(r.iterations, ref["iterations"])
+            np.testing.assert_array_equal(r.poses, np.array(ref["poses"]))
+            c = r.certificate
+            if c["lower_bound"] is not None:
+                self.assertLessEqual(c["lower_bound"], r.cost)
+                self.assertEqual(c["certified"], c["relative_gap"] <= 1e-6)
+            self.assertEqual(r.certified, c["certified"])
+            self.assertGreater(r.times["total"], 0.0)
+            self.assertTrue(r.staircase and r.staircase[0]["rank"] == (2 if isinstance(g, keel.Graph2D) else 3))
+            self.assertIn("isotropic", r.problem)
+        with self.assertRaisesRegex(ValueError, "gap_tolerance"):
+            keel.solve(keel.read_graph(self.file2d), certify=True, gap_tolerance=0.0)
+
+    def test_refuses_non_integer_ids_and_non_finite_poses(self):
+        g = keel.read_graph(self.file2d)
+        with self.assertRaisesRegex(ValueError, "pairs must be integers"):
+            keel.marginals(g, pairs=np.array([[0.0, 5.7]]))
+        with self.assertRaisesRegex(ValueError, "non-finite"):
+            keel.SE2(float("nan"), 0.0, 0.0)
+        with self.assertRaisesRegex(ValueError, "non-finite"):
+            keel.SE3.exp(np.array([0, 0, 0, float("inf"), 0, 0]))
+
     def test_consistency_and_pcm(self):
         ref = reference("consistency", self.file_a, self.file_b, self.file_c)
         a, b = keel.read_graph(self.file_a), keel.read_graph(self.file_b)

@@ -1,7 +1,10 @@
 // Initial estimates (Options::initial_guess, anchor_guess) and the global-pose helpers.
 #include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <deque>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -42,26 +45,68 @@ lie::SE3 random_pose(core::Rng& rng, double extent, const lie::SE3*) {
 }
 
 // Odometry chain of one robot: T_0 as read (identity if none), T_k = T_{k−1} z_{k−1,k} using the first edge
-// between k−1 and k in the file (inverted if it is stored as (k, k−1)).
+// between k−1 and k in the file (inverted if it is stored as (k, k−1)). Where the chain has a gap (no edge
+// between k−1 and k), the poses beyond it are placed along a spanning tree, as g2o's initial guess does: a
+// 0-1 breadth-first search from pose 0 in which those odometry steps cost 0 and every other edge 1, so each
+// pose is reached through as few non-odometry edges as possible (and a graph whose chain is complete gets
+// exactly the chain). A pose that no edge path reaches from pose 0 is an error naming it.
 template <class D>
 std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) {
   using Pose = typename D::Pose;
-  std::vector<std::optional<Pose>> step(n > 0 ? n - 1 : 0);
-  for (const auto& e : g.edges) {
-    if (e.j == e.i + 1 && !step[e.i])
-      step[e.i] = e.measurement;
-    else if (e.i == e.j + 1 && !step[e.j])
-      step[e.j] = e.measurement.inverse();
-  }
   std::vector<Pose> poses(n);
   if (n == 0) return poses;
-  poses[0] = g.poses.empty() ? Pose() : g.poses[0];
-  for (int k = 1; k < n; ++k) {
-    if (!step[k - 1])
-      fail(fmt::format("initial_guess = odometry: {} has no edge between poses {} and {}", name_of(g.source),
-                       k - 1, k));
-    poses[k] = poses[k - 1] * *step[k - 1];
+  // The odometry step of each k−1 → k: the index of the first edge between them in the file.
+  std::vector<int> step(n > 0 ? n - 1 : 0, -1);
+  for (std::size_t q = 0; q < g.edges.size(); ++q) {
+    const auto& e = g.edges[q];
+    if (e.j == e.i + 1 && step[e.i] < 0)
+      step[e.i] = static_cast<int>(q);
+    else if (e.i == e.j + 1 && step[e.j] < 0)
+      step[e.j] = static_cast<int>(q);
   }
+  std::vector<std::vector<int>> incident(n);
+  for (std::size_t q = 0; q < g.edges.size(); ++q) {
+    const auto& e = g.edges[q];
+    if (e.i < n && e.j < n && e.i != e.j) {
+      incident[e.i].push_back(static_cast<int>(q));
+      incident[e.j].push_back(static_cast<int>(q));
+    }
+  }
+  auto is_step = [&](int q) {
+    const auto& e = g.edges[static_cast<std::size_t>(q)];
+    const int lo = std::min(e.i, e.j);
+    return std::abs(e.i - e.j) == 1 && step[lo] == q;
+  };
+  std::vector<int> dist(n, -1);
+  std::vector<char> done(n, 0);
+  std::deque<int> queue;
+  poses[0] = g.poses.empty() ? Pose() : g.poses[0];
+  dist[0] = 0;
+  queue.push_back(0);
+  while (!queue.empty()) {
+    const int v = queue.front();
+    queue.pop_front();
+    if (done[v]) continue;
+    done[v] = 1;
+    for (const int q : incident[v]) {
+      const auto& e = g.edges[static_cast<std::size_t>(q)];
+      const int w = e.i == v ? e.j : e.i;
+      const int cost = dist[v] + (is_step(q) ? 0 : 1);
+      if (done[w] || (dist[w] >= 0 && dist[w] <= cost)) continue;
+      dist[w] = cost;
+      // z_e = T_i⁻¹ T_j: from v = i, T_j = T_i z; from v = j, T_i = T_j z⁻¹.
+      poses[w] = e.i == v ? poses[v] * e.measurement : poses[v] * e.measurement.inverse();
+      if (is_step(q)) {
+        queue.push_front(w);
+      } else {
+        queue.push_back(w);
+      }
+    }
+  }
+  for (int k = 1; k < n; ++k)
+    if (!done[k])
+      fail(fmt::format("initial_guess = odometry: pose {} of {} is not connected to pose 0 by any edge", k,
+                       name_of(g.source)));
   return poses;
 }
 

@@ -147,6 +147,17 @@ std::vector<lie::SE2> random_poses_2d(int n, core::Rng& rng) {
   return p;
 }
 
+// The certified solve of g started from random poses instead of the chordal initialization; max_rank = 2
+// keeps the local solve and its certificate only (no staircase).
+CertifiedResult2D from_random_start(const graph::PoseGraph2D& g, core::Rng& rng, int max_rank) {
+  auto start = g;
+  start.poses = random_poses_2d(static_cast<int>(g.poses.size()), rng);
+  CertifiedOptions o;
+  o.chordal_initialization = false;
+  o.max_rank = max_rank;
+  return solve_certified(start, o);
+}
+
 }  // namespace
 
 TEST_CASE("isotropic weights: SE-Sync's reduction of the information") {
@@ -233,12 +244,7 @@ TEST_CASE("no local solve from random starts ends below the certified cost") {
   REQUIRE(r.summary.termination == CertifiedTermination::certified);
   int above = 0;
   for (int trial = 0; trial < 12; ++trial) {
-    auto start = g;
-    start.poses = random_poses_2d(40, rng);
-    CertifiedOptions o;
-    o.chordal_initialization = false;
-    o.max_rank = 2;  // the local solve and its certificate only: no staircase
-    const auto local = solve_certified(start, o);
+    const auto local = from_random_start(g, rng, 2);  // the local solve and its certificate only
     CHECK(local.summary.final_cost >= r.summary.certificate.bound.lower);
     if (local.summary.final_cost > r.summary.final_cost * (1.0 + 1e-6)) {
       ++above;
@@ -300,11 +306,7 @@ TEST_CASE("the staircase: a hard start is lifted and ends certified") {
   REQUIRE(chordal.summary.termination == CertifiedTermination::certified);
   int lifted = 0;
   for (int trial = 0; trial < 6; ++trial) {
-    auto start = g;
-    start.poses = random_poses_2d(40, rng);
-    CertifiedOptions o;
-    o.chordal_initialization = false;
-    const auto r = solve_certified(start, o);
+    const auto r = from_random_start(g, rng, CertifiedOptions{}.max_rank);
     CHECK(r.summary.termination == CertifiedTermination::certified);
     CHECK(r.summary.final_cost == doctest::Approx(chordal.summary.final_cost).epsilon(1e-6));
     if (r.summary.staircase.size() > 1) {

@@ -120,6 +120,8 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
           {"lambda_min_lower_bound", std::isfinite(c.bound.lower) ? json(-c.shift) : json(nullptr)},
           {"trace_lambda", c.trace_lambda},
           {"rounding_margin", c.rounding_margin},
+          {"residual", c.residual},
+          {"worst_case_residual", c.worst_case_residual},
           {"certificate_order", c.size},
           {"final_rank", s.final_rank},
           {"staircase", stairs},

@@ -106,6 +106,8 @@ py::dict certificate_dict(const pgo::CertifiedSummary& s) {
   d["tolerance_shift"] = c.tolerance_shift;
   d["trace_lambda"] = c.trace_lambda;
   d["rounding_margin"] = c.rounding_margin;
+  d["residual"] = c.residual;
+  d["worst_case_residual"] = c.worst_case_residual;
   d["order"] = c.size;
   d["message"] = c.message;
   return d;
@@ -289,7 +291,9 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "The certificate as a dict: certified, lower_bound (None when nothing was proven), upper_bound, "
           "relative_gap, lambda_min_lower_bound (S + eta D >= 0 proven: lambda_min over the rotations >= "
           "-eta), "
-          "tolerance_shift (eta* of the gap tolerance), trace_lambda, rounding_margin, order, message.")
+          "tolerance_shift (eta* of the gap tolerance), trace_lambda, rounding_margin (mu of the scaled "
+          "matrix), residual (the bound on the factor's residual that mu cleared) and worst_case_residual "
+          "(Higham's bound for the same factor; both 0 when nothing was proven), order, message.")
       .def_property_readonly(
           "termination",
           [](const CertifiedSolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },

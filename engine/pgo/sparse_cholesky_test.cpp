@@ -1,0 +1,116 @@
+// detail::SparseCholesky's two bounds on the error of a computed factor: the residual accumulated in doubled
+// precision (residual_bound) against exact cases, the double-double trailing parts of A, Higham's worst case
+// (backward_error_bound) as an upper envelope, and factorize() refusing indefinite matrices.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "pgo/sparse_cholesky.hpp"
+
+using keel::pgo::detail::FillOrdering;
+using keel::pgo::detail::SparseCholesky;
+
+namespace {
+
+// The upper triangle (compressed columns, rows ascending, diagonal last) of an n × n band of half-width
+// `bandwidth`.
+struct Pattern {
+  std::vector<int> col_start{0}, row_index;
+};
+Pattern banded(int n, int bandwidth) {
+  Pattern p;
+  for (int c = 0; c < n; ++c) {
+    for (int r = std::max(0, c - bandwidth); r <= c; ++r) p.row_index.push_back(r);
+    p.col_start.push_back(static_cast<int>(p.row_index.size()));
+  }
+  return p;
+}
+
+// A = L Lᵀ for a lower-banded L with diagonal 4 and off-diagonal entries in {−1, 0, 1} (diagonally dominant,
+// so well conditioned): A's entries are small integers, exact in double.
+std::vector<double> integer_product(const Pattern& p, int n, int bandwidth, std::mt19937& gen) {
+  std::uniform_int_distribution<int> entry(-1, 1);
+  std::vector<std::vector<double>> L(static_cast<std::size_t>(n),
+                                     std::vector<double>(static_cast<std::size_t>(n)));
+  for (int i = 0; i < n; ++i) {
+    L[i][i] = 4.0;
+    for (int k = std::max(0, i - bandwidth); k < i; ++k) L[i][k] = entry(gen);
+  }
+  std::vector<double> values;
+  for (int c = 0; c < n; ++c)
+    for (int q = p.col_start[c]; q < p.col_start[c + 1]; ++q) {
+      const int r = p.row_index[q];
+      double a = 0.0;
+      for (int k = 0; k <= r; ++k) a += L[r][k] * L[c][k];
+      values.push_back(a);
+    }
+  return values;
+}
+
+}  // namespace
+
+TEST_CASE("residual_bound: within Higham's worst case; trailing parts δ raise it by δ") {
+  const int n = 60, bw = 2;
+  std::mt19937 gen(3);
+  const Pattern p = banded(n, bw);
+  for (const bool supernodal : {false, true}) {
+    SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, supernodal);
+    chol.values() = integer_product(p, n, bw, gen);
+    REQUIRE(chol.factorize());
+    // Whatever ordering CHOLMOD picks (it may not keep the factorization exact), the residual is what
+    // rounding left, and Higham's bound is its envelope.
+    const double r = chol.residual_bound();
+    CHECK(r >= 0.0);
+    CHECK(r <= chol.backward_error_bound());
+    // Trailing parts δ on the diagonal: A + δI differs from the factored A by δ per row, so the bound
+    // grows by δ (up to its own rounding), never less.
+    const double delta = 1e-20;
+    std::vector<double> trailing(chol.values().size(), 0.0);
+    for (int c = 0; c < n; ++c) trailing[static_cast<std::size_t>(p.col_start[c + 1] - 1)] = delta;
+    const double rt = chol.residual_bound(&trailing);
+    CHECK(rt >= delta);
+    CHECK(rt <= r + 1.01 * delta + 1e-30);
+  }
+}
+
+TEST_CASE("residual_bound: an exact factorization leaves no residual") {
+  // A diagonal matrix of perfect squares: every ordering factors it exactly.
+  const int n = 25;
+  Pattern p = banded(n, 0);
+  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  for (int c = 0; c < n; ++c) chol.values()[static_cast<std::size_t>(c)] = (c + 1.0) * (c + 1.0);
+  REQUIRE(chol.factorize());
+  CHECK(chol.residual_bound() <= 1e-25);
+}
+
+TEST_CASE("residual_bound: far below Higham's worst case on a generic matrix, and bounded by it") {
+  const int n = 400, bw = 6;
+  std::mt19937 gen(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Pattern p = banded(n, bw);
+  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::automatic, true);
+  // Diagonally dominant with random off-diagonal entries, unit-scale diagonal.
+  for (int c = 0; c < n; ++c)
+    for (int q = p.col_start[c]; q < p.col_start[c + 1]; ++q)
+      chol.values()[static_cast<std::size_t>(q)] = p.row_index[q] == c ? 2.0 * bw + 1.0 : normal(gen);
+  REQUIRE(chol.factorize());
+  const double r = chol.residual_bound(), h = chol.backward_error_bound();
+  CHECK(r > 0.0);      // rounding happened
+  CHECK(r < 0.1 * h);  // what happened is well below what the theorem allows
+}
+
+TEST_CASE("factorize refuses an indefinite matrix; a tiny negative eigenvalue is not hidden by the bound") {
+  // A = diag(1, …, 1, −1e-14): the factorization must fail; A + 2e-14 I must succeed with a residual far
+  // below 1e-14, so a proof at shift 2e-14 − margin holds and one at 0 cannot be made.
+  const int n = 30;
+  const Pattern p = banded(n, 0);
+  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  for (int c = 0; c < n; ++c) chol.values()[static_cast<std::size_t>(c)] = c + 1 < n ? 1.0 : -1e-14;
+  CHECK_FALSE(chol.factorize());
+  chol.values()[static_cast<std::size_t>(n - 1)] = 1e-14;
+  REQUIRE(chol.factorize());
+  CHECK(chol.residual_bound() < 1e-20);
+}

@@ -9,6 +9,7 @@ module;
 #include "study/ch2/two_robot.hpp"
 #include "study/ch2/world1d.hpp"
 #include "study/ch2/world1d_studies.hpp"
+#include "study/ch4/certified_pgo.hpp"
 #include "study/ch4/segments.hpp"
 #include "study/ch4/studies.hpp"
 #include "study/ch3/comparison.hpp"
@@ -110,10 +111,13 @@ using keel::study::ch3::score_alignment;
 using keel::study::ch3::SdpCheck;
 using keel::study::ch3::standardized_problem_of;
 using keel::study::ch3::WorldTruth;
+using keel::study::ch4::CertifiedGraphFile;
+using keel::study::ch4::CertifiedGraphOutcome;
 }  // namespace keel::study::ch3
 
 // Chapter 4: certifiable planar SLAM.
 export namespace keel::study::ch4 {
+using keel::study::ch4::CertifiedBenchmark;
 using keel::study::ch4::Exactness;
 using keel::study::ch4::FirstSegment;
 using keel::study::ch4::Segments;

@@ -122,6 +122,7 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
           {"rounding_margin", c.rounding_margin},
           {"residual", c.residual},
           {"worst_case_residual", c.worst_case_residual},
+          {"extended_precision", c.extended_precision},
           {"certificate_order", c.size},
           {"final_rank", s.final_rank},
           {"staircase", stairs},

@@ -21,7 +21,30 @@ const OpenBlas& openblas() {
   return o;
 }
 
+// OpenMP's max-active-levels entry points (null without an OpenMP runtime in the process).
+struct OpenMp {
+  SetThreads set_levels = nullptr;
+  GetThreads get_levels = nullptr;
+};
+
+const OpenMp& openmp() {
+  static const OpenMp o{reinterpret_cast<SetThreads>(::dlsym(RTLD_DEFAULT, "omp_set_max_active_levels")),
+                        reinterpret_cast<GetThreads>(::dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"))};
+  return o;
+}
+
 }  // namespace
+
+SerialOpenMp::SerialOpenMp() {
+  const OpenMp& o = openmp();
+  if (!o.set_levels || !o.get_levels) return;
+  previous_ = o.get_levels();
+  o.set_levels(0);  // every parallel region inactive: run by the encountering thread alone
+}
+
+SerialOpenMp::~SerialOpenMp() {
+  if (previous_ >= 0) openmp().set_levels(previous_);
+}
 
 int blas_threads() {
   const OpenBlas& o = openblas();

@@ -37,4 +37,21 @@ class SingleThreadedBlas {
   int previous_;
 };
 
+// OpenMP's parallel regions of the libraries keel calls, serialized for the lifetime of the guard (OpenMP's
+// max-active-levels set to 0 in the calling thread, then restored). CHOLMOD's supernodal factorization
+// (SuiteSparse 5) opens parallel regions with a fixed team of four threads whatever OMP_NUM_THREADS says; on
+// a 2-core machine that team spins and switches (about 35,000 context switches a second and 20 % of the
+// time in the kernel in a certified solve of sphere2500). The OpenMP runtime is found at run time; without
+// one the guard does nothing.
+class SerialOpenMp {
+ public:
+  SerialOpenMp();
+  ~SerialOpenMp();
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  int previous_ = -1;  // −1: no OpenMP runtime loaded
+};
+
 }  // namespace keel::core

@@ -28,6 +28,7 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
+#include "pgo/double_double.hpp"
 #include "pgo/sparse_cholesky.hpp"
 
 namespace keel::pgo {
@@ -646,32 +647,13 @@ std::vector<Small> multipliers(const Problem& P, const Point& X, const Gradient&
   return Lam;
 }
 
-// A double-double number hi + lo (Dekker 1971; Knuth's TwoSum; the exact product by a fused multiply-add), in
-// which the certificate matrix is formed: the entries' own rounding then stays below a few u² of their terms
-// instead of γ_m of them, and the proof's residual is taken against the entries as formed (see proven_at).
-struct DD {
-  double hi = 0.0, lo = 0.0;
-};
-DD dd_prod(double a, double b) {
-  const double p = a * b;
-  return {p, std::fma(a, b, -p)};  // exact: a·b = p + fma(a, b, −p)
-}
-// (x + y) with an error below 4u²(|x| + |y|): TwoSum of the leading parts (exact), the trailing parts added
-// in double, then FastTwoSum (exact).
-DD dd_add(DD x, DD y) {
-  const double s = x.hi + y.hi;
-  const double bb = s - x.hi;
-  const double e = ((x.hi - (s - bb)) + (y.hi - bb)) + (x.lo + y.lo);
-  const double h = s + e;
-  return {h, e - (h - s)};
-}
-// (x · b) with an error below 3u²|x||b|.
-DD dd_scale(DD x, double b) {
-  const DD p = dd_prod(x.hi, b);
-  const double e = p.lo + x.lo * b;
-  const double h = p.hi + e;
-  return {h, e - (h - p.hi)};
-}
+// The certificate matrix is formed in double-double (double_double.hpp): the entries' own rounding then stays
+// below a few u² of their terms instead of γ_m of them, and the proof's residual is taken against the entries
+// as formed (see proven_at).
+using detail::DD;
+using detail::dd_add;
+using detail::dd_prod;
+using detail::dd_scale;
 
 // M's entries of one edge as blocks in the local coordinates of pose blocks (pose 0 has no translation
 // column), in double-double. Returns through `add(a, b, row, col, value)` with a, b the poses and row/col
@@ -780,7 +762,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   detail::SparseCholesky chol(N, pat.col_start(), pat.row_index(), detail::FillOrdering::automatic, true);
   C.max_row_count = chol.max_row_count();
   // One test: S + η·D ⪰ 0, proven by the Cholesky factorization of W(S + η·D)W − μI.
-  auto proven_at = [&](double eta) {
+  auto proven_at = [&](double eta, bool extended) {
     // A = W(S + ηD)W − μI in double-double (Ah + Al); CHOLMOD factors Ah, the proof is about A itself.
     std::vector<double> Sh = S_unshifted, Sl = S_lo;
     for (int col = 0; col < N; ++col)
@@ -829,10 +811,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     // when the factorization breaks down and raised to what the last factor needed; at most four
     // factorizations.
     const std::vector<double> scaled_hi = A, scaled_lo = Al;
-    double mu = 1.01 * fixed + 32.0 * kUnitRoundoff;
-    double failed_mu =
-        std::numeric_limits<double>::infinity();  // the smallest μ whose factorization broke down
-    for (int attempt = 0; attempt < 4; ++attempt) {
+    auto subtract_mu = [&](double mu) {
       A = scaled_hi;
       Al = scaled_lo;
       for (int col = 0; col < N; ++col) {
@@ -842,6 +821,24 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
         Al[q] = x.lo;
       }
       C.rounding_margin = mu;
+      C.formation_error = fixed;
+    };
+    if (extended) {
+      // The factor in double-double (SparseCholesky::factorize_extended): its residual is of the order of u²
+      // of the unit-diagonal matrix, so μ = 2⁻⁸⁰ (8e-25) plus the formation's error clears it with room.
+      const double mu = 1.01 * fixed + std::ldexp(1.0, -80);
+      subtract_mu(mu);
+      if (!chol.factorize_extended(Al)) return false;
+      const double measured = chol.extended_residual_bound(Al);
+      C.worst_case_residual = 0.0;
+      C.residual = measured;
+      return 1.01 * (measured + fixed) <= mu;
+    }
+    double mu = 1.01 * fixed + 32.0 * kUnitRoundoff;
+    double failed_mu =
+        std::numeric_limits<double>::infinity();  // the smallest μ whose factorization broke down
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      subtract_mu(mu);
       if (!chol.factorize()) {
         // Broke down: once more with a quarter of μ (the residuals measured on the benchmark graphs are
         // 14u … 18u, so a smaller μ can still clear them), never below the formation's error.
@@ -861,7 +858,6 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
       const double lo_norm = *std::max_element(row_lo.begin(), row_lo.end()) * (1.0 + gamma(2.0 * N));
       const double higham = chol.backward_error_bound() + lo_norm;
       C.worst_case_residual = higham;
-      C.formation_error = fixed;
       double needed = 1.01 * (higham + fixed);
       if (needed <= mu) {
         C.residual = higham;
@@ -880,16 +876,21 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   };
   // η* uses the whole gap tolerance; the proof is tried first at η*/33 (a tighter reported bound, and the
   // shift that holds on most data sets), then at η*/2 (so the rounding of the bound itself stays inside the
-  // tolerance). `proven`: S + η_proven·D ⪰ 0 holds (a valid lower bound); certified when that bound is within
-  // the gap.
+  // tolerance), each with a double factor; when both fail, the same two with a double-double factor (the
+  // positions of kitti and ais2klinik put the near-null vectors of S below what a double factor resolves).
+  // `proven`: S + η_proven·D ⪰ 0 holds (a valid lower bound); certified when that bound is within the gap.
   bool proven = false;
   double eta_proven = 0.0;
-  for (const double fraction : {1.0 / 33.0, 0.5}) {
-    if (eta > 0.0 && proven_at(fraction * eta)) {
-      proven = true;
-      eta_proven = fraction * eta;
-      break;
+  for (const bool extended : {false, true}) {
+    for (const double fraction : {1.0 / 33.0, 0.5}) {
+      if (eta > 0.0 && proven_at(fraction * eta, extended)) {
+        proven = true;
+        eta_proven = fraction * eta;
+        C.extended_precision = extended;
+        break;
+      }
     }
+    if (proven) break;
   }
   if (!proven) {
     C.message =
@@ -900,7 +901,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     // Outside the tolerance: the tightest bound that can still be proven, the shift raised tenfold at a time.
     const double eta_ref = gap_tolerance * std::max(F, 1.0) / dn;
     for (const double m : {10.0, 100.0, 1e3, 1e4, 1e5}) {
-      if (proven_at(m * eta_ref)) {
+      if (proven_at(m * eta_ref, false)) {
         proven = true;
         eta_proven = m * eta_ref;
         break;
@@ -916,8 +917,9 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     C.bound.lower = trace - gamma(dn) * trace_abs - eta_proven * dn * (1.0 + 4.0 * kUnitRoundoff);
     certified = core::Bound::relative_gap_of(C.bound.lower, C.bound.upper) <= gap_tolerance;
     C.certified = certified;
-    const std::string proof = fmt::format("S + {:.3g}·D ⪰ 0 proven with rounding margin μ = {:.3g} (scaled)",
-                                          eta_proven, C.rounding_margin);
+    const std::string proof =
+        fmt::format("S + {:.3g}·D ⪰ 0 proven with rounding margin μ = {:.3g} (scaled){}", eta_proven,
+                    C.rounding_margin, C.extended_precision ? " by a double-double factor" : "");
     C.message = certified ? proof : C.message + "; " + proof + ", outside the gap tolerance";
   }
   if (!certified && escape) {
@@ -1088,6 +1090,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   // CHOLMOD's supernodal factorizations call the BLAS: one BLAS thread keeps the result independent of the
   // machine's core count (core/blas.hpp), and is what the side-by-side measurements use.
   const core::SingleThreadedBlas one_blas_thread;
+  const core::SerialOpenMp serial_openmp;  // CHOLMOD's supernodal teams of four (core/blas.hpp)
   const auto t_total = core::Clock::now();
   const int d = std::is_same_v<Pose, lie::SE2> ? 2 : 3;
   if (o.max_rank < d) fail(fmt::format("CertifiedOptions: max_rank must be >= {} (got {})", d, o.max_rank));
@@ -1202,6 +1205,7 @@ Certificate certify_impl(const Graph& graph, const std::vector<Pose>& poses, dou
   const Problem P = make_problem(graph, d);
   const Point X = point_from_poses(P, poses);
   const core::SingleThreadedBlas one_blas_thread;  // as in solve_impl
+  const core::SerialOpenMp serial_openmp;
   return certificate_at(P, X, gap_tolerance, nullptr);
 }
 

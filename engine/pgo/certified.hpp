@@ -32,10 +32,12 @@
 //     cheap) and, when that is not enough, by R itself, accumulated in doubled precision
 //     (sparse_cholesky.hpp). η* is the largest shift the gap tolerance allows:
 //         η* = (gap_tolerance · max(F, 1) − (F − tr Λ)) / (d · n);
-//     the proof is tried at η*/33, then at η*/2. When both fail, the shift is raised tenfold at a time (up to
-//     10⁵·gap_tolerance·max(F, 1)/(dn)) and the tightest bound that can be proven is reported, not certified:
-//     on data sets whose positions span kilometres (kitti, ais2klinik) the near-null vectors of S carry the
-//     positions, and the shift that 1e-6 asks for lies below what a double-precision factor resolves.
+//     the proof is tried at η*/33, then at η*/2. When both fail, the two are tried again with a
+//     double-double factor (residual of order u²): on data sets whose positions span hundreds of metres or
+//     more (kitti, ais2klinik) the near-null vectors of S carry the positions, and the shift that 1e-6 asks
+//     for lies below what a double factor resolves. When those fail too, the shift is raised tenfold at a
+//     time (up to 10⁵·gap_tolerance·max(F, 1)/(dn), double factors) and the tightest bound that can be proven
+//     is reported, not certified.
 //  4. When the certificate fails at rank r: the Riemannian staircase. A direction of negative curvature of S
 //     (inverse iteration on S + σD, σ found by factorizations) lifts X to rank r + 1 with a decrease, and
 //     step 2 resumes, up to CertifiedOptions::max_rank.
@@ -97,8 +99,9 @@ struct Certificate {
   double residual = 0.0;
   double worst_case_residual = 0.0;
   double formation_error = 0.0;
-  int max_row_count = 0;  // largest row count of the symbolic factor (supernodal, padded)
-  int size = 0;           // order of S (translation 0 removed)
+  bool extended_precision = false;  // the proof needed the double-double factor (residual of order u²)
+  int max_row_count = 0;            // largest row count of the symbolic factor (supernodal, padded)
+  int size = 0;                     // order of S (translation 0 removed)
   double time_s = 0.0;
   std::string message;
 };

@@ -38,13 +38,13 @@ lie::Mat6 info3(double tau, double kappa) {
   return I;
 }
 
-// A circle of n poses (20 a lap) with odometry, loop closures one lap back and chords; measurements with
-// rotation noise sr (rad) and translation noise st (m).
-graph::PoseGraph2D circle_graph(int n, double sr, double st, core::Rng& rng) {
+// A circle of n poses (20 a lap, `radius` m) with odometry, loop closures one lap back and chords;
+// measurements with rotation noise sr (rad) and translation noise st (m).
+graph::PoseGraph2D circle_graph(int n, double sr, double st, core::Rng& rng, double radius = 8.0) {
   std::vector<lie::SE2> T;
   for (int k = 0; k < n; ++k) {
     const double a = 2 * lie::kPi * k / 20.0;
-    T.emplace_back(8 * std::cos(a), 8 * std::sin(a), lie::wrap_angle(a + lie::kPi / 2));
+    T.emplace_back(radius * std::cos(a), radius * std::sin(a), lie::wrap_angle(a + lie::kPi / 2));
   }
   graph::PoseGraph2D g;
   auto add = [&](int i, int j) {
@@ -312,6 +312,22 @@ TEST_CASE("the rounding margin: a shift below rounding never certifies") {
   const Certificate ok = certify(g, r.poses, 1e-6);
   CHECK(ok.rounding_margin > 0.0);
   CHECK(ok.max_row_count >= 3);
+}
+
+TEST_CASE("positions far from the gauge: certified through the double-double factor") {
+  // A 2 km circle measured to centimetres: the near-null vectors of S carry the positions (D is zero on
+  // them), and the scaled shift that a 1e-6 gap asks for lies below what a double factor resolves.
+  core::Rng rng(3);
+  const auto g = circle_graph(60, 0.01, 0.01, rng, 2000.0);
+  const auto r = solve_certified(g);
+  CHECK(r.summary.termination == CertifiedTermination::certified);
+  CHECK(r.summary.certificate.extended_precision);
+  CHECK(r.summary.certificate.residual < 1e-20);
+  // The same graph at 8 m needs no extended precision.
+  core::Rng rng2(3);
+  const auto small = solve_certified(circle_graph(60, 0.01, 0.01, rng2));
+  CHECK(small.summary.termination == CertifiedTermination::certified);
+  CHECK_FALSE(small.summary.certificate.extended_precision);
 }
 
 TEST_CASE("the staircase: a hard start is lifted and ends certified") {

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "pgo/double_double.hpp"
+
 namespace keel::pgo::detail {
 
 namespace {
@@ -19,6 +21,12 @@ namespace {
 struct LowerFactor {
   std::vector<int> p, i;
   std::vector<double> x;
+};
+
+// The rows of a lower-triangular pattern with sorted columns: for row j, the positions q (into i / x) of its
+// entries L_jk, k ≤ j, and their columns; in column k every later position holds a row below j.
+struct RowIndex {
+  std::vector<int> p, q, col;
 };
 
 LowerFactor lower_factor(cholmod_factor* factor, cholmod_common* c) {
@@ -60,6 +68,11 @@ struct SparseCholesky::Impl {
   cholmod_factor* L = nullptr;
   LowerFactor lower;  // L̂ of the last factorization, made on first use
   bool lower_valid = false;
+  // factorize_extended(): the symbolic pattern (made once), its row index and the double-double factor.
+  std::vector<int> ext_p, ext_i;
+  RowIndex ext_rows;
+  std::vector<double> ext_x, ext_xl;
+  bool extended_valid = false;
   const LowerFactor& lower_factor() {
     if (!lower_valid) {
       lower = keel::pgo::detail::lower_factor(L, &c);
@@ -199,109 +212,245 @@ double SparseCholesky::backward_error_bound() const {
   return bound;
 }
 
-double SparseCholesky::residual_bound(const std::vector<double>* trailing) const {
-  if (trailing && trailing->size() != values_.size())
-    throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
-  const LowerFactor& L = impl_->lower_factor();
-  const int n = n_;
+namespace {
+
+// P A Pᵀ's lower triangle by column (rows unsorted), from the stored upper triangle of A (Perm[k] = A's
+// index of row k), with the trailing parts of a double-double A when given.
+struct PermutedLower {
+  std::vector<int> p, i;
+  std::vector<double> x, xl;
+};
+PermutedLower permuted_lower(int n, const std::vector<int>& col_start, const std::vector<int>& row_index,
+                             const std::vector<double>& values, const std::vector<double>* trailing,
+                             const int* perm) {
   const auto N = static_cast<std::size_t>(n);
-  // The rows of L̂: for row j, the positions in L.i / L.x of its entries L̂_jk, k ≤ j (in column k, every
-  // later position holds a row i > j, the columns being sorted).
-  std::vector<int> rp(N + 1, 0);
-  for (const int i : L.i) ++rp[static_cast<std::size_t>(i) + 1];
-  for (std::size_t j = 0; j < N; ++j) rp[j + 1] += rp[j];
-  std::vector<int> rq(L.i.size()), fill(rp.begin(), rp.end() - 1);
-  std::vector<int> col_of(L.i.size());
-  for (int k = 0; k < n; ++k)
-    for (int q = L.p[static_cast<std::size_t>(k)]; q < L.p[static_cast<std::size_t>(k) + 1]; ++q) {
-      rq[static_cast<std::size_t>(fill[static_cast<std::size_t>(L.i[static_cast<std::size_t>(q)])]++)] = q;
-      col_of[static_cast<std::size_t>(q)] = k;
-    }
-  // P A Pᵀ's lower triangle by column, from the stored upper triangle of A (Perm[k] = A's index of row k).
-  const auto* perm = static_cast<const int*>(impl_->L->Perm);
   std::vector<int> iperm(N);
   for (int k = 0; k < n; ++k) iperm[static_cast<std::size_t>(perm ? perm[k] : k)] = k;
-  std::vector<int> ap(N + 1, 0);
-  for (int c = 0; c < n; ++c)
-    for (int q = col_start_[static_cast<std::size_t>(c)]; q < col_start_[static_cast<std::size_t>(c) + 1];
-         ++q) {
-      const int a = iperm[static_cast<std::size_t>(row_index_[static_cast<std::size_t>(q)])];
-      const int b = iperm[static_cast<std::size_t>(c)];
-      ++ap[static_cast<std::size_t>(std::min(a, b)) + 1];
+  PermutedLower A;
+  A.p.assign(N + 1, 0);
+  auto each = [&](auto&& f) {
+    for (int c = 0; c < n; ++c)
+      for (int q = col_start[static_cast<std::size_t>(c)]; q < col_start[static_cast<std::size_t>(c) + 1];
+           ++q)
+        f(iperm[static_cast<std::size_t>(row_index[static_cast<std::size_t>(q)])],
+          iperm[static_cast<std::size_t>(c)], static_cast<std::size_t>(q));
+  };
+  each([&](int a, int b, std::size_t) { ++A.p[static_cast<std::size_t>(std::min(a, b)) + 1]; });
+  for (std::size_t j = 0; j < N; ++j) A.p[j + 1] += A.p[j];
+  A.i.resize(static_cast<std::size_t>(A.p[N]));
+  A.x.resize(A.i.size());
+  A.xl.assign(A.i.size(), 0.0);
+  std::vector<int> fill(A.p.begin(), A.p.end() - 1);
+  each([&](int a, int b, std::size_t q) {
+    const auto at = static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b))]++);
+    A.i[at] = std::max(a, b);
+    A.x[at] = values[q];
+    if (trailing) A.xl[at] = (*trailing)[q];
+  });
+  return A;
+}
+
+RowIndex row_index_of(int n, const std::vector<int>& Lp, const std::vector<int>& Li) {
+  const auto N = static_cast<std::size_t>(n);
+  RowIndex R;
+  R.p.assign(N + 1, 0);
+  for (const int i : Li) ++R.p[static_cast<std::size_t>(i) + 1];
+  for (std::size_t j = 0; j < N; ++j) R.p[j + 1] += R.p[j];
+  R.q.resize(Li.size());
+  R.col.resize(Li.size());
+  std::vector<int> fill(R.p.begin(), R.p.end() - 1);
+  for (int k = 0; k < n; ++k)
+    for (int q = Lp[static_cast<std::size_t>(k)]; q < Lp[static_cast<std::size_t>(k) + 1]; ++q) {
+      const auto at =
+          static_cast<std::size_t>(fill[static_cast<std::size_t>(Li[static_cast<std::size_t>(q)])]++);
+      R.q[at] = q;
+      R.col[at] = k;
     }
-  for (std::size_t j = 0; j < N; ++j) ap[j + 1] += ap[j];
-  std::vector<int> ai(static_cast<std::size_t>(ap[N]));
-  std::vector<double> ax(ai.size()), axl(ai.size(), 0.0);
-  fill.assign(ap.begin(), ap.end() - 1);
-  for (int c = 0; c < n; ++c)
-    for (int q = col_start_[static_cast<std::size_t>(c)]; q < col_start_[static_cast<std::size_t>(c) + 1];
-         ++q) {
-      const int a = iperm[static_cast<std::size_t>(row_index_[static_cast<std::size_t>(q)])];
-      const int b = iperm[static_cast<std::size_t>(c)];
-      const int at = fill[static_cast<std::size_t>(std::min(a, b))]++;
-      ai[static_cast<std::size_t>(at)] = std::max(a, b);
-      ax[static_cast<std::size_t>(at)] = values_[static_cast<std::size_t>(q)];
-      if (trailing) axl[static_cast<std::size_t>(at)] = (*trailing)[static_cast<std::size_t>(q)];
-    }
-  // Column j of R's lower triangle in a dense double-double accumulator (hi + lo), with Σ|terms| and the
-  // number of terms per entry for the accumulation's error bound.
+  return R;
+}
+
+// A rigorous bound on ‖L Lᵀ − A‖₂ for L = x (+ xl, the trailing parts of a double-double factor, when given)
+// on the pattern (Lp, Li) and A = A.x + A.xl. Every product is split into exact parts (fma): x_ik x_jk, and
+// with xl also x_ik xl_jk and xl_ik x_jk; xl_ik xl_jk (below u²|x_ik x_jk|) is rounded once, inside the error
+// term. The parts are summed per entry by Ogita, Rump and Oishi's Sum2 (SIAM J. Sci. Comput. 2005): hi the
+// floating sum of the leading parts, lo the floating sum of TwoSum's exact errors and the trailing parts.
+// Each lo term is below u(|partial sum| + |part|) + |trailing part| ≤ 2u Σ|terms|, so m parts leave hi + lo
+// within (m + 1) γ_{m+1} 2u Σ|terms| of the exact sum; |R_ij| ≤ |hi + lo| plus that (doubled for the rounding
+// of Σ|terms| itself), and ‖R‖₂ ≤ max_i Σ_j |R_ij|.
+double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<int>& Li, const double* x,
+                           const double* xl, const RowIndex& rows, const PermutedLower& A) {
+  constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+  const auto N = static_cast<std::size_t>(n);
   std::vector<double> hi(N, 0.0), lo(N, 0.0), mag(N, 0.0), z(N, 0.0);
   std::vector<int> terms(N, 0), touched;
   touched.reserve(N);
-  // Σ (ph + pl) as Ogita, Rump and Oishi's Sum2 (SIAM J. Sci. Comput. 2005): hi the floating sum of the ph,
-  // lo the floating sum of TwoSum's exact errors and the pl. Each lo term is below u(|partial sum| + |ph|) +
-  // |pl| ≤ 2u Σ|terms|, so m terms leave hi + lo within (m + 1) γ_{m+1} · 2u Σ|terms| of the exact sum (the
-  // rounding of lo's own sum; the bound below takes that).
+  // Double factors: Sum2 (above). Double-double factors, whose residual is of order u², need an accumulation
+  // error below that: the sum is kept normalized (dd_add, error below 4u²(|partial sum| + |part|) per
+  // addition), and `partial` accumulates those magnitudes for the bound.
+  std::vector<double> partial(xl ? N : 0, 0.0);
   auto add = [&](std::size_t i, double ph, double pl) {
     if (terms[i] == 0) touched.push_back(static_cast<int>(i));
     ++terms[i];
+    mag[i] += std::abs(ph);
+    if (xl) {
+      const DD sum = dd_add(DD{hi[i], lo[i]}, DD{ph, pl});
+      partial[i] += std::abs(hi[i]) + std::abs(ph);
+      hi[i] = sum.hi;
+      lo[i] = sum.lo;
+      return;
+    }
     const double s = hi[i] + ph;
-    const double z = s - hi[i];
-    lo[i] += ((hi[i] - (s - z)) + (ph - z)) + pl;
+    const double t = s - hi[i];
+    lo[i] += ((hi[i] - (s - t)) + (ph - t)) + pl;
     hi[i] = s;
   };
   for (int j = 0; j < n; ++j) {
     const auto J = static_cast<std::size_t>(j);
-    for (int r = rp[J]; r < rp[J + 1]; ++r) {
-      const int qj = rq[static_cast<std::size_t>(r)];
-      const auto k = static_cast<std::size_t>(col_of[static_cast<std::size_t>(qj)]);
-      const double ljk = L.x[static_cast<std::size_t>(qj)];
-      if (ljk == 0.0) continue;
-      for (int q = qj; q < L.p[k + 1]; ++q) {  // rows i ≥ j of column k
-        const int i = L.i[static_cast<std::size_t>(q)];
-        const double lik = L.x[static_cast<std::size_t>(q)];
-        const double ph = lik * ljk;
-        const double pl = std::fma(lik, ljk, -ph);  // exact: ph + pl = lik · ljk
-        add(static_cast<std::size_t>(i), ph, pl);
-        mag[static_cast<std::size_t>(i)] += std::abs(ph);
+    for (int r = rows.p[J]; r < rows.p[J + 1]; ++r) {
+      const auto qj = static_cast<std::size_t>(rows.q[static_cast<std::size_t>(r)]);
+      const auto k = static_cast<std::size_t>(rows.col[static_cast<std::size_t>(r)]);
+      const double ljk = x[qj], ljk_lo = xl ? xl[qj] : 0.0;
+      if (ljk == 0.0 && ljk_lo == 0.0) continue;
+      for (int q = static_cast<int>(qj); q < Lp[k + 1]; ++q) {  // rows i ≥ j of column k
+        const auto i = static_cast<std::size_t>(Li[static_cast<std::size_t>(q)]);
+        const double lik = x[static_cast<std::size_t>(q)];
+        const DD p = dd_prod(lik, ljk);
+        add(i, p.hi, p.lo);
+        if (xl) {
+          const double lik_lo = xl[static_cast<std::size_t>(q)];
+          const DD a = dd_prod(lik, ljk_lo), b = dd_prod(lik_lo, ljk);
+          add(i, a.hi, a.lo);
+          add(i, b.hi, b.lo + lik_lo * ljk_lo);
+        }
       }
     }
-    for (int q = ap[J]; q < ap[J + 1]; ++q) {
-      const auto i = static_cast<std::size_t>(ai[static_cast<std::size_t>(q)]);
-      const double a = ax[static_cast<std::size_t>(q)], al = axl[static_cast<std::size_t>(q)];
-      add(i, -a, -al);  // (a, al) a normalized double-double: |al| ≤ u|a|
-      mag[i] += std::abs(a) + std::abs(al);
+    for (int q = A.p[J]; q < A.p[J + 1]; ++q) {
+      const auto i = static_cast<std::size_t>(A.i[static_cast<std::size_t>(q)]);
+      add(i, -A.x[static_cast<std::size_t>(q)], -A.xl[static_cast<std::size_t>(q)]);
     }
     for (const int ti : touched) {
       const auto i = static_cast<std::size_t>(ti);
-      // |R_ij| ≤ |hi + lo| + (m + 1) γ_{m+1} 2u Σ|terms|; hi and lo are not normalized (they may nearly
-      // cancel), so their sum is rounded once (relative error u, covered by the factor 1 + 2u); the error
-      // term is doubled for the rounding of mag itself (a sum of m non-negative terms, low by at most a
-      // factor 1 − γ_m).
+      // hi and lo are not normalized (they may nearly cancel): their sum is rounded once (relative error u,
+      // covered by the factor 1 + 2u).
       const double m1 = terms[i] + 1.0;
-      const double rij =
-          std::abs(hi[i] + lo[i]) * (1.0 + 2.0 * kU) + 4.0 * m1 * (m1 * kU / (1.0 - m1 * kU)) * kU * mag[i];
+      // Sum2: (m + 1)γ_{m+1}·2u·Σ|terms|, doubled; normalized double-double: 4u²·Σ(|partial sum| + |part|),
+      // doubled, plus u² of the largest trailing product (x_lo·x_lo, rounded once) per part: below u²·mag.
+      const double err = xl ? 8.0 * u * u * (partial[i] + mag[i]) * (1.0 + m1 * u) + u * u * mag[i]
+                            : 4.0 * m1 * (m1 * u / (1.0 - m1 * u)) * u * mag[i];
+      const double rij = std::abs(hi[i] + lo[i]) * (1.0 + 2.0 * u) + err;
       z[i] += rij;
       if (i != J) z[J] += rij;
       hi[i] = lo[i] = mag[i] = 0.0;
+      if (xl) partial[i] = 0.0;
       terms[i] = 0;
     }
     touched.clear();
   }
-  // Each z_i is a floating sum of at most 2n non-negative terms, each term computed with relative error ≤ 3u:
-  // the true row sum is at most z_i (1 + 3u) / (1 − γ_{2n}).
-  const double g = 2.0 * n * kU / (1.0 - 2.0 * n * kU);
-  return *std::max_element(z.begin(), z.end()) * (1.0 + 4.0 * kU) / (1.0 - g);
+  // Each z_i is a floating sum of at most 2n non-negative terms, each computed with relative error ≤ 3u: the
+  // true row sum is at most z_i (1 + 4u) / (1 − γ_{2n}).
+  const double g = 2.0 * n * u / (1.0 - 2.0 * n * u);
+  return *std::max_element(z.begin(), z.end()) * (1.0 + 4.0 * u) / (1.0 - g);
+}
+
+}  // namespace
+
+double SparseCholesky::residual_bound(const std::vector<double>* trailing) const {
+  if (trailing && trailing->size() != values_.size())
+    throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
+  const LowerFactor& L = impl_->lower_factor();
+  const RowIndex rows = row_index_of(n_, L.p, L.i);
+  const PermutedLower A =
+      permuted_lower(n_, col_start_, row_index_, values_, trailing, static_cast<const int*>(impl_->L->Perm));
+  return residual_norm_bound(n_, L.p, L.i, L.x.data(), nullptr, rows, A);
+}
+
+bool SparseCholesky::factorize_extended(const std::vector<double>& trailing) {
+  if (trailing.size() != values_.size())
+    throw std::invalid_argument("pgo: SparseCholesky::factorize_extended: trailing parts of the wrong size");
+  Impl& m = *impl_;
+  m.extended_valid = false;
+  const cholmod_factor* F = m.L;
+  if (!F->is_super)
+    throw std::logic_error("pgo: SparseCholesky::factorize_extended needs a supernodal analysis");
+  const auto N = static_cast<std::size_t>(n_);
+  if (m.ext_p.empty()) {
+    // The symbolic pattern of L from the supernodal analysis: supernode s holds columns super[s] …
+    // super[s+1]−1 and the rows ls[pi[s] … pi[s+1]); column super[s] + c has the rows from position c on.
+    const auto* super = static_cast<const int*>(F->super);
+    const auto* pi = static_cast<const int*>(F->pi);
+    const auto* ls = static_cast<const int*>(F->s);
+    m.ext_p.assign(N + 1, 0);
+    for (std::size_t s = 0; s < F->nsuper; ++s)
+      for (int c = 0; c < super[s + 1] - super[s]; ++c) {
+        const auto j = static_cast<std::size_t>(super[s] + c);
+        std::vector<int> column(ls + pi[s] + c, ls + pi[s + 1]);
+        std::sort(column.begin(), column.end());
+        m.ext_i.insert(m.ext_i.end(), column.begin(), column.end());
+        m.ext_p[j + 1] = static_cast<int>(column.size());
+      }
+    for (std::size_t j = 0; j < N; ++j) m.ext_p[j + 1] += m.ext_p[j];
+    // The loop above appended column by column in supernode order, which is column order.
+    m.ext_rows = row_index_of(n_, m.ext_p, m.ext_i);
+  }
+  const PermutedLower A =
+      permuted_lower(n_, col_start_, row_index_, values_, &trailing, static_cast<const int*>(F->Perm));
+  m.ext_x.assign(m.ext_i.size(), 0.0);
+  m.ext_xl.assign(m.ext_i.size(), 0.0);
+  // Left-looking: column j = A(:, j) − Σ_k L(:, k) L_jk over the entries L_jk, k < j, of row j; then the
+  // square root of the pivot and a division.
+  std::vector<DD> acc(N);
+  std::vector<char> in_column(N, 0);
+  for (int j = 0; j < n_; ++j) {
+    const auto J = static_cast<std::size_t>(j);
+    for (int q = m.ext_p[J]; q < m.ext_p[J + 1]; ++q) {
+      const auto i = static_cast<std::size_t>(m.ext_i[static_cast<std::size_t>(q)]);
+      acc[i] = DD{};
+      in_column[i] = 1;
+    }
+    for (int q = A.p[J]; q < A.p[J + 1]; ++q) {
+      const auto i = static_cast<std::size_t>(A.i[static_cast<std::size_t>(q)]);
+      if (!in_column[i])
+        throw std::logic_error("pgo: SparseCholesky: an entry of A outside the pattern of L");
+      acc[i] = dd_add(acc[i], DD{A.x[static_cast<std::size_t>(q)], A.xl[static_cast<std::size_t>(q)]});
+    }
+    for (int r = m.ext_rows.p[J]; r < m.ext_rows.p[J + 1]; ++r) {
+      const auto k = static_cast<std::size_t>(m.ext_rows.col[static_cast<std::size_t>(r)]);
+      if (k == J) continue;
+      const auto qj = static_cast<std::size_t>(m.ext_rows.q[static_cast<std::size_t>(r)]);
+      const DD ljk{m.ext_x[qj], m.ext_xl[qj]};
+      if (ljk.hi == 0.0) continue;
+      for (int q = static_cast<int>(qj); q < m.ext_p[k + 1]; ++q) {
+        const auto i = static_cast<std::size_t>(m.ext_i[static_cast<std::size_t>(q)]);
+        const DD p =
+            dd_mul(DD{m.ext_x[static_cast<std::size_t>(q)], m.ext_xl[static_cast<std::size_t>(q)]}, ljk);
+        acc[i] = dd_add(acc[i], DD{-p.hi, -p.lo});
+      }
+    }
+    const DD pivot = acc[J];
+    bool ok = pivot.hi > 0.0 && std::isfinite(pivot.hi);
+    const DD ljj = ok ? dd_sqrt(pivot) : DD{};
+    for (int q = m.ext_p[J]; q < m.ext_p[J + 1]; ++q) {
+      const auto i = static_cast<std::size_t>(m.ext_i[static_cast<std::size_t>(q)]);
+      in_column[i] = 0;
+      if (!ok) continue;
+      const DD v = i == J ? ljj : dd_div(acc[i], ljj);
+      m.ext_x[static_cast<std::size_t>(q)] = v.hi;
+      m.ext_xl[static_cast<std::size_t>(q)] = v.lo;
+    }
+    if (!ok) return false;
+  }
+  m.extended_valid = true;
+  return true;
+}
+
+double SparseCholesky::extended_residual_bound(const std::vector<double>& trailing) const {
+  const Impl& m = *impl_;
+  if (!m.extended_valid)
+    throw std::logic_error(
+        "pgo: SparseCholesky::extended_residual_bound needs a successful factorize_extended");
+  const PermutedLower A =
+      permuted_lower(n_, col_start_, row_index_, values_, &trailing, static_cast<const int*>(m.L->Perm));
+  return residual_norm_bound(n_, m.ext_p, m.ext_i, m.ext_x.data(), m.ext_xl.data(), m.ext_rows, A);
 }
 
 std::string SparseCholesky::ordering_name() const {

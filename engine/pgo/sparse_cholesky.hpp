@@ -60,6 +60,16 @@ class SparseCholesky {
   // what happened), at the cost of one more pass of the factorization's flops. L̂ is extracted once per
   // factorization and shared by both bounds.
   [[nodiscard]] double residual_bound(const std::vector<double>* trailing = nullptr) const;
+  // The same factorization in double-double arithmetic (double_double.hpp) of the values plus `trailing` (the
+  // low parts of a double-double A), on the symbolic pattern of the supernodal analysis (throws
+  // std::logic_error for a simplicial one): for matrices whose smallest eigenvalue lies below what a double
+  // factor resolves. False when a pivot is not positive. Left-looking, about ten times the flops of the
+  // double factorization; the accuracy of its square roots and divisions does not matter to the bound below.
+  [[nodiscard]] bool factorize_extended(const std::vector<double>& trailing);
+  // After a successful factorize_extended(): a rigorous bound on ‖P(A + trailing)Pᵀ − L̂L̂ᵀ‖₂ for the
+  // double-double factor L̂ = L_hi + L_lo (every product split into exact parts, summed as in
+  // residual_bound), of the order of u² times the entries.
+  [[nodiscard]] double extended_residual_bound(const std::vector<double>& trailing) const;
   [[nodiscard]] std::string ordering_name() const;
   [[nodiscard]] double factor_nonzeros() const;
 

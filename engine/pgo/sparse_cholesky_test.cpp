@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "pgo/sparse_cholesky.hpp"
@@ -113,4 +114,41 @@ TEST_CASE("factorize refuses an indefinite matrix; a tiny negative eigenvalue is
   chol.values()[static_cast<std::size_t>(n - 1)] = 1e-14;
   REQUIRE(chol.factorize());
   CHECK(chol.residual_bound() < 1e-20);
+}
+
+TEST_CASE("factorize_extended: proves what a double factor cannot, and never an indefinite matrix") {
+  // The Laplacian of a path (singular: its null vector is the constant) with ±δ added to its first diagonal
+  // entry through the trailing parts: λ_min ≈ ±δ/n, far below what a double factor resolves.
+  const int n = 50;
+  Pattern p = banded(n, 1);
+  std::vector<double> values;
+  for (int c = 0; c < n; ++c) {
+    if (c > 0) values.push_back(-1.0);
+    values.push_back(c == 0 || c == n - 1 ? 1.0 : 2.0);
+  }
+  const double delta = 1e-18;
+  for (const double sign : {1.0, -1.0}) {
+    CAPTURE(sign);
+    SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, true);
+    chol.values() = values;
+    std::vector<double> trailing(values.size(), 0.0);
+    trailing[0] = sign * delta;
+    const bool ok = chol.factorize_extended(trailing);
+    if (sign > 0) {
+      // Positive definite (λ_min ≈ δ/n = 2e-20): factored, with a residual far below λ_min.
+      REQUIRE(ok);
+      CHECK(chol.extended_residual_bound(trailing) < 1e-25);
+    } else {
+      // Indefinite (λ_min ≈ −δ/n): either the factorization breaks down or its residual is at least |λ_min|,
+      // so no proof of A ⪰ 0 can come out of it.
+      CHECK((!ok || chol.extended_residual_bound(trailing) >= 0.5 * delta / n));
+    }
+  }
+  // extended_residual_bound refuses to run without a factor.
+  SparseCholesky fresh(n, p.col_start, p.row_index, FillOrdering::amd, true);
+  CHECK_THROWS_AS((void)fresh.extended_residual_bound(std::vector<double>(values.size(), 0.0)),
+                  std::logic_error);
+  SparseCholesky simplicial(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  CHECK_THROWS_AS((void)simplicial.factorize_extended(std::vector<double>(values.size(), 0.0)),
+                  std::logic_error);
 }

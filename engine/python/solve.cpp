@@ -108,6 +108,7 @@ py::dict certificate_dict(const pgo::CertifiedSummary& s) {
   d["rounding_margin"] = c.rounding_margin;
   d["residual"] = c.residual;
   d["worst_case_residual"] = c.worst_case_residual;
+  d["extended_precision"] = c.extended_precision;
   d["order"] = c.size;
   d["message"] = c.message;
   return d;
@@ -293,7 +294,9 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "-eta), "
           "tolerance_shift (eta* of the gap tolerance), trace_lambda, rounding_margin (mu of the scaled "
           "matrix), residual (the bound on the factor's residual that mu cleared) and worst_case_residual "
-          "(Higham's bound for the same factor; both 0 when nothing was proven), order, message.")
+          "(Higham's bound for the same factor; both 0 when nothing was proven), extended_precision (the "
+          "proof "
+          "needed a double-double factor), order, message.")
       .def_property_readonly(
           "termination",
           [](const CertifiedSolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },

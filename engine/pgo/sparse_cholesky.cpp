@@ -277,6 +277,9 @@ RowIndex row_index_of(int n, const std::vector<int>& Lp, const std::vector<int>&
 // Each lo term is below u(|partial sum| + |part|) + |trailing part| ≤ 2u Σ|terms|, so m parts leave hi + lo
 // within (m + 1) γ_{m+1} 2u Σ|terms| of the exact sum; |R_ij| ≤ |hi + lo| plus that (doubled for the rounding
 // of Σ|terms| itself), and ‖R‖₂ ≤ max_i Σ_j |R_ij|.
+// Extended: xl is given (a double-double factor). A template so that the double case's inner loop stays small
+// enough to inline.
+template <bool Extended>
 double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<int>& Li, const double* x,
                            const double* xl, const RowIndex& rows, const PermutedLower& A) {
   constexpr double u = std::numeric_limits<double>::epsilon() / 2;
@@ -287,12 +290,12 @@ double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<
   // Double factors: Sum2 (above). Double-double factors, whose residual is of order u², need an accumulation
   // error below that: the sum is kept normalized (dd_add, error below 4u²(|partial sum| + |part|) per
   // addition), and `partial` accumulates those magnitudes for the bound.
-  std::vector<double> partial(xl ? N : 0, 0.0);
-  auto add = [&](std::size_t i, double ph, double pl) {
+  std::vector<double> partial(Extended ? N : 0, 0.0);
+  auto add = [&](std::size_t i, double ph, double pl) __attribute__((always_inline)) {
     if (terms[i] == 0) touched.push_back(static_cast<int>(i));
     ++terms[i];
     mag[i] += std::abs(ph);
-    if (xl) {
+    if constexpr (Extended) {
       const DD sum = dd_add(DD{hi[i], lo[i]}, DD{ph, pl});
       partial[i] += std::abs(hi[i]) + std::abs(ph);
       hi[i] = sum.hi;
@@ -309,14 +312,14 @@ double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<
     for (int r = rows.p[J]; r < rows.p[J + 1]; ++r) {
       const auto qj = static_cast<std::size_t>(rows.q[static_cast<std::size_t>(r)]);
       const auto k = static_cast<std::size_t>(rows.col[static_cast<std::size_t>(r)]);
-      const double ljk = x[qj], ljk_lo = xl ? xl[qj] : 0.0;
+      const double ljk = x[qj], ljk_lo = Extended ? xl[qj] : 0.0;
       if (ljk == 0.0 && ljk_lo == 0.0) continue;
       for (int q = static_cast<int>(qj); q < Lp[k + 1]; ++q) {  // rows i ≥ j of column k
         const auto i = static_cast<std::size_t>(Li[static_cast<std::size_t>(q)]);
         const double lik = x[static_cast<std::size_t>(q)];
         const DD p = dd_prod(lik, ljk);
         add(i, p.hi, p.lo);
-        if (xl) {
+        if constexpr (Extended) {
           const double lik_lo = xl[static_cast<std::size_t>(q)];
           const DD a = dd_prod(lik, ljk_lo), b = dd_prod(lik_lo, ljk);
           add(i, a.hi, a.lo);
@@ -335,13 +338,13 @@ double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<
       const double m1 = terms[i] + 1.0;
       // Sum2: (m + 1)γ_{m+1}·2u·Σ|terms|, doubled; normalized double-double: 4u²·Σ(|partial sum| + |part|),
       // doubled, plus u² of the largest trailing product (x_lo·x_lo, rounded once) per part: below u²·mag.
-      const double err = xl ? 8.0 * u * u * (partial[i] + mag[i]) * (1.0 + m1 * u) + u * u * mag[i]
-                            : 4.0 * m1 * (m1 * u / (1.0 - m1 * u)) * u * mag[i];
+      const double err = Extended ? 8.0 * u * u * (partial[i] + mag[i]) * (1.0 + m1 * u) + u * u * mag[i]
+                                  : 4.0 * m1 * (m1 * u / (1.0 - m1 * u)) * u * mag[i];
       const double rij = std::abs(hi[i] + lo[i]) * (1.0 + 2.0 * u) + err;
       z[i] += rij;
       if (i != J) z[J] += rij;
       hi[i] = lo[i] = mag[i] = 0.0;
-      if (xl) partial[i] = 0.0;
+      if constexpr (Extended) partial[i] = 0.0;
       terms[i] = 0;
     }
     touched.clear();
@@ -354,14 +357,169 @@ double residual_norm_bound(int n, const std::vector<int>& Lp, const std::vector<
 
 }  // namespace
 
+namespace {
+
+// residual_norm_bound<false> on CHOLMOD's supernodal factor itself, block by block: supernode K holds the
+// dense nr × nc block V (column-major) of its columns over its rows R (ascending; its own nc columns first),
+// and contributes V Vᵀ to the entries (R[a], R[b]), a ≥ b, of L̂L̂ᵀ. Each column of that contribution is a run
+// of contiguous products V[a, k]·V[b, k] (exact by fma, summed by Sum2 as above: an inner loop the compiler
+// vectorizes), then added once per supernode into a normalized double-double accumulator of the entry. The
+// error bound per entry: Sum2's (m + 1)γ_{m+1}2u Σ|terms| within each supernode (m ≤ nc), and 4u²(|partial| +
+// |part|) per accumulation. Returns −1 when the factor's row lists are not ascending (then the caller takes
+// the simplicial path).
+// The inner kernel of the block evaluation: th + tl += col·vbk over rows b … nr−1 (products exact by fma,
+// sums by Sum2), tm += |col·vbk|. Without -mfma, std::fma is a call into libm per element; the kernel is
+// therefore built twice on x86-64, for processors with FMA (which implies AVX: four products per instruction;
+// chosen at load time by feature, not by processor model) and for the baseline. Both compute the same bits
+// (fma is exact either way, and the sums are the same operations in the same order).
+#if defined(__x86_64__) && (defined(__clang__) || defined(__GNUC__))
+__attribute__((target_clones("fma", "default")))
+#endif
+void column_products(const double* col, double vbk, double* th, double* tl, double* tm, int b, int nr) {
+  for (int a = b; a < nr; ++a) {
+    const double ph = col[a] * vbk;
+    const double pl = std::fma(col[a], vbk, -ph);
+    const double sum = th[a] + ph;
+    const double z = sum - th[a];
+    tl[a] += ((th[a] - (sum - z)) + (ph - z)) + pl;
+    th[a] = sum;
+    tm[a] += std::abs(ph);
+  }
+}
+
+double supernodal_residual_norm_bound(int n, const cholmod_factor* F, const PermutedLower& A) {
+  constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+  const auto N = static_cast<std::size_t>(n);
+  const auto* super = static_cast<const int*>(F->super);
+  const auto* pi = static_cast<const int*>(F->pi);
+  const auto* px = static_cast<const int*>(F->px);
+  const auto* ls = static_cast<const int*>(F->s);
+  const auto* Lx = static_cast<const double*>(F->x);
+  const std::size_t nsuper = F->nsuper;
+  std::vector<int> sup_of(N);
+  std::vector<std::size_t> base(N + 1, 0);  // entry (row R_J[t], column super[J] + c) at base[j] + t − c
+  for (std::size_t K = 0; K < nsuper; ++K) {
+    const int nr = pi[K + 1] - pi[K];
+    if (!std::is_sorted(ls + pi[K], ls + pi[K + 1])) return -1.0;
+    for (int c = 0; c < super[K + 1] - super[K]; ++c) {
+      const auto j = static_cast<std::size_t>(super[K] + c);
+      sup_of[j] = static_cast<int>(K);
+      base[j + 1] = static_cast<std::size_t>(nr - c);
+    }
+  }
+  for (std::size_t j = 0; j < N; ++j) base[j + 1] += base[j];
+  const std::size_t nnz = base[N];
+  std::vector<double> ghi(nnz, 0.0), glo(nnz, 0.0), gerr(nnz, 0.0), gmag(nnz, 0.0);
+  // Adds the part (hi, lo) (lo unnormalized, as Sum2 leaves it) with Σ|terms| mag and m terms.
+  auto accumulate = [&](std::size_t q, double hi, double lo, double mag, double m) {
+    const double s = hi + lo;  // TwoSum: (hi, lo) → (s, e) exactly
+    const double bb = s - hi;
+    const double e = (hi - (s - bb)) + (lo - bb);
+    const DD sum = dd_add(DD{ghi[q], glo[q]}, DD{s, e});
+    gerr[q] += 4.0 * u * u * (std::abs(ghi[q]) + std::abs(s) + std::abs(e)) +
+               2.0 * (m + 1.0) * (m + 1.0) * u * u * mag;
+    ghi[q] = sum.hi;
+    glo[q] = sum.lo;
+    gmag[q] += mag;
+  };
+  std::vector<double> thi, tlo, tmag;
+  std::vector<int> rel(N, -1);  // position of a row in the current target supernode's row list
+  for (std::size_t K = 0; K < nsuper; ++K) {
+    const int nc = super[K + 1] - super[K];
+    const int nr = pi[K + 1] - pi[K];
+    const int* R = ls + pi[K];
+    const double* V = Lx + px[K];
+    thi.assign(static_cast<std::size_t>(nr), 0.0);
+    tlo.assign(static_cast<std::size_t>(nr), 0.0);
+    tmag.assign(static_cast<std::size_t>(nr), 0.0);
+    int target = -1;  // the supernode whose row list `rel` holds
+    for (int b = 0; b < nr; ++b) {
+      // Column R[b] of V Vᵀ, rows a ≥ b: Σ_k V[a, k] V[b, k] over the columns k ≤ b of the block that reach
+      // row b (in the diagonal block V[b, k] = 0 for k > b).
+      const int kmax = std::min(nc, b + 1);
+      for (int k = 0; k < kmax; ++k) {
+        const double vbk = V[static_cast<std::size_t>(k) * nr + b];
+        if (vbk == 0.0) continue;
+        column_products(V + static_cast<std::size_t>(k) * nr, vbk, thi.data(), tlo.data(), tmag.data(), b,
+                        nr);
+      }
+      // Scatter column R[b] into its supernode's entries.
+      const auto j = static_cast<std::size_t>(R[b]);
+      const int J = sup_of[j];
+      const int c = R[b] - super[J];
+      if (J != target) {
+        if (target >= 0)
+          for (int t = pi[target]; t < pi[target + 1]; ++t) rel[static_cast<std::size_t>(ls[t])] = -1;
+        target = J;
+        for (int t = pi[J]; t < pi[J + 1]; ++t) rel[static_cast<std::size_t>(ls[t])] = t - pi[J];
+      }
+      for (int a = b; a < nr; ++a) {
+        const int t = rel[static_cast<std::size_t>(R[a])];
+        if (t < c) throw std::logic_error("pgo: SparseCholesky: a row of L̂L̂ᵀ outside the pattern of L");
+        accumulate(base[j] + static_cast<std::size_t>(t - c), thi[static_cast<std::size_t>(a)],
+                   tlo[static_cast<std::size_t>(a)], tmag[static_cast<std::size_t>(a)], kmax);
+        thi[static_cast<std::size_t>(a)] = tlo[static_cast<std::size_t>(a)] =
+            tmag[static_cast<std::size_t>(a)] = 0.0;
+      }
+    }
+    if (target >= 0)
+      for (int t = pi[target]; t < pi[target + 1]; ++t) rel[static_cast<std::size_t>(ls[t])] = -1;
+  }
+  // − A, by binary search of each entry's row in its column's row list.
+  for (int j = 0; j < n; ++j) {
+    const auto J = static_cast<std::size_t>(sup_of[static_cast<std::size_t>(j)]);
+    const int c = j - super[J];
+    const int* first = ls + pi[J] + c;
+    const int* last = ls + pi[J + 1];
+    for (int q = A.p[static_cast<std::size_t>(j)]; q < A.p[static_cast<std::size_t>(j) + 1]; ++q) {
+      const int i = A.i[static_cast<std::size_t>(q)];
+      const int* at = std::lower_bound(first, last, i);
+      if (at == last || *at != i)
+        throw std::logic_error("pgo: SparseCholesky: an entry of A outside the pattern of L");
+      const std::size_t g = base[static_cast<std::size_t>(j)] + static_cast<std::size_t>(at - first);
+      const double ax = A.x[static_cast<std::size_t>(q)], axl = A.xl[static_cast<std::size_t>(q)];
+      accumulate(g, -ax, -axl, std::abs(ax) + std::abs(axl), 1.0);
+    }
+  }
+  // Row sums of |R| (each off-diagonal entry counts in its row and its column).
+  std::vector<double> z(N, 0.0);
+  for (int j = 0; j < n; ++j) {
+    const auto J = static_cast<std::size_t>(sup_of[static_cast<std::size_t>(j)]);
+    const int c = j - super[J];
+    for (int t = pi[J] + c; t < pi[J + 1]; ++t) {
+      const std::size_t g = base[static_cast<std::size_t>(j)] + static_cast<std::size_t>(t - pi[J] - c);
+      const double rij = std::abs(ghi[g] + glo[g]) * (1.0 + 2.0 * u) + 2.0 * gerr[g] + u * u * gmag[g];
+      const auto i = static_cast<std::size_t>(ls[t]);
+      z[i] += rij;
+      if (i != static_cast<std::size_t>(j)) z[static_cast<std::size_t>(j)] += rij;
+    }
+  }
+  const double g = 2.0 * n * u / (1.0 - 2.0 * n * u);
+  return *std::max_element(z.begin(), z.end()) * (1.0 + 4.0 * u) / (1.0 - g);
+}
+
+}  // namespace
+
 double SparseCholesky::residual_bound(const std::vector<double>* trailing) const {
+  if (trailing && trailing->size() != values_.size())
+    throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
+  if (impl_->L->is_super && impl_->L->xtype == CHOLMOD_REAL) {
+    const PermutedLower A = permuted_lower(n_, col_start_, row_index_, values_, trailing,
+                                           static_cast<const int*>(impl_->L->Perm));
+    const double r = supernodal_residual_norm_bound(n_, impl_->L, A);
+    if (r >= 0.0) return r;
+  }
+  return residual_bound_entrywise(trailing);
+}
+
+double SparseCholesky::residual_bound_entrywise(const std::vector<double>* trailing) const {
   if (trailing && trailing->size() != values_.size())
     throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
   const LowerFactor& L = impl_->lower_factor();
   const RowIndex rows = row_index_of(n_, L.p, L.i);
   const PermutedLower A =
       permuted_lower(n_, col_start_, row_index_, values_, trailing, static_cast<const int*>(impl_->L->Perm));
-  return residual_norm_bound(n_, L.p, L.i, L.x.data(), nullptr, rows, A);
+  return residual_norm_bound<false>(n_, L.p, L.i, L.x.data(), nullptr, rows, A);
 }
 
 bool SparseCholesky::factorize_extended(const std::vector<double>& trailing) {
@@ -450,7 +608,7 @@ double SparseCholesky::extended_residual_bound(const std::vector<double>& traili
         "pgo: SparseCholesky::extended_residual_bound needs a successful factorize_extended");
   const PermutedLower A =
       permuted_lower(n_, col_start_, row_index_, values_, &trailing, static_cast<const int*>(m.L->Perm));
-  return residual_norm_bound(n_, m.ext_p, m.ext_i, m.ext_x.data(), m.ext_xl.data(), m.ext_rows, A);
+  return residual_norm_bound<true>(n_, m.ext_p, m.ext_i, m.ext_x.data(), m.ext_xl.data(), m.ext_rows, A);
 }
 
 std::string SparseCholesky::ordering_name() const {

@@ -60,6 +60,10 @@ class SparseCholesky {
   // what happened), at the cost of one more pass of the factorization's flops. L̂ is extracted once per
   // factorization and shared by both bounds.
   [[nodiscard]] double residual_bound(const std::vector<double>* trailing = nullptr) const;
+  // The same bound evaluated entry by entry on the simplicial form of the factor (what residual_bound does
+  // for a simplicial factor; for a supernodal one it works block by block, vectorized, and this is its
+  // reference in the tests).
+  [[nodiscard]] double residual_bound_entrywise(const std::vector<double>* trailing = nullptr) const;
   // The same factorization in double-double arithmetic (double_double.hpp) of the values plus `trailing` (the
   // low parts of a double-double A), on the symbolic pattern of the supernodal analysis (throws
   // std::logic_error for a simplicial one): for matrices whose smallest eigenvalue lies below what a double

@@ -101,6 +101,13 @@ TEST_CASE("residual_bound: far below Higham's worst case on a generic matrix, an
   const double r = chol.residual_bound(), h = chol.backward_error_bound();
   CHECK(r > 0.0);      // rounding happened
   CHECK(r < 0.1 * h);  // what happened is well below what the theorem allows
+  // The supernodal block evaluation against the entry-by-entry one on the same factor: both measure the same
+  // residual to about u² (their error terms differ), with and without trailing parts.
+  CHECK(r == doctest::Approx(chol.residual_bound_entrywise()).epsilon(1e-6));
+  std::vector<double> trailing(chol.values().size());
+  for (double& t : trailing) t = 1e-17 * normal(gen);
+  CHECK(chol.residual_bound(&trailing) ==
+        doctest::Approx(chol.residual_bound_entrywise(&trailing)).epsilon(1e-6));
 }
 
 TEST_CASE("factorize refuses an indefinite matrix; a tiny negative eigenvalue is not hidden by the bound") {

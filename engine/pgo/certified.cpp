@@ -29,6 +29,7 @@
 #include "core/blas.hpp"
 #include "core/timing.hpp"
 #include "pgo/double_double.hpp"
+#include "pgo/psd_proof.hpp"
 #include "pgo/sparse_cholesky.hpp"
 
 namespace keel::pgo {
@@ -748,131 +749,37 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   }
   // Each term of an entry is formed with an error below 3u²|term| (products of two or three stored numbers, a
   // sum of d products for R̃R̃ᵀ) and each of the entry's additions errs by at most 4u²·(the partial sums'
-  // magnitudes) ≤ 4u²·Σ|terms|: |error| ≤ (4m + 3d + 3)·u²·Σ|terms| for m terms, in 2-norm at most the
-  // largest row sum of those bounds (computed below, per shift).
+  // magnitudes) ≤ 4u²·Σ|terms|: |error| ≤ (4m + 3d + 3)·u²·Σ|terms| for m terms.
   const std::vector<double> S_unshifted = S;
-  auto diagonal_index = [&](int col) {
-    return pat.col_start()[static_cast<std::size_t>(col) + 1] - 1;  // the diagonal is last in its column
-  };
   auto is_rotation = [&](int col) {
     // Pose 0 occupies columns 0 … d−1 (all rotation); pose v ≥ 1 starts with its translation.
     if (col < d) return true;
     return (col - d) % (d + 1) != 0;
   };
-  detail::SparseCholesky chol(N, pat.col_start(), pat.row_index(), detail::FillOrdering::automatic, true);
+  detail::DoubleDoubleSymmetric SS;
+  SS.n = N;
+  SS.col_start = pat.col_start();
+  SS.row_index = pat.row_index();
+  SS.hi = S;
+  SS.lo = S_lo;
+  SS.error.resize(nnz);
+  for (std::size_t q = 0; q < nnz; ++q)
+    SS.error[q] = (4.0 * S_terms[q] + 3.0 * d + 3.0) * kUnitRoundoff * kUnitRoundoff * Sabs[q];
+  std::vector<char> rotation_columns(static_cast<std::size_t>(N));
+  for (int col = 0; col < N; ++col)
+    rotation_columns[static_cast<std::size_t>(col)] = is_rotation(col) ? 1 : 0;
+  detail::ShiftedPsdProver prover(std::move(SS), std::move(rotation_columns));
+  detail::SparseCholesky& chol = prover.cholesky();
   C.max_row_count = chol.max_row_count();
-  // One test: S + η·D ⪰ 0, proven by the Cholesky factorization of W(S + η·D)W − μI.
+  auto diagonal_index = [&](int col) { return prover.diagonal_index(col); };
+  // One test: S + η·D ⪰ 0, proven by the Cholesky factorization of W(S + η·D)W − μI (psd_proof.hpp).
   auto proven_at = [&](double eta, bool extended) {
-    // A = W(S + ηD)W − μI in double-double (Ah + Al); CHOLMOD factors Ah, the proof is about A itself.
-    std::vector<double> Sh = S_unshifted, Sl = S_lo;
-    for (int col = 0; col < N; ++col)
-      if (is_rotation(col)) {
-        const auto q = static_cast<std::size_t>(diagonal_index(col));
-        const DD x = dd_add(DD{Sh[q], Sl[q]}, DD{eta, 0.0});
-        Sh[q] = x.hi;
-        Sl[q] = x.lo;
-      }
-    std::vector<double> w(static_cast<std::size_t>(N), 1.0);
-    for (int col = 0; col < N; ++col) {
-      const double a = Sh[static_cast<std::size_t>(diagonal_index(col))];
-      if (!(a > 0.0) || !std::isfinite(a)) return false;  // a non-positive diagonal: not PSD (or not finite)
-      // W = 2^−round(log2(a)/2): exact scaling by a power of two, close to Jacobi's.
-      w[static_cast<std::size_t>(col)] = std::ldexp(1.0, -static_cast<int>(std::lround(std::log2(a) / 2.0)));
-    }
-    auto& A = chol.values();
-    std::vector<double> Al(nnz, 0.0), row_form(static_cast<std::size_t>(N), 0.0);
-    constexpr double u2 = kUnitRoundoff * kUnitRoundoff;
-    for (int col = 0; col < N; ++col)
-      for (int q = pat.col_start()[static_cast<std::size_t>(col)];
-           q < pat.col_start()[static_cast<std::size_t>(col) + 1]; ++q) {
-        const auto Q = static_cast<std::size_t>(q);
-        const int row = pat.row_index()[Q];
-        const double sc = w[static_cast<std::size_t>(row)] * w[static_cast<std::size_t>(col)];
-        A[Q] = sc * Sh[Q];
-        Al[Q] = sc * Sl[Q];
-        // The formation's error (above), with the additions of η and μ counted as two more terms.
-        const double shift = row == col && is_rotation(col) ? eta : 0.0;
-        const double form = (4.0 * (S_terms[Q] + 2) + 3.0 * d + 3.0) * u2 * sc * (Sabs[Q] + shift);
-        row_form[static_cast<std::size_t>(row)] += form;
-        if (row != col) row_form[static_cast<std::size_t>(col)] += form;
-      }
-    // What the factorization must clear besides the residual of its factor: the formation's error (doubled
-    // for the rounding of its own evaluation and for μ's term, which is added below), and a subnormal floor
-    // per column for the scaling.
-    const double fixed = 2.0 * *std::max_element(row_form.begin(), row_form.end()) +
-                         N * std::numeric_limits<double>::denorm_min();
-    // A posteriori: factorize Ah; with the computed factor L̂, A = L̂L̂ᵀ + R with L̂L̂ᵀ ⪰ 0 exactly and ‖R‖₂ ≤ E,
-    // so W(S + ηD)W ⪰ (μ − E − fixed)·I ⪰ 0 once 1.01·(E + fixed) ≤ μ (the 1 % covers the rounding of E and
-    // of μ's own arithmetic). E is first Higham's worst case for L̂L̂ᵀ − Ah plus Al's row sums
-    // (SparseCholesky::backward_error_bound, cheap); when that does not clear μ, the residual itself,
-    // accumulated in double-double against Ah + Al (SparseCholesky::residual_bound: one more pass of the
-    // factorization's flops, typically orders of magnitude below the worst case). μ starts above the
-    // residuals measured on the benchmark graphs (1.5e-15 … 2e-15 = 14u … 18u, unit diagonal), is lowered
-    // when the factorization breaks down and raised to what the last factor needed; at most four
-    // factorizations.
-    const std::vector<double> scaled_hi = A, scaled_lo = Al;
-    auto subtract_mu = [&](double mu) {
-      A = scaled_hi;
-      Al = scaled_lo;
-      for (int col = 0; col < N; ++col) {
-        const auto q = static_cast<std::size_t>(diagonal_index(col));
-        const DD x = dd_add(DD{A[q], Al[q]}, DD{-mu, 0.0});
-        A[q] = x.hi;
-        Al[q] = x.lo;
-      }
-      C.rounding_margin = mu;
-      C.formation_error = fixed;
-    };
-    if (extended) {
-      // The factor in double-double (SparseCholesky::factorize_extended): its residual is of the order of u²
-      // of the unit-diagonal matrix, so μ = 2⁻⁸⁰ (8e-25) plus the formation's error clears it with room.
-      const double mu = 1.01 * fixed + std::ldexp(1.0, -80);
-      subtract_mu(mu);
-      if (!chol.factorize_extended(Al)) return false;
-      const double measured = chol.extended_residual_bound(Al);
-      C.worst_case_residual = 0.0;
-      C.residual = measured;
-      return 1.01 * (measured + fixed) <= mu;
-    }
-    double mu = 1.01 * fixed + 32.0 * kUnitRoundoff;
-    double failed_mu =
-        std::numeric_limits<double>::infinity();  // the smallest μ whose factorization broke down
-    for (int attempt = 0; attempt < 4; ++attempt) {
-      subtract_mu(mu);
-      if (!chol.factorize()) {
-        // Broke down: once more with a quarter of μ (the residuals measured on the benchmark graphs are
-        // 14u … 18u, so a smaller μ can still clear them), never below the formation's error.
-        failed_mu = mu;
-        mu = 1.01 * fixed + 0.25 * (mu - 1.01 * fixed);
-        if (mu < 1.01 * fixed + 4.0 * kUnitRoundoff) return false;
-        continue;
-      }
-      std::vector<double> row_lo(static_cast<std::size_t>(N), 0.0);
-      for (int col = 0; col < N; ++col)
-        for (int q = pat.col_start()[static_cast<std::size_t>(col)];
-             q < pat.col_start()[static_cast<std::size_t>(col) + 1]; ++q) {
-          const int row = pat.row_index()[static_cast<std::size_t>(q)];
-          row_lo[static_cast<std::size_t>(row)] += std::abs(Al[static_cast<std::size_t>(q)]);
-          if (row != col) row_lo[static_cast<std::size_t>(col)] += std::abs(Al[static_cast<std::size_t>(q)]);
-        }
-      const double lo_norm = *std::max_element(row_lo.begin(), row_lo.end()) * (1.0 + gamma(2.0 * N));
-      const double higham = chol.backward_error_bound() + lo_norm;
-      C.worst_case_residual = higham;
-      double needed = 1.01 * (higham + fixed);
-      if (needed <= mu) {
-        C.residual = higham;
-        return true;
-      }
-      const double measured = chol.residual_bound(&Al);
-      needed = 1.01 * (measured + fixed);
-      if (needed <= mu) {
-        C.residual = measured;
-        return true;
-      }
-      mu = 1.05 * needed;
-      if (mu >= failed_mu) return false;  // a larger μ than one that already broke down cannot succeed
-    }
-    return false;
+    const detail::PsdProof proof = prover.prove(eta, extended);
+    C.rounding_margin = proof.margin;
+    C.residual = proof.residual;
+    C.worst_case_residual = proof.worst_case_residual;
+    C.formation_error = proof.formation_error;
+    return proof.proven;
   };
   // η* uses the whole gap tolerance; the proof is tried first at η*/33 (a tighter reported bound, and the
   // shift that holds on most data sets), then at η*/2 (so the rounding of the bound itself stays inside the

@@ -48,15 +48,15 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
   auto& A = chol_.values();
   std::vector<double> Al(nnz, 0.0), row_form(static_cast<std::size_t>(N), 0.0);
   for (int col = 0; col < N; ++col)
-    for (int q = S_.col_start[static_cast<std::size_t>(col)]; q < S_.col_start[static_cast<std::size_t>(col) + 1];
-         ++q) {
+    for (int q = S_.col_start[static_cast<std::size_t>(col)];
+         q < S_.col_start[static_cast<std::size_t>(col) + 1]; ++q) {
       const auto Q = static_cast<std::size_t>(q);
       const int row = S_.row_index[Q];
       const double sc = w[static_cast<std::size_t>(row)] * w[static_cast<std::size_t>(col)];
       A[Q] = sc * Sh[Q];
       Al[Q] = sc * Sl[Q];
-      // The caller's bound on forming S, plus the additions of η (before scaling) and of μ (after; μ < 1 on the
-      // unit diagonal) in double-double, each below 4u²·(|entry| + |added|), doubled.
+      // The caller's bound on forming S, plus the additions of η (before scaling) and of μ (after; μ < 1 on
+      // the unit diagonal) in double-double, each below 4u²·(|entry| + |added|), doubled.
       const double shift = row == col && shifted_[static_cast<std::size_t>(col)] ? eta : 0.0;
       const double u2 = kU * kU;
       const double form = sc * (S_.error[Q] + 8.0 * u2 * (std::abs(Sh[Q]) + shift)) +
@@ -64,19 +64,20 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
       row_form[static_cast<std::size_t>(row)] += form;
       if (row != col) row_form[static_cast<std::size_t>(col)] += form;
     }
-  // What the factorization must clear besides the residual of its factor: the formation's error in 2-norm (its
-  // largest row sum, doubled for the rounding of its own evaluation), and a subnormal floor per column for the
-  // scaling.
-  const double fixed =
-      2.0 * *std::max_element(row_form.begin(), row_form.end()) + N * std::numeric_limits<double>::denorm_min();
+  // What the factorization must clear besides the residual of its factor: the formation's error in 2-norm
+  // (its largest row sum, doubled for the rounding of its own evaluation), and a subnormal floor per column
+  // for the scaling.
+  const double fixed = 2.0 * *std::max_element(row_form.begin(), row_form.end()) +
+                       N * std::numeric_limits<double>::denorm_min();
   out.formation_error = fixed;
   // A posteriori: factorize Ah; with the computed factor L̂, A = L̂L̂ᵀ + R with L̂L̂ᵀ ⪰ 0 exactly and ‖R‖₂ ≤ E,
   // so W(S + ηD)W ⪰ (μ − E − fixed)·I ⪰ 0 once 1.01·(E + fixed) ≤ μ (the 1 % covers the rounding of E and of
   // μ's own arithmetic). E is first Higham's worst case for L̂L̂ᵀ − Ah plus Al's row sums
-  // (SparseCholesky::backward_error_bound, cheap); when that does not clear μ, the residual itself, accumulated
-  // in doubled precision against Ah + Al (SparseCholesky::residual_bound). μ starts above the residuals
-  // measured on SE-Sync's benchmark graphs (1.5e-15 … 2e-15 = 14u … 18u, unit diagonal), is lowered when the
-  // factorization breaks down and raised to what the last factor needed; at most four factorizations.
+  // (SparseCholesky::backward_error_bound, cheap); when that does not clear μ, the residual itself,
+  // accumulated in doubled precision against Ah + Al (SparseCholesky::residual_bound). μ starts above the
+  // residuals measured on SE-Sync's benchmark graphs (1.5e-15 … 2e-15 = 14u … 18u, unit diagonal), is lowered
+  // when the factorization breaks down and raised to what the last factor needed; at most four
+  // factorizations.
   const std::vector<double> scaled_hi = A, scaled_lo = Al;
   auto subtract_mu = [&](double mu) {
     A = scaled_hi;
@@ -101,7 +102,8 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
     return out;
   }
   double mu = 1.01 * fixed + 32.0 * kU;
-  double failed_mu = std::numeric_limits<double>::infinity();  // the smallest μ whose factorization broke down
+  double failed_mu =
+      std::numeric_limits<double>::infinity();  // the smallest μ whose factorization broke down
   for (int attempt = 0; attempt < 4; ++attempt) {
     subtract_mu(mu);
     if (!chol_.factorize()) {

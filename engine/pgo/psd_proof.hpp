@@ -1,13 +1,13 @@
-// A rigorous test of S + η·D ⪰ 0 for a sparse symmetric S given in double-double with a bound on the error of its
-// entries, D a 0/1 diagonal: the proof behind the dual certificates of pgo/certified.hpp (SE-Sync's problem) and
-// sos/verify.hpp (the thesis's planar problem, eq. 4.6–4.11).
+// A rigorous test of S + η·D ⪰ 0 for a sparse symmetric S given in double-double with a bound on the error of
+// its entries, D a 0/1 diagonal: the proof behind the dual certificates of pgo/certified.hpp (SE-Sync's
+// problem) and sos/verify.hpp (the thesis's planar problem, eq. 4.6–4.11).
 //
-// A = W(S + ηD)W − μI is formed in double-double, W a diagonal of exact powers of two close to Jacobi's scaling,
-// and factorized: A = L̂L̂ᵀ + R with L̂L̂ᵀ ⪰ 0 exactly, so S + ηD ⪰ 0 once μ ≥ 1.01·(‖R‖₂ + the formation error
-// in 2-norm). ‖R‖₂ is bounded first by Higham's Thm 10.3 (|R| ≤ γ_{k+1}|L̂||L̂ᵀ|, cheap), then by the residual
-// itself, measured in doubled precision (sparse_cholesky.hpp). With `extended`, the factor is computed in
-// double-double (residual of order u²) for shifts below what a double factor resolves. Private to engine/pgo
-// and the areas that build on it (sos).
+// A = W(S + ηD)W − μI is formed in double-double, W a diagonal of exact powers of two close to Jacobi's
+// scaling, and factorized: A = L̂L̂ᵀ + R with L̂L̂ᵀ ⪰ 0 exactly, so S + ηD ⪰ 0 once μ ≥ 1.01·(‖R‖₂ + the
+// formation error in 2-norm). ‖R‖₂ is bounded first by Higham's Thm 10.3 (|R| ≤ γ_{k+1}|L̂||L̂ᵀ|, cheap), then
+// by the residual itself, measured in doubled precision (sparse_cholesky.hpp). With `extended`, the factor is
+// computed in double-double (residual of order u²) for shifts below what a double factor resolves. Private to
+// engine/pgo and the areas that build on it (sos).
 #pragma once
 
 #include <vector>
@@ -16,8 +16,8 @@
 
 namespace keel::pgo::detail {
 
-// S on an upper-triangular pattern in compressed columns (rows ascending, the diagonal stored and last in every
-// column): S_exact = hi + lo + δ with |δ| ≤ error entrywise (the caller's bound on forming S).
+// S on an upper-triangular pattern in compressed columns (rows ascending, the diagonal stored and last in
+// every column): S_exact = hi + lo + δ with |δ| ≤ error entrywise (the caller's bound on forming S).
 struct DoubleDoubleSymmetric {
   int n = 0;
   std::vector<int> col_start, row_index;
@@ -26,9 +26,9 @@ struct DoubleDoubleSymmetric {
 
 struct PsdProof {
   bool proven = false;
-  bool extended_precision = false;  // the double-double factor was used
-  double margin = 0.0;              // μ, in the scaled matrix
-  double residual = 0.0;            // the bound on ‖R‖₂ that cleared μ
+  bool extended_precision = false;   // the double-double factor was used
+  double margin = 0.0;               // μ, in the scaled matrix
+  double residual = 0.0;             // the bound on ‖R‖₂ that cleared μ
   double worst_case_residual = 0.0;  // Higham's bound for the same (double) factor; 0 for a double-double one
   double formation_error = 0.0;      // the bound on the error of forming A, in 2-norm (scaled)
 };
@@ -44,7 +44,9 @@ class ShiftedPsdProver {
   // The factorization (its last values are those of the last attempt), e.g. for inverse iteration.
   [[nodiscard]] SparseCholesky& cholesky() { return chol_; }
   [[nodiscard]] const DoubleDoubleSymmetric& matrix() const { return S_; }
-  [[nodiscard]] int diagonal_index(int col) const { return S_.col_start[static_cast<std::size_t>(col) + 1] - 1; }
+  [[nodiscard]] int diagonal_index(int col) const {
+    return S_.col_start[static_cast<std::size_t>(col) + 1] - 1;
+  }
 
  private:
   DoubleDoubleSymmetric S_;

@@ -11,7 +11,9 @@
 
 #include "core/timing.hpp"
 #include "graph/io.hpp"
+#include "pgo/double_double.hpp"
 #include "pgo/optimize.hpp"
+#include "pgo/psd_proof.hpp"
 
 namespace keel::sos {
 
@@ -50,20 +52,15 @@ double diagonal_scale(const PlanarProblem& p) {
 }  // namespace
 
 void GlobalCertificateOptions::validate() const {
-  if (!(eta_relative > 0 && eta_relative < 1))
-    throw std::invalid_argument(
-        fmt::format("sos::GlobalCertificateOptions.eta_relative must be in (0, 1) (got {})", eta_relative));
-  if (!(stationarity_tolerance > 0 && stationarity_tolerance <= eta_relative))
+  if (!(stationarity_tolerance > 0))
     throw std::invalid_argument(fmt::format(
-        "sos::GlobalCertificateOptions.stationarity_tolerance must be in (0, eta_relative = {}] (got {}): an "
-        "inexact stationary point moves S's eigenvalues by about that much",
-        eta_relative, stationarity_tolerance));
+        "sos::GlobalCertificateOptions.stationarity_tolerance must be > 0 (got {})", stationarity_tolerance));
   if (bound_factorizations < 0)
     throw std::invalid_argument(fmt::format(
         "sos::GlobalCertificateOptions.bound_factorizations must be >= 0 (got {})", bound_factorizations));
-  if (!(gap_tolerance > 0))
+  if (!(gap_tolerance > 0 && gap_tolerance < 1))
     throw std::invalid_argument(
-        fmt::format("sos::GlobalCertificateOptions.gap_tolerance must be > 0 (got {})", gap_tolerance));
+        fmt::format("sos::GlobalCertificateOptions.gap_tolerance must be in (0, 1) (got {})", gap_tolerance));
 }
 
 void RefineOptions::validate() const {
@@ -103,95 +100,134 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   out.bound.upper = v.dot(qv);
   out.scale = q.diagonal().maxCoeff();
 
-  // Multipliers (first-order conditions Q v = Λ v; least squares on each (c_i, s_i) pair).
+  // Multipliers (first-order conditions Q v = Λ v; least squares on each (c_i, s_i) pair). Any λ gives a
+  // valid bound below; these make it tight at a stationary point.
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n + 1);  // Λ's diagonal
   lambda(0) = qv(0);
   out.multiplier_sum = lambda(0);
+  double multiplier_abs = std::abs(lambda(0));
   out.min_rotation_multiplier = std::numeric_limits<double>::infinity();
   for (int i = 1; i < p.poses; ++i) {
     const int c = 1 + 4 * (i - 1);
     const double li = v(c) * qv(c) + v(c + 1) * qv(c + 1);
     lambda(c) = lambda(c + 1) = li;
     out.multiplier_sum += li;
+    multiplier_abs += std::abs(li);
     out.min_rotation_multiplier = std::min(out.min_rotation_multiplier, li);
   }
   if (p.poses < 2) out.min_rotation_multiplier = 0.0;
-
-  // S = Q − Λ with every diagonal entry stored (the pattern must not change with the shift).
-  SpMat s = q;
-  {
-    std::vector<Triplet> d;
-    d.reserve(static_cast<std::size_t>(n + 1));
-    for (int k = 0; k <= n; ++k) d.emplace_back(k, k, -lambda(k));
-    SpMat dl(n + 1, n + 1);
-    dl.setFromTriplets(d.begin(), d.end());
-    s += dl;
-    s.makeCompressed();
-  }
   const Eigen::VectorXd sv = qv - lambda.cwiseProduct(v);
   out.stationarity = sv.cwiseAbs().maxCoeff() / (out.scale * v.cwiseAbs().maxCoeff());
   out.stationary = out.stationarity <= o.stationarity_tolerance;
 
-  // Positive definiteness of S + η D by sparse Cholesky (AMD ordering, one symbolic analysis), with D the
-  // diagonal that is 1 on v₀ and the rotations and 0 on translations and landmarks: every feasible v' has
-  // v'ᵀ D v' = poses, so success proves f(v') = v'ᵀ S v' + Σλ ≥ Σλ − η · poses for every feasible v' — a
-  // lower bound on the minimum, whatever the translations. (S's translation block AᵀA is positive definite
-  // for a connected graph, so the shift is needed only where the circles are.)
-  SpMat identity(n + 1, n + 1);
+  // S = Q − Λ in double-double on the upper triangle of Q's pattern (pgo/psd_proof.hpp): Q = BᵀB, B = [r |
+  // A], accumulated row by row of B with exact products (fma). Each addition errs by at most 4u²·Σ|terms| of
+  // its entry, so an entry of m terms is within 4(m + 1)u²·Σ|terms| of the exact value (the +1: −λ's term).
+  pgo::detail::DoubleDoubleSymmetric S;
+  S.n = n + 1;
   {
-    std::vector<Triplet> d;
-    d.emplace_back(0, 0, 1.0);
-    for (int k = 0; k < n; ++k)
-      if (p.is_rotation(k)) d.emplace_back(k + 1, k + 1, 1.0);
-    identity.setFromTriplets(d.begin(), d.end());
+    Eigen::SparseMatrix<double, Eigen::RowMajor> b(p.a.rows(), n + 1);
+    std::vector<Triplet> t;
+    for (Eigen::Index k = 0; k < p.r.size(); ++k)
+      if (p.r(k) != 0.0) t.emplace_back(static_cast<int>(k), 0, p.r(k));
+    for (int c = 0; c < p.a.outerSize(); ++c)
+      for (SpMat::InnerIterator it(p.a, c); it; ++it)
+        t.emplace_back(static_cast<int>(it.row()), c + 1, it.value());
+    b.setFromTriplets(t.begin(), t.end());
+    std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(n + 1));
+    for (int j = 0; j <= n; ++j) rows_of[static_cast<std::size_t>(j)].push_back(j);  // every diagonal
+    for (int r = 0; r < b.outerSize(); ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a1(b, r); a1; ++a1)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a2(b, r); a2; ++a2)
+          if (a1.col() < a2.col())
+            rows_of[static_cast<std::size_t>(a2.col())].push_back(static_cast<int>(a1.col()));
+    S.col_start.assign(static_cast<std::size_t>(n + 2), 0);
+    for (int j = 0; j <= n; ++j) {
+      auto& rows = rows_of[static_cast<std::size_t>(j)];
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());  // ascending: the diagonal last
+      S.row_index.insert(S.row_index.end(), rows.begin(), rows.end());
+      S.col_start[static_cast<std::size_t>(j) + 1] = static_cast<int>(S.row_index.size());
+    }
+    const std::size_t nnz = S.row_index.size();
+    S.hi.assign(nnz, 0.0);
+    S.lo.assign(nnz, 0.0);
+    std::vector<double> abs_terms(nnz, 0.0);
+    std::vector<int> terms(nnz, 0);
+    auto index = [&](int i, int j) {
+      const auto first = S.row_index.begin() + S.col_start[static_cast<std::size_t>(j)];
+      const auto last = S.row_index.begin() + S.col_start[static_cast<std::size_t>(j) + 1];
+      return static_cast<std::size_t>(std::lower_bound(first, last, i) - S.row_index.begin());
+    };
+    auto add = [&](std::size_t at, pgo::detail::DD value) {
+      const pgo::detail::DD sum = pgo::detail::dd_add(pgo::detail::DD{S.hi[at], S.lo[at]}, value);
+      S.hi[at] = sum.hi;
+      S.lo[at] = sum.lo;
+      abs_terms[at] += std::abs(value.hi) + std::abs(value.lo);
+      ++terms[at];
+    };
+    for (int r = 0; r < b.outerSize(); ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a1(b, r); a1; ++a1)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a2(b, r); a2; ++a2)
+          if (a1.col() <= a2.col())
+            add(index(static_cast<int>(a1.col()), static_cast<int>(a2.col())),
+                pgo::detail::dd_prod(a1.value(), a2.value()));
+    for (int k = 0; k <= n; ++k)
+      if (lambda(k) != 0.0) add(index(k, k), pgo::detail::DD{-lambda(k), 0.0});
+    S.error.resize(nnz);
+    constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+    for (std::size_t k = 0; k < nnz; ++k) S.error[k] = 4.0 * (terms[k] + 1.0) * u * u * abs_terms[k];
   }
-  double rotation_scale = q.coeff(0, 0);
+  // D: 1 on v₀ and the rotations, 0 on translations and landmarks. Every feasible v' has v'ᵀ D v' = poses, so
+  // S + ηD ⪰ 0 proves f(v') = v'ᵀ S v' + Σλ ≥ Σλ − η · poses for every feasible v' — a lower bound on the
+  // minimum, whatever the translations. (S's translation block AᵀA is positive definite for a connected
+  // graph, so the shift is needed only where the circles are.)
+  std::vector<char> shifted(static_cast<std::size_t>(n + 1), 0);
+  shifted[0] = 1;
   for (int k = 0; k < n; ++k)
-    if (p.is_rotation(k)) rotation_scale = std::max(rotation_scale, q.coeff(k + 1, k + 1));
-  Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+    if (p.is_rotation(k)) shifted[static_cast<std::size_t>(k) + 1] = 1;
   const auto tf = core::Clock::now();
-  llt.analyzePattern(s);
-  auto positive_definite = [&](double eta) {
-    llt.factorize(s + eta * identity);
+  pgo::detail::ShiftedPsdProver prover(std::move(S), std::move(shifted));
+  const double poses = static_cast<double>(p.poses);
+  const double f = out.bound.upper;
+  // The decisive shift: the largest the gap tolerance allows, η* = (gap·max(f, 1) − (f − Σλ)) / poses. The
+  // proof is tried at η*/33 and η*/2 with a double factor, then with a double-double one (pgo/psd_proof.hpp).
+  out.eta = (o.gap_tolerance * std::max(f, 1.0) - (f - out.multiplier_sum)) / poses;
+  double best = std::numeric_limits<double>::infinity();  // smallest proven shift
+  auto attempt = [&](double eta, bool extended) {
+    const pgo::detail::PsdProof proof = prover.prove(eta, extended);
     ++out.factorizations;
-    const bool ok = llt.info() == Eigen::Success;
-    if (ok) out.factor_nonzeros = static_cast<long>(llt.matrixL().nestedExpression().nonZeros());
-    return ok;
-  };
-  out.eta = o.eta_relative * rotation_scale;
-  out.psd = positive_definite(out.eta);
-  double best = std::numeric_limits<double>::infinity();  // smallest successful shift
-  if (out.psd) {
-    best = out.eta;
-    double eta = out.eta;
-    for (int k = 0; k < o.bound_factorizations; ++k) {
-      eta /= 10.0;
-      if (!positive_definite(eta)) {
-        out.failed_shift = eta;
-        break;
-      }
+    if (proof.proven) {
       best = eta;
+      out.rounding_margin = proof.margin;
+      out.residual = proof.residual;
+      out.extended_precision = proof.extended_precision;
+    } else {
+      out.failed_shift = std::max(out.failed_shift, eta);
     }
-  } else {
-    out.failed_shift = out.eta;
-    double eta = out.eta;
-    for (int k = 0; k < o.bound_factorizations; ++k) {
-      eta *= 10.0;
-      if (positive_definite(eta)) {
-        best = eta;
-        break;
-      }
-      out.failed_shift = eta;
-    }
+    return proof.proven;
+  };
+  if (out.eta > 0.0)
+    for (const bool extended : {false, true})
+      if (attempt(out.eta / 33.0, extended) || attempt(0.5 * out.eta, extended)) break;
+  out.psd = std::isfinite(best);
+  if (!out.psd) {
+    // Outside the tolerance: the tightest bound that can still be proven, the shift raised tenfold at a time.
+    const double eta_ref = o.gap_tolerance * std::max(f, 1.0) / poses;
+    for (int k = 1; k <= o.bound_factorizations; ++k)
+      if (attempt(eta_ref * std::pow(10.0, k), false)) break;
   }
+  out.factor_nonzeros = static_cast<long>(prover.cholesky().factor_nonzeros());
   out.factor_time_s = core::seconds_since(tf);
   out.lambda_min_bound = std::isfinite(best) ? -best : -std::numeric_limits<double>::infinity();
-  const double poses = static_cast<double>(p.poses);
-  out.bound.lower =
-      std::isfinite(best) ? out.multiplier_sum - best * poses : -std::numeric_limits<double>::infinity();
-  out.status = out.stationary && out.psd && out.relative_gap() <= o.gap_tolerance
-                   ? core::SearchStatus::optimal
-                   : core::SearchStatus::unproven;
+  // The lower bound rounded down: the sum of the multipliers errs by at most γ_{poses}·Σ|λ|.
+  constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+  out.bound.lower = std::isfinite(best) ? out.multiplier_sum -
+                                              (poses + 1.0) * u / (1.0 - (poses + 1.0) * u) * multiplier_abs -
+                                              best * poses * (1.0 + 4.0 * u)
+                                        : -std::numeric_limits<double>::infinity();
+  out.status =
+      out.relative_gap() <= o.gap_tolerance ? core::SearchStatus::optimal : core::SearchStatus::unproven;
   out.time_s = core::seconds_since(t0);
   return out;
 }

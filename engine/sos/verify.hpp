@@ -14,15 +14,20 @@
 //   f(v') = v'ᵀ S v' + λ₀ + Σ λ_i ≥ λ₀ + Σ λ_i = f(z): z is a global minimizer of eq. 4.11/4.12 (and the
 //   order-1 relaxation is tight at it, its dual optimum being λ).
 //
-// Positive semidefiniteness is tested by sparse Cholesky factorizations of S + η D, D = diag(1 on v₀ and the
-// rotations, 0 on translations and landmarks): success proves v'ᵀ S v' ≥ −η v'ᵀ D v' = −η · poses for every
-// feasible v', hence min f ≥ Σλ − η · poses (a bound that needs no bound on the translations; S's translation
-// block AᵀA is positive definite for a connected graph). S has an exact zero eigenvalue at v, so η > 0. The
-// decisive shift is η_tol = eta_relative × the largest diagonal entry of Q on v₀ and the rotations; after it
-// succeeds, smaller shifts η_tol · 10^{−k} sharpen the bound (larger ones after a failure measure how far S
-// is from PSD). The verdict is "globally optimal" iff the candidate is stationary (‖S v‖∞ / (max_k Q_kk ‖v‖∞)
-// ≤ stationarity_tolerance), S + η_tol D factors, and the proven gap (f(z) − (Σλ − η_best · poses)) /
-// max(f(z), 1) is at most gap_tolerance.
+// Positive semidefiniteness of S + η D, D = diag(1 on v₀ and the rotations, 0 on translations and landmarks),
+// is proven by pgo/psd_proof.hpp's test (the one behind pgo::solve_certified): S formed in double-double from
+// B = [r | A] with exact products, a Cholesky factorization of W(S + ηD)W − μI with W exact powers of two,
+// and μ clearing a rigorous bound on the factor's residual (Higham's, or the residual measured in doubled
+// precision; a double-double factor when a double one cannot resolve the shift). Success proves v'ᵀ S v' ≥ −η
+// v'ᵀ D v' = −η · poses for every feasible v', hence min f ≥ Σλ − η · poses (a bound that needs no bound on
+// the translations; S's translation block AᵀA is positive definite for a connected graph). S has an exact
+// zero eigenvalue at v, so η > 0. The decisive shift is the largest the gap tolerance allows,
+//     η* = (gap_tolerance · max(f(z), 1) − (f(z) − Σλ)) / poses,
+// and the proof is tried at η*/33 and η*/2; the verdict is "numerically certified" iff the proven gap (f(z) −
+// (Σλ − η_proven · poses)) / max(f(z), 1), with Σλ's rounding, is at most gap_tolerance. When it is not,
+// larger shifts η*·10^k (k ≤ bound_factorizations) measure how far S is from PSD. Stationarity (‖S v‖∞
+// relative) is reported, not required: the bound holds for any multipliers, and a point that is not
+// stationary cannot reach a small gap.
 //
 // The candidate must be a stationary point of f itself — keel.pgo minimizes the geodesic χ², whose
 // minimizer differs from f's by O(θ⁴) — so solutions from keel.pgo are refined on f first
@@ -42,32 +47,35 @@
 namespace keel::sos {
 
 struct GlobalCertificateOptions {
-  double eta_relative = 1e-7;            // decisive shift η_tol = eta_relative · max_k Q_kk (> 0, < 1)
-  double stationarity_tolerance = 1e-8;  // ‖S v‖∞ / (max_k Q_kk ‖v‖∞) allowed (> 0, ≤ eta_relative)
-  double gap_tolerance = 1e-6;           // certified only if (f(z) − lower_bound) / max(f(z), 1) ≤ this (> 0)
-  int bound_factorizations = 6;  // extra factorizations that sharpen lambda_min_bound after the decision
-                                 // (≥ 0): shifts η_tol · 10^{∓k}
-  void validate() const;         // throws std::invalid_argument naming the field and value
+  double stationarity_tolerance =
+      1e-8;                     // `stationary` is reported when ‖S v‖∞ / (max_k Q_kk ‖v‖∞) ≤ this (> 0)
+  double gap_tolerance = 1e-6;  // certified iff (f(z) − lower_bound) / max(f(z), 1) ≤ this, in (0, 1)
+  int bound_factorizations =
+      6;                  // when η*/2 cannot be proven: shifts 10^k · gap·max(f, 1)/poses, k ≤ this (≥ 0)
+  void validate() const;  // throws std::invalid_argument naming the field and value
 };
 
 struct GlobalCertificate {
-  // optimal: stationary, S + η_tol D positive definite, and relative_gap() ≤ gap_tolerance; else unproven.
+  // optimal: the proven relative gap is within gap_tolerance; else unproven.
   core::SearchStatus status = core::SearchStatus::unproven;
-  // upper: f(z) = vᵀQv, original units; lower: the proven bound on min f, Σλ − (smallest successful shift) ·
-  // poses (−inf when no shift succeeded).
+  // upper: f(z) = vᵀQv, original units; lower: the proven bound on min f, Σλ − (smallest proven shift) ·
+  // poses, rounded down (−inf when no shift was proven).
   core::Bound bound{0.0, 0.0};
-  bool stationary = false;      // stationarity ≤ stationarity_tolerance
-  bool psd = false;             // the factorization of S + η_tol D succeeded
+  bool stationary = false;      // stationarity ≤ stationarity_tolerance (reported, not required)
+  bool psd = false;             // S + η·D ⪰ 0 proven at η*/33 or η*/2
   double multiplier_sum = 0.0;  // λ₀ + Σ λ_i (= f(z) − vᵀSv; equals cost at a stationary point)
   double stationarity = 0.0;    // ‖S v‖∞ / (scale ‖v‖∞)
   double scale = 0.0;           // max_k Q_kk
-  double eta = 0.0;             // η_tol = eta_relative × the largest diagonal entry of Q on v₀ and rotations
-  double lambda_min_bound = 0.0;  // proven: S + |lambda_min_bound| D ≻ 0 (−smallest successful shift; −inf
-                                  // when none succeeded)
-  double failed_shift = 0.0;  // the largest shift tried whose factorization failed (0: none): λ_min(S) ≲ −it
+  double eta = 0.0;  // η*, the decisive shift of the gap tolerance (≤ 0: f − Σλ already exceeds it)
+  double lambda_min_bound = 0.0;    // proven: S + |lambda_min_bound| D ⪰ 0 (−smallest proven shift; −inf when
+                                    // none was)
+  double failed_shift = 0.0;        // the largest shift whose proof failed (0: none): λ_min(S) ≲ −it
+  double rounding_margin = 0.0;     // μ of the accepted proof (scaled matrix)
+  double residual = 0.0;            // the bound on the factor's residual that μ cleared
+  bool extended_precision = false;  // the accepted proof needed a double-double factor
   double min_rotation_multiplier = 0.0;  // min_i λ_i (0 without free poses), for the record
-  int factorizations = 0;
-  long factor_nonzeros = 0;  // nonzeros of the Cholesky factor (fill-reducing AMD ordering)
+  int factorizations = 0;                // proofs attempted
+  long factor_nonzeros = 0;              // nonzeros of the Cholesky factor (CHOLMOD, supernodal)
   double factor_time_s = 0.0, time_s = 0.0;
   [[nodiscard]] bool certified() const { return status == core::SearchStatus::optimal; }
   [[nodiscard]] double cost() const { return bound.upper; }

@@ -285,7 +285,6 @@ GlobalCertificateStudyOptions read_global_certificate_study_options(const core::
   o.random_extent = t.number("random_extent");
   o.refine.max_iterations = static_cast<int>(t.integer("refine_max_iterations"));
   o.refine.gradient_tolerance = t.number("refine_gradient_tolerance");
-  o.certificate.eta_relative = t.number("eta_relative");
   o.certificate.stationarity_tolerance = t.number("stationarity_tolerance");
   o.certificate.gap_tolerance = t.number("gap_tolerance");
   o.certificate.bound_factorizations = static_cast<int>(t.integer("bound_factorizations"));

@@ -185,7 +185,7 @@ struct GlobalCertificateStudyOutcome {
     const repro::RunContext& context, core::Progress* progress = nullptr);
 
 // Config readers of the study. Keys: lm_max_iterations, random_extent, refine_max_iterations,
-// refine_gradient_tolerance, eta_relative, stationarity_tolerance, bound_factorizations.
+// refine_gradient_tolerance, stationarity_tolerance, gap_tolerance, bound_factorizations.
 [[nodiscard]] GlobalCertificateStudyOptions read_global_certificate_study_options(const core::ConfigTable& t);
 // Keys: datasets (names) and a table graph_files with one key per name: the graph file (every entry of
 // graph_files must be a string). Returns (name, file) pairs of the listed data sets.

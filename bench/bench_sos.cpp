@@ -3,8 +3,9 @@
 // medians the thesis reports as 20.55 s and 161.8 s (MATLAB + MOSEK). One benchmark iteration solves every
 // segment once; the counters give the median and maximum time per segment and the share certified. Variants:
 // the dense block by DSDP (what the experiments use) and by SDPA, and the Sparse-BSOS clique structure by
-// DSDP on the first `cliques_segments` segments only (it is slower by orders of magnitude). Run from the
-// repository root:
+// DSDP on the first `cliques_segments` segments only (it is slower by orders of magnitude; its certified
+// share is 0 by design: that structure's bound rests on an unproven translation box, sos/certify.hpp). Run
+// from the repository root:
 //   build/release/bench/bench_sos
 import keel.core;
 import keel.datasets;

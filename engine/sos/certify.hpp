@@ -44,7 +44,8 @@ struct CertifiedSolution {
   // relaxations tried (core/bound.hpp).
   core::Bound bound{0.0, 0.0};
   // optimal: a relaxation's lower bound is within gap_tolerance of the solution's cost; unproven: no
-  // relaxation tried closed the gap (the note says which were tried or skipped).
+  // relaxation tried closed the gap (the note says which were tried or skipped), or the structure is cliques,
+  // whose bound rests on an unproven translation box (relaxation.hpp) and is reported, never certified.
   core::SearchStatus status = core::SearchStatus::unproven;
   [[nodiscard]] double relative_gap() const { return bound.relative_gap(); }
   int certified_order = 0;    // 1 or 2 when certified, else 0

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 #include "core/random.hpp"
 #include "sos/certify.hpp"
@@ -32,6 +33,20 @@ TEST_CASE("noise-free data: the relaxation is tight, certified, and returns the 
     CHECK((s.estimate.poses[i].translation() - w.truth[i].translation()).norm() < 1e-5);
     CHECK(std::abs(keel::lie::SO2(s.estimate.poses[i].angle() - w.truth[i].angle()).angle()) < 1e-5);
   }
+}
+
+TEST_CASE("the cliques structure reports its gap but never certifies (its translation box is unproven)") {
+  Rng rng(7);
+  World w = random_world(rng, 8, 4, 0.0, 3);
+  CertifyOptions o;
+  o.relaxation.structure = Structure::cliques;
+  const CertifiedSolution s = solve_certified(w.graph, o);
+  CHECK(s.status == keel::core::SearchStatus::unproven);
+  CHECK(s.certified_order == 0);
+  CHECK(s.relative_gap() < 1e-4);  // the bound itself is still tight on noise-free data
+  CHECK(s.note.find("unproven translation box") != std::string::npos);
+  // The dense structure certifies the same graph.
+  CHECK(solve_certified(w.graph).status == keel::core::SearchStatus::optimal);
 }
 
 TEST_CASE("the exactness claim fails on the counterexample; order 2 certifies it") {

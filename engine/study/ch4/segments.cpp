@@ -137,8 +137,10 @@ SegmentStudyOutcome run_segment_study(const graph::PoseGraph2D& graph, const std
           const auto t0 = core::Clock::now();
           const pgo::Result2D r = pgo::optimize(seg.graph, lm);
           const double dt = core::seconds_since(t0);
-          (which == 0 ? s.lm_random : s.lm_odometry) =
-              score(p, r.estimate.poses, r.estimate.landmarks, s.truth, s.truth_landmarks, dt);
+          MethodOutcome& m = which == 0 ? s.lm_random : s.lm_odometry;
+          m = score(p, r.estimate.poses, r.estimate.landmarks, s.truth, s.truth_landmarks, dt);
+          m.iterations = r.summary.iterations;
+          m.converged = r.summary.termination == pgo::Termination::converged;
         }
       },
       progress, out.segments);

@@ -50,12 +50,20 @@ struct MethodOutcome {
   double landmark_error = 0.0;  // mean ‖l − l_true‖ over the segment's landmarks (0 without landmarks)
   double cost = 0.0;            // the thesis's cost f at the estimate (problem.hpp)
   double time_s = 0.0;
+  // Levenberg–Marquardt only: iterations and whether it met a tolerance (pgo::Termination::converged) rather
+  // than stopping at its iteration cap or failing.
+  int iterations = 0;
+  bool converged = false;
   std::vector<lie::SE2> poses;
   std::vector<lie::Vec2> landmarks;
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks); }
+  auto fields() {
+    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, iterations, converged, poses,
+                    landmarks);
+  }
   auto fields() const {
-    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, poses, landmarks);
+    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, iterations, converged, poses,
+                    landmarks);
   }
 };
 

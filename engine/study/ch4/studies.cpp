@@ -118,14 +118,16 @@ void Segments::record(Results& r, const Outcome& outcome) {
   r.series("segment.first", first);
   r.series("sbsos.gap", gap);
   for (const auto& m : segment_methods()) {
-    std::vector<double> te, re, le, cost, time;
-    int above = 0;
+    std::vector<double> te, re, le, cost, time, iterations;
+    int above = 0, above_converged = 0, converged = 0;
     for (const auto& s : segs) {
       if (s.failed) continue;
       const auto& o = s.*(m.member);
       te.push_back(o.trans_error), re.push_back(o.rot_error), le.push_back(o.landmark_error);
-      cost.push_back(o.cost), time.push_back(o.time_s);
+      cost.push_back(o.cost), time.push_back(o.time_s), iterations.push_back(o.iterations);
       above += above_sbsos(s, o);
+      above_converged += above_sbsos(s, o) && o.converged;
+      converged += o.converged;
     }
     const std::string k = m.key;
     r.metric(k + ".trans_error.median", core::median(te));
@@ -134,8 +136,16 @@ void Segments::record(Results& r, const Outcome& outcome) {
     r.metric(k + ".rot_error.mean", core::mean_std(re).mean);
     if (outcome.landmarks) r.metric(k + ".landmark_error.median", core::median(le));
     // among the segments SBSOS solved (the only ones with a certified cost to compare with)
-    if (k != "sbsos")
-      r.metric(k + ".local_minimum_rate", te.empty() ? 0.0 : 100.0 * above / static_cast<double>(te.size()));
+    if (k != "sbsos") {
+      // Above the certified cost: split into converged runs (local minima, to LM's tolerances) and runs that
+      // stopped at the iteration cap or failed (not minima of anything).
+      const double per = te.empty() ? 0.0 : 100.0 / static_cast<double>(te.size());
+      r.metric(k + ".local_minimum_rate", per * above);
+      r.metric(k + ".above_converged_rate", per * above_converged);
+      r.metric(k + ".above_unconverged_rate", per * (above - above_converged));
+      r.metric(k + ".converged_rate", per * converged);
+      r.metric(k + ".iterations.median", core::median(iterations));
+    }
     r.series(k + ".trans_error", te);
     r.series(k + ".rot_error", re);
     r.series(k + ".cost", cost);

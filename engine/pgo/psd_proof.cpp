@@ -75,9 +75,9 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
   // μ's own arithmetic). E is first Higham's worst case for L̂L̂ᵀ − Ah plus Al's row sums
   // (SparseCholesky::backward_error_bound, cheap); when that does not clear μ, the residual itself,
   // accumulated in doubled precision against Ah + Al (SparseCholesky::residual_bound). μ starts above the
-  // residuals measured on SE-Sync's benchmark graphs (1.5e-15 … 2e-15 = 14u … 18u, unit diagonal), is lowered
-  // when the factorization breaks down and raised to what the last factor needed; at most four
-  // factorizations.
+  // residuals measured on SE-Sync's benchmark graphs (at most 1.7e-15 ≈ 16u on the unit diagonal:
+  // ext_certified_pgo's `*.residual`), is lowered when the factorization breaks down and raised to what the
+  // last factor needed; at most four factorizations.
   const std::vector<double> scaled_hi = A, scaled_lo = Al;
   auto subtract_mu = [&](double mu) {
     A = scaled_hi;
@@ -108,7 +108,7 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
     subtract_mu(mu);
     if (!chol_.factorize()) {
       // Broke down: once more with a quarter of μ (the residuals measured on the benchmark graphs are
-      // 14u … 18u, so a smaller μ can still clear them), never below the formation's error.
+      // at most 16u, so a smaller μ can still clear them), never below the formation's error.
       failed_mu = mu;
       mu = 1.01 * fixed + 0.25 * (mu - 1.01 * fixed);
       if (mu < 1.01 * fixed + 4.0 * kU) return out;

@@ -378,7 +378,8 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
   detail::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
                               detail::FillOrdering::automatic, false);
   const int N = pattern.dimension();
-  std::vector<double> hessian(chol.values().size());
+  std::vector<double> hessian(chol.values().size()), gauss_newton;
+  bool use_gauss_newton = false;
   Eigen::VectorXd g(N), step(N), diag(N);
 
   LocalOutcome out;
@@ -458,6 +459,8 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
         if (b >= 0) pattern.add_diagonal(hessian, b, H.bottomRightCorner(p, p));
         if (a >= 0 && b >= 0) pattern.add_off_diagonal(hessian, a, b, pos[k], H.topRightCorner(p, p));
       }
+      gauss_newton = hessian;  // before the curvature: positive semidefinite
+      use_gauss_newton = false;
       for (int b = 0; b < nb; ++b) {
         Block C = Block::Zero(p, p);  // the curvature acts on the rotation coordinates only
         const double* c = &curvature[static_cast<std::size_t>(b) * prot * prot];
@@ -473,7 +476,7 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
     ++out.iterations;
     // Damped system (H + λ diag(H_GN)) δ = −g.
     auto& values = chol.values();
-    values = hessian;
+    values = use_gauss_newton ? gauss_newton : hessian;
     const double floor = 1e-12 * diag.maxCoeff();
     for (int b = 0; b < nb; ++b) {
       const int dp = pattern.diagonal_position(b);
@@ -483,6 +486,12 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
       }
     }
     if (!chol.factorize()) {
+      // Far from a minimum the Riemannian Hessian is indefinite: Gauss–Newton at this point (its matrix is
+      // positive semidefinite) before the damping grows; the next point starts from the full Hessian again.
+      if (!use_gauss_newton) {
+        use_gauss_newton = true;
+        continue;
+      }
       lambda *= nu;
       nu *= 2.0;
       if (lambda > 1e16) break;
@@ -502,20 +511,44 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
     }
     // Below the rounding of F a decrease cannot be measured: such a step is judged by the gradient instead.
     const bool below_rounding = predicted <= 64.0 * kUnitRoundoff * std::max(std::abs(f), 1e-300);
-    Point trial = X;
-    for (int v = 1; v < P.n; ++v) {
-      const int o0 = pattern.offset(v - 1);
-      Small B = Small::Zero(r, r);
-      for (int k = 0; k < prot; ++k) {
-        const auto [a, b] = gens[static_cast<std::size_t>(k)];
-        B(a, b) += step(o0 + k);
-        B(b, a) -= step(o0 + k);
+    // The point at X + α·step (retracted), its cost, and the model's decrease there: α·(−gᵀδ) − ½α²·δᵀHδ with
+    // δᵀHδ = −gᵀδ − λ·δᵀ diag δ (from the damped system).
+    const double descent = -g.dot(step), curvature_along = descent - lambda * damped;
+    auto trial_at = [&](double alpha) {
+      Point t = X;
+      for (int v = 1; v < P.n; ++v) {
+        const int o0 = pattern.offset(v - 1);
+        Small B = Small::Zero(r, r);
+        for (int k = 0; k < prot; ++k) {
+          const auto [a, b] = gens[static_cast<std::size_t>(k)];
+          B(a, b) += alpha * step(o0 + k);
+          B(b, a) -= alpha * step(o0 + k);
+        }
+        t.Q[static_cast<std::size_t>(v)] = retract(X.Q[static_cast<std::size_t>(v)], B);
+        t.T.col(v) += alpha * step.segment(o0 + prot, r);
       }
-      trial.Q[static_cast<std::size_t>(v)] = retract(X.Q[static_cast<std::size_t>(v)], B);
-      trial.T.col(v) += step.segment(o0 + prot, r);
+      return t;
+    };
+    Point trial = trial_at(1.0);
+    double f_new = cost(P, trial);
+    double rho = (f - f_new) / predicted;
+    bool backtracked = false;
+    if (!(rho > 1e-4) && !below_rounding) {
+      // The full step overshoots: shorter steps along it cost a cost evaluation each, a larger damping a
+      // whole factorization. Two halvings before the damping grows.
+      for (const double alpha : {0.5, 0.25}) {
+        Point shorter = trial_at(alpha);
+        const double f_alpha = cost(P, shorter);
+        const double pred_alpha = alpha * descent - 0.5 * alpha * alpha * curvature_along;
+        if (pred_alpha > 0.0 && (f - f_alpha) / pred_alpha > 1e-4) {
+          trial = std::move(shorter);
+          f_new = f_alpha;
+          rho = (f - f_alpha) / pred_alpha;
+          backtracked = true;
+          break;
+        }
+      }
     }
-    const double f_new = cost(P, trial);
-    const double rho = (f - f_new) / predicted;
     bool accept = rho > 1e-4;
     if (below_rounding) {
       accept = riemannian_gradient_norm(P, trial, gens) < gnorm;
@@ -525,7 +558,8 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
       last_decrease = f - f_new;
       X = std::move(trial);
       f = f_new;
-      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      // After a shortened step the model was too optimistic: more damping next time (as a rejection would).
+      lambda *= backtracked ? nu : std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
       lambda = std::max(lambda, 1e-14);
       nu = 2.0;
       rebuild = true;

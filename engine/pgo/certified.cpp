@@ -684,7 +684,7 @@ std::vector<Small> multipliers(const Problem& P, const Point& X, const Gradient&
 
 // The certificate matrix is formed in double-double (double_double.hpp): the entries' own rounding then stays
 // below a few u² of their terms instead of γ_m of them, and the proof's residual is taken against the entries
-// as formed (see proven_at).
+// as formed (psd_proof.hpp).
 using detail::DD;
 using detail::dd_add;
 using detail::dd_prod;
@@ -806,49 +806,22 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   detail::SparseCholesky& chol = prover.cholesky();
   C.max_row_count = chol.max_row_count();
   auto diagonal_index = [&](int col) { return prover.diagonal_index(col); };
-  // One test: S + η·D ⪰ 0, proven by the Cholesky factorization of W(S + η·D)W − μI (psd_proof.hpp).
-  auto proven_at = [&](double eta, bool extended) {
-    const detail::PsdProof proof = prover.prove(eta, extended);
-    C.rounding_margin = proof.margin;
-    C.residual = proof.residual;
-    C.worst_case_residual = proof.worst_case_residual;
-    C.formation_error = proof.formation_error;
-    return proof.proven;
-  };
-  // η* uses the whole gap tolerance; the proof is tried first at η*/33 (a tighter reported bound, and the
-  // shift that holds on most data sets), then at η*/2 (so the rounding of the bound itself stays inside the
-  // tolerance), each with a double factor; when both fail, the same two with a double-double factor (the
-  // positions of kitti and ais2klinik put the near-null vectors of S below what a double factor resolves).
-  // `proven`: S + η_proven·D ⪰ 0 holds (a valid lower bound); certified when that bound is within the gap.
-  bool proven = false;
-  double eta_proven = 0.0;
-  for (const bool extended : {false, true}) {
-    for (const double fraction : {1.0 / 33.0, 0.5}) {
-      if (eta > 0.0 && proven_at(fraction * eta, extended)) {
-        proven = true;
-        eta_proven = fraction * eta;
-        C.extended_precision = extended;
-        break;
-      }
-    }
-    if (proven) break;
-  }
-  if (!proven) {
+  // The proof of S + η·D ⪰ 0 at the smallest shift it can reach (psd_proof.hpp): η*/33 or η*/2 certify;
+  // otherwise up to 10⁵·gap·max(F, 1)/(dn), the tightest bound that can be proven, outside the tolerance.
+  const detail::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5);
+  C.rounding_margin = search.proof.margin;
+  C.residual = search.proof.residual;
+  C.worst_case_residual = search.proof.worst_case_residual;
+  C.formation_error = search.proof.formation_error;
+  C.extended_precision = search.within_tolerance && search.proof.extended_precision;
+  const bool proven = search.proven;
+  const double eta_proven = search.shift;
+  if (!search.within_tolerance)
     C.message =
         eta > 0.0
             ? std::string("the factorization of W(S + η·D)W − μI broke down at η = η*/2")
             : fmt::format("not stationary enough for the gap tolerance: F − tr(Λ) = {:.3g} exceeds {:.3g}",
                           F - trace, gap_tolerance * std::max(F, 1.0));
-    // Outside the tolerance: the tightest bound that can still be proven, the shift raised tenfold at a time.
-    const double eta_ref = gap_tolerance * std::max(F, 1.0) / dn;
-    for (const double m : {10.0, 100.0, 1e3, 1e4, 1e5}) {
-      if (proven_at(m * eta_ref, false)) {
-        proven = true;
-        eta_proven = m * eta_ref;
-        break;
-      }
-    }
-  }
   C.tolerance_shift = eta;
   C.shift = proven ? eta_proven : eta;
   bool certified = false;

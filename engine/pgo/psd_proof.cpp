@@ -142,4 +142,31 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
   return out;
 }
 
+ShiftSearch ShiftedPsdProver::shift_search(double eta_star, double reference, int escalation) {
+  ShiftSearch out;
+  auto attempt = [&](double eta, bool extended) {
+    ++out.attempts;
+    out.proof = prove(eta, extended);
+    if (!out.proof.proven) {
+      out.largest_failed = std::max(out.largest_failed, eta);
+      return false;
+    }
+    out.proven = true;
+    out.shift = eta;
+    return true;
+  };
+  if (eta_star > 0.0)
+    for (const bool extended : {false, true})
+      if (attempt(eta_star / 33.0, extended) || attempt(0.5 * eta_star, extended)) {
+        out.within_tolerance = true;
+        return out;
+      }
+  double eta = reference;
+  for (int k = 1; k <= escalation; ++k) {
+    eta *= 10.0;
+    if (attempt(eta, false)) return out;
+  }
+  return out;
+}
+
 }  // namespace keel::pgo::detail

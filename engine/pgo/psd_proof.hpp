@@ -33,6 +33,16 @@ struct PsdProof {
   double formation_error = 0.0;      // the bound on the error of forming A, in 2-norm (scaled)
 };
 
+// The search for the smallest provable shift that both certificates run (shift_search below).
+struct ShiftSearch {
+  bool proven = false;
+  double shift = 0.0;             // the proven η (when proven)
+  bool within_tolerance = false;  // proven at η*/33 or η*/2 (the shifts the gap tolerance allows)
+  double largest_failed = 0.0;    // the largest shift whose proof failed (0: none)
+  int attempts = 0;
+  PsdProof proof;  // of the proven shift, or of the last attempt when none was proven
+};
+
 class ShiftedPsdProver {
  public:
   // `shifted[k]` = 1 where D has a 1. Analyses the pattern once (CHOLMOD, supernodal).
@@ -41,6 +51,12 @@ class ShiftedPsdProver {
   // to what the residual needs; at most four factorizations), or with `extended` one double-double factor and
   // μ = 2⁻⁸⁰ plus the formation error.
   [[nodiscard]] PsdProof prove(double eta, bool extended);
+  // The decisive shift η* (the largest a gap tolerance allows) is tried at η*/33 (a tighter bound, the shift
+  // that holds on most data sets) and η*/2 (so the rounding of the bound stays inside the tolerance), each
+  // with a double factor, then both with a double-double one; when all fail, the shift is raised tenfold at a
+  // time from `reference` (η_ref·10^k, k = 1 … `escalation`, double factors) to the tightest bound that can
+  // still be proven. η* ≤ 0 skips the first part.
+  [[nodiscard]] ShiftSearch shift_search(double eta_star, double reference, int escalation);
   // The factorization (its last values are those of the last attempt), e.g. for inverse iteration.
   [[nodiscard]] SparseCholesky& cholesky() { return chol_; }
   [[nodiscard]] const DoubleDoubleSymmetric& matrix() const { return S_; }

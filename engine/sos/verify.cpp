@@ -22,8 +22,8 @@ namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 using Triplet = Eigen::Triplet<double>;
 
-// Q = Bᵀ B with B = [r | A]: the homogenized cost matrix, f(z) = [1; z]ᵀ Q [1; z].
-SpMat homogenized_cost(const PlanarProblem& p) {
+// B = [r | A]: f(z) = ‖B [1; z]‖².
+SpMat augmented(const PlanarProblem& p) {
   std::vector<Triplet> t;
   t.reserve(static_cast<std::size_t>(p.a.nonZeros() + p.r.size()));
   for (Eigen::Index k = 0; k < p.r.size(); ++k)
@@ -33,6 +33,11 @@ SpMat homogenized_cost(const PlanarProblem& p) {
       t.emplace_back(static_cast<int>(it.row()), c + 1, it.value());
   SpMat b(p.a.rows(), p.a.cols() + 1);
   b.setFromTriplets(t.begin(), t.end());
+  return b;
+}
+
+// Q = Bᵀ B: the homogenized cost matrix, f(z) = [1; z]ᵀ Q [1; z].
+SpMat homogenized_cost(const SpMat& b) {
   SpMat q = SpMat(b.transpose()) * b;
   q.makeCompressed();
   return q;
@@ -92,7 +97,8 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   }
 
   GlobalCertificate out;
-  const SpMat q = homogenized_cost(p);
+  const SpMat b_cols = augmented(p);
+  const SpMat q = homogenized_cost(b_cols);
   Eigen::VectorXd v(n + 1);
   v(0) = 1.0;
   v.tail(n) = z;
@@ -126,14 +132,7 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   pgo::detail::DoubleDoubleSymmetric S;
   S.n = n + 1;
   {
-    Eigen::SparseMatrix<double, Eigen::RowMajor> b(p.a.rows(), n + 1);
-    std::vector<Triplet> t;
-    for (Eigen::Index k = 0; k < p.r.size(); ++k)
-      if (p.r(k) != 0.0) t.emplace_back(static_cast<int>(k), 0, p.r(k));
-    for (int c = 0; c < p.a.outerSize(); ++c)
-      for (SpMat::InnerIterator it(p.a, c); it; ++it)
-        t.emplace_back(static_cast<int>(it.row()), c + 1, it.value());
-    b.setFromTriplets(t.begin(), t.end());
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> b = b_cols;
     std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(n + 1));
     for (int j = 0; j <= n; ++j) rows_of[static_cast<std::size_t>(j)].push_back(j);  // every diagonal
     for (int r = 0; r < b.outerSize(); ++r)
@@ -193,30 +192,17 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   // The decisive shift: the largest the gap tolerance allows, η* = (gap·max(f, 1) − (f − Σλ)) / poses. The
   // proof is tried at η*/33 and η*/2 with a double factor, then with a double-double one (pgo/psd_proof.hpp).
   out.eta = (o.gap_tolerance * std::max(f, 1.0) - (f - out.multiplier_sum)) / poses;
-  double best = std::numeric_limits<double>::infinity();  // smallest proven shift
-  auto attempt = [&](double eta, bool extended) {
-    const pgo::detail::PsdProof proof = prover.prove(eta, extended);
-    ++out.factorizations;
-    if (proof.proven) {
-      best = eta;
-      out.rounding_margin = proof.margin;
-      out.residual = proof.residual;
-      out.extended_precision = proof.extended_precision;
-    } else {
-      out.failed_shift = std::max(out.failed_shift, eta);
-    }
-    return proof.proven;
-  };
-  if (out.eta > 0.0)
-    for (const bool extended : {false, true})
-      if (attempt(out.eta / 33.0, extended) || attempt(0.5 * out.eta, extended)) break;
-  out.psd = std::isfinite(best);
-  if (!out.psd) {
-    // Outside the tolerance: the tightest bound that can still be proven, the shift raised tenfold at a time.
-    const double eta_ref = o.gap_tolerance * std::max(f, 1.0) / poses;
-    for (int k = 1; k <= o.bound_factorizations; ++k)
-      if (attempt(eta_ref * std::pow(10.0, k), false)) break;
+  const pgo::detail::ShiftSearch search =
+      prover.shift_search(out.eta, o.gap_tolerance * std::max(f, 1.0) / poses, o.bound_factorizations);
+  out.factorizations = search.attempts;
+  out.failed_shift = search.largest_failed;
+  out.psd = search.within_tolerance;
+  if (search.proven) {
+    out.rounding_margin = search.proof.margin;
+    out.residual = search.proof.residual;
+    out.extended_precision = search.proof.extended_precision;
   }
+  const double best = search.proven ? search.shift : std::numeric_limits<double>::infinity();
   out.factor_nonzeros = static_cast<long>(prover.cholesky().factor_nonzeros());
   out.factor_time_s = core::seconds_since(tf);
   out.lambda_min_bound = std::isfinite(best) ? -best : -std::numeric_limits<double>::infinity();

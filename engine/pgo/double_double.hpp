@@ -1,8 +1,9 @@
 // Double-double arithmetic (Dekker 1971; Knuth's TwoSum; the exact product by a fused multiply-add; Joldes,
 // Muller and Popescu, ACM TOMS 2017, for the algorithms and their error bounds), for the certificate of
-// certified.cpp and the extended-precision factorization of sparse_cholesky.cpp. A value is hi + lo with
-// |lo| ≤ u|hi| after every operation below (u = 2⁻⁵³). The rigour of the certificate never rests on the
-// accuracy of div and sqrt: it rests on exact products and on the measured residual. Private to engine/pgo.
+// certified.cpp and sos/verify.cpp and the extended-precision factorization of sparse_cholesky.cpp. A value
+// is hi + lo with |lo| ≤ u|hi| after every operation below (u = 2⁻⁵³). The rigour of the certificate never
+// rests on the accuracy of div and sqrt: it rests on exact products and on the measured residual. Private to
+// engine/pgo and sos.
 #pragma once
 
 #include <cmath>

@@ -1,10 +1,11 @@
 // A sparse symmetric positive-definite factorization L Lᵀ = P A Pᵀ on CHOLMOD for the certified solver
-// (certified.hpp): the symbolic analysis once per sparsity pattern, then numeric factorizations of new
-// values, solves with several right-hand sides, and the largest row count of L that the rounding-error bound
-// of the certificate needs (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed., Thm 10.3: the
-// computed factor satisfies L̂ L̂ᵀ = A + ΔA with |ΔA| ≤ γ_{k+1} |L̂| |L̂ᵀ|, where k bounds the number of products
-// summed for any entry — at most the largest number of nonzeros in a row of L). Private to engine/pgo:
-// cholmod.h is included by the .cpp only.
+// (certified.hpp) and the shifted PSD proof (psd_proof.hpp, which sos/verify.cpp also uses): the symbolic
+// analysis once per sparsity pattern, then numeric factorizations of new values, solves with several
+// right-hand sides, and the largest row count of L that the rounding-error bound of the certificate needs
+// (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed., Thm 10.3: the computed factor satisfies
+// L̂ L̂ᵀ = A + ΔA with |ΔA| ≤ γ_{k+1} |L̂| |L̂ᵀ|, where k bounds the number of products summed for any entry — at
+// most the largest number of nonzeros in a row of L). Private to engine/pgo and the areas that build on its
+// proof (sos); cholmod.h is included by the .cpp only.
 #pragma once
 
 #include <memory>

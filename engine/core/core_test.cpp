@@ -15,6 +15,7 @@
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
 #include "core/random.hpp"
+#include "core/statistics.hpp"
 
 using namespace keel::core;
 namespace fs = std::filesystem;
@@ -135,4 +136,37 @@ TEST_CASE("durations") {
   CHECK(format_duration(12.34) == "12.3s");
   CHECK(format_duration(245.0) == "4m05s");
   CHECK(format_duration(3725.0) == "1h02m");
+}
+
+TEST_CASE("Wilson score interval: Newcombe's (1998) worked values, edges, and coverage") {
+  // Newcombe, "Two-sided confidence intervals for the single proportion", Stat. Med. 17 (1998), Table I.
+  const struct {
+    double x, n, low, high;
+  } cases[] = {
+      {81, 263, 0.2553, 0.3662}, {15, 148, 0.0624, 0.1605}, {0, 20, 0.0, 0.1611}, {1, 29, 0.0061, 0.1718}};
+  for (const auto& c : cases) {
+    const Proportion p = wilson_interval(c.x, c.n);
+    CHECK(p.rate == doctest::Approx(c.x / c.n));
+    CHECK(std::abs(p.low - c.low) <= 5e-5);  // the table prints four decimals
+    CHECK(std::abs(p.high - c.high) <= 5e-5);
+  }
+  const Proportion all = wilson_interval(300, 300);
+  CHECK(all.high == 1.0);
+  CHECK(all.low > 0.98);
+  CHECK(all.low < 1.0);
+  const Proportion none = wilson_interval(0, 0);
+  CHECK(none.low == 0.0);
+  CHECK(none.high == 1.0);
+  // Coverage by simulation: for p = 0.3 and n = 50, the 95 % interval covers p in about 95 % of samples.
+  Rng rng(7);
+  int covered = 0;
+  const int samples = 4000;
+  for (int k = 0; k < samples; ++k) {
+    int x = 0;
+    for (int i = 0; i < 50; ++i) x += rng.uniform() < 0.3;
+    const Proportion p = wilson_interval(x, 50);
+    covered += p.low <= 0.3 && 0.3 <= p.high;
+  }
+  CHECK(covered / double(samples) > 0.93);
+  CHECK(covered / double(samples) < 0.97);
 }

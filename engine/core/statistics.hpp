@@ -41,4 +41,23 @@ inline double median(std::vector<double> v) {
   return 0.5 * (*mid + *std::max_element(v.begin(), mid));
 }
 
+// The Wilson score interval of a binomial proportion: `successes` of `n` trials, z standard normal quantiles
+// wide (1.96: 95 %). Unlike the Wald interval p ± z √(p(1 − p)/n) it does not collapse to a point at 0 or n
+// successes: 0 of 300 gives [0, 0.0126]. n ≤ 0 gives [0, 1].
+struct Proportion {
+  double rate = 0.0, low = 0.0, high = 1.0;
+};
+inline Proportion wilson_interval(double successes, double n, double z = 1.959963984540054) {
+  Proportion p;
+  if (!(n > 0)) return p;
+  p.rate = successes / n;
+  const double z2 = z * z, denominator = 1.0 + z2 / n;
+  const double centre = (p.rate + z2 / (2.0 * n)) / denominator;
+  const double half = z * std::sqrt(p.rate * (1.0 - p.rate) / n + z2 / (4.0 * n * n)) / denominator;
+  p.low = std::max(0.0, centre - half), p.high = std::min(1.0, centre + half);
+  if (successes <= 0) p.low = 0.0;  // exact at the edges (the formula gives them to rounding)
+  if (successes >= n) p.high = 1.0;
+  return p;
+}
+
 }  // namespace keel::core

@@ -120,20 +120,38 @@ struct ExactnessFamily {
   double translation_noise = 0.1;  // m, normal
   double extent = 3.0;             // true positions uniform in [0, extent]²
   int trials = 50;
+  bool escalate = true;    // try order 2 when order 1 does not certify (and CertifyOptions::escalate)
+  bool noise_map = false;  // a cell of the noise map (order 1 only), not one of the listed families
 };
 
 struct ExactnessOptions {
-  std::vector<ExactnessFamily> families;
-  CertifyOptions certify;  // escalation settings included
+  std::vector<ExactnessFamily> families;  // the listed families, then the noise map's cells
+  CertifyOptions certify;                 // escalation settings included
+  // The independent global minimum: Newton on f (sos::refine_solution) from `multistart_starts` starts with
+  // every angle uniform and every translation zero, the lowest cost kept.
+  int multistart_starts = 50;
+  RefineOptions multistart_refine;
+  GlobalCertificateOptions dual;  // the dual certificate at the best minimum found (sos/verify.hpp)
   void validate() const;
 };
 
 struct ExactnessTrial {
-  bool tight_order1 = false;  // certified by order 1
-  bool certified = false;     // by order 1 or 2
+  bool tight_order1 = false;  // a certified bound on order 1's value within gap_tolerance of the best minimum
+  bool certified_order1 = false;  // order 1's certificate (its rounded, polished answer within tolerance)
+  bool certified = false;         // by order 1 or 2
   bool escalated = false, escalation_skipped = false;
-  double gap_order1 = 0.0;  // relative gap after order 1
-  double rank_ratio = 0.0;  // order 1
+  bool dual_certified = false;  // the dual certificate proves the best minimum found globally optimal
+  double gap_order1 = 0.0;      // (best − max(lower_order1, lower_dual)) / max(best, 1); +inf without a bound
+  double rank_ratio = 0.0;      // order 1
+  // The relaxations' bounds recomputed from DSDP's returned matrices (order 2: 0 unless run).
+  double lower_order1 = 0.0, lower_order2 = 0.0;
+  double upper = 0.0;              // f at solve_certified's answer
+  double multistart = 0.0;         // the lowest f over the multistart
+  double best = 0.0;               // min(upper, multistart): the minimum that tightness is judged against
+  int multistart_hits = 0;         // starts that ended within 1e-8 relative of the multistart's lowest f
+  double dual_gap = 0.0;           // the dual certificate's proven relative gap
+  double lower_dual = 0.0;         // its proven bound Σλ − η · poses (−inf when no shift was proven)
+  double dual_failed_shift = 0.0;  // the largest shift whose PSD proof failed (0: none), λ_min(S) ≲ −it
 };
 
 struct ExactnessOutcome {
@@ -232,7 +250,11 @@ struct PlanarDataset {
 
 // Keys: families (names), one [<table>.<name>] per family with poses, edge_probability, rotation_noise (rad),
 // optional rotation_noise_kind ("normal", or "uniform": rotation measurements uniform on the circle),
-// translation_noise, extent; trials (per family, one key for all); and read_certify_options's.
+// translation_noise, extent, optional escalate (default true); trials (per family, one key for all);
+// multistart_starts, multistart_gradient_tolerance, multistart_max_iterations, dual_bound_factorizations;
+// read_certify_options's; and an optional [noise_map] table: poses (list), rotation_noise (list, rad),
+// edge_probability, translation_noise, extent, expanded into one family per (poses, noise) cell named
+// "map_k<poses>_s<1000·noise>" with escalation off.
 [[nodiscard]] ExactnessOptions read_exactness_options(const core::ConfigTable& t,
                                                       const std::string& families_table);
 

@@ -2,6 +2,8 @@
 // of [thesis.agreement] and [thesis.orderings] that go beyond an absolute or relative tolerance.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,31 @@ struct BinomialComparison {
 };
 [[nodiscard]] BinomialComparison compare_rates(double ours, double n_ours, double thesis, double n_thesis,
                                                double z = 2.0, double rounding = 0.0);
+
+// A paired comparison of two methods run on the same trials (docs/GRADING.md, "Paired orderings"): the
+// statistic of `a` minus that of `b`, a percentile bootstrap interval for it (trials resampled with
+// replacement, the same resample for both methods, so the pairing is kept), and an exact two-sided sign test
+// on the per-trial differences a_i − b_i (ties, |a_i − b_i| ≤ 1e-12 · max(|a_i|, |b_i|), dropped). An
+// ordering "a below b" holds only when the whole interval lies below 0; "no significant difference" when it
+// contains 0.
+struct PairedComparison {
+  double difference = 0;               // statistic(a) − statistic(b) on the trials as they are
+  double low = 0, high = 0;            // the bootstrap interval (level `confidence`)
+  int below = 0, above = 0, ties = 0;  // trials with a_i < b_i, a_i > b_i, a_i = b_i
+  double sign_p = 1;                   // two-sided exact binomial p of below against above
+  [[nodiscard]] bool lower() const { return high < 0; }  // a significantly below b
+  [[nodiscard]] bool higher() const { return low > 0; }  // a significantly above b
+};
+// `statistic` maps a sample to a number (the median of the differences is the usual one: pass
+// `median_of_differences = true` and the statistic is applied to the per-trial differences a_i − b_i instead
+// of to a and b separately). Deterministic for a given seed. Throws std::invalid_argument when a and b differ
+// in size or are empty, resamples < 100, or confidence is not in (0, 1).
+[[nodiscard]] PairedComparison paired_comparison(const std::vector<double>& a, const std::vector<double>& b,
+                                                 const std::function<double(std::vector<double>)>& statistic,
+                                                 bool median_of_differences, int resamples = 2000,
+                                                 double confidence = 0.95, std::uint64_t seed = 1);
+// The exact two-sided sign test: P(X ≤ min(k, n − k)) · 2 (capped at 1) for X ~ Binomial(n, 1/2).
+[[nodiscard]] double sign_test_p(int below, int above);
 
 // Whether our values put the quantities in the thesis's order: every pair the thesis orders strictly (a < b)
 // must not be reversed in ours beyond a relative tie tolerance (ties in ours fit either order; thesis ties

@@ -74,3 +74,74 @@ TEST_CASE("ordering: brute force over every permutation of four values") {
     CHECK(ordering_reversals(n, thesis, ours).size() == static_cast<std::size_t>(inversions));
   } while (std::next_permutation(perm.begin(), perm.end()));
 }
+
+TEST_CASE("paired comparison: the exact sign test") {
+  CHECK(sign_test_p(0, 0) == 1.0);
+  CHECK(sign_test_p(5, 5) == 1.0);
+  CHECK(sign_test_p(0, 10) == doctest::Approx(2.0 / 1024));
+  CHECK(sign_test_p(8, 2) == doctest::Approx(2.0 * (1 + 10 + 45) / 1024));
+  // Large n, by the normal approximation: 600 against 400 is z = 6.3, p ~ 3e-10.
+  CHECK(sign_test_p(600, 400) < 1e-9);
+  CHECK(sign_test_p(600, 400) > 1e-11);
+}
+
+TEST_CASE("paired comparison: a per-trial shift hidden by the spread between trials is found") {
+  // Trial difficulty varies by orders of magnitude, method a is 10 % better on every trial: unpaired medians
+  // are within each other's spread, the paired median difference is clearly below 0.
+  std::mt19937_64 g(5);
+  std::lognormal_distribution<double> difficulty(0.0, 2.0);
+  std::normal_distribution<double> jitter(0.0, 0.02);
+  std::vector<double> a, b;
+  for (int i = 0; i < 200; ++i) {
+    const double d = difficulty(g);
+    b.push_back(d * (1 + jitter(g)));
+    a.push_back(0.9 * d * (1 + jitter(g)));
+  }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  };
+  const PairedComparison c = paired_comparison(a, b, median, true);
+  CHECK(c.lower());
+  CHECK_FALSE(c.higher());
+  CHECK(c.below > 190);
+  CHECK(c.sign_p < 1e-40);
+  CHECK(c.low <= c.difference);
+  CHECK(c.difference <= c.high);
+  // The reverse comparison is the mirror image.
+  const PairedComparison r = paired_comparison(b, a, median, true);
+  CHECK(r.higher());
+  CHECK(r.below == c.above);
+  // A statistic of each sample (not of the differences): the difference of the two medians.
+  const PairedComparison m = paired_comparison(a, b, median, false);
+  CHECK(m.difference == doctest::Approx(median(a) - median(b)));
+  CHECK(m.lower());
+}
+
+TEST_CASE("paired comparison: two samples of one distribution differ significantly about 5 % of the time") {
+  std::mt19937_64 g(11);
+  std::exponential_distribution<double> e(1.0);
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  int significant = 0;
+  const int runs = 200;
+  for (int k = 0; k < runs; ++k) {
+    std::vector<double> a, b;
+    for (int i = 0; i < 101; ++i) a.push_back(e(g)), b.push_back(e(g));
+    const PairedComparison c =
+        paired_comparison(a, b, median, true, 500, 0.95, static_cast<std::uint64_t>(k));
+    significant += c.lower() || c.higher();
+  }
+  CHECK(significant <= runs / 10);  // nominal 5 %; 10 is the binomial tail at this count
+}
+
+TEST_CASE("paired comparison: bad input is refused") {
+  const auto id = [](std::vector<double> v) { return v.empty() ? 0.0 : v[0]; };
+  CHECK_THROWS_AS((void)paired_comparison({1, 2}, {1}, id, true), std::invalid_argument);
+  CHECK_THROWS_AS((void)paired_comparison({}, {}, id, true), std::invalid_argument);
+  CHECK_THROWS_AS((void)paired_comparison({1}, {1}, id, true, 10), std::invalid_argument);
+  CHECK_THROWS_AS((void)paired_comparison({1}, {1}, id, true, 1000, 1.5), std::invalid_argument);
+}

@@ -42,6 +42,27 @@ AlignmentProblem problem_of(const sim::HullWorld& w) {
   return p;
 }
 
+EstimateScore score_estimate(const AlignmentProblem& p, const Transform2& a, double theta, double tx,
+                             double ty, double valid_tolerance) {
+  EstimateScore e;
+  double cx = 0, cy = 0;
+  for (std::size_t j = 0; j < p.query_size(); ++j) cx += p.query_x[j], cy += p.query_y[j];
+  cx /= static_cast<double>(p.query_size()), cy /= static_cast<double>(p.query_size());
+  e.rot_error = wrap(project_to_rigid(a, cx, cy).theta - theta);
+  e.rot_se = e.rot_error * e.rot_error;
+  const double ea = wrap(std::atan2(a.a21, a.a11) - theta);
+  e.rot_se_atan2 = ea * ea;
+  const double ex = a.a11 * cx + a.a12 * cy + a.tx, ey = a.a21 * cx + a.a22 * cy + a.ty;
+  const double c = std::cos(theta), s = std::sin(theta);
+  const double gx = c * cx - s * cy + tx, gy = s * cx + c * cy + ty;
+  e.trans_se = (ex - gx) * (ex - gx) + (ey - gy) * (ey - gy);
+  e.trans_se_origin = (a.tx - tx) * (a.tx - tx) + (a.ty - ty) * (a.ty - ty);
+  singular_values(a, e.singular_max, e.singular_min);
+  e.radius = std::hypot(a.a11, a.a21);
+  e.valid = approximately_valid(a, valid_tolerance);
+  return e;
+}
+
 MethodOutcome score_alignment(const AlignmentProblem& p, const AlignResult& r, double theta, double tx,
                               double ty, double valid_tolerance) {
   MethodOutcome o;
@@ -51,18 +72,17 @@ MethodOutcome score_alignment(const AlignmentProblem& p, const AlignResult& r, d
   o.sector = r.sector;
   o.rounds = static_cast<int>(r.rounds.size());
   for (const auto& t : r.rounds) o.lp_solves += t.solves;
-  const double e = wrap(r.rigid.theta - theta);
-  o.rot_se = e * e;
-  double cx = 0, cy = 0;
-  for (std::size_t j = 0; j < p.query_size(); ++j) cx += p.query_x[j], cy += p.query_y[j];
-  cx /= static_cast<double>(p.query_size()), cy /= static_cast<double>(p.query_size());
-  const double ex = r.raw.a11 * cx + r.raw.a12 * cy + r.raw.tx,
-               ey = r.raw.a21 * cx + r.raw.a22 * cy + r.raw.ty;
-  const double c = std::cos(theta), s = std::sin(theta);
-  const double gx = c * cx - s * cy + tx, gy = s * cx + c * cy + ty;
-  o.trans_se = (ex - gx) * (ex - gx) + (ey - gy) * (ey - gy);
-  singular_values(r.raw, o.singular_max, o.singular_min);
-  o.valid = approximately_valid(r.raw, valid_tolerance);
+  o.final_score = score_estimate(p, r.raw, theta, tx, ty, valid_tolerance);
+  // r.rigid keeps the centroid where r.raw puts it, so its angle is the polar projection scored above.
+  o.rot_se = o.final_score.rot_se;
+  o.trans_se = o.final_score.trans_se;
+  o.singular_min = o.final_score.singular_min, o.singular_max = o.final_score.singular_max;
+  o.valid = o.final_score.valid;
+  for (const auto& t : r.rounds) {
+    EstimateScore e = score_estimate(p, t.transform, theta, tx, ty, valid_tolerance);
+    e.half_width = t.half_width;
+    o.round_scores.push_back(e);
+  }
   o.time_s = r.time_s;
   return o;
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "align/align.hpp"
@@ -33,9 +34,27 @@ using align::Transform2;
 // The known-depth problem of a hull world (eq. 3.9): positions with depths.
 [[nodiscard]] AlignmentProblem problem_of(const sim::HullWorld& world);
 
-// How one method did on one world. Errors are those of Table 3.1 as we define them (the thesis does not):
-// rotation SE = wrap(θ̂ − θ)² with θ̂ the polar projection of the estimate; translation SE = |T̂(p̄) − T(p̄)|²
-// at the query centroid p̄ (removes the lever arm of the rotation error).
+// One estimate scored against the truth (θ, t): the final answer, or one round's of the shrinking schedule.
+// Errors are those of Table 3.1 as we define them (the thesis does not). Primary: rotation SE = wrap(θ̂ − θ)²
+// with θ̂ the polar projection of the estimate (the closest rotation to A in the Frobenius norm, whatever the
+// parameterization); translation SE = |T̂(p̄) − T(p̄)|² at the query centroid p̄ (removes the lever arm of the
+// rotation error, so a rotation error is not counted twice). Variants: θ̂ from atan2(a21, a11) (the angle of
+// A's first column, which is what a reader of the raw matrix would take), and |t̂ − t|² at the query frame's
+// origin (T's translation part itself).
+struct EstimateScore {
+  double rot_se = 0, trans_se = 0;               // primary
+  double rot_se_atan2 = 0, trans_se_origin = 0;  // variants
+  double rot_error = 0;                          // wrap(θ̂ − θ), signed (polar)
+  double singular_min = 0, singular_max = 0;     // of the estimated A
+  double radius = 0;                             // hypot(a11, a21): |(c, s)| for the rotation-like methods
+  bool valid = false;                            // approximately_valid(A, valid_tolerance)
+  double half_width = 0;                         // the round's box half-width (0 for the final answer)
+};
+[[nodiscard]] EstimateScore score_estimate(const AlignmentProblem& problem, const Transform2& estimate,
+                                           double theta, double tx, double ty, double valid_tolerance);
+
+// How one method did on one world: the final answer, and every round of the shrinking schedule (round 0 =
+// every reference point, no shrinking).
 struct MethodOutcome {
   Transform2 raw;
   Rigid2 rigid;
@@ -46,8 +65,17 @@ struct MethodOutcome {
   int sector = -1;
   int rounds = 0, lp_solves = 0;
   double time_s = 0;  // round-0 hulls (shared by the methods, counted for each) + align()
+  EstimateScore final_score;
+  std::vector<EstimateScore> round_scores;  // [round]
+  auto fields() {
+    return std::tie(raw, rigid, rot_se, trans_se, singular_min, singular_max, valid, cost, sector, rounds,
+                    lp_solves, time_s, final_score, round_scores);
+  }
+  auto fields() const {
+    return std::tie(raw, rigid, rot_se, trans_se, singular_min, singular_max, valid, cost, sector, rounds,
+                    lp_solves, time_s, final_score, round_scores);
+  }
 };
-
 // The certificate of one world (beyond the thesis): the global optimum over SO(2) of round 0's hull
 // objective (every reference point), against the proposed method's round-0 answer.
 struct CertificateOutcome {

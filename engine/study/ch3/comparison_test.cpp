@@ -140,10 +140,57 @@ TEST_CASE("run_hull_study scores every method on every world, independent of thr
       score_alignment(p, align(p, ao), w1.theta, w1.tx, w1.ty, o.compare.valid_tolerance);
   CHECK(direct.rot_se == a.outcomes[0][1].rot_se);
   CHECK(direct.trans_se == a.outcomes[0][1].trans_se);
+  // Every round is scored, and the last round's estimate is the final answer.
+  REQUIRE(direct.round_scores.size() == static_cast<std::size_t>(direct.rounds));
+  CHECK(direct.round_scores.back().rot_se == direct.rot_se);
+  CHECK(direct.round_scores.back().trans_se == direct.trans_se);
+  CHECK(direct.round_scores.front().half_width > direct.round_scores.back().half_width);
+  CHECK(a.outcomes[0][1].round_scores.size() == direct.round_scores.size());  // carried through the archive
 
   o.worlds = 0;
   CHECK_THROWS_AS((void)run_hull_study(o, RunContext(Streams(11))), std::invalid_argument);
   CHECK(keel::testkit::contains(
       keel::testkit::message_of([&] { (void)run_hull_study(o, RunContext(Streams(11))); }),
       "HullStudyOptions.worlds"));
+}
+
+TEST_CASE("score_estimate: the primary errors and their variants on known transforms") {
+  AlignmentProblem p;
+  p.query_x = {10, 12, 14}, p.query_y = {20, 20, 23};  // centroid (12, 21)
+  const double theta = 0.3, tx = 5, ty = -2;
+  // The truth itself: every error 0, radius 1, valid.
+  Transform2 t{std::cos(theta), -std::sin(theta), std::sin(theta), std::cos(theta), tx, ty};
+  EstimateScore e = score_estimate(p, t, theta, tx, ty, 0.05);
+  CHECK(e.rot_se == doctest::Approx(0).scale(1));
+  CHECK(e.trans_se == doctest::Approx(0).scale(1));
+  CHECK(e.trans_se_origin == doctest::Approx(0).scale(1));
+  CHECK(e.radius == doctest::Approx(1));
+  CHECK(e.valid);
+  // A rotation error δ about the centroid: rotation SE δ² both ways, no translation error at the centroid,
+  // and at the origin the lever arm |R(θ + δ) p̄ − R(θ) p̄|² = 4 sin²(δ/2) |p̄|².
+  const double d = 0.01, cx = 12, cy = 21;
+  const double c = std::cos(theta + d), s = std::sin(theta + d);
+  const double gx = std::cos(theta) * cx - std::sin(theta) * cy + tx,
+               gy = std::sin(theta) * cx + std::cos(theta) * cy + ty;
+  Transform2 r{c, -s, s, c, gx - (c * cx - s * cy), gy - (s * cx + c * cy)};
+  e = score_estimate(p, r, theta, tx, ty, 0.05);
+  CHECK(e.rot_error == doctest::Approx(d));
+  CHECK(e.rot_se == doctest::Approx(d * d));
+  CHECK(e.rot_se_atan2 == doctest::Approx(d * d));
+  CHECK(e.trans_se == doctest::Approx(0).scale(1));
+  CHECK(e.trans_se_origin == doctest::Approx(4 * std::sin(d / 2) * std::sin(d / 2) * (cx * cx + cy * cy)));
+  // A scaled rotation (the octagon's edge midpoint radius): the polar angle is the rotation's, the radius the
+  // scale, and it is valid at a tolerance above 4 % but not at 1 %.
+  const double k = 0.9619;
+  Transform2 sc{k * std::cos(theta), -k * std::sin(theta), k * std::sin(theta), k * std::cos(theta), tx, ty};
+  e = score_estimate(p, sc, theta, tx, ty, 0.05);
+  CHECK(e.radius == doctest::Approx(k));
+  CHECK(e.rot_se == doctest::Approx(0).scale(1));
+  CHECK(e.valid);
+  CHECK_FALSE(score_estimate(p, sc, theta, tx, ty, 0.01).valid);
+  // A shear: atan2(a21, a11) and the polar projection disagree.
+  Transform2 sh{1, 0.3, 0, 1, tx, ty};
+  e = score_estimate(p, sh, 0.0, tx, ty, 0.05);
+  CHECK(e.rot_se_atan2 == doctest::Approx(0).scale(1));
+  CHECK(e.rot_se > 1e-3);
 }

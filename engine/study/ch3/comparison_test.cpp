@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "study/ch3/comparison.hpp"
+#include "study/ch3/studies.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/hull_world.hpp"
 
@@ -193,4 +194,25 @@ TEST_CASE("score_estimate: the primary errors and their variants on known transf
   e = score_estimate(p, sh, 0.0, tx, ty, 0.05);
   CHECK(e.rot_se_atan2 == doctest::Approx(0).scale(1));
   CHECK(e.rot_se > 1e-3);
+}
+
+TEST_CASE("sensitivity: the length-scale sweep keeps the field's coverage and shares the base point") {
+  keel::study::ch3::Sensitivity::Options o;
+  o.study.world.bumps = 40, o.study.world.bump_sigma_min = 3, o.study.world.bump_sigma_max = 8;
+  o.study.world.feature_noise = 0.3, o.study.world.query_size = 24;
+  o.noises = {0.1, 0.3}, o.sizes = {12, 24}, o.scales = {{0.5, 1.0}, {3.0, 8.0}};
+  const auto points = o.axis(2);
+  REQUIRE(points.size() == 2);
+  CHECK(points[0].noise == 0.3);
+  CHECK(points[0].size == 24);
+  // E[σ²] of U[3, 8] is 97/3, of U[0.5, 1] 1.75/3: 40 · 97 / 1.75 = 2217.1 bumps.
+  const keel::sim::AlignmentWorldOptions fine = o.world_at(points[0]);
+  CHECK(fine.bumps == 2217);
+  CHECK(fine.bump_sigma_min == 0.5);
+  CHECK(fine.bump_sigma_max == 1.0);
+  // The base range is the base world itself: the same point as the other sweeps' base.
+  CHECK(o.world_at(points[1]).bumps == 40);
+  CHECK_FALSE(points[1] < o.axis(0)[1]);
+  CHECK_FALSE(o.axis(0)[1] < points[1]);
+  CHECK(o.axis(1)[0].size == 12);
 }

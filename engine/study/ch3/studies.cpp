@@ -483,35 +483,65 @@ Sensitivity::Options Sensitivity::Options::read(const core::ConfigTable& p) {
   if (o.noises.empty())
     throw core::ConfigError(fmt::format("{}: must not be empty", p.where("noise_values")));
   if (o.sizes.empty()) throw core::ConfigError(fmt::format("{}: must not be empty", p.where("query_sizes")));
+  if (p.has("field_sigma_min") || p.has("field_sigma_max")) {
+    const std::vector<double> lo = p.numbers("field_sigma_min"), hi = p.numbers("field_sigma_max");
+    if (lo.size() != hi.size())
+      throw core::ConfigError(fmt::format("{}: {} values against {} in field_sigma_min",
+                                          p.where("field_sigma_max"), hi.size(), lo.size()));
+    for (std::size_t k = 0; k < lo.size(); ++k) {
+      if (!(lo[k] > 0 && lo[k] <= hi[k]))
+        throw core::ConfigError(fmt::format("{}: range {} is [{}, {}]: need 0 < min <= max",
+                                            p.where("field_sigma_min"), k, lo[k], hi[k]));
+      o.scales.emplace_back(lo[k], hi[k]);
+    }
+  }
   o.study.compare.certify = false;
   return o;
 }
 
-const AlignmentStudyOutcome& Sensitivity::Outcome::at(double noise, double size) const {
-  return points.at({noise, size});
+std::vector<Sensitivity::Point> Sensitivity::Options::axis(int which) const {
+  const Point base{study.world.feature_noise, study.world.query_size, study.world.bump_sigma_min,
+                   study.world.bump_sigma_max};
+  std::vector<Point> points;
+  if (which == 0)
+    for (double n : noises) points.push_back(Point{n, base.size, base.sigma_min, base.sigma_max});
+  if (which == 1)
+    for (double s : sizes) points.push_back(Point{base.noise, s, base.sigma_min, base.sigma_max});
+  if (which == 2)
+    for (const auto& [lo, hi] : scales) points.push_back(Point{base.noise, base.size, lo, hi});
+  return points;
 }
+
+sim::AlignmentWorldOptions Sensitivity::Options::world_at(const Point& p) const {
+  sim::AlignmentWorldOptions w = study.world;
+  w.feature_noise = p.noise;
+  w.query_size = p.size;
+  const auto second_moment = [](double a, double b) { return (a * a + a * b + b * b) / 3.0; };
+  if (p.sigma_min != w.bump_sigma_min || p.sigma_max != w.bump_sigma_max) {
+    w.bumps = static_cast<int>(std::lround(w.bumps * second_moment(w.bump_sigma_min, w.bump_sigma_max) /
+                                           second_moment(p.sigma_min, p.sigma_max)));
+    w.bump_sigma_min = p.sigma_min, w.bump_sigma_max = p.sigma_max;
+  }
+  return w;
+}
+
+const AlignmentStudyOutcome& Sensitivity::Outcome::at(const Point& p) const { return points.at(p); }
 
 Sensitivity::Outcome Sensitivity::run(const Options& o, const RunContext& context) {
   Outcome out;
   out.options = o;
-  const double base_noise = o.study.world.feature_noise, base_size = o.study.world.query_size;
-  std::vector<std::pair<double, double>> order;  // the points in the order the sweeps visit them
-  for (double n : o.noises) order.emplace_back(n, base_size);
-  for (double s : o.sizes) order.emplace_back(base_noise, s);
-  std::size_t distinct = 0;
-  {
-    std::map<std::pair<double, double>, int> seen;
-    for (const auto& k : order) seen[k] = 1;
-    distinct = seen.size();
-  }
+  std::vector<Point> order;  // the points in the order the sweeps visit them
+  for (int a = 0; a < 3; ++a)
+    for (const Point& p : o.axis(a)) order.push_back(p);
+  std::map<Point, int> seen;
+  for (const auto& p : order) seen[p] = 1;
+  const std::size_t distinct = seen.size();
   core::Progress progress = context.progress(distinct * o.study.worlds);
-  for (const auto& [noise, size] : order) {
-    if (out.points.count({noise, size})) continue;
+  for (const Point& p : order) {
+    if (out.points.count(p)) continue;
     AlignmentStudyOptions q = o.study;
-    q.world.feature_noise = noise;
-    q.world.query_size = size;
-    out.points.emplace(std::make_pair(noise, size),
-                       run_alignment_study(q, context, &progress));  // same worlds
+    q.world = o.world_at(p);
+    out.points.emplace(p, run_alignment_study(q, context, &progress));  // same worlds
   }
   progress.finish();
   return out;
@@ -520,38 +550,72 @@ Sensitivity::Outcome Sensitivity::run(const Options& o, const RunContext& contex
 namespace {
 struct SensitivityAxis {
   std::string tag, what, xlabel;
-  std::vector<double> values;
-  bool noise;
+  std::vector<Sensitivity::Point> points;
+  std::vector<double> x;  // the swept value (for a σ range: its midpoint)
 };
 std::vector<SensitivityAxis> sensitivity_axes(const Sensitivity::Options& o) {
-  return {SensitivityAxis{"noise", "feature noise", "feature noise std (field RMS 1)", o.noises, true},
-          SensitivityAxis{"size", "query size", "query square side (m), reference 60 m", o.sizes, false}};
+  std::vector<SensitivityAxis> axes = {
+      {"noise", "feature noise", "feature noise std (field RMS 1)", o.axis(0), o.noises},
+      {"size", "query size", "query square side (m), reference 60 m", o.axis(1), o.sizes}};
+  if (!o.scales.empty()) {
+    std::vector<double> mid;
+    for (const auto& [lo, hi] : o.scales) mid.push_back(0.5 * (lo + hi));
+    axes.push_back({"scale", "field length scale",
+                    "feature bump σ, middle of its range (m); tracklines 2 m apart", o.axis(2), mid});
+  }
+  return axes;
 }
-// Per method: the median rotation SE, median translation SE and valid rate at each value of the axis.
+// Per method: the median rotation SE, median translation SE and valid rate (with its Wilson interval) at each
+// point of the axis.
 struct SensitivityCurve {
   std::string name;
-  std::vector<double> rot, trans, valid;
+  std::vector<double> rot, trans, valid, valid_low, valid_high;
 };
 std::vector<SensitivityCurve> sensitivity_curves(const Sensitivity::Outcome& out,
                                                  const SensitivityAxis& axis) {
   const auto& o = out.options;
-  const double base_noise = o.study.world.feature_noise, base_size = o.study.world.query_size;
   std::vector<SensitivityCurve> curves;
   for (std::size_t m = 0; m < o.study.compare.methods.size(); ++m) {
     SensitivityCurve c;
     c.name = std::string(align::to_string(o.study.compare.methods[m]));
-    for (double v : axis.values) {
-      const auto& st = axis.noise ? out.at(v, base_size) : out.at(base_noise, v);
+    for (const auto& p : axis.points) {
+      const auto& st = out.at(p);
       std::vector<double> rs, ts;
       double ok = 0;
       for (const auto& w : st.outcomes[m]) rs.push_back(w.rot_se), ts.push_back(w.trans_se), ok += w.valid;
       c.rot.push_back(fenced_summary(rs).median);
       c.trans.push_back(fenced_summary(ts).median);
-      c.valid.push_back(100.0 * ok / static_cast<double>(o.study.worlds));
+      const core::Proportion v = core::wilson_interval(ok, static_cast<double>(o.study.worlds));
+      c.valid.push_back(100.0 * v.rate), c.valid_low.push_back(100.0 * v.low),
+          c.valid_high.push_back(100.0 * v.high);
     }
     curves.push_back(std::move(c));
   }
   return curves;
+}
+// Proposed against each other method at one point, by the paired rule (median of per-world differences).
+struct PairedAtPoint {
+  std::vector<repro::PairedComparison> rot, trans;  // [other method]
+  std::vector<std::string> others;
+};
+PairedAtPoint paired_at(const AlignmentStudyOutcome& st) {
+  PairedAtPoint r;
+  const auto it = std::find(st.methods.begin(), st.methods.end(), Method::proposed);
+  if (it == st.methods.end()) return r;
+  const auto p = static_cast<std::size_t>(it - st.methods.begin());
+  const auto median = [](std::vector<double> v) { return median_of(std::move(v)); };
+  const auto values = [&](std::size_t m, bool rot) {
+    std::vector<double> v;
+    for (const auto& w : st.outcomes[m]) v.push_back(rot ? w.rot_se : w.trans_se);
+    return v;
+  };
+  for (std::size_t m = 0; m < st.methods.size(); ++m) {
+    if (m == p) continue;
+    r.others.emplace_back(align::to_string(st.methods[m]));
+    r.rot.push_back(repro::paired_comparison(values(p, true), values(m, true), median, true));
+    r.trans.push_back(repro::paired_comparison(values(p, false), values(m, false), median, true));
+  }
+  return r;
 }
 }  // namespace
 
@@ -559,12 +623,66 @@ void Sensitivity::record(Results& r, const Outcome& out) {
   r.metric("worlds", static_cast<double>(out.options.study.worlds));
   r.series("noise.feature_noise", out.options.noises);
   r.series("size.query_size", out.options.sizes);
-  for (const SensitivityAxis& axis : sensitivity_axes(out.options))
+  if (!out.options.scales.empty()) {
+    std::vector<double> lo, hi, bumps;
+    for (const Point& p : out.options.axis(2)) {
+      lo.push_back(p.sigma_min), hi.push_back(p.sigma_max);
+      bumps.push_back(out.options.world_at(p).bumps);
+    }
+    r.series("scale.sigma_min", lo);
+    r.series("scale.sigma_max", hi);
+    r.series("scale.bumps", bumps);
+  }
+  // Over the distinct points: where Proposed is significantly below every other method (best), significantly
+  // above every other (worst), or neither, in each error.
+  int points = 0, best_rot = 0, worst_rot = 0, best_trans = 0, worst_trans = 0, below_some_rot = 0,
+      above_some_rot = 0, below_some_trans = 0, above_some_trans = 0;
+  for (const auto& [point, st] : out.points) {
+    const PairedAtPoint pp = paired_at(st);
+    if (pp.others.empty()) continue;
+    ++points;
+    const auto all = [](const std::vector<repro::PairedComparison>& v, bool lower) {
+      return std::all_of(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); });
+    };
+    const auto any = [](const std::vector<repro::PairedComparison>& v, bool lower) {
+      return std::any_of(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); });
+    };
+    best_rot += all(pp.rot, true), worst_rot += all(pp.rot, false);
+    best_trans += all(pp.trans, true), worst_trans += all(pp.trans, false);
+    below_some_rot += any(pp.rot, true), above_some_rot += any(pp.rot, false);
+    below_some_trans += any(pp.trans, true), above_some_trans += any(pp.trans, false);
+  }
+  r.metric("points", points);
+  r.metric("proposed_best.rot_se", best_rot);
+  r.metric("proposed_worst.rot_se", worst_rot);
+  r.metric("proposed_best.trans_se", best_trans);
+  r.metric("proposed_worst.trans_se", worst_trans);
+  r.metric("proposed_below_some.rot_se", below_some_rot);
+  r.metric("proposed_above_some.rot_se", above_some_rot);
+  r.metric("proposed_below_some.trans_se", below_some_trans);
+  r.metric("proposed_above_some.trans_se", above_some_trans);
+  for (const SensitivityAxis& axis : sensitivity_axes(out.options)) {
     for (const SensitivityCurve& c : sensitivity_curves(out, axis)) {
       r.series(c.name + "." + axis.tag + ".rot_se.median", c.rot);
       r.series(c.name + "." + axis.tag + ".trans_se.median", c.trans);
       r.series(c.name + "." + axis.tag + ".valid_rate", c.valid);
+      r.series(c.name + "." + axis.tag + ".valid_rate.ci_low", c.valid_low);
+      r.series(c.name + "." + axis.tag + ".valid_rate.ci_high", c.valid_high);
     }
+    // Paired: Proposed minus each other method, median of per-world differences with its bootstrap interval.
+    std::map<std::string, std::vector<double>> series;
+    for (const Point& p : axis.points) {
+      const PairedAtPoint pp = paired_at(out.at(p));
+      for (std::size_t k = 0; k < pp.others.size(); ++k)
+        for (const auto& [label, c] : {std::pair{"rot_se", pp.rot[k]}, std::pair{"trans_se", pp.trans[k]}}) {
+          const std::string key = fmt::format("paired.{}.{}.{}", axis.tag, label, pp.others[k]);
+          series[key + ".difference"].push_back(c.difference);
+          series[key + ".low"].push_back(c.low);
+          series[key + ".high"].push_back(c.high);
+        }
+    }
+    for (auto& [key, v] : series) r.series(key, std::move(v));
+  }
 }
 
 std::vector<Figure> Sensitivity::figures(const Outcome& out) {
@@ -572,12 +690,15 @@ std::vector<Figure> Sensitivity::figures(const Outcome& out) {
   Figure f;
   f.file = ".png";
   f.title = fmt::format(
-      "Beyond Table 3.1: sensitivity to feature noise (query {:g} m) and query size (noise {:g}), "
-      "{} worlds per point",
+      "Beyond Table 3.1: sensitivity to feature noise (query {:g} m), query size (noise {:g}) and the "
+      "field's "
+      "length scale, {} worlds per point (valid: 95 % Wilson bars)",
       o.study.world.query_size, o.study.world.feature_noise, o.study.worlds);
-  f.rows = 2, f.cols = 3, f.width = 16.5, f.height = 9.0;
+  const auto axes = sensitivity_axes(o);
+  f.rows = static_cast<int>(axes.size()), f.cols = 3, f.width = 16.5,
+  f.height = 4.5 * static_cast<double>(axes.size());
   const char* markers[] = {"o", "s", "^", "v"};
-  for (const SensitivityAxis& axis : sensitivity_axes(o)) {
+  for (const SensitivityAxis& axis : axes) {
     Panel pr, pt, pv;
     pr.title = "median rotation SE vs " + axis.what, pt.title = "median translation SE vs " + axis.what;
     pv.title = "approx. valid rotations vs " + axis.what;
@@ -591,12 +712,14 @@ std::vector<Figure> Sensitivity::figures(const Outcome& out) {
       std::vector<double> rot = curves[m].rot, trans = curves[m].trans;
       for (auto* v : {&rot, &trans})
         for (double& x : *v) x = std::max(x, 1e-12);  // log axis
-      pr.layers.push_back(
-          repro::line_layer(axis.values, rot, curves[m].name, kColors[m % 4], markers[m % 4]));
-      pt.layers.push_back(
-          repro::line_layer(axis.values, trans, curves[m].name, kColors[m % 4], markers[m % 4]));
+      pr.layers.push_back(repro::line_layer(axis.x, rot, curves[m].name, kColors[m % 4], markers[m % 4]));
+      pt.layers.push_back(repro::line_layer(axis.x, trans, curves[m].name, kColors[m % 4], markers[m % 4]));
       pv.layers.push_back(
-          repro::line_layer(axis.values, curves[m].valid, curves[m].name, kColors[m % 4], markers[m % 4]));
+          repro::line_layer(axis.x, curves[m].valid, curves[m].name, kColors[m % 4], markers[m % 4]));
+      Layer bars;
+      bars.type = "segments", bars.color = kColors[m % 4];
+      bars.x0 = bars.x1 = axis.x, bars.y0 = curves[m].valid_low, bars.y1 = curves[m].valid_high;
+      pv.layers.push_back(bars);
     }
     f.panels.push_back(pr), f.panels.push_back(pt), f.panels.push_back(pv);
   }

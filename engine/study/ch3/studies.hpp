@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -36,19 +37,31 @@ struct AlignmentComparison {
   static std::vector<repro::Figure> figures(const Outcome& outcome);
 };
 
-// Beyond Table 3.1: the methods against feature noise and query size, one comparison per sweep point on the
-// same worlds (streams from base 0 at every point).
+// Beyond Table 3.1: the methods against feature noise, query size and the feature field's length scale, one
+// comparison per sweep point on the same worlds (streams from base 0 at every point).
 struct Sensitivity {
+  // One sweep point: feature noise, the query square's side, and the field's length scale (bump σ range, m).
+  struct Point {
+    double noise = 0, size = 0, sigma_min = 0, sigma_max = 0;
+    [[nodiscard]] auto key() const { return std::tuple(noise, size, sigma_min, sigma_max); }
+    bool operator<(const Point& o) const { return key() < o.key(); }
+  };
   struct Options {
-    AlignmentStudyOptions study;  // certify off
+    AlignmentStudyOptions study;  // certify off; its world is the base point of every sweep
     std::vector<double> noises, sizes;
+    std::vector<std::pair<double, double>> scales;  // bump σ ranges (m); may be empty
     static Options read(const core::ConfigTable& p);
+    // The sweeps: axis 0 the noises, 1 the sizes, 2 the scales, each at the base values of the other two.
+    [[nodiscard]] std::vector<Point> axis(int which) const;
+    // The world options of a point. The bump count is scaled by E[σ²] of the base range over that of the
+    // point's (E[σ²] = (a² + ab + b²)/3 for σ ~ U[a, b]), so every length scale covers the area alike.
+    [[nodiscard]] sim::AlignmentWorldOptions world_at(const Point& p) const;
   };
   struct Outcome {
     Options options;
-    // One comparison per distinct (feature noise, query size); the point the two sweeps share runs once.
-    std::map<std::pair<double, double>, AlignmentStudyOutcome> points;
-    [[nodiscard]] const AlignmentStudyOutcome& at(double noise, double size) const;
+    // One comparison per distinct point; the base point the sweeps share runs once.
+    std::map<Point, AlignmentStudyOutcome> points;
+    [[nodiscard]] const AlignmentStudyOutcome& at(const Point& p) const;
   };
   static Outcome run(const Options& options, const repro::RunContext& context);
   static void record(repro::Results& results, const Outcome& outcome);

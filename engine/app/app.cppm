@@ -1,7 +1,8 @@
 // keel.app — keel on a researcher's own files, the one door of the `keel` command and the Python module:
-// app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), and what a file holds or a
-// two-robot split writes (files.hpp).
+// app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), app::align_surveys
+// (align.hpp), and what a file holds or a two-robot split writes (files.hpp).
 module;
+#include "app/align.hpp"
 #include "app/files.hpp"
 #include "app/marginals.hpp"
 #include "app/pcm.hpp"
@@ -10,6 +11,19 @@ module;
 export module keel.app;
 
 export namespace keel::app {
+// align
+using keel::app::align_surveys;
+using keel::app::AlignSurveysOptions;
+using keel::app::Dissimilarity;
+using keel::app::dissimilarity_from_string;
+using keel::app::read_survey_csv;
+using keel::app::Survey;
+using keel::app::survey_problem;
+using keel::app::SurveyAlignment;
+using keel::app::to_string;
+using keel::app::WorldTruth;
+using keel::app::write_alignment_world;
+using keel::app::write_survey_csv;
 // files
 using keel::app::graph_dimension;
 using keel::app::GraphSummary;

@@ -1,7 +1,7 @@
 // The `keel` command's pieces, one file per subcommand: the reproduction commands (list.cpp, diff.cpp,
 // bless.cpp, report.cpp, eta.cpp, prose_check.cpp, same.cpp) and the commands that run keel on a user's files
-// (check.cpp, solve.cpp, marginals.cpp, pcm.cpp, split.cpp). Included after the importing file's `import`s
-// (DESIGN rule 4).
+// (check.cpp, solve.cpp, marginals.cpp, pcm.cpp, split.cpp, align.cpp). Included after the importing file's
+// `import`s (DESIGN rule 4).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -44,5 +44,6 @@ void add_solve_command(CLI::App& app);
 void add_marginals_command(CLI::App& app);
 void add_pcm_command(CLI::App& app);
 void add_split_command(CLI::App& app);
+void add_align_command(CLI::App& app);
 
 }  // namespace keel::cli

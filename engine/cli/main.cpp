@@ -1,6 +1,7 @@
 // keel — one command for the reproduction machinery (list, diff, bless, report, eta, prose-check, same) and
-// for running keel on a researcher's own files (check, solve, marginals, pcm, split); one file per subcommand
-// (commands.hpp). docs/USING.md has a worked example of each. Exit codes: see Exit in commands.hpp.
+// for running keel on a researcher's own files (check, solve, marginals, pcm, split, align); one file per
+// subcommand (commands.hpp). docs/USING.md has a worked example of each. Exit codes: see Exit in
+// commands.hpp.
 import keel.core;
 import keel.datasets;
 import keel.graph;
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
       "that cannot be read or parsed, or values the engine refuses. Worked examples: docs/USING.md.");
   for (auto add : {add_list_command, add_diff_command, add_bless_command, add_report_command, add_eta_command,
                    add_prose_check_command, add_same_command, add_check_command, add_solve_command,
-                   add_marginals_command, add_pcm_command, add_split_command})
+                   add_marginals_command, add_pcm_command, add_split_command, add_align_command})
     add(app);
   const char* command = argc > 1 ? argv[1] : "keel";
   try {

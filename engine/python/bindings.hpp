@@ -1,5 +1,5 @@
 // keel Python module (pybind11) — what the binding files share: numpy <-> engine conversions and the entry
-// points of each topic (lie.cpp, graph.cpp, solve.cpp, pcm.cpp; module.cpp holds PYBIND11_MODULE).
+// points of each topic (lie.cpp, graph.cpp, solve.cpp, pcm.cpp, align.cpp; module.cpp holds PYBIND11_MODULE).
 //
 // The module includes the engine's ordinary headers and links the keel_<area>_impl libraries (like the unit
 // tests), not the named-module facades: pybind11/eigen.h instantiates Eigen broadly, which the clang-19
@@ -36,6 +36,7 @@ void bind_lie(py::module_& m);
 void bind_graph(py::module_& m);
 void bind_solve(py::module_& m);
 void bind_pcm(py::module_& m);
+void bind_align(py::module_& m);
 
 // ---- single poses
 // -------------------------------------------------------------------------------------------

@@ -13,7 +13,8 @@ keel: multi-agent SLAM building blocks (a reproduction of Mangelson's thesis) fr
 
 Uncertain Lie-group poses (ch. 5: left perturbation T = exp(xi^) T_bar, eq. 5.14), pose-graph files (g2o and
 iSAM text), batch maximum-likelihood solves (eq. 2.1), joint marginal covariances, pairwise consistency of
-inter-robot loop closures (eq. 2.4) and PCM's maximum-clique selection (eq. 2.5).
+inter-robot loop closures (eq. 2.4), PCM's maximum-clique selection (eq. 2.5) and trajectory alignment without
+data association (ch. 3, keel.align).
 
 Conventions: arrays are numpy float64 copies; 2D poses are rows [x, y, theta] (radians, theta in (-pi, pi]),
 3D poses rows [x, y, z, qx, qy, qz, qw] (Hamilton quaternion, qw >= 0); tangents are [rho_x, rho_y, theta]
@@ -50,4 +51,5 @@ range; RuntimeError for numerical failures. Long computations release the GIL.)d
   kp::bind_graph(m);
   kp::bind_solve(m);
   kp::bind_pcm(m);
+  kp::bind_align(m);
 }

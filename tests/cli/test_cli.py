@@ -1,4 +1,4 @@
-"""Tests of the `keel` command on a user's files (check, solve, marginals, pcm, split).
+"""Tests of the `keel` command on a user's files (check, solve, marginals, pcm, split, align, align-world).
 
 Run by CTest (cli.tools) with KEEL set to the binary; from this folder: KEEL=../../build/release/keel
 /usr/bin/python3 -m unittest -v test_cli. Golden outputs are in golden/; the small synthetic graphs are written by the test itself; the
@@ -269,6 +269,48 @@ class Pcm(unittest.TestCase):
             ind = keel_json("pcm", "--a", f"{d}/a.g2o", "--b", f"{d}/b.g2o", "--candidates",
                             f"{d}/candidates.g2o", "--composition", "independent")
             self.assertEqual(ind["composition"], "independent")
+
+
+class Align(unittest.TestCase):
+    def test_a_written_table_world_reproduces_the_experiment(self):
+        """World 0 of ch3_table3_1_alignment written by `keel align-world` and aligned by `keel align` gives the
+        costs ch3_fig3_4_example (that world, the four methods) records in its committed baseline."""
+        with open(os.path.join(REPO, "results", "ch3_fig3_4_example", "baseline.full.json")) as f:
+            base = json.load(f)["metrics"]
+        with tempfile.TemporaryDirectory() as d:
+            world = keel_json("align-world", d, "--index", "0")
+            with open(os.path.join(d, "truth.csv")) as f:
+                self.assertEqual(world["truth"]["theta"], float(f.read().split("\n")[1].split(",")[0]))
+            self.assertAlmostEqual(world["truth"]["theta"], base["world.theta"], delta=1e-10)
+            for method in ("proposed", "so_conv_hull", "symmetric", "affine"):
+                r = keel_json("align", os.path.join(d, "reference.csv"), os.path.join(d, "query.csv"),
+                              "--dissimilarity", "euclidean", "--method", method)
+                # The results files keep 12 significant digits.
+                self.assertAlmostEqual(r["cost"], base[f"{method}.cost"], delta=1e-9 * abs(base[f"{method}.cost"]))
+                self.assertEqual(len(r["rounds"]), 7)
+                self.assertEqual(r["rounds"][-1]["transform"], r["transform"])
+            text, _ = keel("align", os.path.join(d, "reference.csv"), os.path.join(d, "query.csv"), "--certify")
+            self.assertIn("certificate  optimal over SO(2)", text)
+
+    def test_bad_surveys_give_located_errors(self):
+        with tempfile.TemporaryDirectory() as d:
+            ref, query = os.path.join(d, "ref.csv"), os.path.join(d, "query.csv")
+            with open(ref, "w") as f:
+                f.write("x,y,f\n0,0,1\n10,0,2\n0,10,3\n10,10,4\n")
+            with open(query, "w") as f:
+                f.write("x,y,f\n1,1,1\n2,nan,2\n")
+            _, err = keel("align", ref, query, expect=3)
+            self.assertIn(f"{query}:3: column 2: 'nan' is not a finite number", err)
+            with open(query, "w") as f:
+                f.write("0,0,1\n40,0,2\n")
+            _, err = keel("align", ref, query, expect=3)
+            self.assertIn("the query spans 40 m but the reference's bounding box only 14.1 m", err)
+            with open(query, "w") as f:
+                f.write("0,0,1,5\n")
+            _, err = keel("align", ref, query, expect=3)
+            self.assertIn("has 1 feature columns", err)
+            _, err = keel("align", ref, ref, "--method", "rigid", expect=3)
+            self.assertIn("unknown align::Method 'rigid'", err)
 
 
 class BadInput(unittest.TestCase):

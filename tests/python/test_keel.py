@@ -342,6 +342,57 @@ class TestReference(unittest.TestCase):
             g.poses = np.zeros((3, 3))
 
 
+class TestAlign(unittest.TestCase):
+    """keel.align on a survey pair built here with numpy: a smooth two-component field, a 30 m reference
+    lawn-mower and a 12 m query rotated and translated by a known transform, no noise."""
+
+    @staticmethod
+    def field(x, y):
+        return np.stack([np.sin(x / 3.0) + np.cos(y / 4.0), np.cos((x + y) / 5.0) * np.sin(y / 2.5)], axis=1)
+
+    def survey(self):
+        gx, gy = np.meshgrid(np.arange(0.0, 30.0 + 1e-9, 1.0), np.arange(0.0, 30.0 + 1e-9, 2.0))
+        ref = np.stack([gx.ravel(), gy.ravel()], axis=1)
+        qx, qy = np.meshgrid(np.arange(0.0, 12.0 + 1e-9, 1.0), np.arange(0.5, 12.0, 2.0))
+        q_ref = np.stack([qx.ravel() + 9.0, qy.ravel() + 9.0], axis=1)  # the query's positions, reference frame
+        theta, t = 0.6, np.array([4.0, -3.0])  # p_ref = R(theta) p_query + t
+        c, s = math.cos(theta), math.sin(theta)
+        R = np.array([[c, -s], [s, c]])
+        q = (q_ref - t) @ R  # R^T (p_ref - t), row-wise
+        return ref, self.field(ref[:, 0], ref[:, 1]), q, self.field(q_ref[:, 0], q_ref[:, 1]), theta, t
+
+    def test_recovers_the_transform_and_reports_every_round(self):
+        ref, fr, q, fq, theta, t = self.survey()
+        r = keel.align(ref, fr, q, fq)
+        self.assertEqual(r["A"].shape, (2, 2))
+        self.assertLess(abs(math.remainder(r["theta"] - theta, 2 * math.pi)), 0.05)
+        centroid = q.mean(axis=0)
+        c, s = math.cos(theta), math.sin(theta)
+        truth = np.array([[c, -s], [s, c]]) @ centroid + t
+        self.assertLess(np.linalg.norm(r["A"] @ centroid + r["t"] - truth), 0.5)
+        self.assertGreaterEqual(len(r["rounds"]), 2)
+        np.testing.assert_array_equal(r["rounds"][-1]["A"], r["A"])
+        self.assertIsNone(r["certificate"])
+        # The answer does not depend on the thread count; the certificate brackets round 0's objective.
+        r2 = keel.align(ref, fr, q, fq, threads=2, certify=True)
+        np.testing.assert_array_equal(r2["A"], r["A"])
+        self.assertEqual(r2["certificate"]["status"], "optimal")
+        self.assertLessEqual(r2["certificate"]["lower_bound"], r2["certificate"]["upper_bound"])
+
+    def test_bad_input(self):
+        ref, fr, q, fq, _, _ = self.survey()
+        with self.assertRaisesRegex(ValueError, "reference has 2 feature columns, query has 1"):
+            keel.align(ref, fr, q, fq[:, 0])
+        bad = fq.copy()
+        bad[4, 1] = np.nan
+        with self.assertRaisesRegex(ValueError, "query: feature of position 4 column 1 is not finite"):
+            keel.align(ref, fr, q, bad)
+        with self.assertRaisesRegex(ValueError, r"positions must be an \(n, 2\) or \(n, 3\) array"):
+            keel.align(ref[:, 0], fr, q, fq)
+        with self.assertRaisesRegex(ValueError, "unknown align::Method 'rigid'"):
+            keel.align(ref, fr, q, fq, method="rigid")
+
+
 class TestErrors(unittest.TestCase):
     def test_parse_error(self):
         with tempfile.TemporaryDirectory() as d:

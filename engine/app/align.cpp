@@ -1,0 +1,207 @@
+#include "app/align.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/names.hpp"
+
+namespace keel::app {
+
+namespace {
+
+// Splits a CSV line at commas, trimming blanks around every field.
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream in(line);
+  while (std::getline(in, cur, ',')) {
+    const auto b = cur.find_first_not_of(" \t\r");
+    const auto e = cur.find_last_not_of(" \t\r");
+    out.push_back(b == std::string::npos ? std::string() : cur.substr(b, e - b + 1));
+  }
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// A finite number, or nullopt.
+std::optional<double> number_of(const std::string& s) {
+  if (s.empty()) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+constexpr core::NameTable<Dissimilarity, 2> kDissimilarities{
+    "app::Dissimilarity",
+    {{{Dissimilarity::standardized, "standardized"}, {Dissimilarity::euclidean, "euclidean"}}}};
+
+}  // namespace
+
+std::string_view to_string(Dissimilarity d) { return kDissimilarities.name(d); }
+Dissimilarity dissimilarity_from_string(std::string_view text) { return kDissimilarities.parse(text); }
+
+Survey read_survey_csv(const std::filesystem::path& file, bool has_depth) {
+  std::ifstream in(file);
+  if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the survey file", file.string()));
+  Survey s;
+  s.name = file.string();
+  const std::size_t lead = has_depth ? 3 : 2;
+  std::size_t columns = 0;
+  std::string line;
+  int number = 0;
+  bool first_record = true;
+  while (std::getline(in, line)) {
+    ++number;
+    const auto b = line.find_first_not_of(" \t\r");
+    if (b == std::string::npos || line[b] == '#') continue;
+    const std::vector<std::string> f = fields_of(line);
+    if (first_record) {
+      first_record = false;
+      if (!number_of(f.front())) continue;  // a header line
+    }
+    if (columns == 0) {
+      columns = f.size();
+      if (columns < lead + 1)
+        throw std::invalid_argument(
+            fmt::format("{}:{}: {} columns; need x, y{} and at least one feature column", s.name, number,
+                        columns, has_depth ? ", depth" : ""));
+      s.dim = static_cast<int>(columns - lead);
+    }
+    if (f.size() != columns)
+      throw std::invalid_argument(
+          fmt::format("{}:{}: {} columns where the first record has {}", s.name, number, f.size(), columns));
+    for (std::size_t k = 0; k < columns; ++k) {
+      const auto v = number_of(f[k]);
+      if (!v)
+        throw std::invalid_argument(
+            fmt::format("{}:{}: column {}: '{}' is not a finite number", s.name, number, k + 1, f[k]));
+      if (k == 0)
+        s.x.push_back(*v);
+      else if (k == 1)
+        s.y.push_back(*v);
+      else if (k == 2 && has_depth)
+        s.z.push_back(*v);
+      else
+        s.features.push_back(*v);
+    }
+  }
+  if (s.x.empty()) throw std::invalid_argument(fmt::format("{}: no position in the file", s.name));
+  return s;
+}
+
+void write_survey_csv(const Survey& s, const std::filesystem::path& file) {
+  std::ofstream out(file);
+  if (!out) throw std::invalid_argument(fmt::format("cannot write '{}'", file.string()));
+  const auto d = static_cast<std::size_t>(s.dim);
+  out << "x,y" << (s.z.empty() ? "" : ",depth");
+  for (std::size_t k = 0; k < d; ++k) out << ",f" << k + 1;
+  out << '\n';
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    out << fmt::format("{:.17g},{:.17g}", s.x[i], s.y[i]);
+    if (!s.z.empty()) out << fmt::format(",{:.17g}", s.z[i]);
+    for (std::size_t k = 0; k < d; ++k) out << fmt::format(",{:.17g}", s.features[i * d + k]);
+    out << '\n';
+  }
+  if (!out) throw std::runtime_error(fmt::format("writing '{}' failed", file.string()));
+}
+
+void AlignSurveysOptions::validate() const {
+  region.validate();
+  certificate.validate();
+  if (!(depth_gate >= 0))
+    throw std::invalid_argument(fmt::format("AlignSurveysOptions.depth_gate = {}: must be >= 0", depth_gate));
+  if (!(disc_tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("AlignSurveysOptions.disc_tolerance = {}: must be > 0", disc_tolerance));
+  if (!(matrix_bound > 0))
+    throw std::invalid_argument(
+        fmt::format("AlignSurveysOptions.matrix_bound = {}: must be > 0", matrix_bound));
+}
+
+align::AlignmentProblem survey_problem(const Survey& a, const Survey& b, Dissimilarity dissimilarity) {
+  if (a.dim != b.dim || a.dim < 1)
+    throw std::invalid_argument(
+        fmt::format("{} has {} feature columns, {} has {}: they must match", a.name, a.dim, b.name, b.dim));
+  if (a.z.empty() != b.z.empty())
+    throw std::invalid_argument(fmt::format("{} {} depths, {} {}: give both or neither", a.name,
+                                            a.z.empty() ? "has no" : "has", b.name,
+                                            b.z.empty() ? "none" : "has"));
+  align::AlignmentProblem p;
+  p.ref_x = a.x, p.ref_y = a.y, p.ref_z = a.z;
+  p.query_x = b.x, p.query_y = b.y, p.query_z = b.z;
+  if (dissimilarity == Dissimilarity::euclidean) {
+    p.dissimilarity = align::euclidean_dissimilarity(a.features, b.features, a.dim);
+    return p;
+  }
+  // Standardized: every column divided by its population std over the reference (a zero-spread column is
+  // left as it is), the same scale applied to both surveys so that equal features stay equal.
+  const auto d = static_cast<std::size_t>(a.dim);
+  std::vector<double> scale(d, 0.0);
+  for (std::size_t k = 0; k < d; ++k) {
+    double mean = 0, ss = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) mean += a.features[i * d + k];
+    mean /= static_cast<double>(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i)
+      ss += (a.features[i * d + k] - mean) * (a.features[i * d + k] - mean);
+    scale[k] = std::sqrt(ss / static_cast<double>(a.size()));
+  }
+  const auto standardize = [&](std::vector<double> f) {
+    for (std::size_t n = 0; n < f.size(); ++n)
+      if (scale[n % d] > 0) f[n] /= scale[n % d];
+    return f;
+  };
+  p.dissimilarity = align::euclidean_dissimilarity(standardize(a.features), standardize(b.features), a.dim);
+  return p;
+}
+
+SurveyAlignment align_surveys(const Survey& reference, const Survey& query, const AlignSurveysOptions& o) {
+  o.validate();
+  const align::AlignmentProblem p = survey_problem(reference, query, o.dissimilarity);
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("{} against {}: {}", query.name, reference.name, e.what()));
+  }
+  if (o.depth_gate > 0 && p.ref_z.empty())
+    throw std::invalid_argument("AlignSurveysOptions.depth_gate > 0 needs depths on both surveys");
+  if (o.certify && !p.ref_z.empty())
+    throw std::invalid_argument("the certificate over SO(2) is for planar surveys (no depth columns)");
+  align::AlignOptions ao;
+  ao.method = o.method;
+  ao.region = o.region;
+  ao.depth_gate = o.depth_gate;
+  ao.disc_tolerance = o.disc_tolerance;
+  ao.lp.matrix_bound = o.matrix_bound;
+  ao.threads = o.threads;
+  SurveyAlignment s;
+  s.reference_points = p.reference_size(), s.query_points = p.query_size();
+  const align::Regions global = align::global_regions(p, ao);
+  s.result = align::align(p, ao, &global);
+  if (o.certify) s.certificate = align::certify_rotation(p, global, ao.lp, o.certificate);
+  return s;
+}
+
+WorldTruth write_alignment_world(const sim::AlignmentWorldOptions& options, std::uint64_t seed,
+                                 std::uint64_t index, const std::filesystem::path& dir) {
+  const sim::AlignmentWorld w = sim::make_alignment_world(options, seed, index);
+  std::filesystem::create_directories(dir);
+  Survey a, b;
+  a.x = w.ref_x, a.y = w.ref_y, a.features = w.ref_features, a.dim = w.feature_dim;
+  b.x = w.query_x, b.y = w.query_y, b.features = w.query_features, b.dim = w.feature_dim;
+  write_survey_csv(a, dir / "reference.csv");
+  write_survey_csv(b, dir / "query.csv");
+  std::ofstream t(dir / "truth.csv");
+  t << "theta,tx,ty\n" << fmt::format("{:.17g},{:.17g},{:.17g}\n", w.theta, w.tx, w.ty);
+  if (!t) throw std::runtime_error(fmt::format("writing '{}' failed", (dir / "truth.csv").string()));
+  return WorldTruth{w.theta, w.tx, w.ty};
+}
+
+}  // namespace keel::app

@@ -379,6 +379,26 @@ class TestAlign(unittest.TestCase):
         self.assertEqual(r2["certificate"]["status"], "optimal")
         self.assertLessEqual(r2["certificate"]["lower_bound"], r2["certificate"]["upper_bound"])
 
+    def test_bit_identical_to_keel_align(self):
+        """A Table 3.1 world written by `keel align-world`: keel.align on its arrays and `keel align` on its files
+        give the same transform, every digit (KEEL names the command, as CTest sets it)."""
+        exe = os.environ.get("KEEL")
+        if not exe:
+            self.skipTest("KEEL (the keel command) not set")
+        with tempfile.TemporaryDirectory() as d:
+            subprocess.run([exe, "align-world", d, "--index", "2", "-q"], check=True, capture_output=True)
+            ref = np.loadtxt(os.path.join(d, "reference.csv"), delimiter=",", skiprows=1)
+            q = np.loadtxt(os.path.join(d, "query.csv"), delimiter=",", skiprows=1)
+            for method in ("proposed", "so_conv_hull"):
+                r = keel.align(ref[:, :2], ref[:, 2:], q[:, :2], q[:, 2:], method=method)
+                cli = json.loads(subprocess.run(
+                    [exe, "align", os.path.join(d, "reference.csv"), os.path.join(d, "query.csv"), "--method", method,
+                     "--json", "-q"], check=True, capture_output=True, text=True).stdout)
+                T = cli["transform"]
+                np.testing.assert_array_equal(r["A"], [[T["a11"], T["a12"]], [T["a21"], T["a22"]]])
+                np.testing.assert_array_equal(r["t"], [T["tx"], T["ty"]])
+                self.assertEqual(r["cost"], cli["cost"])
+
     def test_bad_input(self):
         ref, fr, q, fq, _, _ = self.survey()
         with self.assertRaisesRegex(ValueError, "reference has 2 feature columns, query has 1"):

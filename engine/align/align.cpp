@@ -213,6 +213,40 @@ std::vector<double> euclidean_dissimilarity(const std::vector<double>& fa, const
   return m;
 }
 
+std::vector<double> feature_scales(const std::vector<double>& f, int dim) {
+  if (dim < 1 || f.size() % static_cast<std::size_t>(dim) != 0)
+    throw std::invalid_argument(
+        fmt::format("feature_scales: {} feature values are not a multiple of dim = {}", f.size(), dim));
+  const auto d = static_cast<std::size_t>(dim);
+  const std::size_t n = f.size() / d;
+  if (n == 0) throw std::invalid_argument("feature_scales: no feature vector");
+  std::vector<double> scale(d, 0.0);
+  for (std::size_t k = 0; k < d; ++k) {
+    double mean = 0;
+    for (std::size_t i = 0; i < n; ++i) mean += f[i * d + k];
+    mean /= static_cast<double>(n);
+    double ss = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double e = f[i * d + k] - mean;
+      ss += e * e;
+    }
+    scale[k] = std::sqrt(ss / static_cast<double>(n));
+  }
+  return scale;
+}
+
+std::vector<double> standardize_features(std::vector<double> f, const std::vector<double>& scale) {
+  const std::size_t d = scale.size();
+  if (d == 0 || f.size() % d != 0)
+    throw std::invalid_argument(
+        fmt::format("standardize_features: {} feature values are not a multiple of {} scales", f.size(), d));
+  for (std::size_t n = 0; n < f.size(); ++n) {
+    const double s = scale[n % d];
+    if (s > 0 && std::isfinite(s)) f[n] /= s;
+  }
+  return f;
+}
+
 void RegionOptions::validate() const {
   if (max_rounds < 0)
     throw std::invalid_argument(fmt::format("RegionOptions.max_rounds = {}: must be >= 0", max_rounds));

@@ -16,6 +16,7 @@ using keel::align::AlignOptions;
 using keel::align::AlignResult;
 using keel::align::dissimilarity_matrix;
 using keel::align::euclidean_dissimilarity;
+using keel::align::feature_scales;
 using keel::align::HullOptions;
 using keel::align::LpSettings;
 using keel::align::Method;
@@ -23,6 +24,7 @@ using keel::align::method_from_string;
 using keel::align::RegionOptions;
 using keel::align::Rigid2;
 using keel::align::RoundTrace;
+using keel::align::standardize_features;
 using keel::align::to_string;
 using keel::align::Transform2;
 // pieces: hulls, the octagon sectors of eq. 3.19, projection to SE(2)

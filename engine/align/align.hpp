@@ -61,6 +61,13 @@ struct AlignmentProblem {
 // Euclidean distance between feature vectors (row-major, `dim` values per point).
 [[nodiscard]] std::vector<double> euclidean_dissimilarity(const std::vector<double>& features_a,
                                                           const std::vector<double>& features_b, int dim);
+// The population standard deviation of every feature column (row-major, `dim` values per point) over one
+// survey: the scale that standardises features of different units before the Euclidean distance.
+[[nodiscard]] std::vector<double> feature_scales(const std::vector<double>& features, int dim);
+// Every column k divided by scale[k] (a copy); a column whose scale is zero or not finite is left as it is.
+// The same scales (the reference's) go to both surveys, so equal features stay equal.
+[[nodiscard]] std::vector<double> standardize_features(std::vector<double> features,
+                                                       const std::vector<double>& scale);
 
 struct RegionOptions {
   int max_rounds = 8;           // rounds after round 0 (0: only the global round)

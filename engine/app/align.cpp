@@ -141,24 +141,11 @@ align::AlignmentProblem survey_problem(const Survey& a, const Survey& b, Dissimi
     p.dissimilarity = align::euclidean_dissimilarity(a.features, b.features, a.dim);
     return p;
   }
-  // Standardized: every column divided by its population std over the reference (a zero-spread column is
-  // left as it is), the same scale applied to both surveys so that equal features stay equal.
-  const auto d = static_cast<std::size_t>(a.dim);
-  std::vector<double> scale(d, 0.0);
-  for (std::size_t k = 0; k < d; ++k) {
-    double mean = 0, ss = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) mean += a.features[i * d + k];
-    mean /= static_cast<double>(a.size());
-    for (std::size_t i = 0; i < a.size(); ++i)
-      ss += (a.features[i * d + k] - mean) * (a.features[i * d + k] - mean);
-    scale[k] = std::sqrt(ss / static_cast<double>(a.size()));
-  }
-  const auto standardize = [&](std::vector<double> f) {
-    for (std::size_t n = 0; n < f.size(); ++n)
-      if (scale[n % d] > 0) f[n] /= scale[n % d];
-    return f;
-  };
-  p.dissimilarity = align::euclidean_dissimilarity(standardize(a.features), standardize(b.features), a.dim);
+  // Standardized: every column divided by its population std over the reference (align::feature_scales), the
+  // same scales applied to both surveys.
+  const std::vector<double> scale = align::feature_scales(a.features, a.dim);
+  p.dissimilarity = align::euclidean_dissimilarity(align::standardize_features(a.features, scale),
+                                                   align::standardize_features(b.features, scale), a.dim);
   return p;
 }
 

@@ -45,6 +45,7 @@ using keel::core::mean_std;
 using keel::core::MeanStd;
 using keel::core::median;
 using keel::core::Proportion;
+using keel::core::quantile_sorted;
 using keel::core::seconds_since;
 using keel::core::wilson_interval;
 }  // namespace keel::core

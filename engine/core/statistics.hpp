@@ -32,6 +32,16 @@ inline MeanStd mean_std(const std::vector<double>& v) {
   return s;
 }
 
+// The q-quantile (q in [0, 1]) of an ascending sample by linear interpolation between order statistics at
+// position q · (n − 1); 0 for an empty sample.
+inline double quantile_sorted(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const double pos = q * static_cast<double>(sorted.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
 // Median (mean of the two middle values for an even count); 0 for an empty sample.
 inline double median(std::vector<double> v) {
   if (v.empty()) return 0.0;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/random.hpp"
+#include "core/statistics.hpp"
 
 namespace keel::repro {
 
@@ -86,13 +87,8 @@ PairedComparison paired_comparison(const std::vector<double>& a, const std::vect
   }
   std::sort(boot.begin(), boot.end());
   // Percentile interval: the order statistics at (1 ∓ confidence)/2, linearly interpolated.
-  const auto at = [&](double q) {
-    const double pos = q * static_cast<double>(boot.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const std::size_t hi = std::min(lo + 1, boot.size() - 1);
-    return boot[lo] + (pos - static_cast<double>(lo)) * (boot[hi] - boot[lo]);
-  };
-  c.low = at(0.5 * (1 - confidence)), c.high = at(0.5 * (1 + confidence));
+  c.low = core::quantile_sorted(boot, 0.5 * (1 - confidence));
+  c.high = core::quantile_sorted(boot, 0.5 * (1 + confidence));
   return c;
 }
 

@@ -8,6 +8,7 @@
 
 #include "align/sdp.hpp"
 #include "core/parallel.hpp"
+#include "core/statistics.hpp"
 #include "core/timing.hpp"
 
 namespace keel::study::ch3 {
@@ -18,12 +19,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double wrap(double a) { return std::remainder(a, 2 * kPi); }
 
-double quantile(const std::vector<double>& sorted, double q) {
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
 }  // namespace
 
 AlignmentProblem problem_of(const sim::AlignmentWorld& w) {
@@ -213,8 +208,8 @@ FencedSummary fenced_summary(std::vector<double> v) {
   s.n = v.size();
   if (v.empty()) return s;
   std::sort(v.begin(), v.end());
-  s.median = quantile(v, 0.5);
-  const double q1 = quantile(v, 0.25), q3 = quantile(v, 0.75), iqr = q3 - q1;
+  s.median = core::quantile_sorted(v, 0.5);
+  const double q1 = core::quantile_sorted(v, 0.25), q3 = core::quantile_sorted(v, 0.75), iqr = q3 - q1;
   const double lo = q1 - 1.5 * iqr, hi = q3 + 1.5 * iqr;
   std::vector<double> kept;
   for (double x : v) {
@@ -247,36 +242,17 @@ std::vector<double> reference_feature_scales(const sim::HullWorld& w) {
         "reference_feature_scales: {} reference and {} query feature values for {} and {} positions of "
         "dimension {}",
         w.ref_features.size(), w.query_features.size(), na, w.query_x.size(), d));
-  std::vector<double> scale(d, 0.0);
-  for (std::size_t k = 0; k < d; ++k) {
-    double mean = 0;
-    for (std::size_t i = 0; i < na; ++i) mean += w.ref_features[i * d + k];
-    mean /= static_cast<double>(na);
-    double ss = 0;
-    for (std::size_t i = 0; i < na; ++i) {
-      const double e = w.ref_features[i * d + k] - mean;
-      ss += e * e;
-    }
-    scale[k] = std::sqrt(ss / static_cast<double>(na));
-  }
-  return scale;
+  return feature_scales(w.ref_features, w.feature_dim);
 }
 
 AlignmentProblem standardized_problem_of(const sim::HullWorld& w) {
   const std::vector<double> scale = reference_feature_scales(w);
-  const std::size_t d = scale.size();
-  auto standardise = [&](std::vector<double> f) {
-    for (std::size_t n = 0; n < f.size(); ++n) {
-      const double s = scale[n % d];
-      if (s > 0 && std::isfinite(s)) f[n] /= s;
-    }
-    return f;
-  };
   AlignmentProblem p;
   p.ref_x = w.ref_x, p.ref_y = w.ref_y, p.ref_z = w.ref_z;
   p.query_x = w.query_x, p.query_y = w.query_y, p.query_z = w.query_z;
-  p.dissimilarity = euclidean_dissimilarity(standardise(w.ref_features), standardise(w.query_features),
-                                            static_cast<int>(d));
+  p.dissimilarity =
+      euclidean_dissimilarity(standardize_features(w.ref_features, scale),
+                              standardize_features(w.query_features, scale), static_cast<int>(scale.size()));
   return p;
 }
 

@@ -58,12 +58,8 @@ std::vector<Row> table_rows(const AlignmentStudyOutcome& out, std::size_t worlds
 constexpr double kPi = 3.14159265358979323846;
 
 double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  return core::quantile_sorted(v, q);
 }
 double median_of(std::vector<double> v) { return quantile(std::move(v), 0.5); }
 double fenced_std(std::vector<double> v) { return fenced_summary(std::move(v)).std; }

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -66,10 +68,11 @@ struct RoundSolution {
   LpSolution lp;
   int sector = -1;
   int solves = 0;
+  int iterations = 0;
 };
 
 RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, const Regions& reg,
-                          bool global_round) {
+                          bool global_round, int previous_sector) {
   const Parameterization kind =
       o.method == Method::affine ? Parameterization::affine : Parameterization::rotation_like;
   LpSettings settings = o.lp;
@@ -77,21 +80,80 @@ RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, cons
   settings.lazy_boxes = global_round;  // later rounds' boxes bind (and rule out far sectors at once)
   RoundSolution out;
   if (o.method == Method::proposed) {
-    // The eight sectors in one model, in order, each warm-started from the previous optimum (the plane rows
-    // generated for one sector are valid for all). Sequential, so the answer does not depend on threads.
-    std::vector<LpSolution> sols(8);
+    // The eight sectors in one model, each warm-started from the previous optimum (the plane rows generated
+    // for one sector are valid for all; sectors differ only in the bounds of the same rows, see sector_rows).
+    // The most promising sector goes first — the previous round's, or in round 0 the one holding the optimum
+    // of the filled octagon — then the others in angular order from it. A sector is skipped, or its solve
+    // stopped, as soon as it provably cannot win:
+    //   - the boxes alone rule it out (boxes_exclude_sector; its LP would be infeasible — in the shrinking
+    //     rounds most sectors are);
+    //   - a Lagrangian minorant of an earlier optimal solve lies above the best cost on its whole edge;
+    //   - the dual simplex proves its optimum above the best cost (LpStatus::cut_off).
+    // The kept sector is the lowest cost, ties to the lowest index, as if all eight were solved to the end.
+    // Sequential, so the answer does not depend on threads.
     HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
-    for (int k = 0; k < 8; ++k) {
-      lp.set_cs_rows(sector_rows(k));
-      sols[k] = lp.solve();
+    int first = previous_sector;
+    std::optional<LpSolution> octagon;
+    if (first < 0) {
+      lp.set_cs_rows(octagon_rows());
+      const LpSolution s = lp.solve();
+      out.solves += s.solves, out.iterations += s.iterations;
+      if (s.status == LpStatus::failed)
+        throw std::runtime_error(
+            "align: the LP over the filled octagon failed (CLP did not prove optimality)");
+      first = 0;
+      octagon = s;
+      if (s.status == LpStatus::optimal) {
+        const double a = std::atan2(s.params[1], s.params[0]);
+        first = std::clamp(static_cast<int>(std::floor((a < 0 ? a + 2 * kPi : a) / (kPi / 4))), 0, 7);
+      }
     }
-    for (int k = 0; k < 8; ++k) {
-      out.solves += sols[k].solves;
-      if (sols[k].status == LpStatus::failed)
+    // The margin keeps sectors near the edge of feasibility for the LP and its tolerances.
+    double extent = 0;
+    for (const Box& b : reg.boxes)
+      extent = std::max({extent, std::abs(b.x_lo), std::abs(b.x_hi), std::abs(b.y_lo), std::abs(b.y_hi)});
+    std::array<bool, 8> excluded{};
+    for (int k = 0; k < 8; ++k)
+      excluded[k] = boxes_exclude_sector(p.query_x, p.query_y, reg.boxes, k, 1e-6 * (1 + extent));
+    std::array<int, 8> order{};
+    for (int q = 0; q < 8; ++q) order[q] = (first + q) % 8;
+    // Lagrangian minorants V(p) ≥ cost + λ · (p − p*) of every optimal solve (LpSolution::cs_gradient); the
+    // margin covers the solver's tolerances in λ.
+    struct Minorant {
+      double cost, c, s, gc, gs;
+    };
+    std::vector<Minorant> minorants;
+    const auto keep_minorant = [&](const LpSolution& s) {
+      if (s.status == LpStatus::optimal)
+        minorants.push_back({s.cost, s.params[0], s.params[1], s.cs_gradient[0], s.cs_gradient[1]});
+    };
+    if (octagon) keep_minorant(*octagon);
+    const double radius = 1.0 / kBarniDelta;
+    const auto bounded_away = [&](int k, double best) {
+      const double margin = 1e-6 * (1.0 + std::abs(best));
+      for (const Minorant& m : minorants) {
+        double low = std::numeric_limits<double>::infinity();
+        for (int v = k; v <= k + 1; ++v) {  // a linear function's minimum on the edge is at a vertex
+          const double c = radius * std::cos(v * kPi / 4), s = radius * std::sin(v * kPi / 4);
+          low = std::min(low, m.cost + m.gc * (c - m.c) + m.gs * (s - m.s));
+        }
+        if (low > best + margin) return true;
+      }
+      return false;
+    };
+    for (const int k : order) {
+      if (excluded[k]) continue;
+      if (out.sector >= 0 && bounded_away(k, out.lp.cost)) continue;
+      lp.set_cs_rows(sector_rows(k));
+      const LpSolution s = lp.solve(out.sector < 0 ? convex::kLpInfinity : out.lp.cost);
+      out.solves += s.solves, out.iterations += s.iterations;
+      if (s.status == LpStatus::failed)
         throw std::runtime_error(
             fmt::format("align: the LP of sector {} failed (CLP did not prove optimality)", k));
-      if (sols[k].status != LpStatus::optimal) continue;
-      if (out.sector < 0 || sols[k].cost < out.lp.cost) out.lp = sols[k], out.sector = k;
+      if (s.status != LpStatus::optimal) continue;
+      keep_minorant(s);
+      if (out.sector < 0 || s.cost < out.lp.cost || (s.cost == out.lp.cost && k < out.sector))
+        out.lp = s, out.sector = k;
     }
     if (out.sector < 0)
       throw std::runtime_error(
@@ -106,7 +168,7 @@ RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, cons
     lp.set_cs_rows(rows);
   }
   out.lp = lp.solve();
-  out.solves = out.lp.solves;
+  out.solves = out.lp.solves, out.iterations = out.lp.iterations;
   if (out.lp.status == LpStatus::infeasible)
     throw std::runtime_error(fmt::format(
         "align ({}): the LP is infeasible: no transform places all query points inside their regions (is the "
@@ -277,24 +339,100 @@ void AlignOptions::validate() const {
         fmt::format("AlignOptions.lp.matrix_bound = {}: must be > 0", lp.matrix_bound));
 }
 
-std::vector<CsRow> sector_rows(int k) {
-  if (k < 0 || k > 7) throw std::invalid_argument(fmt::format("sector_rows: sector {} (valid: 0–7)", k));
+namespace {
+
+// Signs of (c, s) in sector k and whether |c| ≥ |s| there.
+struct SectorShape {
+  double sc, ss;
+  bool c_dominant;
+};
+SectorShape sector_shape(int k) {
   const int quadrant = k / 2;
-  const double sc = (quadrant == 0 || quadrant == 3) ? 1.0 : -1.0;  // sign of c in the sector
-  const double ss = quadrant < 2 ? 1.0 : -1.0;                      // sign of s
-  const bool c_dominant = (k == 0 || k == 3 || k == 4 || k == 7);   // |c| ≥ |s|
+  return {(quadrant == 0 || quadrant == 3) ? 1.0 : -1.0, quadrant < 2 ? 1.0 : -1.0,
+          k == 0 || k == 3 || k == 4 || k == 7};
+}
+
+// The 12 rows of kSectorRowCount's layout, all free: c, s, c − s, c + s, then the eight edge rows.
+std::vector<CsRow> free_rows() {
   constexpr double big = 1e300;
-  std::vector<CsRow> rows;
-  rows.push_back({sc, 0.0, 0.0, big});  // σc c ≥ 0
-  rows.push_back({0.0, ss, 0.0, big});  // σs s ≥ 0
-  if (c_dominant) {
-    rows.push_back({sc, -ss, 0.0, big});  // σc c − σs s ≥ 0
-    rows.push_back({kBarniDelta * kBarniAlpha1 * sc, kBarniDelta * kBarniAlpha2 * ss, 1.0, 1.0});  // eq. 3.18
-  } else {
-    rows.push_back({-sc, ss, 0.0, big});  // σs s − σc c ≥ 0
-    rows.push_back({kBarniDelta * kBarniAlpha2 * sc, kBarniDelta * kBarniAlpha1 * ss, 1.0, 1.0});
+  std::vector<CsRow> rows{
+      {1.0, 0.0, -big, big}, {0.0, 1.0, -big, big}, {1.0, -1.0, -big, big}, {1.0, 1.0, -big, big}};
+  for (int e = 0; e < 8; ++e) {
+    const SectorShape sh = sector_shape(e);
+    const double ac = sh.c_dominant ? kBarniAlpha1 : kBarniAlpha2,
+                 as = sh.c_dominant ? kBarniAlpha2 : kBarniAlpha1;
+    rows.push_back({kBarniDelta * ac * sh.sc, kBarniDelta * as * sh.ss, -big, big});  // eq. 3.18 of edge e
   }
   return rows;
+}
+
+}  // namespace
+
+std::vector<CsRow> octagon_rows() {
+  std::vector<CsRow> rows = free_rows();
+  for (std::size_t e = 4; e < kSectorRowCount; ++e) rows[e].hi = 1.0;
+  return rows;
+}
+
+std::vector<CsRow> sector_rows(int k) {
+  if (k < 0 || k > 7) throw std::invalid_argument(fmt::format("sector_rows: sector {} (valid: 0–7)", k));
+  const SectorShape sh = sector_shape(k);
+  std::vector<CsRow> rows = octagon_rows();
+  auto at_least_zero = [](CsRow& r, double sign) { (sign > 0 ? r.lo : r.hi) = 0.0; };
+  at_least_zero(rows[0], sh.sc);  // σc c ≥ 0
+  at_least_zero(rows[1], sh.ss);  // σs s ≥ 0
+  // Dominance of the larger magnitude: σc c − σs s ≥ 0 (c dominant) or σs s − σc c ≥ 0, on the row c − s
+  // (σc σs > 0) or c + s (σc σs < 0), scaled by its sign.
+  const double dominance = sh.c_dominant ? sh.sc : -sh.sc;  // coefficient of c in the dominance expression
+  if (sh.sc * sh.ss > 0)
+    at_least_zero(rows[2], dominance);  // dominance = ±(c − s)
+  else
+    at_least_zero(rows[3], dominance);             // dominance = ±(c + s)
+  rows[4 + static_cast<std::size_t>(k)].lo = 1.0;  // eq. 3.18: on edge k
+  return rows;
+}
+
+bool boxes_exclude_sector(const std::vector<double>& qx, const std::vector<double>& qy,
+                          const std::vector<Box>& boxes, int k, double margin) {
+  if (k < 0 || k > 7)
+    throw std::invalid_argument(fmt::format("boxes_exclude_sector: sector {} (valid: 0–7)", k));
+  const std::size_t n = qx.size();
+  if (qy.size() != n || boxes.size() != n)
+    throw std::invalid_argument(
+        "boxes_exclude_sector: query positions and boxes must have one entry per point");
+  if (n == 0) return false;
+  const double radius = 1.0 / kBarniDelta;  // the octagon's vertices
+  const double c0 = radius * std::cos(k * kPi / 4), s0 = radius * std::sin(k * kPi / 4);
+  const double dc = radius * std::cos((k + 1) * kPi / 4) - c0, ds = radius * std::sin((k + 1) * kPi / 4) - s0;
+  // (A p)_x = c x − s y and (A p)_y = s x + c y at (c, s) = (c0 + λ dc, s0 + λ ds).
+  const auto excess = [&](double lambda) {
+    const double c = c0 + lambda * dc, s = s0 + lambda * ds;
+    double lo_x = -std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = hi_x;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double ax = c * qx[j] - s * qy[j], ay = s * qx[j] + c * qy[j];
+      lo_x = std::max(lo_x, boxes[j].x_lo - ax), hi_x = std::min(hi_x, boxes[j].x_hi - ax);
+      lo_y = std::max(lo_y, boxes[j].y_lo - ay), hi_y = std::min(hi_y, boxes[j].y_hi - ay);
+    }
+    return std::max(lo_x - hi_x, lo_y - hi_y);
+  };
+  // Lipschitz constant of the excess in λ: each term moves by at most 2 max_j |d(A p_j)/dλ| per unit λ.
+  double lipschitz = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    lipschitz = std::max({lipschitz, std::abs(dc * qx[j] - ds * qy[j]), std::abs(ds * qx[j] + dc * qy[j])});
+  lipschitz *= 2;
+  double a = 0, b = 1;
+  for (int it = 0; it < 80 && b - a > 1e-13; ++it) {  // ternary search on a convex function
+    const double m1 = a + (b - a) / 3, m2 = b - (b - a) / 3;
+    const double g1 = excess(m1), g2 = excess(m2);
+    if (std::min(g1, g2) <= margin) return false;  // a point of the edge (nearly) fits: leave it to the LP
+    if (g1 <= g2)
+      b = m2;
+    else
+      a = m1;
+  }
+  // The minimum lies in [a, b]: G(λ) ≥ G(mid) − L (b − a) / 2 there.
+  const double mid = 0.5 * (a + b);
+  return excess(mid) - lipschitz * 0.5 * (b - a) > margin;
 }
 
 void singular_values(const Transform2& t, double& s1, double& s2) {
@@ -353,9 +491,10 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   tr.hull_time_s = core::seconds_since(th);
   tr.planes = reg.plane_count;
   auto tl = core::Clock::now();
-  RoundSolution sol = solve_round(p, o, reg, true);
+  RoundSolution sol = solve_round(p, o, reg, true, -1);
   tr.lp_time_s = core::seconds_since(tl);
-  tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
+  tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves,
+  tr.iterations = sol.iterations;
   Transform2 T = transform_from(kind, sol.lp.params);
   tr.transform = T;
   res.rounds.push_back(tr);
@@ -393,9 +532,10 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
     tr.planes = reg.plane_count;
     tr.kept_boxes = reg.kept;
     tl = core::Clock::now();
-    sol = solve_round(p, o, reg, false);
+    sol = solve_round(p, o, reg, false, sol.sector);
     tr.lp_time_s = core::seconds_since(tl);
-    tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves;
+    tr.cost = sol.lp.cost, tr.sector = sol.sector, tr.plane_rows = sol.lp.plane_rows, tr.solves = sol.solves,
+    tr.iterations = sol.iterations;
     T = transform_from(kind, sol.lp.params);
     tr.transform = T;
     res.rounds.push_back(tr);

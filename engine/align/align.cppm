@@ -29,10 +29,13 @@ using keel::align::to_string;
 using keel::align::Transform2;
 // pieces: hulls, the octagon sectors of eq. 3.19, projection to SE(2)
 using keel::align::approximately_valid;
+using keel::align::boxes_exclude_sector;
 using keel::align::kBarniAlpha1;
 using keel::align::kBarniAlpha2;
 using keel::align::kBarniDelta;
+using keel::align::kSectorRowCount;
 using keel::align::lower_hull_planes;
+using keel::align::octagon_rows;
 using keel::align::Plane;
 using keel::align::project_to_rigid;
 using keel::align::sector_rows;

@@ -106,6 +106,7 @@ struct RoundTrace {
   std::size_t planes = 0;      // hull planes over all query points
   std::size_t plane_rows = 0;  // plane rows the LP ended with (kept sector)
   int solves = 0;              // LP solves this round (all sectors)
+  int iterations = 0;          // simplex iterations over those solves
   std::size_t kept_boxes = 0;  // query points whose box stayed (too few reference points)
   double hull_time_s = 0, lp_time_s = 0;
   Transform2 transform;  // the round's estimate (raw)
@@ -140,7 +141,27 @@ inline constexpr double kBarniDelta = 0.96043387010341996525;
 // ("c ≤ s or s ≤ c") compares signed values and admits |(c, s)| up to ~2.5 in the mixed-sign quadrants; here
 // the dominance compares magnitudes. The feasible set is the octagon edge between the vertices at angles 45k°
 // and 45(k+1)° (radius 1/δ).
+//
+// Every sector (and octagon_rows) uses the same 12 rows with the same coefficients — c, s, c − s, c + s and
+// the eight edge rows δ(α1 σp p + α2 σq q) — and differs only in their bounds: sector k's edge row is = 1,
+// the other seven ≤ 1 (redundant on edge k, which lies in the octagon), unused rows free. Switching sectors
+// on one LP then changes bounds only, which keeps the dual simplex's basis dual feasible (a proper warm
+// start, and its objective a valid lower bound from the first iteration: what lets align() cut off sectors
+// that cannot win).
+inline constexpr std::size_t kSectorRowCount = 12;
 [[nodiscard]] std::vector<CsRow> sector_rows(int k);
+// The filled octagon (convex hull of the eight sector edges): every edge row ≤ 1, the others free. Its LP's
+// optimum is a lower bound on every sector's.
+[[nodiscard]] std::vector<CsRow> octagon_rows();
+
+// Whether the boxes alone rule out sector k: no A on the octagon edge of sector k and no t place every query
+// point j inside its box (lo ≤ A p_j + t ≤ hi). For fixed A a translation exists iff, per axis,
+// max_j(lo_j − (A p_j)) ≤ min_j(hi_j − (A p_j)); the excess G(λ) of that inequality is convex and piecewise
+// linear along the edge (λ ∈ [0, 1] between its vertices), so its minimum is bracketed by a ternary search
+// and bounded below with G's Lipschitz constant. True only when that lower bound exceeds `margin` (metres): a
+// sector near the edge of feasibility is left to the LP. A true answer means the sector's LP is infeasible.
+[[nodiscard]] bool boxes_exclude_sector(const std::vector<double>& qx, const std::vector<double>& qy,
+                                        const std::vector<Box>& boxes, int k, double margin);
 
 // Closest rotation to A (polar projection, any sign of det A) with the translation that keeps `(cx, cy)`
 // (query frame) where A, t put it.

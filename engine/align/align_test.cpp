@@ -220,3 +220,172 @@ TEST_CASE(
   o.depth_gate = 1.0;
   check_message([&] { (void)align(flat, o); }, "depth_gate > 0 needs depths");
 }
+
+namespace {
+
+// A copy (as exact_copy, the query the inner points of a 16 × 16 grid) of a feature field that is symmetric
+// under the half turn about the grid's centre, plus noise on the dissimilarity: θ and θ + π fit alike, so the
+// convex relaxations cannot tell which half of the circle holds the best sector, and the sector tried first
+// is often not the best.
+AlignmentProblem symmetric_copy(double theta, std::uint64_t seed, double noise) {
+  const int n = 16;
+  const double mid = 0.5 * (n - 1);
+  Rng rng(seed);
+  std::vector<double> cx, cy, amp;
+  for (int k = 0; k < 3 * 8; ++k)
+    cx.push_back(rng.uniform(0, n - 1)), cy.push_back(rng.uniform(0, n - 1)),
+        amp.push_back(rng.uniform(-1, 1));
+  const auto feature = [&](double x, double y, double* f) {
+    for (int d = 0; d < 3; ++d) {
+      f[d] = 0;
+      for (int k = 8 * d; k < 8 * (d + 1); ++k)
+        for (double sign : {1.0, -1.0}) {  // the bump and its mirror through the centre
+          const double bx = mid + sign * (cx[k] - mid), by = mid + sign * (cy[k] - mid);
+          f[d] += amp[k] * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 8.0);
+        }
+    }
+  };
+  AlignmentProblem p;
+  std::vector<double> fa, fb;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      p.ref_x.push_back(a), p.ref_y.push_back(b);
+      double f[3];
+      feature(a, b, f);
+      fa.insert(fa.end(), f, f + 3);
+    }
+  // Query: inner points, seen through the inverse of (θ, t) with t keeping the centre fixed.
+  const double c = std::cos(theta), s = std::sin(theta);
+  const double tx = mid - (c * mid - s * mid), ty = mid - (s * mid + c * mid);
+  for (std::size_t i = 0; i < p.ref_x.size(); ++i) {
+    if (p.ref_x[i] < 4 || p.ref_x[i] > n - 5 || p.ref_y[i] < 4 || p.ref_y[i] > n - 5) continue;
+    const double dx = p.ref_x[i] - tx, dy = p.ref_y[i] - ty;
+    p.query_x.push_back(c * dx + s * dy), p.query_y.push_back(-s * dx + c * dy);
+    fb.insert(fb.end(), fa.begin() + 3 * static_cast<std::ptrdiff_t>(i),
+              fa.begin() + 3 * static_cast<std::ptrdiff_t>(i) + 3);
+  }
+  p.dissimilarity = euclidean_dissimilarity(fa, fb, 3);
+  for (double& v : p.dissimilarity) v += noise * std::abs(rng.normal());
+  return p;
+}
+
+// Every sector solved to the end on a fresh LP: the lowest cost, ties to the lowest index.
+std::pair<int, double> best_sector_by_full_solves(const AlignmentProblem& p, const Regions& reg,
+                                                  bool lazy_boxes) {
+  LpSettings settings;
+  settings.lazy_boxes = lazy_boxes;
+  int best = -1;
+  double cost = 0;
+  for (int k = 0; k < 8; ++k) {
+    HullLp lp(Parameterization::rotation_like, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
+    lp.set_cs_rows(sector_rows(k));
+    const LpSolution s = lp.solve();
+    REQUIRE(s.status != LpStatus::failed);
+    if (s.status == LpStatus::optimal && (best < 0 || s.cost < cost)) best = k, cost = s.cost;
+  }
+  return {best, cost};
+}
+
+}  // namespace
+
+TEST_CASE("Proposed keeps the sector that solving all eight to the end keeps, in every round") {
+  // align skips sectors (box exclusion, Lagrangian minorants) and stops others early (the dual simplex's
+  // cutoff); the brute force solves every sector on its own LP. Round by round, the regions are rebuilt here
+  // from the trace as align builds them (boxes centred on the previous round's transformed points).
+  for (int trial = 0; trial < 12; ++trial) {
+    const double theta = -kPi + (trial + 0.37) * (2 * kPi / 12);
+    const auto p = symmetric_copy(theta, 5 + static_cast<std::uint64_t>(trial), 0.05);
+    AlignOptions o;
+    o.method = Method::proposed;
+    o.region.max_rounds = 3;
+    o.region.min_half_width = 2.0;
+    const AlignResult r = align(p, o);
+    REQUIRE(r.rounds.size() >= 3);
+    Regions reg = global_regions(p, o);
+    for (std::size_t round = 0; round < r.rounds.size(); ++round) {
+      CAPTURE(theta);
+      CAPTURE(round);
+      if (round > 0) {  // the regions of this round, as align builds them
+        const Transform2& T = r.rounds[round - 1].transform;
+        const double w = r.rounds[round].half_width;
+        Regions next;
+        for (std::size_t j = 0; j < p.query_size(); ++j) {
+          const double px = T.a11 * p.query_x[j] + T.a12 * p.query_y[j] + T.tx;
+          const double py = T.a21 * p.query_x[j] + T.a22 * p.query_y[j] + T.ty;
+          const Box box{px - w, px + w, py - w, py + w};
+          std::vector<double> x, y, c;
+          for (std::size_t i = 0; i < p.reference_size(); ++i)
+            if (p.ref_x[i] >= box.x_lo && p.ref_x[i] <= box.x_hi && p.ref_y[i] >= box.y_lo &&
+                p.ref_y[i] <= box.y_hi)
+              x.push_back(p.ref_x[i]), y.push_back(p.ref_y[i]), c.push_back(p.c(i, j));
+          if (x.size() >= o.region.min_points) {
+            next.boxes.push_back(box);
+            next.planes.push_back(lower_hull_planes(x, y, c, o.hull));
+          } else {
+            next.boxes.push_back(reg.boxes[j]);
+            next.planes.push_back(reg.planes[j]);
+          }
+        }
+        reg = std::move(next);
+      }
+      const auto [sector, cost] = best_sector_by_full_solves(p, reg, round == 0);
+      CHECK(r.rounds[round].sector == sector);
+      CHECK(r.rounds[round].cost == doctest::Approx(cost).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("boxes_exclude_sector: true exactly when no rotation on the sector's edge fits every box") {
+  Rng rng(31);
+  const double radius = 1.0 / kBarniDelta;
+  int excluded = 0, kept = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const double theta = rng.uniform(-kPi, kPi), w = rng.uniform(0.05, 3.0);
+    std::vector<double> qx, qy;
+    std::vector<Box> boxes;
+    for (int j = 0; j < 30; ++j) {
+      qx.push_back(rng.uniform(-10, 10)), qy.push_back(rng.uniform(-10, 10));
+      const double px = std::cos(theta) * qx.back() - std::sin(theta) * qy.back() + 2.0 + rng.uniform(-w, w);
+      const double py = std::sin(theta) * qx.back() + std::cos(theta) * qy.back() - 1.0 + rng.uniform(-w, w);
+      boxes.push_back({px - w, px + w, py - w, py + w});
+    }
+    for (int k = 0; k < 8; ++k) {
+      // The excess of the translation interval, on a fine grid of the edge: a translation exists at λ iff ≤
+      // 0.
+      double best = 1e300;
+      for (int q = 0; q <= 4000; ++q) {
+        const double lambda = q / 4000.0;
+        const double a0 = k * kPi / 4, a1 = (k + 1) * kPi / 4;
+        const double c = radius * ((1 - lambda) * std::cos(a0) + lambda * std::cos(a1));
+        const double s = radius * ((1 - lambda) * std::sin(a0) + lambda * std::sin(a1));
+        double lx = -1e300, hx = 1e300, ly = -1e300, hy = 1e300;
+        for (std::size_t j = 0; j < qx.size(); ++j) {
+          const double ax = c * qx[j] - s * qy[j], ay = s * qx[j] + c * qy[j];
+          lx = std::max(lx, boxes[j].x_lo - ax), hx = std::min(hx, boxes[j].x_hi - ax);
+          ly = std::max(ly, boxes[j].y_lo - ay), hy = std::min(hy, boxes[j].y_hi - ay);
+        }
+        best = std::min(best, std::max(lx - hx, ly - hy));
+      }
+      const bool ex = boxes_exclude_sector(qx, qy, boxes, k, 1e-6);
+      CAPTURE(trial);
+      CAPTURE(k);
+      CAPTURE(best);
+      if (ex) {
+        CHECK(best > 1e-6);  // no sampled rotation fits
+        // and the sector's LP (boxes as rows, any planes) is infeasible
+        std::vector<std::vector<Plane>> planes(qx.size(), std::vector<Plane>{{0.0, 0.0, 0.0}});
+        LpSettings settings;
+        settings.lazy_boxes = false;
+        HullLp lp(Parameterization::rotation_like, qx, qy, planes, boxes, settings);
+        lp.set_cs_rows(sector_rows(k));
+        CHECK(lp.solve().status == LpStatus::infeasible);
+      } else {
+        CHECK(best <= 1e-3);  // some rotation fits, to the grid's resolution
+      }
+      (ex ? excluded : kept) += 1;
+    }
+  }
+  CHECK(excluded > 20);  // both answers occur
+  CHECK(kept > 10);
+  CHECK_THROWS_AS((void)boxes_exclude_sector({0.0}, {0.0}, {Box{}}, 8, 0.0), std::invalid_argument);
+}

@@ -57,9 +57,9 @@ Certificate certify_rotation(const AlignmentProblem& p, const Regions& reg, cons
     if (s.status == LpStatus::failed)
       throw std::runtime_error("certify_rotation: CLP did not prove optimality of an interval LP");
   };
-  auto upper = [&](double theta) {
+  auto upper = [&](double theta) {  // stops as soon as θ provably cannot improve the incumbent
     lp.fix_cs(std::cos(theta), std::sin(theta));
-    const LpSolution s = lp.solve();
+    const LpSolution s = lp.solve(cert.bound.upper);
     lp.free_cs();
     check(s);
     cert.lp_solves += s.solves;

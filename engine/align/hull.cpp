@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -59,6 +60,66 @@ int run_qhull(std::vector<double>& pts, const char* flags, std::vector<Plane>& p
   return code;
 }
 
+// Points that cannot be vertices of the lower hull, found without qhull in O(n + G²). Point q is dropped when
+// each of its four open quadrants ({x > x_q, y > y_q} and the other three) holds a point lower than q. Those
+// four points contain q's position in their convex hull (every closed half-plane through q contains a whole
+// quadrant, so no line separates q from them), so the lower hull of the other points is at q at most the
+// largest of their C, below C_q: q lies strictly above it and is no vertex of the lower hull, whose planes
+// are then those of the remaining points. The quadrants are searched coarsely: the (x, y) bounding box is cut
+// into G × G cells and each quadrant replaced by the block of cells strictly beyond q's row and column (a
+// subset of it), whose minimum C comes from a table of block minima. "Lower" keeps a relative margin, so a
+// point within rounding of that bound is kept. Returns the indices kept, in input order.
+std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts) {
+  const std::size_t n = pts.size() / 3;
+  double x0 = pts[0], x1 = pts[0], y0 = pts[1], y1 = pts[1];
+  for (std::size_t i = 1; i < n; ++i) {
+    x0 = std::min(x0, pts[3 * i]), x1 = std::max(x1, pts[3 * i]);
+    y0 = std::min(y0, pts[3 * i + 1]), y1 = std::max(y1, pts[3 * i + 1]);
+  }
+  std::vector<std::size_t> all(n);
+  for (std::size_t i = 0; i < n; ++i) all[i] = i;
+  if (!(x1 > x0) || !(y1 > y0)) return all;
+  // About four points per cell.
+  const auto g = static_cast<std::size_t>(std::clamp(std::sqrt(static_cast<double>(n) / 2.0), 2.0, 64.0));
+  const double sx = static_cast<double>(g) / (x1 - x0), sy = static_cast<double>(g) / (y1 - y0);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::size_t> cell(n);
+  std::vector<double> cmin(g * g, inf);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto a = std::min(g - 1, static_cast<std::size_t>((pts[3 * i] - x0) * sx));
+    const auto b = std::min(g - 1, static_cast<std::size_t>((pts[3 * i + 1] - y0) * sy));
+    cell[i] = a * g + b;
+    cmin[cell[i]] = std::min(cmin[cell[i]], pts[3 * i + 2]);
+  }
+  // Block minima for the four corners of the grid, (g + 1)² with an empty border: ne[a][b] = min over
+  // cells a' ≥ a, b' ≥ b, and likewise nw (a' ≤ a, b' ≥ b), sw, se (indices shifted by one).
+  const std::size_t w = g + 2;
+  std::vector<double> ne(w * w, inf), nw(w * w, inf), sw(w * w, inf), se(w * w, inf);
+  const auto at = [w](std::size_t a, std::size_t b) { return a * w + b; };  // a, b in 0 … g + 1
+  for (std::size_t a = g; a >= 1; --a)
+    for (std::size_t b = g; b >= 1; --b)
+      ne[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], ne[at(a + 1, b)], ne[at(a, b + 1)]});
+  for (std::size_t a = 1; a <= g; ++a)
+    for (std::size_t b = g; b >= 1; --b)
+      nw[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], nw[at(a - 1, b)], nw[at(a, b + 1)]});
+  for (std::size_t a = 1; a <= g; ++a)
+    for (std::size_t b = 1; b <= g; ++b)
+      sw[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], sw[at(a - 1, b)], sw[at(a, b - 1)]});
+  for (std::size_t a = g; a >= 1; --a)
+    for (std::size_t b = 1; b <= g; ++b)
+      se[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], se[at(a + 1, b)], se[at(a, b - 1)]});
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t a = cell[i] / g + 1, b = cell[i] % g + 1;  // shifted cell indices
+    const double cq = pts[3 * i + 2];
+    const double bound = cq - 1e-12 * (1.0 + std::abs(cq));
+    const bool dropped = ne[at(a + 1, b + 1)] < bound && nw[at(a - 1, b + 1)] < bound &&
+                         sw[at(a - 1, b - 1)] < bound && se[at(a + 1, b - 1)] < bound;
+    if (!dropped) kept.push_back(i);
+  }
+  return kept;
+}
+
 std::string first_line(const std::string& s) {
   const auto start = s.find("QH");
   std::string line = s.substr(start == std::string::npos ? 0 : start);
@@ -101,13 +162,31 @@ std::vector<Plane> lower_hull_planes(std::span<const double> x, std::span<const 
   HullStats st;
   std::vector<Plane> raw;
   std::string message;
-  std::vector<double> work = pts;  // qhull may reorder nothing, but keep the input intact for a retry
-  int code = run_qhull(work, "qhull", raw, st, message);
+  int code = 1;
+  std::vector<double> work;
+  if (options.prefilter && n > 16) {  // qhull on the points that can be lower-hull vertices only
+    const std::vector<std::size_t> kept = lower_hull_candidates(pts);
+    if (kept.size() >= 4 && kept.size() < n) {
+      work.resize(3 * kept.size());
+      for (std::size_t k = 0; k < kept.size(); ++k)
+        for (int d = 0; d < 3; ++d) work[3 * k + d] = pts[3 * kept[k] + d];
+      code = run_qhull(work, "qhull Q5", raw, st, message);
+      st.hull_points = kept.size();
+      if (code != 0 || raw.empty()) raw.clear(), st = HullStats{};
+    }
+  }
+  // 'Q5': qhull skips the outer planes (a check of its own output); the facets are the same.
+  if (code != 0 || raw.empty()) {
+    work = pts;  // qhull may reorder nothing, but keep the input intact for a retry
+    code = run_qhull(work, "qhull Q5", raw, st, message);
+    st.hull_points = n;
+  }
   if (code != 0 || raw.empty()) {
     // Degenerate cloud (all C equal, collinear or repeated positions): joggle the input.
     raw.clear();
     st = HullStats{};
     st.joggled = true;
+    st.hull_points = n;
     work = pts;
     std::string m2;
     code = run_qhull(work, "qhull QJ", raw, st, m2);

@@ -27,14 +27,18 @@ struct HullOptions {
   double max_slope = 1e3;
   // Planes whose (r, s, t) agree within this (relative to the cloud's scale) are kept once.
   double duplicate_tolerance = 1e-9;
+  // Run qhull only on the points that can be vertices of the lower hull (a grid test drops points lying above
+  // four lower points around them); the lower facets are the same. false: every point goes to qhull.
+  bool prefilter = true;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
 struct HullStats {
-  std::size_t facets = 0;      // lower facets qhull returned
-  std::size_t steep = 0;       // dropped as near-vertical
-  std::size_t duplicates = 0;  // dropped as duplicates
-  bool joggled = false;        // qhull needed 'QJ' (degenerate cloud, e.g. collinear positions)
+  std::size_t facets = 0;       // lower facets qhull returned
+  std::size_t steep = 0;        // dropped as near-vertical
+  std::size_t duplicates = 0;   // dropped as duplicates
+  bool joggled = false;         // qhull needed 'QJ' (degenerate cloud, e.g. collinear positions)
+  std::size_t hull_points = 0;  // points given to qhull (after the prefilter)
 };
 
 // The planes of the lower hull of {(x[i], y[i], c[i])}. Needs at least 3 points that are not collinear in

@@ -67,3 +67,37 @@ TEST_CASE("hull of degenerate clouds: flat dissimilarity joggles, collinear posi
                                           std::vector<double>{0, 1}),
                   std::invalid_argument);
 }
+
+TEST_CASE("the prefilter drops points above the lower hull and keeps its facets") {
+  Rng rng(23);
+  HullOptions all;
+  all.prefilter = false;
+  // Lawn-mower positions (exactly collinear rows, as the simulated surveys) and scattered ones; a rough
+  // field, a smooth one and a paraboloid (every point on the lower hull).
+  for (int layout = 0; layout < 2; ++layout)
+    for (int field = 0; field < 3; ++field) {
+      std::vector<double> x, y, c;
+      for (int i = 0; i < 900; ++i) {
+        const double px = layout == 0 ? static_cast<double>(i % 45) : rng.uniform(0, 44);
+        const double py = layout == 0 ? 2.0 * static_cast<double>(i / 45) : rng.uniform(0, 40);
+        x.push_back(px), y.push_back(py);
+        const double smooth = std::sin(0.2 * px) + std::cos(0.15 * py);
+        c.push_back(field == 0   ? smooth + 0.5 * rng.normal()
+                    : field == 1 ? smooth + 0.01 * rng.normal()
+                                 : 0.01 * ((px - 20) * (px - 20) + (py - 17) * (py - 17)));
+      }
+      HullStats fs, as;
+      auto filtered = lower_hull_planes(x, y, c, {}, &fs);
+      auto every = lower_hull_planes(x, y, c, all, &as);
+      CAPTURE(layout);
+      CAPTURE(field);
+      CHECK(as.hull_points == x.size());
+      if (field == 0) CHECK(fs.hull_points < x.size() / 2);  // a rough field: most points lie above others
+      REQUIRE(filtered.size() == every.size());
+      for (std::size_t m = 0; m < every.size(); ++m) {
+        CHECK(filtered[m].r == doctest::Approx(every[m].r).epsilon(1e-9));
+        CHECK(filtered[m].s == doctest::Approx(every[m].s).epsilon(1e-9));
+        CHECK(filtered[m].t == doctest::Approx(every[m].t).epsilon(1e-9));
+      }
+    }
+}

@@ -9,11 +9,13 @@
 // inside its region-of-interest box lo ≤ (f_j, g_j) ≤ hi (two ranged rows per point): the planes are lower
 // bounds of the dissimilarity only over the box their cloud was taken from.
 //
-// Rows are generated lazily: the model starts with the plane of each query point that is maximal at the
-// centre of its box, and after each solve the most violated plane of every query point (and each box row the
-// solution violates) is added and the LP re-solved warm by the dual simplex, until nothing is violated. The
-// result is the optimum of the full LP (every omitted row is satisfied). One ClpSimplex per instance:
-// instances are not shared between threads.
+// Rows are generated lazily. Each query point starts with its base plane m0_j (the one maximal at the centre
+// of its box) held as a bound: the model's column is v_j = u_j − plane_m0_j(f_j, g_j) ≥ 0, so the starting
+// basis is dual feasible and a point whose base plane stays active costs no pivot (see the constructor).
+// After each solve the most violated plane of every query point (and each box row the solution violates) is
+// added and the LP re-solved warm by the dual simplex, until nothing is violated. The result is the optimum
+// of the full LP (every omitted row is satisfied). One ClpSimplex per instance: instances are not shared
+// between threads.
 #pragma once
 
 #include <cstddef>
@@ -48,7 +50,9 @@ struct LpSettings {
                                     // hypot(c, s) ≤ 1 + disc_tolerance (conv SO(2), eq. 3.12)
 };
 
-enum class LpStatus { optimal, infeasible, failed };
+// cut_off: a relaxation of the LP (its rows so far) already has an optimum above the cutoff given to solve(),
+// so the LP's own optimum is above it too; the solve stopped there.
+enum class LpStatus { optimal, infeasible, failed, cut_off };
 
 struct LpSolution {
   LpStatus status = LpStatus::failed;
@@ -58,6 +62,11 @@ struct LpSolution {
   int iterations = 0;          // simplex iterations over all solves
   std::size_t plane_rows = 0;  // plane rows in the model at the end
   std::size_t cuts = 0;        // disc tangent cuts in the model at the end
+  // Optimal solves of the rotation-like parameterisation with (c, s) rows: λ = Σ_i y_i (a_c, a_s)_i over
+  // those rows, their multipliers' gradient. Relaxing the rows with their multipliers bounds the LP without
+  // them (plane, box and column bounds only) at every (c, s) = p: V(p) ≥ cost + λ · (p − (c, s)*) (Lagrangian
+  // duality; exact up to the solver's tolerances).
+  double cs_gradient[2] = {0.0, 0.0};
 };
 
 class HullLp {
@@ -77,8 +86,10 @@ class HullLp {
   void fix_cs(double c, double s);
   void free_cs();
 
-  // Solves with lazy plane rows (and disc cuts when settings.disc_tolerance > 0).
-  [[nodiscard]] LpSolution solve();
+  // Solves with lazy plane rows (and disc cuts when settings.disc_tolerance > 0). Every intermediate solve is
+  // the optimum of a relaxation (a subset of the rows), hence a lower bound on the LP's optimum: once one
+  // exceeds `cutoff` the solve stops with LpStatus::cut_off (used to skip sectors that cannot win).
+  [[nodiscard]] LpSolution solve(double cutoff = convex::kLpInfinity);
 
   [[nodiscard]] std::size_t parameter_count() const { return kind_ == Parameterization::affine ? 6 : 4; }
 
@@ -94,10 +105,13 @@ class HullLp {
   const std::vector<Box>& boxes_;
   LpSettings settings_;
   std::unique_ptr<convex::Lp> model_;
-  std::vector<std::vector<bool>> in_model_;  // plane (j, m) has a row
+  std::vector<std::vector<bool>> in_model_;  // plane (j, m) has a row (or is j's base plane)
+  std::vector<std::size_t> base_;            // base plane m0_j of each query point (u_j = v_j + plane_m0_j)
+  double constant_ = 0;                      // Σ_j t of the base planes: the objective's constant
   std::vector<bool> box_in_model_;           // box row 2j (x) / 2j + 1 (y) is in the model
   std::size_t plane_rows_ = 0, cuts_ = 0;
   std::vector<int> cs_row_index_;  // rows holding the current CsRows
+  std::vector<CsRow> cs_rows_;     // their coefficients and bounds
   bool solved_once_ = false;
 };
 

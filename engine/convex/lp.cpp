@@ -36,6 +36,7 @@ Lp::Lp(const std::vector<double>& cost, const std::vector<double>& col_lo, const
   model_->loadProblem(static_cast<int>(n), 0, start.data(), nullptr, nullptr, col_lo.data(), col_hi.data(),
                       cost.data(), nullptr, nullptr);
   model_->setOptimizationDirection(1.0);
+  if (!options.scaling) model_->scaling(0);
 }
 
 Lp::~Lp() = default;
@@ -66,8 +67,13 @@ void Lp::set_coefficient(int row, int column, double value) {
 void Lp::set_row_bounds(int row, double lo, double hi) { model_->setRowBounds(row, lo, hi); }
 void Lp::set_column_bounds(int column, double lo, double hi) { model_->setColumnBounds(column, lo, hi); }
 
-LpStatus Lp::solve() {
+LpStatus Lp::solve(double objective_limit) {
+  model_->setDualObjectiveLimit(objective_limit);
   model_->dual();
+  // Status 1 with secondary status 1: "primal infeasible because dual limit reached" (ClpModel.hpp).
+  // ClpModel::isDualObjectiveLimitReached() is not used: it also answers true for an infeasible problem.
+  if (objective_limit < kLpInfinity && model_->status() == 1 && model_->secondaryStatus() == 1)
+    return LpStatus::cut_off;
   if (model_->isProvenPrimalInfeasible()) return LpStatus::infeasible;
   if (!model_->isProvenOptimal()) return LpStatus::failed;
   return LpStatus::optimal;
@@ -76,5 +82,6 @@ LpStatus Lp::solve() {
 int Lp::iterations() const { return model_->numberIterations(); }
 double Lp::objective() const { return model_->objectiveValue(); }
 const double* Lp::solution() const { return model_->primalColumnSolution(); }
+const double* Lp::row_duals() const { return model_->dualRowSolution(); }
 
 }  // namespace keel::convex

@@ -28,12 +28,17 @@ struct LpRows {
   void add(double row_lo, double row_hi, const std::vector<int>& cols, const std::vector<double>& vals);
 };
 
-enum class LpStatus { optimal, infeasible, failed };
+// cut_off: the dual simplex proved the optimum above the objective limit given to solve() and stopped there.
+enum class LpStatus { optimal, infeasible, failed, cut_off };
 
 struct LpOptions {
   // Dantzig's rule for the dual simplex's leaving row instead of CLP's steepest edge (about 20 % faster on
   // the alignment LPs, whose rows change between every solve).
   bool dantzig_dual_pricing = false;
+  // CLP's scaling of rows and columns. Off where it misleads the dual simplex: on keel.align's LPs (objective
+  // on the transform's columns of order 10³, unit elsewhere) CLP stopped with secondary status 3, "optimal"
+  // for the scaled problem but dual infeasible unscaled, up to 2 % above the optimum.
+  bool scaling = true;
 };
 
 class Lp {
@@ -57,12 +62,16 @@ class Lp {
   void set_row_bounds(int row, double lo, double hi);
   void set_column_bounds(int column, double lo, double hi);
 
-  // Re-solves by the dual simplex from the current basis.
-  LpStatus solve();
+  // Re-solves by the dual simplex from the current basis. With an objective limit, the solve stops as soon as
+  // the dual simplex proves the optimum is above it (its objective, a dual bound, exceeds the limit with no
+  // variable at an artificial bound; CLP's dual objective limit) and returns LpStatus::cut_off.
+  LpStatus solve(double objective_limit = kLpInfinity);
   // Of the last solve: simplex iterations, objective cᵀx and the primal solution x (columns() entries).
   [[nodiscard]] int iterations() const;
   [[nodiscard]] double objective() const;
   [[nodiscard]] const double* solution() const;
+  // Of the last solve: the row duals y (rows() entries), with cost = Aᵀy + reduced costs (CLP's convention).
+  [[nodiscard]] const double* row_duals() const;
 
  private:
   std::unique_ptr<ClpSimplex> model_;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <optional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -80,45 +79,51 @@ RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, cons
   settings.lazy_boxes = global_round;  // later rounds' boxes bind (and rule out far sectors at once)
   RoundSolution out;
   if (o.method == Method::proposed) {
-    // The eight sectors in one model, each warm-started from the previous optimum (the plane rows generated
-    // for one sector are valid for all; sectors differ only in the bounds of the same rows, see sector_rows).
-    // The most promising sector goes first — the previous round's, or in round 0 the one holding the optimum
-    // of the filled octagon — then the others in angular order from it. A sector is skipped, or its solve
-    // stopped, as soon as it provably cannot win:
+    // The eight sectors in one model (the plane rows generated for one sector are valid for all; sectors
+    // differ only in the bounds of the same rows, see sector_rows). The most promising sector goes first —
+    // the previous round's, or in round 0 the one holding the optimum of the filled octagon — then the others
+    // in angular order from it. A sector is skipped, or its solve stopped, as soon as it provably cannot win:
     //   - the boxes alone rule it out (boxes_exclude_sector; its LP would be infeasible — in the shrinking
-    //     rounds most sectors are);
-    //   - a Lagrangian minorant of an earlier optimal solve lies above the best cost on its whole edge;
+    //     rounds most sectors are; the margin leaves sectors near the edge of feasibility to the LP);
+    //   - a Lagrangian minorant of an earlier optimal solve is at least the best cost on its whole edge;
     //   - the dual simplex proves its optimum above the best cost (LpStatus::cut_off).
-    // The kept sector is the lowest cost, ties to the lowest index, as if all eight were solved to the end.
-    // Sequential, so the answer does not depend on threads.
-    HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
-    int first = previous_sector;
-    std::optional<LpSolution> octagon;
-    if (first < 0) {
-      lp.set_cs_rows(octagon_rows());
-      const LpSolution s = lp.solve();
-      out.solves += s.solves, out.iterations += s.iterations;
-      if (s.status == LpStatus::failed)
-        throw std::runtime_error(
-            "align: the LP over the filled octagon failed (CLP did not prove optimality)");
-      first = 0;
-      octagon = s;
-      if (s.status == LpStatus::optimal) {
-        const double a = std::atan2(s.params[1], s.params[0]);
-        first = std::clamp(static_cast<int>(std::floor((a < 0 ? a + 2 * kPi : a) / (kPi / 4))), 0, 7);
-      }
-    }
-    // The margin keeps sectors near the edge of feasibility for the LP and its tolerances.
+    // The kept sector is the lowest cost, as if all eight were solved to the end (exact ties: the lowest
+    // index among those solved; within 1e-9 relative, the first found). Sequential, so the answer does not
+    // depend on threads.
     double extent = 0;
     for (const Box& b : reg.boxes)
       extent = std::max({extent, std::abs(b.x_lo), std::abs(b.x_hi), std::abs(b.y_lo), std::abs(b.y_hi)});
     std::array<bool, 8> excluded{};
     for (int k = 0; k < 8; ++k)
       excluded[k] = boxes_exclude_sector(p.query_x, p.query_y, reg.boxes, k, 1e-6 * (1 + extent));
+    HullLp lp(kind, p.query_x, p.query_y, reg.planes, reg.boxes, settings);
+    // The filled octagon first: every sector's rows are the octagon's with bounds tightened, so from the
+    // octagon's optimal basis each sector's solve is a proper warm start of the dual simplex (dual feasible;
+    // its objective a lower bound from the first iteration). From another sector's optimum it is not: that
+    // sector's binding edge row would be relaxed, and CLP then finished the solve by the primal simplex, past
+    // any objective limit.
+    lp.set_cs_rows(octagon_rows());
+    const LpSolution octagon = lp.solve();
+    out.solves += octagon.solves, out.iterations += octagon.iterations;
+    if (octagon.status == LpStatus::failed)
+      throw std::runtime_error("align: the LP over the filled octagon failed (CLP did not prove optimality)");
+    std::vector<unsigned char> octagon_basis;
+    if (octagon.status == LpStatus::optimal) octagon_basis = lp.basis();
+    int first = previous_sector;
+    if (first < 0) {
+      first = 0;
+      if (octagon.status == LpStatus::optimal) {
+        const double a = std::atan2(octagon.params[1], octagon.params[0]);
+        first = std::clamp(static_cast<int>(std::floor((a < 0 ? a + 2 * kPi : a) / (kPi / 4))), 0, 7);
+      }
+    }
     std::array<int, 8> order{};
     for (int q = 0; q < 8; ++q) order[q] = (first + q) % 8;
-    // Lagrangian minorants V(p) ≥ cost + λ · (p − p*) of every optimal solve (LpSolution::cs_gradient); the
-    // margin covers the solver's tolerances in λ.
+    // Lagrangian minorants V(p) ≥ cost + λ · (p − p*) of every optimal solve (LpSolution::cs_gradient). A
+    // sector on whose whole edge one of them is at least the best cost (less 1e-9 relative, the LP's
+    // accuracy) cannot cost less: it is skipped. That includes the sectors next to the best when the
+    // octagon's optimum lies on the best sector's edge (the minorant touches the best cost only at the shared
+    // vertex), so a sector that ties the best within 1e-9 is not solved: the first best found is kept.
     struct Minorant {
       double cost, c, s, gc, gs;
     };
@@ -127,23 +132,24 @@ RoundSolution solve_round(const AlignmentProblem& p, const AlignOptions& o, cons
       if (s.status == LpStatus::optimal)
         minorants.push_back({s.cost, s.params[0], s.params[1], s.cs_gradient[0], s.cs_gradient[1]});
     };
-    if (octagon) keep_minorant(*octagon);
+    if (!octagon_basis.empty()) keep_minorant(octagon);
     const double radius = 1.0 / kBarniDelta;
     const auto bounded_away = [&](int k, double best) {
-      const double margin = 1e-6 * (1.0 + std::abs(best));
+      const double margin = 1e-9 * (1.0 + std::abs(best));
       for (const Minorant& m : minorants) {
         double low = std::numeric_limits<double>::infinity();
         for (int v = k; v <= k + 1; ++v) {  // a linear function's minimum on the edge is at a vertex
           const double c = radius * std::cos(v * kPi / 4), s = radius * std::sin(v * kPi / 4);
           low = std::min(low, m.cost + m.gc * (c - m.c) + m.gs * (s - m.s));
         }
-        if (low > best + margin) return true;
+        if (low > best - margin) return true;
       }
       return false;
     };
     for (const int k : order) {
       if (excluded[k]) continue;
       if (out.sector >= 0 && bounded_away(k, out.lp.cost)) continue;
+      if (!octagon_basis.empty()) lp.set_basis(octagon_basis);
       lp.set_cs_rows(sector_rows(k));
       const LpSolution s = lp.solve(out.sector < 0 ? convex::kLpInfinity : out.lp.cost);
       out.solves += s.solves, out.iterations += s.iterations;

@@ -60,7 +60,47 @@ int run_qhull(std::vector<double>& pts, const char* flags, std::vector<Plane>& p
   return code;
 }
 
-// Points that cannot be vertices of the lower hull, found without qhull in O(n + G²). Point q is dropped when
+// Marks the points lying above a segment of two others on an exactly straight run of the input: consecutive
+// points with the same y and strictly monotone x (a survey line sampled as a lawn-mower). Along such a run
+// the lower chain of (x, C) is found by Andrew's monotone chain; a point strictly above it (by `margin`) lies
+// above the segment of two other points of the cloud and is no vertex of the lower hull. O(n), input order
+// only.
+void mark_above_straight_runs(const std::vector<double>& pts, double margin, std::vector<char>& above) {
+  const std::size_t n = pts.size() / 3;
+  std::vector<std::size_t> chain;
+  for (std::size_t s = 0; s < n;) {
+    std::size_t e = s + 1;
+    const double dir = e < n ? pts[3 * e] - pts[3 * s] : 0.0;
+    while (e < n && pts[3 * e + 1] == pts[3 * s + 1] && (pts[3 * e] - pts[3 * (e - 1)]) * dir > 0) ++e;
+    if (e - s >= 3) {
+      chain.clear();
+      for (std::size_t i = s; i < e; ++i) {  // lower chain, x monotone (increasing or decreasing)
+        while (chain.size() >= 2) {
+          const std::size_t a = chain[chain.size() - 2], b = chain.back();
+          // b is above (or on) segment a–i: the cross product of (b − a) and (i − a) in (x, C), signed by dir
+          const double cross = (pts[3 * b] - pts[3 * a]) * (pts[3 * i + 2] - pts[3 * a + 2]) -
+                               (pts[3 * b + 2] - pts[3 * a + 2]) * (pts[3 * i] - pts[3 * a]);
+          if (cross * dir <= 0)
+            chain.pop_back();
+          else
+            break;
+        }
+        chain.push_back(i);
+      }
+      for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+        const std::size_t a = chain[k], b = chain[k + 1];
+        for (std::size_t i = a + 1; i < b; ++i) {
+          const double t = (pts[3 * i] - pts[3 * a]) / (pts[3 * b] - pts[3 * a]);
+          if (pts[3 * i + 2] > pts[3 * a + 2] + t * (pts[3 * b + 2] - pts[3 * a + 2]) + margin) above[i] = 1;
+        }
+      }
+    }
+    s = e;
+  }
+}
+
+// Points that cannot be vertices of the lower hull, found without qhull in O(n + G²): those above a straight
+// run of the input (mark_above_straight_runs), and those that fail a grid test. Point q is dropped when
 // each of its four open quadrants ({x > x_q, y > y_q} and the other three) holds a point lower than q. Those
 // four points contain q's position in their convex hull (every closed half-plane through q contains a whole
 // quadrant, so no line separates q from them), so the lower hull of the other points is at q at most the
@@ -108,8 +148,15 @@ std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts) {
   for (std::size_t a = g; a >= 1; --a)
     for (std::size_t b = 1; b <= g; ++b)
       se[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], se[at(a + 1, b)], se[at(a, b - 1)]});
+  std::vector<char> above(n, 0);
+  {
+    double c0 = pts[2], c1 = pts[2];
+    for (std::size_t i = 0; i < n; ++i) c0 = std::min(c0, pts[3 * i + 2]), c1 = std::max(c1, pts[3 * i + 2]);
+    mark_above_straight_runs(pts, 1e-9 * std::max(1.0, c1 - c0), above);
+  }
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i) {
+    if (above[i]) continue;
     const std::size_t a = cell[i] / g + 1, b = cell[i] % g + 1;  // shifted cell indices
     const double cq = pts[3 * i + 2];
     const double bound = cq - 1e-12 * (1.0 + std::abs(cq));

@@ -27,8 +27,9 @@ struct HullOptions {
   double max_slope = 1e3;
   // Planes whose (r, s, t) agree within this (relative to the cloud's scale) are kept once.
   double duplicate_tolerance = 1e-9;
-  // Run qhull only on the points that can be vertices of the lower hull (a grid test drops points lying above
-  // four lower points around them); the lower facets are the same. false: every point goes to qhull.
+  // Run qhull only on the points that can be vertices of the lower hull: points above the segment of two
+  // others on a straight run of the input (survey lines sampled along x) and points above four lower points
+  // around them (a grid test) are dropped; the lower facets are the same. false: every point goes to qhull.
   bool prefilter = true;
   void validate() const;  // throws std::invalid_argument naming the field
 };

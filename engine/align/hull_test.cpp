@@ -93,6 +93,8 @@ TEST_CASE("the prefilter drops points above the lower hull and keeps its facets"
       CAPTURE(field);
       CHECK(as.hull_points == x.size());
       if (field == 0) CHECK(fs.hull_points < x.size() / 2);  // a rough field: most points lie above others
+      // On survey lines (straight runs in the input) the lower chain of each line drops most of the rest.
+      if (layout == 0 && field < 2) CHECK(fs.hull_points < x.size() / 4);
       REQUIRE(filtered.size() == every.size());
       for (std::size_t m = 0; m < every.size(); ++m) {
         CHECK(filtered[m].r == doctest::Approx(every[m].r).epsilon(1e-9));

@@ -91,6 +91,10 @@ class HullLp {
   // exceeds `cutoff` the solve stops with LpStatus::cut_off (used to skip sectors that cannot win).
   [[nodiscard]] LpSolution solve(double cutoff = convex::kLpInfinity);
 
+  // The model's basis and a restore of it (convex::Lp::basis); rows added since start with their slack basic.
+  [[nodiscard]] std::vector<unsigned char> basis() const { return model_->basis(); }
+  void set_basis(const std::vector<unsigned char>& b) { model_->set_basis(b); }
+
   [[nodiscard]] std::size_t parameter_count() const { return kind_ == Parameterization::affine ? 6 : 4; }
 
  private:

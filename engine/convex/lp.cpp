@@ -4,6 +4,7 @@
 #include <coin/ClpSimplex.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace keel::convex {
@@ -77,6 +78,25 @@ LpStatus Lp::solve(double objective_limit) {
   if (model_->isProvenPrimalInfeasible()) return LpStatus::infeasible;
   if (!model_->isProvenOptimal()) return LpStatus::failed;
   return LpStatus::optimal;
+}
+
+std::vector<unsigned char> Lp::basis() const {
+  const unsigned char* st = model_->statusArray();
+  const int n = model_->numberColumns() + model_->numberRows();
+  return st ? std::vector<unsigned char>(st, st + n) : std::vector<unsigned char>{};
+}
+
+void Lp::set_basis(const std::vector<unsigned char>& basis) {
+  const auto nc = static_cast<std::size_t>(model_->numberColumns()),
+             nr = static_cast<std::size_t>(model_->numberRows());
+  if (basis.size() < nc)
+    throw std::invalid_argument(
+        fmt::format("convex::Lp::set_basis: {} statuses for {} columns", basis.size(), nc));
+  // Column statuses first, then rows (CLP's layout); rows added since the basis was taken are basic.
+  std::vector<unsigned char> st(nc + nr, static_cast<unsigned char>(ClpSimplex::basic));
+  std::copy(basis.begin(), basis.begin() + static_cast<std::ptrdiff_t>(std::min(basis.size(), st.size())),
+            st.begin());
+  model_->copyinStatus(st.data());
 }
 
 int Lp::iterations() const { return model_->numberIterations(); }

@@ -66,6 +66,11 @@ class Lp {
   // the dual simplex proves the optimum is above it (its objective, a dual bound, exceeds the limit with no
   // variable at an artificial bound; CLP's dual objective limit) and returns LpStatus::cut_off.
   LpStatus solve(double objective_limit = kLpInfinity);
+  // The basis (CLP's status of every column and row), and a restore of it: rows added since start with their
+  // slack basic. Restoring a basis and then only tightening bounds or adding rows keeps it dual feasible, a
+  // warm start for the dual simplex.
+  [[nodiscard]] std::vector<unsigned char> basis() const;
+  void set_basis(const std::vector<unsigned char>& basis);
   // Of the last solve: simplex iterations, objective cᵀx and the primal solution x (columns() entries).
   [[nodiscard]] int iterations() const;
   [[nodiscard]] double objective() const;

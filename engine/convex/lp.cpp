@@ -77,6 +77,10 @@ LpStatus Lp::solve(double objective_limit) {
     return LpStatus::cut_off;
   if (model_->isProvenPrimalInfeasible()) return LpStatus::infeasible;
   if (!model_->isProvenOptimal()) return LpStatus::failed;
+  // Secondary status 2–4: optimal for CLP's scaled problem only, infeasible once unscaled (ClpModel.hpp).
+  // Such a point was up to 2 % above the optimum on keel.align's LPs, and as a lower bound it certified wrong
+  // answers; it is not reported as optimal.
+  if (model_->secondaryStatus() >= 2 && model_->secondaryStatus() <= 4) return LpStatus::failed;
   return LpStatus::optimal;
 }
 

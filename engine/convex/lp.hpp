@@ -37,7 +37,8 @@ struct LpOptions {
   bool dantzig_dual_pricing = false;
   // CLP's scaling of rows and columns. Off where it misleads the dual simplex: on keel.align's LPs (objective
   // on the transform's columns of order 10³, unit elsewhere) CLP stopped with secondary status 3, "optimal"
-  // for the scaled problem but dual infeasible unscaled, up to 2 % above the optimum.
+  // for the scaled problem but dual infeasible unscaled, up to 2 % above the optimum. solve() reports such a
+  // stop as LpStatus::failed, never as optimal.
   bool scaling = true;
 };
 

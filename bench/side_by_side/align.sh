@@ -11,7 +11,8 @@
 #               them alike.
 #
 # What it does:
-#   1. for each commit id: `git archive` into SCRATCH/keel-<sha>, configures it with its own "release" preset,
+#   1. for each commit id: `git archive` into SCRATCH/keel-<sha>, configures it with its own "release" preset (or a
+#      plain Release configure),
 #      appends a keel_align_worlds target (this checkout's align_worlds.cpp, linked to keel_align_impl and keel_sim_impl)
 #      and builds only that target; kept and reused on later runs;
 #   2. runs the drivers batch by batch, interleaved, one thread (OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1);
@@ -46,66 +47,14 @@ repo=$(git -C "$here" rev-parse --show-toplevel)
 mkdir -p "$scratch/logs" "$scratch/results"
 stamp=$(date +%Y%m%d-%H%M%S)
 
-log() { printf '[align.sh %s] %s\n' "$(date +%H:%M:%S)" "$*" >&2; }
-timed() {  # timed LABEL LOGFILE CMD...: run CMD with its output in LOGFILE, report the wall time
-  local label=$1 logfile=$2 t0=$SECONDS
-  shift 2
-  if ! "$@" >>"$logfile" 2>&1; then
-    log "$label FAILED; the last lines of $logfile:"
-    tail -n 30 "$logfile" >&2
-    exit 1
-  fi
-  log "$label: $((SECONDS - t0)) s"
-}
-
-append_target() {  # append_target TREE BASE: TREE/CMakeLists.txt := BASE + the keel_align_worlds target
-  local tree=$1 base=$2 tmp
-  tmp=$(mktemp)
-  {
-    cat "$base"
-    printf '\n# appended by bench/side_by_side/align.sh\n'
-    printf 'add_executable(keel_align_worlds %s)\n' "$here/align_worlds.cpp"
-    printf 'target_link_libraries(keel_align_worlds PRIVATE keel_align_impl keel_sim_impl)\n'
-  } >"$tmp"
-  if cmp -s "$tmp" "$tree/CMakeLists.txt"; then rm -f "$tmp"; else mv "$tmp" "$tree/CMakeLists.txt"; fi
-}
-configure_and_build() {  # configure_and_build LABEL TREE
-  local label=$1 tree=$2 logfile=$scratch/logs/keel-$1.log
-  if [ ! -e "$tree/build/release/build.ninja" ]; then
-    timed "$label configure" "$logfile" bash -c "cd '$tree' && cmake --preset release"
-  fi
-  timed "$label build keel_align_worlds" "$logfile" cmake --build "$tree/build/release" --target keel_align_worlds
-}
+sbs_name=align.sh
+# shellcheck source=keel_revisions.sh
+. "$here/keel_revisions.sh"
 
 declare -A bin
 for rev in "${revs[@]}"; do
-  if [ "$rev" = worktree ]; then
-    tree=$scratch/keel-worktree
-    mkdir -p "$tree"
-    if command -v rsync >/dev/null; then
-      rsync -a --delete --exclude /build --exclude /results --exclude /.git --exclude /CMakeLists.txt \
-        "$repo/" "$tree/"
-    else  # the same copy by tar (time stamps kept), except that files deleted here are not deleted there
-      log "no rsync: copying the worktree with tar (deletions are not propagated)"
-      tar -C "$repo" --exclude=./build --exclude=./results --exclude=./.git --exclude=./CMakeLists.txt -cf - . \
-        | tar -C "$tree" -xf -
-    fi
-    append_target "$tree" "$repo/CMakeLists.txt"
-    configure_and_build worktree "$tree"
-  else
-    sha=$(git -C "$repo" rev-parse --verify "$rev^{commit}")
-    tree=$scratch/keel-${sha:0:12}
-    if [ ! -e "$tree/.align-sh-extracted" ]; then
-      rm -rf "$tree"
-      mkdir -p "$tree"
-      git -C "$repo" archive "$sha" | tar -x -C "$tree"
-      cp "$tree/CMakeLists.txt" "$tree/CMakeLists.txt.orig"
-      echo "$sha" >"$tree/.align-sh-extracted"
-    fi
-    append_target "$tree" "$tree/CMakeLists.txt.orig"
-    configure_and_build "$rev" "$tree"
-  fi
-  bin[$rev]=$tree/build/release/keel_align_worlds
+  keel_revision "$rev" keel_align_worlds "$here/align_worlds.cpp" keel_align_impl keel_sim_impl
+  bin[$rev]=$keel_binary
 done
 
 tsv=$scratch/results/align-$stamp.tsv

@@ -52,17 +52,9 @@ repo=$(git -C "$here" rev-parse --show-toplevel)
 mkdir -p "$scratch/logs" "$scratch/results"
 stamp=$(date +%Y%m%d-%H%M%S)
 
-log() { printf '[clique.sh %s] %s\n' "$(date +%H:%M:%S)" "$*" >&2; }
-timed() {  # timed LABEL LOGFILE CMD...: run CMD with its output in LOGFILE, report the wall time
-  local label=$1 logfile=$2 t0=$SECONDS
-  shift 2
-  if ! "$@" >>"$logfile" 2>&1; then
-    log "$label FAILED; the last lines of $logfile:"
-    tail -n 30 "$logfile" >&2
-    exit 1
-  fi
-  log "$label: $((SECONDS - t0)) s"
-}
+sbs_name=clique.sh
+# shellcheck source=keel_revisions.sh
+. "$here/keel_revisions.sh"
 
 # ---- CLIPPER -------------------------------------------------------------------------------------------------
 clipper_build=$scratch/clipper-build
@@ -91,64 +83,10 @@ else
 fi
 
 # ---- keel revisions ------------------------------------------------------------------------------------------
-append_target() {  # append_target TREE: TREE/CMakeLists.txt := this checkout's or TREE's own + the keel_clique target
-  local tree=$1 base=$2 tmp
-  tmp=$(mktemp)
-  {
-    cat "$base"
-    printf '\n# appended by bench/side_by_side/clique.sh\n'
-    printf 'add_executable(keel_clique %s)\n' "$here/keel_clique.cpp"
-    printf 'target_link_libraries(keel_clique PRIVATE keel_pcm_impl)\n'
-  } >"$tmp"
-  if cmp -s "$tmp" "$tree/CMakeLists.txt"; then rm -f "$tmp"; else mv "$tmp" "$tree/CMakeLists.txt"; fi
-}
-configure_and_build() {  # configure_and_build LABEL TREE
-  local label=$1 tree=$2 logfile=$scratch/logs/keel-$1.log
-  if [ ! -e "$tree/build/release/build.ninja" ]; then
-    local t0=$SECONDS
-    if ! (cd "$tree" && cmake --preset release) >>"$logfile" 2>&1; then
-      log "$label: the release preset failed to configure; falling back to a plain Release configure"
-      rm -rf "$tree/build/release"
-      timed "$label configure (fallback)" "$logfile" \
-        cmake -S "$tree" -B "$tree/build/release" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-19
-    else
-      log "$label configure (release preset): $((SECONDS - t0)) s"
-    fi
-  fi
-  timed "$label build keel_clique" "$logfile" cmake --build "$tree/build/release" --target keel_clique
-}
-
 declare -A bin
 for rev in "${revs[@]}"; do
-  if [ "$rev" = worktree ]; then
-    tree=$scratch/keel-worktree
-    mkdir -p "$tree"
-    # This checkout's files as they are now (tracked or not), less its builds, results and git directory; the
-    # top-level CMakeLists.txt is written by append_target so that its time stamp moves only when it changes.
-    if command -v rsync >/dev/null; then
-      rsync -a --delete --exclude /build --exclude /results --exclude /.git --exclude /CMakeLists.txt \
-        "$repo/" "$tree/"
-    else  # the same copy by tar (time stamps kept), except that files deleted here are not deleted there
-      log "no rsync: copying the worktree with tar (deletions are not propagated)"
-      tar -C "$repo" --exclude=./build --exclude=./results --exclude=./.git --exclude=./CMakeLists.txt -cf - . \
-        | tar -C "$tree" -xf -
-    fi
-    append_target "$tree" "$repo/CMakeLists.txt"
-    configure_and_build worktree "$tree"
-  else
-    sha=$(git -C "$repo" rev-parse --verify "$rev^{commit}")
-    tree=$scratch/keel-${sha:0:12}
-    if [ ! -e "$tree/.clique-sh-extracted" ]; then
-      rm -rf "$tree"
-      mkdir -p "$tree"
-      git -C "$repo" archive "$sha" | tar -x -C "$tree"
-      cp "$tree/CMakeLists.txt" "$tree/CMakeLists.txt.orig"
-      echo "$sha" >"$tree/.clique-sh-extracted"
-    fi
-    append_target "$tree" "$tree/CMakeLists.txt.orig"
-    configure_and_build "$rev" "$tree"
-  fi
-  bin[$rev]=$tree/build/release/keel_clique
+  keel_revision "$rev" keel_clique "$here/keel_clique.cpp" keel_pcm_impl
+  bin[$rev]=$keel_binary
 done
 
 # ---- runs ----------------------------------------------------------------------------------------------------

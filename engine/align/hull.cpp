@@ -105,11 +105,12 @@ void mark_above_straight_runs(const std::vector<double>& pts, double margin, std
 // four points contain q's position in their convex hull (every closed half-plane through q contains a whole
 // quadrant, so no line separates q from them), so the lower hull of the other points is at q at most the
 // largest of their C, below C_q: q lies strictly above it and is no vertex of the lower hull, whose planes
-// are then those of the remaining points. The quadrants are searched coarsely: the (x, y) bounding box is cut
-// into G × G cells and each quadrant replaced by the block of cells strictly beyond q's row and column (a
-// subset of it), whose minimum C comes from a table of block minima. "Lower" keeps a relative margin, so a
-// point within rounding of that bound is kept. Returns the indices kept, in input order.
-std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts) {
+// are then those of the remaining points. (`c_range`: the cloud's range of C, for the runs' margin.) The
+// quadrants are searched coarsely: the (x, y) bounding box is cut into G × G cells and each quadrant replaced
+// by the block of cells strictly beyond q's row and column (a subset of it), whose minimum C comes from a
+// table of block minima. "Lower" keeps a relative margin, so a point within rounding of that bound is kept.
+// Returns the indices kept, in input order.
+std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts, double c_range) {
   const std::size_t n = pts.size() / 3;
   double x0 = pts[0], x1 = pts[0], y0 = pts[1], y1 = pts[1];
   for (std::size_t i = 1; i < n; ++i) {
@@ -119,7 +120,7 @@ std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts) {
   std::vector<std::size_t> all(n);
   for (std::size_t i = 0; i < n; ++i) all[i] = i;
   if (!(x1 > x0) || !(y1 > y0)) return all;
-  // About four points per cell.
+  // About two points per cell.
   const auto g = static_cast<std::size_t>(std::clamp(std::sqrt(static_cast<double>(n) / 2.0), 2.0, 64.0));
   const double sx = static_cast<double>(g) / (x1 - x0), sy = static_cast<double>(g) / (y1 - y0);
   constexpr double inf = std::numeric_limits<double>::infinity();
@@ -149,11 +150,7 @@ std::vector<std::size_t> lower_hull_candidates(const std::vector<double>& pts) {
     for (std::size_t b = 1; b <= g; ++b)
       se[at(a, b)] = std::min({cmin[(a - 1) * g + (b - 1)], se[at(a + 1, b)], se[at(a, b - 1)]});
   std::vector<char> above(n, 0);
-  {
-    double c0 = pts[2], c1 = pts[2];
-    for (std::size_t i = 0; i < n; ++i) c0 = std::min(c0, pts[3 * i + 2]), c1 = std::max(c1, pts[3 * i + 2]);
-    mark_above_straight_runs(pts, 1e-9 * std::max(1.0, c1 - c0), above);
-  }
+  mark_above_straight_runs(pts, 1e-9 * std::max(1.0, c_range), above);
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i) {
     if (above[i]) continue;
@@ -212,7 +209,7 @@ std::vector<Plane> lower_hull_planes(std::span<const double> x, std::span<const 
   int code = 1;
   std::vector<double> work;
   if (options.prefilter && n > 16) {  // qhull on the points that can be lower-hull vertices only
-    const std::vector<std::size_t> kept = lower_hull_candidates(pts);
+    const std::vector<std::size_t> kept = lower_hull_candidates(pts, cmax - cmin);
     if (kept.size() >= 4 && kept.size() < n) {
       work.resize(3 * kept.size());
       for (std::size_t k = 0; k < kept.size(); ++k)

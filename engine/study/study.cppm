@@ -85,6 +85,7 @@ export namespace keel::study::ch3 {
 using keel::study::ch3::AlignmentComparison;
 using keel::study::ch3::Example;
 using keel::study::ch3::HullSubstitute;
+using keel::study::ch3::RegimeGrid;
 using keel::study::ch3::Sensitivity;
 // the machinery behind them and its config readers
 using keel::study::ch3::AlignmentStudyOptions;

@@ -2,9 +2,15 @@
 // substitute (§3.8) and the comparison over hull worlds.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
+#include "core/config.hpp"
 #include "study/ch3/comparison.hpp"
 #include "study/ch3/studies.hpp"
 #include "kit/test_kit.hpp"
@@ -215,4 +221,78 @@ TEST_CASE("sensitivity: the length-scale sweep keeps the field's coverage and sh
   CHECK_FALSE(points[1] < o.axis(0)[1]);
   CHECK_FALSE(o.axis(0)[1] < points[1]);
   CHECK(o.axis(1)[0].size == 12);
+}
+
+namespace {
+// ch3_table3_1_regimes' [params] as a run reads them (a profile's `worlds` merged in), with the line of
+// `replacement`'s key replaced by it (empty: as committed).
+keel::core::ConfigTable regime_params(const std::string& replacement = "") {
+  const std::filesystem::path source =
+      std::filesystem::path(KEEL_SOURCE_DIR) / "experiments/ch3_table3_1_regimes/experiment.toml";
+  std::ifstream in(source);
+  std::stringstream text;
+  const std::string key = replacement.substr(0, replacement.find(' '));
+  for (std::string l; std::getline(in, l);) {
+    text << (!key.empty() && l.rfind(key + " ", 0) == 0 ? replacement : l) << '\n';
+    if (l == "[params]") text << "worlds = 2\n";
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "keel_regime_grid_test";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "experiment.toml";
+  std::ofstream(file) << text.str();
+  keel::core::ConfigTable p = keel::core::load_toml(file).table("params");
+  std::filesystem::remove_all(dir);
+  return p;
+}
+}  // namespace
+
+TEST_CASE(
+    "regime grid: the pre-registered grid holds the table's operating point and scales as the sweep does") {
+  const keel::core::ConfigTable p = regime_params();
+  const RegimeGrid::Options o = RegimeGrid::Options::read(p);
+  const auto cells = o.cells();
+  REQUIRE(cells.size() == o.scales.size() * o.noises.size() * o.sizes.size());
+  // σ range fastest, then noise, then query size.
+  CHECK(cells[0].sigma_min == o.scales[0].first);
+  CHECK(cells[1].sigma_min == o.scales[1].first);
+  CHECK(cells[o.scales.size()].noise == o.noises[1]);
+  CHECK(cells[o.scales.size() * o.noises.size()].size == o.sizes[1]);
+  // The headline operating point of ch3_table3_1_alignment is one cell, and its world is the base world
+  // itself.
+  const RegimeGrid::Point base{o.study.world.feature_noise, o.study.world.query_size,
+                               o.study.world.bump_sigma_min, o.study.world.bump_sigma_max};
+  const auto it =
+      std::find_if(cells.begin(), cells.end(), [&](const auto& c) { return !(c < base) && !(base < c); });
+  REQUIRE(it != cells.end());
+  CHECK(o.world_at(*it).bumps == o.study.world.bumps);
+  // Every cell's world is what the one-axis sweep builds for the same point.
+  Sensitivity::Options s;
+  s.study = o.study;
+  for (const auto& c : cells) {
+    const auto a = o.world_at(c), b = s.world_at(c);
+    CHECK(a.bumps == b.bumps);
+    CHECK(a.feature_noise == c.noise);
+    CHECK(a.query_size == c.size);
+    CHECK(a.bump_sigma_min == c.sigma_min);
+  }
+  CHECK_FALSE(o.study.compare.certify);
+}
+
+TEST_CASE("regime grid: a bad grid is refused with the key named") {
+  const auto refused = [](const std::string& line, const std::string& key) {
+    try {
+      (void)RegimeGrid::Options::read(regime_params(line));
+    } catch (const keel::core::ConfigError& e) {
+      const std::string what = e.what();
+      CHECK_MESSAGE(what.find(key) != std::string::npos, what);
+      return true;
+    }
+    return false;
+  };
+  CHECK(refused("field_sigma_max = [1.0, 2.0, 4.0]", "field_sigma_max"));
+  CHECK(refused("field_sigma_min = [2.0, 1.0, 2.0, 3.0]", "field_sigma_min"));
+  CHECK(refused("noise_values = []", "noise_values"));
+  CHECK(refused("query_sizes = [12.0, 80.0]", "query_sizes"));
+  CHECK(refused("noise_values = [0.3, -0.1]", "noise_values"));
+  CHECK_FALSE(refused("noise_values = [0.3, 0.6]", "noise_values"));
 }

@@ -1,7 +1,8 @@
 // The chapter-3 studies (§3.7, §3.8), one per experiment: AlignmentComparison (Table 3.1, and beyond the
 // thesis the certified optimum over SO(2) of round 0 and the SDP check of SOConvHull), Sensitivity
-// (Table 3.1's methods against feature noise and query size), Example (Fig. 3.4) and HullSubstitute (Fig. 3.5
-// on synthetic hull surveys). Each has the study shape of repro/run.hpp; the machinery is comparison.hpp's.
+// (Table 3.1's methods against feature noise, query size and length scale, one axis at a time), RegimeGrid
+// (every combination of the three), Example (Fig. 3.4) and HullSubstitute (Fig. 3.5 on synthetic hull
+// surveys). Each has the study shape of repro/run.hpp; the machinery is comparison.hpp's.
 #pragma once
 
 #include <cstdint>
@@ -62,6 +63,30 @@ struct Sensitivity {
     // One comparison per distinct point; the base point the sweeps share runs once.
     std::map<Point, AlignmentStudyOutcome> points;
     [[nodiscard]] const AlignmentStudyOutcome& at(const Point& p) const;
+  };
+  static Outcome run(const Options& options, const repro::RunContext& context);
+  static void record(repro::Results& results, const Outcome& outcome);
+  static std::vector<repro::Figure> figures(const Outcome& outcome);
+};
+
+// Beyond Table 3.1: a grid of regimes fixed in the config before the run, every combination of the feature
+// field's length scale (bump σ range), the feature noise and the query's size. Each cell is one comparison on
+// the same worlds (streams from base 0), so cells differ by their parameters, not by their random worlds.
+struct RegimeGrid {
+  using Point = Sensitivity::Point;
+  struct Options {
+    AlignmentStudyOptions study;  // certify off; its world is the base of every cell (bump count scaling)
+    std::vector<std::pair<double, double>> scales;  // bump σ ranges (m)
+    std::vector<double> noises, sizes;
+    static Options read(const core::ConfigTable& p);
+    // The cells, query size outermost, then noise, then σ range (fastest).
+    [[nodiscard]] std::vector<Point> cells() const;
+    // As Sensitivity::Options::world_at: the bump count scaled so every length scale covers the area alike.
+    [[nodiscard]] sim::AlignmentWorldOptions world_at(const Point& p) const;
+  };
+  struct Outcome {
+    Options options;
+    std::vector<AlignmentStudyOutcome> cells;  // [cell], in Options::cells() order
   };
   static Outcome run(const Options& options, const repro::RunContext& context);
   static void record(repro::Results& results, const Outcome& outcome);

@@ -1,0 +1,5 @@
+// Beyond Table 3.1 (§3.7): the four alignment methods on a pre-registered grid of regimes.
+import keel.repro;
+import keel.study;
+
+int main(int argc, char** argv) { return keel::repro::study_main<keel::study::ch3::RegimeGrid>(argc, argv); }

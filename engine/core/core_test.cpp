@@ -170,3 +170,45 @@ TEST_CASE("Wilson score interval: Newcombe's (1998) worked values, edges, and co
   CHECK(covered / double(samples) > 0.93);
   CHECK(covered / double(samples) < 0.97);
 }
+
+TEST_CASE("spearman: rank correlation against a brute-force definition, with ties") {
+  using keel::core::spearman;
+  // Ranks by counting (1 + values below + half the other equal values), then Pearson with explicit means.
+  const auto brute = [](const std::vector<double>& a, const std::vector<double>& b) {
+    const auto rank = [](const std::vector<double>& v) {
+      std::vector<double> r;
+      for (double x : v) {
+        double below = 0, equal = 0;
+        for (double y : v) below += y < x, equal += y == x;
+        r.push_back(1 + below + 0.5 * (equal - 1));
+      }
+      return r;
+    };
+    const std::vector<double> ra = rank(a), rb = rank(b);
+    double ma = 0, mb = 0;
+    for (std::size_t i = 0; i < ra.size(); ++i) ma += ra[i], mb += rb[i];
+    ma /= static_cast<double>(ra.size()), mb /= static_cast<double>(rb.size());
+    double sab = 0, saa = 0, sbb = 0;
+    for (std::size_t i = 0; i < ra.size(); ++i)
+      sab += (ra[i] - ma) * (rb[i] - mb), saa += (ra[i] - ma) * (ra[i] - ma),
+          sbb += (rb[i] - mb) * (rb[i] - mb);
+    return sab / std::sqrt(saa * sbb);
+  };
+  keel::core::Rng rng(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<double> a, b;
+    for (int i = 0; i < 40; ++i) {
+      a.push_back(std::floor(rng.uniform(0.0, 8.0)));  // many ties
+      b.push_back(a.back() * rng.uniform(0.0, 1.0) + std::floor(rng.uniform(0.0, 3.0)));
+    }
+    CHECK(spearman(a, b) == doctest::Approx(brute(a, b)).epsilon(1e-12));
+  }
+  // Invariant to monotone maps: a strictly increasing map gives 1, a decreasing one −1.
+  std::vector<double> x, up, down;
+  for (int i = 0; i < 30; ++i) x.push_back(rng.uniform(-2.0, 2.0));
+  for (double v : x) up.push_back(std::exp(3 * v)), down.push_back(-v * v * v);
+  CHECK(spearman(x, up) == doctest::Approx(1.0));
+  CHECK(spearman(x, down) == doctest::Approx(-1.0));
+  CHECK(spearman(x, std::vector<double>(x.size(), 2.0)) == 0.0);  // a constant sample
+  CHECK(spearman({1.0}, {2.0}) == 0.0);
+}

@@ -51,6 +51,39 @@ inline double median(std::vector<double> v) {
   return 0.5 * (*mid + *std::max_element(v.begin(), mid));
 }
 
+// Ranks 1 … n of a sample, ties given the mean of the ranks they span.
+inline std::vector<double> ranks(const std::vector<double>& v) {
+  std::vector<std::size_t> order(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) order[i] = i;
+  // std::sort with the index as tie-break (std::stable_sort pulls in libstdc++ 12's deprecated
+  // get_temporary_buffer, an error under -Werror with clang 19).
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return v[a] < v[b] || (v[a] == v[b] && a < b); });
+  std::vector<double> r(v.size());
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i;
+    while (j + 1 < order.size() && v[order[j + 1]] == v[order[i]]) ++j;
+    const double mean_rank = 0.5 * static_cast<double>(i + j) + 1.0;
+    for (std::size_t k = i; k <= j; ++k) r[order[k]] = mean_rank;
+    i = j + 1;
+  }
+  return r;
+}
+
+// Spearman's rank correlation: Pearson's correlation of the ranks (ties at their mean rank). 0 when either
+// sample is constant, the sizes differ or there are fewer than two pairs.
+inline double spearman(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size() || a.size() < 2) return 0.0;
+  const std::vector<double> ra = ranks(a), rb = ranks(b);
+  const double mean = 0.5 * static_cast<double>(a.size() + 1);  // the mean rank, ties or not
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    sab += (ra[i] - mean) * (rb[i] - mean), saa += (ra[i] - mean) * (ra[i] - mean);
+    sbb += (rb[i] - mean) * (rb[i] - mean);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+}
+
 // The Wilson score interval of a binomial proportion: `successes` of `n` trials, z standard normal quantiles
 // wide (1.96: 95 %). Unlike the Wald interval p ± z √(p(1 − p)/n) it does not collapse to a point at 0 or n
 // successes: 0 of 300 gives [0, 0.0126]. n ≤ 0 gives [0, 1].

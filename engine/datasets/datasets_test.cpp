@@ -153,6 +153,10 @@ TEST_CASE("manifest lists every file and each resolves to a verified copy" *
       if (f.derived) {
         CHECK_FALSE(f.derived_from.empty());
         CHECK_FALSE(f.generator.empty());
+      } else if (!f.system_path.empty()) {
+        CHECK(f.git_blob.size() == 40);
+        CHECK_FALSE(f.debian_package.empty());
+        CHECK_FALSE(f.package_version.empty());
       } else {
         CHECK(f.commit.size() == 40);
         CHECK(f.git_blob.size() == 40);
@@ -160,8 +164,8 @@ TEST_CASE("manifest lists every file and each resolves to a verified copy" *
       }
     }
   }
-  CHECK(m.datasets.size() == 7);  // … and se-sync-benchmarks (11 files)
-  CHECK(files == 35);
+  CHECK(m.datasets.size() == 8);  // … se-sync-benchmarks (11 files) and matplotlib-terrain (4)
+  CHECK(files == 39);
 }
 
 TEST_CASE("counts match SOURCE.md" * doctest::test_suite("datasets")) {
@@ -490,5 +494,17 @@ TEST_CASE("manifest parsing is strict") {
       error_for("version = 1\n[datasets.x]\ntitle = \"t\"\ncitation = \"c\"\n[datasets.x.files.\"../a\"]\n" +
                 good_file)
           .find("must be relative") != std::string::npos);
+  // A file a Debian package installs: its own keys, an absolute path, and no repository keys beside them.
+  const std::string installed = "sha256 = \"" + std::string(64, 'a') +
+                                "\"\nbytes = 1\ndebian_package = \"p\"\npackage_version = \"1\"\n"
+                                "system_path = \"/usr/share/p/a\"\ngit_blob = \"b\"\nlicense = \"l\"\n";
+  CHECK(error_for(head + installed) == "(no error)");
+  CHECK(error_for(head + installed.substr(0, installed.find("system_path")) + "system_path = \"share/a\"\n" +
+                  installed.substr(installed.find("git_blob")))
+            .find("is not an absolute path") != std::string::npos);
+  CHECK(error_for(head + installed + "repository = \"o/r\"\n").find("key 'repository'") != std::string::npos);
+  std::string unversioned = installed;
+  unversioned.erase(unversioned.find("package_version"), std::string("package_version = \"1\"\n").size());
+  CHECK(error_for(head + unversioned).find("package_version") != std::string::npos);
   fs::remove(tmp);
 }

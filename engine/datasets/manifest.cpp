@@ -84,6 +84,15 @@ DatasetManifest parse_manifest(const fs::path& file) {
           if (!is_safe_relative(src))
             throw DatasetError(fmt::format("{}: '{}' is not a safe path", f.where("derived_from"), src));
         }
+      } else if (f.has("system_path")) {
+        df.debian_package = f.string("debian_package");
+        df.package_version = f.string("package_version");
+        df.system_path = f.string("system_path");
+        if (!std::filesystem::path(df.system_path).is_absolute())
+          throw DatasetError(
+              fmt::format("{}: '{}' is not an absolute path", f.where("system_path"), df.system_path));
+        df.git_blob = f.string("git_blob");
+        df.license = f.string("license");
       } else {
         df.repository = f.string("repository");
         df.commit = f.string("commit");
@@ -249,6 +258,11 @@ fs::path resolve_dataset_file(const std::string& name, const std::string& relati
       "DIR copies from a local mirror laid out like shared/datasets), or set KEEL_DATASETS "
       "to a folder holding <name>/<path>.",
       name);
+  if (!entry->system_path.empty())
+    how += fmt::format(
+        "\nThis file is installed by the Debian package {} {} at {}: scripts/fetch-datasets {} copies it "
+        "(scripts/setup installs the package and runs that).",
+        entry->debian_package, entry->package_version, entry->system_path, name);
   if (entry->derived) {
     how += fmt::format(
         "\nThis file is derived here (not downloadable): scripts/fetch-datasets {} regenerates it from ",

@@ -29,12 +29,15 @@ struct DatasetFile {
   std::string path;     // relative to the dataset folder, e.g. "isam/manhattanOlson3500.txt"
   std::string sha256;   // lower-case hex
   std::int64_t bytes = 0;
-  bool derived = false;                   // made here (not downloadable): see recipe / derived_from
-  std::string repository;                 // "owner/name" on GitHub (empty when derived)
-  std::string commit;                     // pinned commit of the snapshot
-  std::string source_path;                // path in the source repository
-  std::string git_blob;                   // `git hash-object` of the file (a second, independent pin)
-  std::string license;                    // what the source states
+  bool derived = false;         // made here (not downloadable): see recipe / derived_from
+  std::string repository;       // "owner/name" on GitHub (empty when derived or installed)
+  std::string commit;           // pinned commit of the snapshot
+  std::string source_path;      // path in the source repository
+  std::string debian_package;   // installed by this Debian package instead (scripts/fetch-datasets copies it)
+  std::string package_version;  // the package version whose file the sha256 pins
+  std::string system_path;      // where the package installs it (absolute)
+  std::string git_blob;         // `git hash-object` of the file (a second, independent pin)
+  std::string license;          // what the source states
   std::vector<std::string> derived_from;  // derived files: the inputs (paths in the same dataset)
   std::string generator;  // derived files: the procedure of scripts/fetch-datasets that remakes it
   std::string recipe;     // derived files: how they were made

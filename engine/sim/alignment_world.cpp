@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 
@@ -153,19 +154,27 @@ LawnMower lawn_mower(double x0, double y0, double width, double height, double t
   return l;
 }
 
-AlignmentWorld make_alignment_world(const AlignmentWorldOptions& o, std::uint64_t seed,
-                                    std::uint64_t stream) {
+namespace {
+
+// The world of make_alignment_world; `draw_field` null: the bump field.
+AlignmentWorld make_world(const AlignmentWorldOptions& o, std::uint64_t seed, std::uint64_t stream,
+                          const std::function<FeatureFunction(std::uint64_t)>* draw_field) {
   o.validate();
   core::Rng root = core::Rng::stream(seed, stream);
   // Independent sub-streams (drawn in this fixed order), so one option changes only its own part of the
   // world.
-  core::Rng field_rng(root.next()), place_rng(root.next()), transform_rng(root.next()),
+  const std::uint64_t field_seed = root.next();
+  core::Rng field_rng(field_seed), place_rng(root.next()), transform_rng(root.next()),
       feature_rng(root.next()), position_rng(root.next());
 
   AlignmentWorld w;
   w.feature_dim = o.feature_dim;
   const double half = 0.5 * o.reference_size;
-  w.field = random_field(o, -half, half, field_rng);
+  FeatureFunction custom;
+  if (draw_field)
+    custom = (*draw_field)(field_seed);
+  else
+    w.field = random_field(o, -half, half, field_rng);
 
   const LawnMower ref =
       lawn_mower(-half, -half, o.reference_size, o.reference_size, o.track_spacing, o.sample_spacing);
@@ -223,9 +232,26 @@ AlignmentWorld make_alignment_world(const AlignmentWorldOptions& o, std::uint64_
   const std::size_t d = static_cast<std::size_t>(o.feature_dim);
   w.ref_features.resize(na * d);
   w.query_features.resize(nb * d);
-  for (std::size_t i = 0; i < na; ++i) w.field.value_into(w.ref_x[i], w.ref_y[i], &w.ref_features[i * d]);
-  for (std::size_t j = 0; j < nb; ++j)
-    w.field.value_into(w.query_true_x[j], w.query_true_y[j], &w.query_features[j * d]);
+  const FeatureFunction field =
+      custom ? custom : [&w](double x, double y, double* out) { w.field.value_into(x, y, out); };
+  for (std::size_t i = 0; i < na; ++i) field(w.ref_x[i], w.ref_y[i], &w.ref_features[i * d]);
+  for (std::size_t j = 0; j < nb; ++j) field(w.query_true_x[j], w.query_true_y[j], &w.query_features[j * d]);
+  if (custom) {
+    // Standardised per component over the reference's noiseless values (the bump field is rescaled over the
+    // reference square instead); a component that does not vary is left as it is.
+    for (std::size_t k = 0; k < d; ++k) {
+      double mean = 0, square = 0;
+      for (std::size_t i = 0; i < na; ++i) mean += w.ref_features[i * d + k];
+      mean /= static_cast<double>(na);
+      for (std::size_t i = 0; i < na; ++i) square += std::pow(w.ref_features[i * d + k] - mean, 2);
+      const double rms = std::sqrt(square / static_cast<double>(na));
+      const double scale = rms > 0 && std::isfinite(rms) ? 1.0 / rms : 1.0;
+      for (std::size_t i = 0; i < na; ++i)
+        w.ref_features[i * d + k] = (w.ref_features[i * d + k] - mean) * scale;
+      for (std::size_t j = 0; j < nb; ++j)
+        w.query_features[j * d + k] = (w.query_features[j * d + k] - mean) * scale;
+    }
+  }
   if (o.feature_noise > 0.0) {
     for (double& v : w.ref_features) v += o.feature_noise * feature_rng.normal();
     for (double& v : w.query_features) v += o.feature_noise * feature_rng.normal();
@@ -241,6 +267,20 @@ AlignmentWorld make_alignment_world(const AlignmentWorldOptions& o, std::uint64_
     }
   }
   return w;
+}
+
+}  // namespace
+
+AlignmentWorld make_alignment_world(const AlignmentWorldOptions& options, std::uint64_t seed,
+                                    std::uint64_t stream) {
+  return make_world(options, seed, stream, nullptr);
+}
+
+AlignmentWorld make_alignment_world(const AlignmentWorldOptions& options, std::uint64_t seed,
+                                    std::uint64_t stream,
+                                    const std::function<FeatureFunction(std::uint64_t)>& draw_field) {
+  if (!draw_field) throw std::invalid_argument("make_alignment_world: draw_field is empty");
+  return make_world(options, seed, stream, &draw_field);
 }
 
 }  // namespace keel::sim

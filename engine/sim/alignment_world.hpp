@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace keel::sim {
@@ -102,5 +103,18 @@ struct AlignmentWorld {
 // World `stream` of experiment `seed` (validates the options).
 [[nodiscard]] AlignmentWorld make_alignment_world(const AlignmentWorldOptions& options, std::uint64_t seed,
                                                   std::uint64_t stream);
+
+// The noiseless feature vector at a reference-frame position, written to out[0 .. feature_dim).
+using FeatureFunction = std::function<void(double x, double y, double* out)>;
+// The same world with another field than the bumps (terrain.hpp): `draw_field(s)` is called once with the
+// seed of the world's field sub-stream (the one the bump field draws from) and returns the field over the
+// reference square [−L/2, L/2]², which must stay valid while the world is made. The noiseless features are
+// standardised per component to zero mean and unit RMS over the reference positions (the query's with the
+// same offsets and scales), so feature_noise keeps its meaning of a noise-to-signal ratio;
+// AlignmentWorld::field stays empty and the bump options are unused. Throws std::invalid_argument for an
+// empty draw_field.
+[[nodiscard]] AlignmentWorld make_alignment_world(
+    const AlignmentWorldOptions& options, std::uint64_t seed, std::uint64_t stream,
+    const std::function<FeatureFunction(std::uint64_t)>& draw_field);
 
 }  // namespace keel::sim

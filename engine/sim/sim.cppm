@@ -6,6 +6,7 @@
 // (docs/DESIGN.md) as every area.
 module;
 #include "sim/alignment_world.hpp"
+#include "sim/terrain.hpp"
 #include "sim/hull_world.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
@@ -38,9 +39,16 @@ using keel::sim::TwoRobotScenario3;
 using keel::sim::AlignmentWorld;
 using keel::sim::AlignmentWorldOptions;
 using keel::sim::FeatureField;
+using keel::sim::FeatureFunction;
+using keel::sim::kEarthRadius;
 using keel::sim::lawn_mower;
 using keel::sim::LawnMower;
 using keel::sim::make_alignment_world;
+using keel::sim::make_terrain_world;
+using keel::sim::read_terrain_grid;
+using keel::sim::TerrainField;
+using keel::sim::TerrainGrid;
+using keel::sim::TerrainWorld;
 // ship-hull substitute (§3.8, Fig. 3.5)
 using keel::sim::DvlOptions;
 using keel::sim::fit_surface_curvature;

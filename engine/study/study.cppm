@@ -87,6 +87,7 @@ using keel::study::ch3::Example;
 using keel::study::ch3::HullSubstitute;
 using keel::study::ch3::RegimeGrid;
 using keel::study::ch3::Sensitivity;
+using keel::study::ch3::TerrainComparison;
 // the machinery behind them and its config readers
 using keel::study::ch3::AlignmentStudyOptions;
 using keel::study::ch3::AlignmentStudyOutcome;

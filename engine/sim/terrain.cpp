@@ -1,0 +1,256 @@
+#include "sim/terrain.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/random.hpp"
+
+namespace keel::sim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Reads the file's lines, numbered, for located errors.
+struct GridReader {
+  std::filesystem::path file;
+  std::ifstream in;
+  int line = 0;
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(fmt::format("{}:{}: {}", file.string(), line, what));
+  }
+  std::string next(const char* expecting) {
+    std::string text;
+    if (!std::getline(in, text)) fail(fmt::format("the file ends where {} was expected", expecting));
+    ++line;
+    return text;
+  }
+  // A "key rest" line: returns rest.
+  std::string keyed(const std::string& key) {
+    const std::string text = next(fmt::format("the '{}' line", key).c_str());
+    if (text.rfind(key, 0) != 0 || (text.size() > key.size() && text[key.size()] != ' '))
+      fail(fmt::format("expected a '{}' line, found '{}'", key, text.substr(0, 40)));
+    return text.size() > key.size() ? text.substr(key.size() + 1) : std::string();
+  }
+  std::vector<double> numbers(const std::string& text, std::size_t count, const char* what) {
+    std::istringstream s(text);
+    std::vector<double> v;
+    v.reserve(count);
+    std::string token;
+    while (s >> token) {
+      std::size_t used = 0;
+      double x = 0;
+      try {
+        x = std::stod(token, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != token.size() || !std::isfinite(x))
+        fail(fmt::format("{} value {} is '{}', not a finite number", what, v.size() + 1, token));
+      v.push_back(x);
+    }
+    if (v.size() != count) fail(fmt::format("{} values: {} where {} were expected", what, v.size(), count));
+    return v;
+  }
+  std::size_t count(const std::string& key) {
+    const std::string text = keyed(key);
+    std::size_t used = 0;
+    long n = 0;
+    try {
+      n = std::stol(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size() || n < 3)
+      fail(fmt::format("{} is '{}': need an integer >= 3", key, text));
+    return static_cast<std::size_t>(n);
+  }
+};
+
+// +1 when v strictly increases, −1 when it strictly decreases, 0 otherwise.
+int monotonic(const std::vector<double>& v) {
+  bool up = true, down = true;
+  for (std::size_t k = 1; k < v.size(); ++k) up = up && v[k] > v[k - 1], down = down && v[k] < v[k - 1];
+  return up ? 1 : (down ? -1 : 0);
+}
+
+// The cell [i, i + 1] of the increasing nodes v that holds t (the last cell for t = v.back()).
+std::size_t cell_of(const std::vector<double>& v, double t) {
+  const auto it = std::upper_bound(v.begin(), v.end(), t);
+  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - v.begin() - 1, 0));
+  return std::min(i, v.size() - 2);
+}
+
+}  // namespace
+
+TerrainGrid read_terrain_grid(const std::filesystem::path& file) {
+  GridReader r{file, std::ifstream(file), 0};
+  if (!r.in) throw std::runtime_error(fmt::format("{}: cannot open the grid file", file.string()));
+  if (r.next("the header") != "keel-grid 1")
+    r.fail("not a keel grid file (the first line must be 'keel-grid 1')");
+  TerrainGrid g;
+  g.source = r.keyed("source");
+  const std::size_t rows = r.count("rows"), cols = r.count("cols");
+  std::vector<double> lon = r.numbers(r.keyed("lon"), cols, "lon");
+  const int lon_line = r.line;
+  std::vector<double> lat = r.numbers(r.keyed("lat"), rows, "lat");
+  const int lat_line = r.line;
+  if (const std::string units = r.keyed("z_units"); units != "m")
+    r.fail(fmt::format("z_units '{}': only m", units));
+  if (!r.keyed("values").empty()) r.fail("the 'values' line takes nothing after it");
+  std::vector<double> z(rows * cols);
+  for (std::size_t i = 0; i < rows; ++i) {
+    const std::vector<double> row =
+        r.numbers(r.next("a row of values"), cols, fmt::format("row {}", i + 1).c_str());
+    std::copy(row.begin(), row.end(), z.begin() + static_cast<std::ptrdiff_t>(i * cols));
+  }
+  const int sx = monotonic(lon), sy = monotonic(lat);
+  if (sx == 0) {
+    r.line = lon_line;
+    r.fail("the longitudes are not strictly monotonic");
+  }
+  if (sy == 0) {
+    r.line = lat_line;
+    r.fail("the latitudes are not strictly monotonic");
+  }
+  if (std::abs(lat.front()) > 89 || std::abs(lat.back()) > 89) {
+    r.line = lat_line;
+    r.fail("latitudes beyond ±89°: the equirectangular projection does not hold there");
+  }
+  // Projected about the middle of the extent; rows and columns reordered so x and y increase.
+  g.lon0 = 0.5 * (lon.front() + lon.back()), g.lat0 = 0.5 * (lat.front() + lat.back());
+  const double kx = kEarthRadius * std::cos(g.lat0 * kPi / 180) * kPi / 180, ky = kEarthRadius * kPi / 180;
+  g.x.resize(cols), g.y.resize(rows), g.z.resize(rows * cols);
+  for (std::size_t c = 0; c < cols; ++c) g.x[c] = kx * (lon[sx > 0 ? c : cols - 1 - c] - g.lon0);
+  for (std::size_t i = 0; i < rows; ++i) g.y[i] = ky * (lat[sy > 0 ? i : rows - 1 - i] - g.lat0);
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::size_t c = 0; c < cols; ++c)
+      g.z[i * cols + c] = z[(sy > 0 ? i : rows - 1 - i) * cols + (sx > 0 ? c : cols - 1 - c)];
+  return g;
+}
+
+TerrainField::TerrainField(TerrainGrid grid) : grid_(std::move(grid)) {
+  const std::size_t rows = grid_.rows(), cols = grid_.cols();
+  if (rows < 3 || cols < 3 || grid_.z.size() != rows * cols)
+    throw std::invalid_argument(fmt::format(
+        "TerrainField: a {} x {} grid with {} values: need at least 3 x 3", rows, cols, grid_.z.size()));
+  slope_.assign(rows * cols, 0.0), curvature_.assign(rows * cols, 0.0);
+  // Central differences on non-uniform spacing at (f₋, f₀, f₊) with steps h₋, h₊: first and second
+  // derivative.
+  const auto d1 = [](double fm, double f0, double fp, double hm, double hp) {
+    return (hm * hm * fp - hp * hp * fm + (hp * hp - hm * hm) * f0) / (hm * hp * (hm + hp));
+  };
+  const auto d2 = [](double fm, double f0, double fp, double hm, double hp) {
+    return 2 * (hm * fp - (hm + hp) * f0 + hp * fm) / (hm * hp * (hm + hp));
+  };
+  const auto& x = grid_.x;
+  const auto& y = grid_.y;
+  for (std::size_t i = 1; i + 1 < rows; ++i)
+    for (std::size_t c = 1; c + 1 < cols; ++c) {
+      const double hxm = x[c] - x[c - 1], hxp = x[c + 1] - x[c], hym = y[i] - y[i - 1], hyp = y[i + 1] - y[i];
+      const double f0 = grid_.at(i, c);
+      const double zx = d1(grid_.at(i, c - 1), f0, grid_.at(i, c + 1), hxm, hxp);
+      const double zy = d1(grid_.at(i - 1, c), f0, grid_.at(i + 1, c), hym, hyp);
+      slope_[i * cols + c] = std::hypot(zx, zy);
+      curvature_[i * cols + c] = d2(grid_.at(i, c - 1), f0, grid_.at(i, c + 1), hxm, hxp) +
+                                 d2(grid_.at(i - 1, c), f0, grid_.at(i + 1, c), hym, hyp);
+    }
+  // The border copies the nearest interior node.
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t ii = std::clamp<std::size_t>(i, 1, rows - 2),
+                        cc = std::clamp<std::size_t>(c, 1, cols - 2);
+      if (ii != i || cc != c) {
+        slope_[i * cols + c] = slope_[ii * cols + cc];
+        curvature_[i * cols + c] = curvature_[ii * cols + cc];
+      }
+    }
+}
+
+bool TerrainField::contains(double x, double y) const {
+  return x >= grid_.x.front() && x <= grid_.x.back() && y >= grid_.y.front() && y <= grid_.y.back();
+}
+
+void TerrainField::value_into(double x, double y, double* out) const {
+  if (!contains(x, y))
+    throw std::out_of_range(
+        fmt::format("TerrainField: ({:.1f}, {:.1f}) m is outside the grid [{:.1f}, {:.1f}] x "
+                    "[{:.1f}, {:.1f}] m",
+                    x, y, grid_.x.front(), grid_.x.back(), grid_.y.front(), grid_.y.back()));
+  const std::size_t c = cell_of(grid_.x, x), i = cell_of(grid_.y, y), cols = grid_.cols();
+  const double u = (x - grid_.x[c]) / (grid_.x[c + 1] - grid_.x[c]);
+  const double v = (y - grid_.y[i]) / (grid_.y[i + 1] - grid_.y[i]);
+  const auto bilinear = [&](const std::vector<double>& f) {
+    const std::size_t k = i * cols + c;
+    return (1 - v) * ((1 - u) * f[k] + u * f[k + 1]) + v * ((1 - u) * f[k + cols] + u * f[k + cols + 1]);
+  };
+  out[0] = bilinear(grid_.z), out[1] = bilinear(slope_), out[2] = bilinear(curvature_);
+}
+
+double TerrainField::roughness(const std::vector<double>& x, const std::vector<double>& y) const {
+  // Least squares z ≈ a + b (x − x̄) + c (y − ȳ), by the 3 × 3 normal equations (centred, so a = z̄).
+  const std::size_t n = x.size();
+  if (n < 3 || y.size() != n) throw std::invalid_argument("TerrainField::roughness: need >= 3 positions");
+  std::vector<double> z(n);
+  double mx = 0, my = 0, mz = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    double f[kDim];
+    value_into(x[k], y[k], f);
+    z[k] = f[0], mx += x[k], my += y[k], mz += z[k];
+  }
+  mx /= static_cast<double>(n), my /= static_cast<double>(n), mz /= static_cast<double>(n);
+  double sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double dx = x[k] - mx, dy = y[k] - my, dz = z[k] - mz;
+    sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxz += dx * dz, syz += dy * dz;
+  }
+  const double det = sxx * syy - sxy * sxy;
+  const double b = det > 0 ? (syy * sxz - sxy * syz) / det : 0.0,
+               c = det > 0 ? (sxx * syz - sxy * sxz) / det : 0.0;
+  double square = 0;
+  for (std::size_t k = 0; k < n; ++k) square += std::pow(z[k] - mz - b * (x[k] - mx) - c * (y[k] - my), 2);
+  return std::sqrt(square / static_cast<double>(n));
+}
+
+TerrainWorld make_terrain_world(const TerrainField& field, const AlignmentWorldOptions& o, std::uint64_t seed,
+                                std::uint64_t stream) {
+  if (o.feature_dim != TerrainField::kDim)
+    throw std::invalid_argument(
+        fmt::format("AlignmentWorldOptions.feature_dim = {}: a terrain world has {} "
+                    "features (elevation, slope, curvature)",
+                    o.feature_dim, TerrainField::kDim));
+  const TerrainGrid& g = field.grid();
+  const double half = 0.5 * o.reference_size;
+  const double lo_x = g.x.front() + half, hi_x = g.x.back() - half, lo_y = g.y.front() + half,
+               hi_y = g.y.back() - half;
+  if (!(lo_x <= hi_x && lo_y <= hi_y))
+    throw std::invalid_argument(
+        fmt::format("AlignmentWorldOptions.reference_size = {} m: the reference square "
+                    "does not fit the {:.0f} x {:.0f} m grid",
+                    o.reference_size, g.x.back() - g.x.front(), g.y.back() - g.y.front()));
+  TerrainWorld t;
+  t.world = make_alignment_world(o, seed, stream, [&](std::uint64_t field_seed) -> FeatureFunction {
+    core::Rng rng(field_seed);
+    t.centre_x = rng.uniform(lo_x, hi_x), t.centre_y = rng.uniform(lo_y, hi_y);
+    return [&field, cx = t.centre_x, cy = t.centre_y](double x, double y, double* out) {
+      field.value_into(cx + x, cy + y, out);
+    };
+  });
+  const auto shifted = [&](const std::vector<double>& v, double by) {
+    std::vector<double> s(v);
+    for (double& e : s) e += by;
+    return s;
+  };
+  const AlignmentWorld& w = t.world;
+  t.roughness = field.roughness(shifted(w.query_true_x, t.centre_x), shifted(w.query_true_y, t.centre_y));
+  return t;
+}
+
+}  // namespace keel::sim

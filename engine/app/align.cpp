@@ -176,9 +176,9 @@ SurveyAlignment align_surveys(const Survey& reference, const Survey& query, cons
   return s;
 }
 
-WorldTruth write_alignment_world(const sim::AlignmentWorldOptions& options, std::uint64_t seed,
-                                 std::uint64_t index, const std::filesystem::path& dir) {
-  const sim::AlignmentWorld w = sim::make_alignment_world(options, seed, index);
+namespace {
+// reference.csv, query.csv and truth.csv of a world, every double with 17 significant digits.
+WorldTruth write_world(const sim::AlignmentWorld& w, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   Survey a, b;
   a.x = w.ref_x, a.y = w.ref_y, a.features = w.ref_features, a.dim = w.feature_dim;
@@ -189,6 +189,21 @@ WorldTruth write_alignment_world(const sim::AlignmentWorldOptions& options, std:
   t << "theta,tx,ty\n" << fmt::format("{:.17g},{:.17g},{:.17g}\n", w.theta, w.tx, w.ty);
   if (!t) throw std::runtime_error(fmt::format("writing '{}' failed", (dir / "truth.csv").string()));
   return WorldTruth{w.theta, w.tx, w.ty};
+}
+}  // namespace
+
+WorldTruth write_alignment_world(const sim::AlignmentWorldOptions& options, std::uint64_t seed,
+                                 std::uint64_t index, const std::filesystem::path& dir) {
+  return write_world(sim::make_alignment_world(options, seed, index), dir);
+}
+
+TerrainWorldTruth write_terrain_world(const sim::TerrainField& field,
+                                      const sim::AlignmentWorldOptions& options, std::uint64_t seed,
+                                      std::uint64_t index, double length_unit,
+                                      const std::filesystem::path& dir) {
+  sim::TerrainWorld t = sim::make_terrain_world(field, options, seed, index);
+  sim::to_length_units(t.world, length_unit);
+  return TerrainWorldTruth{write_world(t.world, dir), t.centre_x, t.centre_y, t.roughness};
 }
 
 }  // namespace keel::app

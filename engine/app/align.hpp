@@ -7,7 +7,9 @@
 //                                        objective;
 //   write_alignment_world                a simulated survey pair (sim::make_alignment_world, the worlds of
 //                                        ch3_table3_1_alignment) written as the CSV files align_surveys
-//                                        reads.
+//                                        reads;
+//   write_terrain_world                  the same for a survey pair over a real elevation grid
+//                                        (sim::make_terrain_world, the worlds of ch3_table3_1_terrain_*).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +22,7 @@
 #include "align/align.hpp"
 #include "align/certificate.hpp"
 #include "sim/alignment_world.hpp"
+#include "sim/terrain.hpp"
 
 namespace keel::app {
 
@@ -90,5 +93,21 @@ struct WorldTruth {
 /// experiment's schedule returns the experiment's transform bit for bit.
 WorldTruth write_alignment_world(const sim::AlignmentWorldOptions& options, std::uint64_t seed,
                                  std::uint64_t index, const std::filesystem::path& dir);
+
+/// A written terrain world: its truth (in length units) and where it lies on the grid.
+struct TerrainWorldTruth {
+  WorldTruth truth;
+  double centre_x = 0, centre_y = 0;  // the reference square's centre on the grid (m)
+  double roughness = 0;               // elevation RMS about its plane under the query (m)
+};
+/// Writes world `index` of sim::make_terrain_world(field, options, seed, index) into `dir` as
+/// write_alignment_world does, positions and truth in length units (sim::to_length_units: metres divided by
+/// `length_unit`). With the settings and seed of a ch3_table3_1_terrain_* experiment (length_unit its sample
+/// spacing), `align_surveys` with Dissimilarity::euclidean and the default schedule returns that experiment's
+/// transform for the world bit for bit.
+TerrainWorldTruth write_terrain_world(const sim::TerrainField& field,
+                                      const sim::AlignmentWorldOptions& options, std::uint64_t seed,
+                                      std::uint64_t index, double length_unit,
+                                      const std::filesystem::path& dir);
 
 }  // namespace keel::app

@@ -3,6 +3,7 @@
 // regions, then align::align with the same options), the defaults are that experiment's settings, and bad
 // files give located errors.
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "core/config.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/alignment_world.hpp"
+#include "sim/terrain.hpp"
 
 using namespace keel;
 namespace fs = std::filesystem;
@@ -170,4 +172,62 @@ TEST_CASE("write_survey_csv round-trips every double exactly") {
   CHECK(r.y == s.y);
   CHECK(r.z == s.z);
   CHECK(r.features == s.features);
+}
+
+TEST_CASE(
+    "write_terrain_world: a terrain world written to CSV aligns bit for bit as the experiment's problem") {
+  // A synthetic grid (0.001° nodes, hills on a slope) in place of the real ones, which the datasets tests
+  // cover.
+  const fs::path d = scratch("terrain");
+  const fs::path grid = d / "hills.grid";
+  {
+    std::ofstream out(grid);
+    out << "keel-grid 1\nsource test hills\nrows 60\ncols 60\nlon";
+    for (int c = 0; c < 60; ++c) out << fmt::format(" {}", 10.0 + 0.001 * c);
+    out << "\nlat";
+    for (int r = 0; r < 60; ++r) out << fmt::format(" {}", 45.0 + 0.001 * r);
+    out << "\nz_units m\nvalues\n";
+    for (int r = 0; r < 60; ++r) {
+      for (int c = 0; c < 60; ++c)
+        out << (c ? " " : "")
+            << fmt::format("{}", 300 + 60 * std::sin(0.4 * c) * std::cos(0.3 * r) + 2.0 * r);
+      out << '\n';
+    }
+  }
+  const sim::TerrainField field(sim::read_terrain_grid(grid));
+  // ch3_table3_1_terrain_jacksboro's geometry: Table 3.1's times 50, aligned in units of 50 m.
+  sim::AlignmentWorldOptions wo;
+  wo.reference_size = 3000, wo.query_size = 1200, wo.track_spacing = 100, wo.sample_spacing = 50;
+  wo.max_translation = 1500, wo.feature_noise = 0.3;
+  const double unit = 50;
+  const app::TerrainWorldTruth written = app::write_terrain_world(field, wo, 20181022, 2, unit, d / "world");
+  sim::TerrainWorld t = sim::make_terrain_world(field, wo, 20181022, 2);
+  sim::to_length_units(t.world, unit);
+  CHECK(written.truth.tx == t.world.tx);
+  CHECK(written.centre_x == t.centre_x);
+  CHECK(written.roughness == t.roughness);
+  const app::Survey ref = app::read_survey_csv(d / "world" / "reference.csv");
+  const app::Survey query = app::read_survey_csv(d / "world" / "query.csv");
+  CHECK(ref.x == t.world.ref_x);
+  CHECK(query.features == t.world.query_features);
+  // The study's problem: positions in length units, raw (standardised over the reference) features,
+  // Euclidean.
+  align::AlignmentProblem direct;
+  direct.ref_x = t.world.ref_x, direct.ref_y = t.world.ref_y;
+  direct.query_x = t.world.query_x, direct.query_y = t.world.query_y;
+  direct.dissimilarity =
+      align::euclidean_dissimilarity(t.world.ref_features, t.world.query_features, t.world.feature_dim);
+  align::AlignOptions ao;
+  ao.threads = 1;
+  const align::Regions global = align::global_regions(direct, ao);
+  const align::AlignResult expected = align::align(direct, ao, &global);
+  app::AlignSurveysOptions o;
+  o.dissimilarity = app::Dissimilarity::euclidean;
+  const app::SurveyAlignment got = app::align_surveys(ref, query, o);
+  CHECK(got.result.raw.a11 == expected.raw.a11);
+  CHECK(got.result.raw.a21 == expected.raw.a21);
+  CHECK(got.result.raw.tx == expected.raw.tx);
+  CHECK(got.result.raw.ty == expected.raw.ty);
+  CHECK(got.result.cost == expected.cost);
+  CHECK(got.result.rounds.size() == expected.rounds.size());
 }

@@ -20,10 +20,12 @@ using keel::app::read_survey_csv;
 using keel::app::Survey;
 using keel::app::survey_problem;
 using keel::app::SurveyAlignment;
+using keel::app::TerrainWorldTruth;
 using keel::app::to_string;
 using keel::app::WorldTruth;
 using keel::app::write_alignment_world;
 using keel::app::write_survey_csv;
+using keel::app::write_terrain_world;
 // files
 using keel::app::graph_dimension;
 using keel::app::GraphSummary;

@@ -1,6 +1,7 @@
 // keel align REFERENCE QUERY — trajectory alignment without data association (thesis ch. 3) on two surveys
-// given as CSV (app::align_surveys); keel align-world DIR — a simulated survey pair of Table 3.1's generator
-// written as those files (app::write_alignment_world).
+// given as CSV (app::align_surveys); keel align-world DIR — a simulated survey pair of Table 3.1's generator,
+// or with --terrain one over a real elevation grid, written as those files (app::write_alignment_world,
+// app::write_terrain_world).
 import keel.core;
 import keel.align;
 import keel.pgo;
@@ -105,25 +106,58 @@ void run_align(AlignArgs a) {
 
 struct WorldArgs {
   Common common;
-  std::string dir;
+  std::string dir, terrain;
   std::uint64_t seed = 20181022, index = 0;
+  double scale = 50.0;
   sim::AlignmentWorldOptions world;
 };
 
-void run_world(const WorldArgs& a) {
+void run_world(WorldArgs a) {
   const Stages stage("align-world", a.common.quiet);
-  stage(fmt::format("world {} of seed {}", a.index, a.seed));
-  const app::WorldTruth t = app::write_alignment_world(a.world, a.seed, a.index, a.dir);
+  app::WorldTruth t;
+  json extra = json::object();
+  std::string unit = "m";
+  if (a.terrain.empty()) {
+    stage(fmt::format("world {} of seed {}", a.index, a.seed));
+    t = app::write_alignment_world(a.world, a.seed, a.index, a.dir);
+  } else {
+    // Table 3.1's geometry (lengths in sample spacings) times the scale, aligned in units of the scale (the
+    // settings of ch3_table3_1_terrain_*).
+    if (!(a.scale > 0 && std::isfinite(a.scale)))
+      throw std::invalid_argument(fmt::format("--scale {}: must be a length > 0 (m)", a.scale));
+    stage(fmt::format("reading the grid {}", a.terrain));
+    const sim::TerrainField field(sim::read_terrain_grid(a.terrain));
+    auto& w = a.world;
+    for (double* v :
+         {&w.reference_size, &w.query_size, &w.track_spacing, &w.sample_spacing, &w.max_translation})
+      *v *= a.scale;
+    stage(fmt::format("terrain world {} of seed {}", a.index, a.seed));
+    const app::TerrainWorldTruth tt = app::write_terrain_world(field, w, a.seed, a.index, a.scale, a.dir);
+    t = tt.truth;
+    unit = fmt::format("× {:g} m", a.scale);
+    extra = {{"length_unit_m", a.scale},
+             {"centre_m", {tt.centre_x, tt.centre_y}},
+             {"roughness_m", tt.roughness},
+             {"grid", a.terrain}};
+  }
   if (a.common.json) {
-    fmt::print("{}\n", json{{"dir", a.dir},
-                            {"seed", a.seed},
-                            {"index", a.index},
-                            {"truth", {{"theta", t.theta}, {"tx", t.tx}, {"ty", t.ty}}}}
-                           .dump(1));
+    json j = {{"dir", a.dir},
+              {"seed", a.seed},
+              {"index", a.index},
+              {"truth", {{"theta", t.theta}, {"tx", t.tx}, {"ty", t.ty}}}};
+    j.update(extra);
+    fmt::print("{}\n", j.dump(1));
     return;
   }
-  fmt::print("truth        p_ref = R(θ) p_query + t, θ = {:.9g} rad, t = ({:.9g}, {:.9g}) m\n", t.theta, t.tx,
-             t.ty);
+  fmt::print("truth        p_ref = R(θ) p_query + t, θ = {:.9g} rad, t = ({:.9g}, {:.9g}) {}\n", t.theta,
+             t.tx, t.ty, unit);
+  if (!a.terrain.empty())
+    fmt::print(
+        "terrain      reference centred at ({:.1f}, {:.1f}) m on the grid; roughness under the query {:.3g} "
+        "m "
+        "(elevation RMS about its plane); positions in units of {:g} m\n",
+        extra["centre_m"][0].get<double>(), extra["centre_m"][1].get<double>(),
+        extra["roughness_m"].get<double>(), a.scale);
   fmt::print("written      {}/{{reference.csv, query.csv, truth.csv}}\n", a.dir);
 }
 
@@ -165,7 +199,8 @@ void add_align_command(CLI::App& app) {
   wo.feature_noise = 0.3;  // the generator settings of ch3_table3_1_alignment
   auto* cw = app.add_subcommand(
       "align-world",
-      "write a simulated survey pair of Table 3.1's generator as the CSV files keel align reads");
+      "write a simulated survey pair of Table 3.1's generator (or over a real elevation grid, --terrain) as "
+      "the CSV files keel align reads");
   cw->group("Your data");
   cw->add_option("dir", w->dir, "output folder (created)")->required();
   cw->add_option("--seed", w->seed, "experiment seed (ch3_table3_1_alignment's by default)")
@@ -179,6 +214,13 @@ void add_align_command(CLI::App& app) {
   cw->add_option("--bump-sigma-max", wo.bump_sigma_max, "feature field length scale, high end (m)")
       ->capture_default_str();
   cw->add_option("--bumps", wo.bumps, "Gaussian bumps per feature component")->capture_default_str();
+  cw->add_option("--terrain", w->terrain,
+                 "a keel grid file (datasets/README.md): survey the real terrain instead of the bump field; "
+                 "features elevation, slope and curvature (the worlds of ch3_table3_1_terrain_*)");
+  cw->add_option("--scale", w->scale,
+                 "--terrain: Table 3.1's geometry times this (m per sample spacing; --query-size is then in "
+                 "sample spacings), and the written positions in units of it")
+      ->capture_default_str();
   add_common(cw, w->common);
   cw->callback([w] { run_world(*w); });
 }

@@ -49,6 +49,7 @@ using keel::sim::read_terrain_grid;
 using keel::sim::TerrainField;
 using keel::sim::TerrainGrid;
 using keel::sim::TerrainWorld;
+using keel::sim::to_length_units;
 // ship-hull substitute (§3.8, Fig. 3.5)
 using keel::sim::DvlOptions;
 using keel::sim::fit_surface_curvature;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/random.hpp"
+#include "graph/parse_error.hpp"
 
 namespace keel::sim {
 
@@ -24,7 +25,7 @@ struct GridReader {
   std::ifstream in;
   int line = 0;
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(fmt::format("{}:{}: {}", file.string(), line, what));
+    throw graph::ParseError(file.string(), line, what);
   }
   std::string next(const char* expecting) {
     std::string text;
@@ -92,7 +93,7 @@ std::size_t cell_of(const std::vector<double>& v, double t) {
 
 TerrainGrid read_terrain_grid(const std::filesystem::path& file) {
   GridReader r{file, std::ifstream(file), 0};
-  if (!r.in) throw std::runtime_error(fmt::format("{}: cannot open the grid file", file.string()));
+  if (!r.in) throw graph::ParseError(file.string(), 0, "cannot open the grid file");
   if (r.next("the header") != "keel-grid 1")
     r.fail("not a keel grid file (the first line must be 'keel-grid 1')");
   TerrainGrid g;
@@ -251,6 +252,16 @@ TerrainWorld make_terrain_world(const TerrainField& field, const AlignmentWorldO
   const AlignmentWorld& w = t.world;
   t.roughness = field.roughness(shifted(w.query_true_x, t.centre_x), shifted(w.query_true_y, t.centre_y));
   return t;
+}
+
+void to_length_units(AlignmentWorld& w, double length_unit) {
+  if (!(length_unit > 0 && std::isfinite(length_unit)))
+    throw std::invalid_argument(
+        fmt::format("to_length_units: length_unit = {}: must be a length > 0", length_unit));
+  const double to_unit = 1.0 / length_unit;
+  for (auto* v : {&w.ref_x, &w.ref_y, &w.query_x, &w.query_y, &w.query_true_x, &w.query_true_y})
+    for (double& e : *v) e *= to_unit;
+  w.tx *= to_unit, w.ty *= to_unit, w.query_x0 *= to_unit, w.query_y0 *= to_unit;
 }
 
 }  // namespace keel::sim

@@ -47,9 +47,9 @@ inline constexpr double kEarthRadius = 6371008.8;
 // off by 1 − cos φ / cos φ0 elsewhere (under 2 % over the 2° of the larger grid). Reference and query are
 // simulated and scored in the same metres, so this distortion changes the terrain's shape slightly, not the
 // alignment problem's consistency. Rows (and columns) are reordered so y (and x) increase. Throws
-// std::runtime_error "<file>:<line>: <what>" for a malformed file: a wrong or missing header line, a count
-// that disagrees with rows or cols, a value that is not a finite number, coordinates that are not strictly
-// monotonic, fewer than 3 rows or columns.
+// graph::ParseError "<file>:<line>: <what>" (a std::runtime_error) for a malformed file: a wrong or missing
+// header line, a count that disagrees with rows or cols, a value that is not a finite number, coordinates
+// that are not strictly monotonic, fewer than 3 rows or columns.
 [[nodiscard]] TerrainGrid read_terrain_grid(const std::filesystem::path& file);
 
 // The features a survey measures at a position, from the grid: elevation z (m), slope |∇z| (m/m) and
@@ -86,5 +86,11 @@ struct TerrainWorld {
 // std::invalid_argument when the reference square does not fit the grid.
 [[nodiscard]] TerrainWorld make_terrain_world(const TerrainField& field, const AlignmentWorldOptions& options,
                                               std::uint64_t seed, std::uint64_t stream);
+
+// The world in length units: every position (reference, query, the query's true positions) and the truth's
+// translation divided by `length_unit` (m, > 0); the rotation is unchanged. A terrain world is aligned in
+// units of its sample spacing, so the LPs see Table 3.1's numbers and the schedule's lengths keep their
+// values.
+void to_length_units(AlignmentWorld& world, double length_unit);
 
 }  // namespace keel::sim

@@ -292,6 +292,33 @@ class Align(unittest.TestCase):
             text, _ = keel("align", os.path.join(d, "reference.csv"), os.path.join(d, "query.csv"), "--certify")
             self.assertIn("certificate  optimal over SO(2)", text)
 
+    def test_a_terrain_world_over_a_real_grid(self):
+        """`keel align-world --terrain` writes a survey pair over a real elevation grid (the worlds of
+        ch3_table3_1_terrain_jacksboro: Table 3.1's geometry times --scale, positions in units of it), and
+        `keel align` recovers its rotation; a malformed grid is refused at its line."""
+        grid = os.path.join(REPO, "datasets", "cache", "matplotlib-terrain", "grids", "jacksboro_fault_dem.grid")
+        with tempfile.TemporaryDirectory() as d:
+            world = keel_json("align-world", d, "--terrain", grid, "--index", "0")
+            self.assertEqual(world["length_unit_m"], 50)
+            self.assertGreater(world["roughness_m"], 0)
+            ref = np.loadtxt(os.path.join(d, "reference.csv"), delimiter=",", skiprows=1)
+            self.assertEqual(ref.shape, (1891, 5))  # x, y and elevation, slope, curvature
+            self.assertEqual((ref[:, 0].min(), ref[:, 0].max()), (-30, 30))  # 3 km in units of 50 m
+            # standardised over the reference before the noise (std 0.3, so its mean is within ~0.03 of 0)
+            self.assertAlmostEqual(float(ref[:, 2].mean()), 0, delta=0.05)
+            r = keel_json("align", os.path.join(d, "reference.csv"), os.path.join(d, "query.csv"))
+            error = math.remainder(r["rigid"]["theta"] - world["truth"]["theta"], 2 * math.pi)
+            self.assertLess(abs(error), 0.05)
+            bad = os.path.join(d, "bad.grid")
+            with open(bad, "w") as f:
+                f.write("keel-grid 1\nsource x\nrows 3\ncols 3\nlon 1 2\n")
+            _, err = keel("align-world", os.path.join(d, "w"), "--terrain", bad, expect=3)
+            self.assertIn(f"{bad}:5: lon values: 2 where 3 were expected", err)
+            _, err = keel("align-world", os.path.join(d, "w"), "--terrain", grid, "--scale", "0", expect=3)
+            self.assertIn("--scale 0: must be a length > 0", err)
+            _, err = keel("align-world", os.path.join(d, "w"), "--terrain", grid, "--scale", "2000", expect=3)
+            self.assertIn("does not fit", err)
+
     def test_bad_surveys_give_located_errors(self):
         with tempfile.TemporaryDirectory() as d:
             ref, query = os.path.join(d, "ref.csv"), os.path.join(d, "query.csv")

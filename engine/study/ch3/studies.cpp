@@ -1013,11 +1013,8 @@ TerrainComparison::Outcome TerrainComparison::run(const Options& o, const RunCon
   const core::Streams& streams = context.streams();
   const auto world = [&](std::size_t w) {
     sim::TerrainWorld t = sim::make_terrain_world(field, wo, streams.seed(), streams.index(w));
-    // Positions and the truth's translation in length units (the rotation is unchanged by the scale).
-    const double to_unit = 1.0 / o.length_unit;
-    for (auto* v : {&t.world.ref_x, &t.world.ref_y, &t.world.query_x, &t.world.query_y})
-      for (double& e : *v) e *= to_unit;
-    return WorldTruth{problem_of(t.world), t.world.theta, t.world.tx * to_unit, t.world.ty * to_unit};
+    sim::to_length_units(t.world, o.length_unit);
+    return WorldTruth{problem_of(t.world), t.world.theta, t.world.tx, t.world.ty};
   };
   core::Progress progress = context.progress(o.table.study.worlds);
   out.table.options = o.table;

@@ -23,6 +23,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -362,6 +363,56 @@ struct LocalOutcome {
   std::string ordering;
 };
 
+// The Gauss–Newton part of the Newton system, JᵀJ summed over the edges into `hessian` (pattern's values),
+// with J of an edge: rows vec(δ(Y_j − Y_i R̃)) (r·d) then δ(t_j − t_i − Y_i t̃) (r); columns [b_i, t_i, b_j,
+// t_j] (the tangent coordinates of both poses, p = prot + r each). D_ holds the tangent basis of every pose.
+// For compile-time D and R the matrices have fixed sizes and JᵀJ is a coefficient-wise product (Eigen would
+// call its GEMM, with packing, for 12 × 12 · 12 × 12); Eigen::Dynamic takes d and r at run time.
+template <int Dc, int Rc>
+void gauss_newton_blocks(const Problem& P, const std::vector<Small>& D_, int prot, int p,
+                         const BlockPattern& pattern, const std::vector<int>& pos,
+                         std::vector<double>& hessian, int d = Dc, int r = Rc) {
+  constexpr bool kFixed = Dc != Eigen::Dynamic && Rc != Eigen::Dynamic;
+  constexpr int kP = kFixed ? Dc * Rc - Dc * (Dc + 1) / 2 + Rc : Eigen::Dynamic;
+  constexpr int kRows = kFixed ? Dc * Rc + Rc : Eigen::Dynamic, kCols = kFixed ? 2 * kP : Eigen::Dynamic;
+  using Jac = std::conditional_t<kFixed, Eigen::Matrix<double, kRows, kCols>, Block>;
+  using Hes = std::conditional_t<kFixed, Eigen::Matrix<double, kCols, kCols>, Block>;
+  using Basis = std::conditional_t<kFixed, Eigen::Matrix<double, Rc, Dc>, Small>;
+  using Rot = std::conditional_t<kFixed, Eigen::Matrix<double, Dc, Dc>, Small>;
+  using Vec = std::conditional_t<kFixed, Eigen::Matrix<double, Dc, 1>, SmallVec>;
+  Jac J(d * r + r, 2 * p);
+  Hes H(2 * p, 2 * p);
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const auto& e = P.edges[k];
+    const double sk = std::sqrt(2.0 * e.kappa), st = std::sqrt(2.0 * e.tau);
+    const Rot R = e.R;
+    const Vec t = e.t;
+    J.setZero();
+    for (int q = 0; q < prot; ++q) {
+      const Basis Di = D_[static_cast<std::size_t>(e.i) * prot + q];
+      const Basis Dj = D_[static_cast<std::size_t>(e.j) * prot + q];
+      const Basis DiR = Di * R;
+      for (int c = 0; c < d; ++c) {
+        J.block(c * r, q, r, 1) = -sk * DiR.col(c);
+        J.block(c * r, p + q, r, 1) = sk * Dj.col(c);
+      }
+      J.block(d * r, q, r, 1) = -st * (Di * t);
+    }
+    for (int c = 0; c < r; ++c) {
+      J(d * r + c, prot + c) = -st;
+      J(d * r + c, p + prot + c) = st;
+    }
+    if constexpr (kFixed)
+      H.noalias() = J.transpose().lazyProduct(J);
+    else
+      H = J.transpose() * J;
+    const int a = e.i - 1, b = e.j - 1;
+    if (a >= 0) pattern.add_diagonal(hessian, a, H.topLeftCorner(p, p));
+    if (b >= 0) pattern.add_diagonal(hessian, b, H.bottomRightCorner(p, p));
+    if (a >= 0 && b >= 0) pattern.add_off_diagonal(hessian, a, b, pos[k], H.topRightCorner(p, p));
+  }
+}
+
 // Newton with Levenberg–Marquardt damping on the lift at the rank of X (pose 0 held).
 LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) {
   const int d = P.d, r = X.r;
@@ -433,32 +484,17 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
         break;
       }
       std::fill(hessian.begin(), hessian.end(), 0.0);
-      Block J(d * r + r, 2 * p);
-      for (std::size_t k = 0; k < P.edges.size(); ++k) {
-        const auto& e = P.edges[k];
-        const double sk = std::sqrt(2.0 * e.kappa), st = std::sqrt(2.0 * e.tau);
-        J.setZero();
-        // Rows: vec(δ(Y_j − Y_i R̃)) (r·d) then δ(t_j − t_i − Y_i t̃) (r); columns: [b_i, t_i, b_j, t_j].
-        for (int q = 0; q < prot; ++q) {
-          const Small& Di = D[static_cast<std::size_t>(e.i) * prot + q];
-          const Small& Dj = D[static_cast<std::size_t>(e.j) * prot + q];
-          const Small DiR = Di * e.R;
-          for (int c = 0; c < d; ++c) {
-            J.block(c * r, q, r, 1) = -sk * DiR.col(c);
-            J.block(c * r, p + q, r, 1) = sk * Dj.col(c);
-          }
-          J.block(d * r, q, r, 1) = -st * (Di * e.t);
-        }
-        for (int c = 0; c < r; ++c) {
-          J(d * r + c, prot + c) = -st;
-          J(d * r + c, p + prot + c) = st;
-        }
-        const Block H = J.transpose() * J;
-        const int a = e.i - 1, b = e.j - 1;
-        if (a >= 0) pattern.add_diagonal(hessian, a, H.topLeftCorner(p, p));
-        if (b >= 0) pattern.add_diagonal(hessian, b, H.bottomRightCorner(p, p));
-        if (a >= 0 && b >= 0) pattern.add_off_diagonal(hessian, a, b, pos[k], H.topRightCorner(p, p));
-      }
+      // The common ranks with fixed-size matrices (no dynamic-size products), others at run-time sizes.
+      if (d == 2 && r == 2)
+        gauss_newton_blocks<2, 2>(P, D, prot, p, pattern, pos, hessian);
+      else if (d == 2 && r == 3)
+        gauss_newton_blocks<2, 3>(P, D, prot, p, pattern, pos, hessian);
+      else if (d == 3 && r == 3)
+        gauss_newton_blocks<3, 3>(P, D, prot, p, pattern, pos, hessian);
+      else if (d == 3 && r == 4)
+        gauss_newton_blocks<3, 4>(P, D, prot, p, pattern, pos, hessian);
+      else
+        gauss_newton_blocks<Eigen::Dynamic, Eigen::Dynamic>(P, D, prot, p, pattern, pos, hessian, d, r);
       gauss_newton = hessian;  // before the curvature: positive semidefinite
       use_gauss_newton = false;
       for (int b = 0; b < nb; ++b) {

@@ -629,6 +629,39 @@ PairedAtPoint paired_at(const AlignmentStudyOutcome& st) {
   }
   return r;
 }
+
+// How many of `v` (Proposed against each other method) are significantly below (lower) or above (!lower).
+int count_if_paired(const std::vector<repro::PairedComparison>& v, bool lower) {
+  return static_cast<int>(
+      std::count_if(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); }));
+}
+
+// Over points (sweep points, grid cells): where Proposed is significantly below every other method (best),
+// above every other (worst), below or above at least one, in each error.
+struct ProposedTally {
+  int points = 0, best_rot = 0, worst_rot = 0, best_trans = 0, worst_trans = 0, best_both = 0;
+  int below_some_rot = 0, above_some_rot = 0, below_some_trans = 0, above_some_trans = 0;
+  void add(const PairedAtPoint& pp) {
+    const int n = static_cast<int>(pp.others.size());
+    const int br = count_if_paired(pp.rot, true), bt = count_if_paired(pp.trans, true);
+    const int ar = count_if_paired(pp.rot, false), at = count_if_paired(pp.trans, false);
+    ++points;
+    best_rot += br == n, best_trans += bt == n, best_both += br == n && bt == n;
+    worst_rot += ar == n, worst_trans += at == n;
+    below_some_rot += br > 0, below_some_trans += bt > 0, above_some_rot += ar > 0,
+        above_some_trans += at > 0;
+  }
+  void record(Results& r) const {
+    r.metric("proposed_best.rot_se", best_rot);
+    r.metric("proposed_worst.rot_se", worst_rot);
+    r.metric("proposed_best.trans_se", best_trans);
+    r.metric("proposed_worst.trans_se", worst_trans);
+    r.metric("proposed_below_some.rot_se", below_some_rot);
+    r.metric("proposed_above_some.rot_se", above_some_rot);
+    r.metric("proposed_below_some.trans_se", below_some_trans);
+    r.metric("proposed_above_some.trans_se", above_some_trans);
+  }
+};
 }  // namespace
 
 void Sensitivity::record(Results& r, const Outcome& out) {
@@ -647,32 +680,13 @@ void Sensitivity::record(Results& r, const Outcome& out) {
   }
   // Over the distinct points: where Proposed is significantly below every other method (best), significantly
   // above every other (worst), or neither, in each error.
-  int points = 0, best_rot = 0, worst_rot = 0, best_trans = 0, worst_trans = 0, below_some_rot = 0,
-      above_some_rot = 0, below_some_trans = 0, above_some_trans = 0;
+  ProposedTally tally;
   for (const auto& [point, st] : out.points) {
     const PairedAtPoint pp = paired_at(st);
-    if (pp.others.empty()) continue;
-    ++points;
-    const auto all = [](const std::vector<repro::PairedComparison>& v, bool lower) {
-      return std::all_of(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); });
-    };
-    const auto any = [](const std::vector<repro::PairedComparison>& v, bool lower) {
-      return std::any_of(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); });
-    };
-    best_rot += all(pp.rot, true), worst_rot += all(pp.rot, false);
-    best_trans += all(pp.trans, true), worst_trans += all(pp.trans, false);
-    below_some_rot += any(pp.rot, true), above_some_rot += any(pp.rot, false);
-    below_some_trans += any(pp.trans, true), above_some_trans += any(pp.trans, false);
+    if (!pp.others.empty()) tally.add(pp);
   }
-  r.metric("points", points);
-  r.metric("proposed_best.rot_se", best_rot);
-  r.metric("proposed_worst.rot_se", worst_rot);
-  r.metric("proposed_best.trans_se", best_trans);
-  r.metric("proposed_worst.trans_se", worst_trans);
-  r.metric("proposed_below_some.rot_se", below_some_rot);
-  r.metric("proposed_above_some.rot_se", above_some_rot);
-  r.metric("proposed_below_some.trans_se", below_some_trans);
-  r.metric("proposed_above_some.trans_se", above_some_trans);
+  r.metric("points", tally.points);
+  tally.record(r);
   for (const SensitivityAxis& axis : sensitivity_axes(out.options)) {
     for (const SensitivityCurve& c : sensitivity_curves(out, axis)) {
       r.series(c.name + "." + axis.tag + ".rot_se.median", c.rot);
@@ -826,11 +840,6 @@ std::vector<repro::PairedComparison> paired_validity(const AlignmentStudyOutcome
   return r;
 }
 
-int count_if_paired(const std::vector<repro::PairedComparison>& v, bool lower) {
-  return static_cast<int>(
-      std::count_if(v.begin(), v.end(), [&](const auto& c) { return lower ? c.lower() : c.higher(); }));
-}
-
 }  // namespace
 
 void RegimeGrid::record(Results& r, const Outcome& out) {
@@ -876,13 +885,12 @@ void RegimeGrid::record(Results& r, const Outcome& out) {
   // Paired: Proposed minus each other method in every cell; per cell, the number of other methods Proposed is
   // significantly below (or above) in each error, and in validity.
   std::map<std::string, std::vector<double>> series;
-  int best_rot = 0, best_trans = 0, best_both = 0, worst_rot = 0, worst_trans = 0, below_some_rot = 0,
-      below_some_trans = 0, above_some_rot = 0, above_some_trans = 0, compared = 0;
+  ProposedTally tally;
   std::string where;  // the cells where the thesis's error ordering holds
   for (std::size_t c = 0; c < out.cells.size(); ++c) {
     const PairedAtPoint pp = paired_at(out.cells[c]);
     if (pp.others.empty()) continue;
-    ++compared;
+    tally.add(pp);
     const std::vector<repro::PairedComparison> pv = paired_validity(out.cells[c]);
     for (std::size_t k = 0; k < pp.others.size(); ++k)
       for (const auto& [label, pc] : {std::pair{"rot_se", pp.rot[k]}, std::pair{"trans_se", pp.trans[k]},
@@ -900,30 +908,19 @@ void RegimeGrid::record(Results& r, const Outcome& out) {
     series["proposed_above.rot_se"].push_back(ar), series["proposed_above.trans_se"].push_back(at);
     series["proposed_above.valid_rate"].push_back(count_if_paired(pv, false));
     series["proposed_below.valid_rate"].push_back(count_if_paired(pv, true));
-    best_rot += br == n, best_trans += bt == n, best_both += br == n && bt == n;
-    worst_rot += ar == n, worst_trans += at == n;
-    below_some_rot += br > 0, below_some_trans += bt > 0, above_some_rot += ar > 0,
-        above_some_trans += at > 0;
     if (br == n && bt == n)
       where += fmt::format("{}σ ∈ [{:g}, {:g}] m, noise {:g}, query {:g} m", where.empty() ? "" : "; ",
                            cells[c].sigma_min, cells[c].sigma_max, cells[c].noise, cells[c].size);
   }
   for (auto& [key, v] : series) r.series(key, std::move(v));
-  r.metric("proposed_best.rot_se", best_rot);
-  r.metric("proposed_best.trans_se", best_trans);
-  r.metric("proposed_best.both", best_both);
-  r.metric("proposed_worst.rot_se", worst_rot);
-  r.metric("proposed_worst.trans_se", worst_trans);
-  r.metric("proposed_below_some.rot_se", below_some_rot);
-  r.metric("proposed_below_some.trans_se", below_some_trans);
-  r.metric("proposed_above_some.rot_se", above_some_rot);
-  r.metric("proposed_above_some.trans_se", above_some_trans);
-  if (compared > 0)
+  tally.record(r);
+  r.metric("proposed_best.both", tally.best_both);
+  if (tally.points > 0)
     r.check(
         "Table 3.1's error ordering (Proposed significantly below SOConvHull, Symmetric and Affine in both "
         "rotation and translation SE, paired rule) holds in some cell of the pre-registered grid",
-        best_both > 0,
-        fmt::format("{} of {} cells, {} worlds each{}{}", best_both, compared, o.study.worlds,
+        tally.best_both > 0,
+        fmt::format("{} of {} cells, {} worlds each{}{}", tally.best_both, tally.points, o.study.worlds,
                     where.empty() ? "" : ": ", where));
 }
 

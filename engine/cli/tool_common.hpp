@@ -102,6 +102,8 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
   for (const auto& r : s.staircase)
     stairs.push_back({{"rank", r.rank},
                       {"iterations", r.iterations},
+                      {"factorizations", r.factorizations},
+                      {"cg_steps", r.cg_steps},
                       {"cost", r.cost},
                       {"gradient_norm", r.gradient_norm},
                       {"certified", r.certified},
@@ -127,6 +129,8 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
           {"final_rank", s.final_rank},
           {"staircase", stairs},
           {"iterations", s.iterations},
+          {"factorizations", s.factorizations},
+          {"cg_steps", s.cg_steps},
           {"ordering", s.ordering},
           {"times_s",
            {{"initialization", s.initialization_time_s},
@@ -163,9 +167,9 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
   fmt::print("staircase    {}\n", stairs);
   fmt::print(
       "time         {:.3f} s (initialization {:.3f}, local {:.3f}, certificate {:.3f}, rounding {:.3f}); {} "
-      "Newton iterations, CHOLMOD ordering {}\n",
+      "Newton iterations ({} factorized, {} by CG on an earlier factor), CHOLMOD ordering {}\n",
       s.total_time_s, s.initialization_time_s, s.local_time_s, s.certificate_time_s, s.rounding_time_s,
-      s.iterations, s.ordering);
+      s.iterations, s.factorizations, s.cg_steps, s.ordering);
 }
 
 inline void check_solved(const pgo::Summary& s) {

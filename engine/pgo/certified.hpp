@@ -22,7 +22,8 @@
 //     first d columns of an orthogonal Q_i ∈ O(r), moved as Q_i exp(B_i) with B_i in the part of so(r) that
 //     moves those columns; the translations move freely; pose 0 is the gauge. Newton steps (Gauss–Newton
 //     matrix plus the curvature of the retraction, i.e. the Riemannian Hessian) with Levenberg–Marquardt
-//     damping, factorized by CHOLMOD.
+//     damping, factorized by CHOLMOD — or, when an earlier factor is at hand, solved inexactly by conjugate
+//     gradients preconditioned with that factor (a few triangular solves instead of a factorization).
 //  3. Certificate: Λ_i = sym(Y_iᵀ (X M)_{Y_i}) from the first-order conditions, S = M − diag(0, Λ). For every
 //     feasible point (and every point of the semidefinite relaxation) F ≥ tr(Λ) − η·d·n when S + η·D ⪰ 0, D
 //     the identity on the rotation coordinates and zero on the translations (translation 0 removed: the
@@ -81,7 +82,10 @@ struct CertifiedOptions {
   // gap_tolerance × max(F, 1), in (0, 1].
   double stationarity_tolerance = 1e-2;
   bool chordal_initialization = true;  // false: start from the poses as read (or chained odometry)
-  void validate() const;               // throws std::invalid_argument naming the field
+  // Newton steps by conjugate gradients preconditioned with the factor of an earlier step when that converges
+  // (false: a numeric factorization at every step).
+  bool inexact_newton = true;
+  void validate() const;  // throws std::invalid_argument naming the field
 };
 
 // The certificate of one point (the last one tested is the one reported).
@@ -110,6 +114,8 @@ struct Certificate {
 struct RankRecord {
   int rank = 0;
   int iterations = 0;                // Newton iterations (accepted and rejected)
+  int factorizations = 0;            // numeric factorizations of the Newton system among them
+  int cg_steps = 0;                  // steps solved by preconditioned CG on an earlier factor instead
   double cost = 0.0;                 // F at the end of the rank's local solve
   double gradient_norm = 0.0;        // ‖Riemannian gradient‖₂ there
   bool certified = false;            // whether the certificate held at that point
@@ -139,6 +145,9 @@ struct CertifiedSummary {
   Certificate certificate;
   std::string ordering;  // CHOLMOD's fill-reducing ordering of the Newton systems
   int iterations = 0;    // Newton iterations over all ranks (and the final rank-d solve)
+  int factorizations =
+      0;             // numeric factorizations of the Newton systems (certificate and escape not counted)
+  int cg_steps = 0;  // Newton steps solved by preconditioned CG on an earlier factor
   double initialization_time_s = 0.0;
   double local_time_s = 0.0;
   double certificate_time_s = 0.0;

@@ -317,6 +317,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
               py::dict d;
               d["rank"] = k.rank;
               d["iterations"] = k.iterations;
+              d["factorizations"] = k.factorizations;
+              d["cg_steps"] = k.cg_steps;
               d["cost"] = k.cost;
               d["gradient_norm"] = k.gradient_norm;
               d["certified"] = k.certified;
@@ -330,6 +332,12 @@ each edge's information) and its certificate: a lower bound on the global minimu
       .def_property_readonly(
           "iterations", [](const CertifiedSolveResult& r) { return r.summary.iterations; },
           "Newton iterations over all ranks.")
+      .def_property_readonly(
+          "factorizations", [](const CertifiedSolveResult& r) { return r.summary.factorizations; },
+          "Numeric factorizations of the Newton systems over all ranks.")
+      .def_property_readonly(
+          "cg_steps", [](const CertifiedSolveResult& r) { return r.summary.cg_steps; },
+          "Newton steps solved by conjugate gradients preconditioned with an earlier factor.")
       .def_property_readonly(
           "times",
           [](const CertifiedSolveResult& r) {

@@ -140,6 +140,8 @@ void CertifiedBenchmark::record(Results& r, const Outcome& out) {
     r.metric(n + ".final_rank", s.final_rank);
     r.metric(n + ".staircase_ranks", static_cast<double>(s.staircase.size()));
     r.metric(n + ".iterations", s.iterations);
+    r.metric(n + ".factorizations", s.factorizations);
+    r.metric(n + ".cg_steps", s.cg_steps);
     r.metric(n + ".certificate_size", c.size);
     r.note(n + ".termination", std::string(pgo::to_string(s.termination)));
     r.note(n + ".ordering", s.ordering);

@@ -19,6 +19,7 @@ void DensestOptions::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("DensestOptions: " + what); };
   if (max_outer < 1) fail(fmt::format("max_outer must be >= 1 (got {})", max_outer));
   if (max_inner < 1) fail(fmt::format("max_inner must be >= 1 (got {})", max_inner));
+  if (max_stalled_outer < 0) fail(fmt::format("max_stalled_outer must be >= 0 (got {})", max_stalled_outer));
   if (!(beta > 0.0 && beta < 1.0)) fail(fmt::format("beta must be in (0, 1) (got {:g})", beta));
   if (!(tol_u > 0.0) || !(tol_f > 0.0) || !(eps > 0.0))
     fail(fmt::format("tol_u, tol_f and eps must be > 0 (got {:g}, {:g}, {:g})", tol_u, tol_f, eps));
@@ -231,8 +232,11 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
   auto objective = [&](const Vec& x, const Vec& mx, const Vec& cx) { return x.dot(mx) - d * x.dot(cx); };
 
   double F = objective(u, Mu, Cu);
+  int stalled_outer = 0;  // consecutive outer iterations that moved u by less than tol_u
+  Vec u_outer;
   for (r.outer_iterations = 0; r.outer_iterations < o.max_outer;) {
     ++r.outer_iterations;
+    u_outer = u;
     F = objective(u, Mu, Cu);
     for (int inner = 0; inner < o.max_inner; ++inner) {
       // Gradient of F_d (up to the factor 2), projected onto the tangent of the unit sphere.
@@ -268,6 +272,11 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
     const double step = penalty_step(Mu, Cu, u);
     if (!std::isfinite(step)) {  // no inconsistent pair left in the support
       r.converged = true;
+      break;
+    }
+    stalled_outer = (u - u_outer).norm() < o.tol_u ? stalled_outer + 1 : 0;
+    if (o.max_stalled_outer > 0 && stalled_outer >= o.max_stalled_outer) {
+      r.stalled = true;
       break;
     }
     d += step;

@@ -119,6 +119,9 @@ TEST_CASE("densest subgraph: bad inputs give clear errors") {
   o = {};
   o.max_outer = 0;
   CHECK(contains(message_of([&] { (void)densest_subgraph(g, o); }), "max_outer must be >= 1"));
+  o = {};
+  o.max_stalled_outer = -1;
+  CHECK(contains(message_of([&] { (void)densest_subgraph(g, o); }), "max_stalled_outer must be >= 0"));
 }
 
 TEST_CASE("densest subgraph: sparse rows and dense matrices give the same answers") {
@@ -176,6 +179,41 @@ TEST_CASE("densest subgraph: sparse rows and dense matrices give the same answer
     }
   }
   CHECK(world_same >= world_runs - 2);
+}
+
+TEST_CASE("densest subgraph: a stalled homotopy stops early with the answer of max_outer") {
+  // 1D-world consistency graphs of the Fig. 2.3 generator (bench_clique's world1d_m100_w*; w = 3 stalls: its
+  // support keeps an inconsistent pair while d grows to ~1e11 over 1,000 outer iterations). Stopping after
+  // three outer iterations that do not move u gives the same raw and repaired selections; graphs that
+  // converge take exactly the same iterations either way.
+  int stalls = 0;
+  for (int w = 0; w < 5; ++w) {
+    const auto o = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 100, 0.5, 0.25);
+    const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o, 20180522, w));
+    const auto g = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
+    DensestOptions never;
+    never.max_stalled_outer = 0;
+    const auto full = densest_subgraph(g, never);
+    const auto early = densest_subgraph(g);
+    INFO("world " << w << ": " << full.outer_iterations << " outer iterations, " << early.outer_iterations
+                  << " with the stall stop");
+    CHECK_FALSE(full.stalled);
+    CHECK(early.raw == full.raw);
+    CHECK(early.selection == full.selection);
+    CHECK(early.violations == full.violations);
+    if (early.stalled) {
+      ++stalls;
+      CHECK_FALSE(early.converged);
+      CHECK_FALSE(full.converged);
+      CHECK(full.outer_iterations == never.max_outer);
+      CHECK(early.outer_iterations < 50);
+    } else {
+      CHECK(early.converged == full.converged);
+      CHECK(early.outer_iterations == full.outer_iterations);
+      CHECK(early.inner_iterations == full.inner_iterations);
+    }
+  }
+  CHECK(stalls >= 1);
 }
 
 TEST_CASE("densest subgraph: automatic storage is sparse below kSparseDensity and dense above") {

@@ -228,8 +228,12 @@ out += [summary_row("worst (max)", worst), summary_row("best (min)", best), summ
 
 # Densest / CLIPPER set sizes against ω, in one line each.
 for who, idx in ((f"{new} densest", 1), ("clipper", 2)):
-    miss = [g for g in graphs if sizes[g][idx] is not None and sizes[g][idx] != sizes[g][0]]
-    flags.append(f"note: {who} selected a maximum clique (size ω) on {len(graphs) - len(miss)} of {len(graphs)} "
+    ran = [g for g in graphs if sizes[g][idx] is not None]
+    miss = [g for g in ran if sizes[g][idx] != sizes[g][0]]
+    if not ran:
+        flags.append(f"note: {who} did not run (--methods)")
+        continue
+    flags.append(f"note: {who} selected a maximum clique (size ω) on {len(ran) - len(miss)} of {len(ran)} "
                  "graphs" + ("; not on " + ", ".join(f"{g} ({sizes[g][idx]} of {sizes[g][0]})" for g in miss)
                             if miss else ""))
 

@@ -91,7 +91,12 @@ struct OrderedGraph {
 // words, not time, keeps the node count and the answer independent of the machine and its load.
 class Search {
  public:
-  Search(const OrderedGraph& g, const CliqueOptions& opt, Clock::time_point t0) : g_(g), opt_(opt), t0_(t0) {}
+  Search(const OrderedGraph& g, const CliqueOptions& opt, Clock::time_point t0)
+      : g_(g),
+        opt_(opt),
+        t0_(t0),
+        Q_(static_cast<std::size_t>(g.words)),
+        U_(static_cast<std::size_t>(g.words)) {}
 
   int best = 0;
   std::vector<std::vector<int>> found;  // global ids, unsorted
@@ -220,7 +225,7 @@ class Search {
     rows_ = g_.adj.data();
     stride_ = g_.words;
     local_ = false;
-    Q_.assign(P, P + kw_);
+    std::copy(P, P + kw_, Q_.data());
     int colours = 0;
     while (any(Q_.data(), kw_)) {
       ++colours;
@@ -420,21 +425,26 @@ class Search {
 
   // One step of greedy sequential colouring: removes from Q_ the maximal independent set that scanning Q_ in
   // index order picks, calling add(u) for each of its vertices.
+  // Q_ and U_ hold g_.words words (a subproblem's kw_ never exceeds it); the words read are summed as an
+  // integer and added once (the same value as adding them one by one: integers below 2⁵³).
   template <class Add>
   void take_class(Add&& add) {
-    U_.resize(kw_);
-    std::copy(Q_.begin(), Q_.begin() + kw_, U_.begin());
-    node_work_ += kw_;
+    std::uint64_t* Q = Q_.data();
+    std::uint64_t* U = U_.data();
+    for (int w = 0; w < kw_; ++w) U[w] = Q[w];
+    long long work = kw_;
     for (int w = 0; w < kw_; ++w)
-      while (U_[w]) {
-        const int u = w * 64 + std::countr_zero(U_[w]);
-        U_[w] &= U_[w] - 1;
-        clear_bit(Q_.data(), u);
+      while (U[w]) {
+        const int b = std::countr_zero(U[w]);
+        U[w] &= U[w] - 1;
+        Q[w] &= ~(std::uint64_t{1} << b);
+        const int u = w * 64 + b;
         add(u);
         const std::uint64_t* ru = row(u);
-        for (int x = w; x < kw_; ++x) U_[x] &= ~ru[x];
-        node_work_ += kw_ - w;
+        for (int x = w; x < kw_; ++x) U[x] &= ~ru[x];
+        work += kw_ - w;
       }
+    node_work_ += static_cast<double>(work);
   }
 
   // Colours P (see the class comment) and fills the level's branching set; returns the number of classes
@@ -442,7 +452,7 @@ class Search {
   int colour(std::uint64_t* P, int kmin, Level& L) {
     L.branch.clear();
     L.colour.clear();
-    Q_.assign(P, P + kw_);
+    std::copy(P, P + kw_, Q_.data());
     const std::size_t need = static_cast<std::size_t>(std::max(kmin, 0)) * kw_;
     if (classes_.size() < need) classes_.resize(need);
     int ncls = 0;

@@ -363,6 +363,12 @@ struct LocalOutcome {
   double cost = 0.0;
   double gradient_norm = 0.0;
   std::string ordering;
+  // The solve's counts into the summary's totals over all ranks.
+  void add_to(CertifiedSummary& S) const {
+    S.iterations += iterations;
+    S.factorizations += factorizations;
+    S.cg_steps += cg_steps;
+  }
 };
 
 // The Gauss–Newton part of the Newton system, JᵀJ summed over the edges into `hessian` (pattern's values),
@@ -415,13 +421,11 @@ void gauss_newton_blocks(const Problem& P, const std::vector<Small>& D_, int pro
   }
 }
 
-// y = A x for the symmetric matrix whose upper triangle `values` holds in chol's pattern.
-void symmetric_product(const detail::SparseCholesky& chol, const std::vector<double>& values,
-                       const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-  const auto& cs = chol.col_start();
-  const auto& ri = chol.row_index();
+// y = A x for the symmetric matrix whose upper triangle `values` holds in the compressed columns (cs, ri).
+void symmetric_product(const std::vector<int>& cs, const std::vector<int>& ri,
+                       const std::vector<double>& values, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
   y.setZero(x.size());
-  for (int c = 0; c < chol.size(); ++c) {
+  for (int c = 0; c + 1 < static_cast<int>(cs.size()); ++c) {
     double acc = 0.0;
     const double xc = x(c);
     for (int q = cs[static_cast<std::size_t>(c)]; q < cs[static_cast<std::size_t>(c) + 1]; ++q) {
@@ -462,14 +466,14 @@ bool preconditioned_cg(const detail::SparseCholesky& chol, const std::vector<dou
   const double target = eta * b.norm();
   for (int k = 0; k < kMaxCg; ++k) {
     used = k + 1;
-    symmetric_product(chol, values, dir, Ap);
+    symmetric_product(chol.col_start(), chol.row_index(), values, dir, Ap);
     const double curvature = dir.dot(Ap);
     if (!(curvature > 0.0) || !(rz > 0.0)) return false;
     const double alpha = rz / curvature;
     delta += alpha * dir;
     r -= alpha * Ap;
     if (r.norm() <= target) {
-      symmetric_product(chol, values, delta, Ap);
+      symmetric_product(chol.col_start(), chol.row_index(), values, delta, Ap);
       dAd = delta.dot(Ap);
       return dAd > 0.0;
     }
@@ -641,7 +645,7 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
     // Below the rounding of F a decrease cannot be measured: such a step is judged by the gradient instead.
     const bool below_rounding = predicted <= 64.0 * kUnitRoundoff * std::max(std::abs(f), 1e-300);
     // The point at X + α·step (retracted), its cost, and the model's decrease there: α·(−gᵀδ) − ½α²·δᵀHδ with
-    // δᵀHδ = −gᵀδ − λ·δᵀ diag δ (from the damped system).
+    // δᵀHδ = δᵀ(H + λ diag)δ − λ·δᵀ diag δ.
     const double descent = -g.dot(step), curvature_along = dAd - lambda * damped;
     auto trial_at = [&](double alpha) {
       Point t = X;
@@ -680,8 +684,6 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o) 
     }
     bool accept = rho > 1e-4;
     if (below_rounding) {
-      // At the rounding floor of F a Newton step is worth taking only while it still halves the gradient
-      // (quadratic convergence); once it does not, the gradient is rounding noise and the solve ends.
       accept = riemannian_gradient_norm(P, trial, gens) < gnorm;
       if (!accept) break;  // neither F nor the gradient can be improved in double precision
     }
@@ -987,18 +989,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     if (ok) {
       Eigen::VectorXd v(N), Dv(N);
       for (int col = 0; col < N; ++col) v(col) = is_rotation(col) ? std::cos(0.7 * col + 0.3) : 0.0;
-      auto apply_S = [&](const Eigen::VectorXd& x) {
-        Eigen::VectorXd y = Eigen::VectorXd::Zero(N);
-        for (int col = 0; col < N; ++col)
-          for (int q = pat.col_start()[static_cast<std::size_t>(col)];
-               q < pat.col_start()[static_cast<std::size_t>(col) + 1]; ++q) {
-            const int row = pat.row_index()[static_cast<std::size_t>(q)];
-            const double s = S_unshifted[static_cast<std::size_t>(q)];
-            y(row) += s * x(col);
-            if (row != col) y(col) += s * x(row);
-          }
-        return y;
-      };
+      Eigen::VectorXd Sv(N);
       double q = 0.0;
       for (int iter = 0; iter < 60; ++iter) {
         for (int col = 0; col < N; ++col) Dv(col) = is_rotation(col) ? v(col) : 0.0;
@@ -1008,7 +999,8 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
         for (int col = 0; col < N; ++col)
           if (is_rotation(col)) dnorm += next(col) * next(col);
         v = next / std::sqrt(dnorm);
-        q = v.dot(apply_S(v));  // vᵀDv = 1
+        symmetric_product(pat.col_start(), pat.row_index(), S_unshifted, v, Sv);
+        q = v.dot(Sv);  // vᵀDv = 1
         if (iter >= 8 && q < -0.5 * sigma) break;
       }
       escape->v = v;
@@ -1170,9 +1162,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     t0 = core::Clock::now();
     const LocalOutcome local = local_solve(P, X, o);
     S.local_time_s += core::seconds_since(t0);
-    S.iterations += local.iterations;
-    S.factorizations += local.factorizations;
-    S.cg_steps += local.cg_steps;
+    local.add_to(S);
     if (S.ordering.empty()) S.ordering = local.ordering;
     RankRecord rec;
     rec.rank = X.r;
@@ -1212,9 +1202,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     t0 = core::Clock::now();
     const LocalOutcome local = local_solve(P, X, o);
     S.local_time_s += core::seconds_since(t0);
-    S.iterations += local.iterations;
-    S.factorizations += local.factorizations;
-    S.cg_steps += local.cg_steps;
+    local.add_to(S);
     t0 = core::Clock::now();
     Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
     S.certificate_time_s += core::seconds_since(t0);

@@ -226,6 +226,7 @@ void BM_PlantedDensest(benchmark::State& state) {
   state.counters["converged"] = r.converged ? 1.0 : 0.0;
   state.counters["outer"] = r.outer_iterations;
   state.counters["inner"] = static_cast<double>(r.inner_iterations);
+  state.counters["products"] = static_cast<double>(r.products);
 }
 
 void planted_family(benchmark::internal::Benchmark* b) {
@@ -421,6 +422,7 @@ void run_family_densest(benchmark::State& state, std::size_t group, std::size_t 
   }
   state.counters["selection"] = static_cast<double>(r.selection.size());
   state.counters["inner"] = static_cast<double>(r.inner_iterations);
+  state.counters["products"] = static_cast<double>(r.products);
 }
 
 // One run per repetition, three repetitions, their median (graphs take from microseconds to seconds).

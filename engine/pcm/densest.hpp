@@ -73,6 +73,7 @@ struct DensestResult {
   double penalty = 0;          // the final d
   int outer_iterations = 0;
   long long inner_iterations = 0;
+  long long products = 0;  // trial points of the line search, each one product with A (and M)
   bool converged = false;  // the support of u became consistent before max_outer
   bool stalled = false;    // stopped by max_stalled_outer (not converged)
   bool sparse = false;     // the products used compressed sparse rows (DensestOptions::storage)

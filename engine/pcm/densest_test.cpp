@@ -1,9 +1,14 @@
 // Densest-subgraph selector (pcm/densest.hpp): planted cliques above the √n barrier are recovered, the
 // repaired selection is always a maximal clique no larger than the maximum, weighted and binary affinities
-// agree when the weights are 1, and bad inputs give clear errors.
+// agree when the weights are 1, the dense products are those of Eigen's dense product bit for bit, and bad
+// inputs give clear errors.
 #include <doctest/doctest.h>
 
+#include <Eigen/Core>
+
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -13,6 +18,7 @@
 #include "kit/test_kit.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/densest.hpp"
+#include "pcm/densest_detail.hpp"
 #include "pcm/consistency.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/world1d.hpp"
@@ -219,4 +225,57 @@ TEST_CASE("densest subgraph: a stalled homotopy stops early with the answer of m
 TEST_CASE("densest subgraph: automatic storage is sparse below kSparseDensity and dense above") {
   CHECK(densest_subgraph(random_graph(400, 0.05, 3)).sparse);
   CHECK(!densest_subgraph(random_graph(400, 0.6, 3)).sparse);
+}
+
+TEST_CASE("densest subgraph: the byte-column product sums exactly as Eigen's dense product did") {
+  // The dense storage's Au (detail::ByteAdjacency) must reproduce, bit for bit, the two products of a dense
+  // 0/1 matrix of doubles that the selector used before: Eigen's matrix-vector product (all columns, summed
+  // in Eigen's column blocks: n < 128 one block, 16 below n = 4000, 4 from there) and the column-by-column
+  // sum over a small support. Every kernel this CPU has is checked, on u >= 0 with exact zeros.
+  using keel::pcm::detail::ByteAdjacency;
+  CHECK(ByteAdjacency::eigen_block(100) == 100);
+  CHECK(ByteAdjacency::eigen_block(128) == 16);
+  CHECK(ByteAdjacency::eigen_block(3999) == 16);
+  CHECK(ByteAdjacency::eigen_block(4000) == 4);
+  keel::core::Rng rng(77);
+  int kernels_checked = 0;
+  for (const int n : {1, 2, 9, 64, 100, 127, 128, 203, 1000, 4000}) {
+    const auto g = random_graph(n, n > 1000 ? 0.5 : 0.3, static_cast<std::uint64_t>(n));
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+    for (int v = 0; v < n; ++v)
+      for (int w : g.neighbors(v)) A(v, w) = 1.0;
+    const ByteAdjacency bytes(g);
+    for (const double keep : {1.0, 0.6, 0.2}) {  // share of non-zero entries: full product, then support sums
+      Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+      std::vector<int> support;
+      for (int j = 0; j < n; ++j)
+        if (rng.uniform(0.0, 1.0) < keep) {
+          u(j) = rng.uniform(0.0, 1.0) * std::pow(10.0, rng.uniform(-8.0, 0.0));
+          support.push_back(j);
+        }
+      Eigen::VectorXd expected(n);
+      int block = n;
+      if (static_cast<int>(support.size()) * 4 > n) {
+        expected.noalias() = A * u;
+        block = ByteAdjacency::eigen_block(n);
+      } else {
+        expected.setZero();
+        for (const int j : support) expected.noalias() += u(j) * A.col(j);
+      }
+      for (const auto kernel : {ByteAdjacency::Kernel::automatic, ByteAdjacency::Kernel::generic,
+                                ByteAdjacency::Kernel::avx2, ByteAdjacency::Kernel::avx512}) {
+        if (!ByteAdjacency::available(kernel)) continue;
+        ++kernels_checked;
+        Eigen::VectorXd out = Eigen::VectorXd::Constant(n, -1.0);
+        bytes.product(u.data(), support, block, out.data(), kernel);
+        INFO("n " << n << ", support " << support.size() << ", kernel " << static_cast<int>(kernel));
+        CHECK(std::memcmp(out.data(), expected.data(), sizeof(double) * static_cast<std::size_t>(n)) == 0);
+      }
+    }
+  }
+  CHECK(kernels_checked >= 60);  // automatic and generic everywhere
+  const ByteAdjacency bytes(random_graph(10, 0.5, 1));
+  std::vector<double> u(10, 1.0), out(10);
+  const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  CHECK(contains(message_of([&] { bytes.product(u.data(), all, 0, out.data()); }), "block 0 < 1"));
 }

@@ -181,6 +181,11 @@ if "colouring" in variants[new]:
 for v in others:
     ratio_cols.append((f"{new} exact/{v} exact", lambda g: ms(new, g, "exact"), lambda g, v=v: ms(v, g, "exact")))
 ratio_cols.append((f"{new} densest/clipper", lambda g: ms(new, g, "densest"), lambda g: ms("clipper", g, "clipper")))
+# The selector's options (DensestOptions::line_search = clipper, penalty_step = mean, both) where they ran.
+densest_variants = [m for m in ("densest_steps", "densest_mean", "densest_clipper")
+                    if any((new, g, m) in r for g in graphs)]
+for m in densest_variants:
+    ratio_cols.append((f"{new} {m}/clipper", lambda g, m=m: ms(new, g, m), lambda g: ms("clipper", g, "clipper")))
 
 flags = [f"FAILED: {line.strip()}" for line in open(failures) if line.strip()]
 sizes = {}
@@ -226,19 +231,37 @@ def worst_1ms(name):
 out += [summary_row("worst (max)", worst), summary_row("best (min)", best), summary_row("geometric mean", geo),
         "| " + " | ".join(["**worst, both ≥ 1 ms**"] + blank + [worst_1ms(n) for n, _, _ in ratio_cols]) + " |"]
 
-# Densest / CLIPPER set sizes against ω, in one line each.
+# Densest / CLIPPER set sizes against ω, in one line each (ω only where an exact search ran).
+def size_of(s, g, m):
+    x = r.get((s, g, m))
+    return int(x["size"]) if x else None
 for who, idx in ((f"{new} densest", 1), ("clipper", 2)):
     ran = [g for g in graphs if sizes[g][idx] is not None]
-    miss = [g for g in ran if sizes[g][idx] != sizes[g][0]]
     if not ran:
         flags.append(f"note: {who} did not run (--methods)")
         continue
+    if all(sizes[g][0] is None for g in ran):
+        flags.append(f"note: ω unknown (no exact search ran), so {who}'s sizes are not compared with it")
+        continue
+    ran = [g for g in ran if sizes[g][0] is not None]
+    miss = [g for g in ran if sizes[g][idx] != sizes[g][0]]
     flags.append(f"note: {who} selected a maximum clique (size ω) on {len(ran) - len(miss)} of {len(ran)} "
                  "graphs" + ("; not on " + ", ".join(f"{g} ({sizes[g][idx]} of {sizes[g][0]})" for g in miss)
                             if miss else ""))
 
+# Selection sizes of the new build's selector (and its options) against CLIPPER's and the other revisions'.
+for m in ["densest"] + densest_variants:
+    for other, om in [("clipper", "clipper")] + [(v, "densest") for v in others]:
+        pairs = [(size_of(new, g, m), size_of(other, g, om)) for g in graphs]
+        pairs = [(a, b) for a, b in pairs if a is not None and b is not None]
+        if pairs:
+            flags.append(f"note: {new} {m} size against {other} {om}: larger on {sum(a > b for a, b in pairs)}, "
+                         f"equal on {sum(a == b for a, b in pairs)}, smaller on {sum(a < b for a, b in pairs)} "
+                         f"of {len(pairs)} graphs")
+
 headline = [f"- {n}: worst {worst(ratios[n])}, geometric mean {geo(ratios[n])} over {len(ratios[n])} graphs; "
-            f"worst where both take >= 1 ms: {worst_1ms(n) or 'none'}" for n, _, _ in ratio_cols]
+            f"worst where both take >= 1 ms: {worst_1ms(n) or 'none'}; within 1.5x on "
+            f"{sum(q <= 1.5 for q, _ in ratios[n])}" for n, _, _ in ratio_cols if ratios[n]]
 with open(md, "a") as f:
     f.write("## Headline\n\n" + "\n".join(headline) + "\n\n")
     f.write("Times are medians in ms; ratios < 1 mean the first named is faster.\n\n")

@@ -61,6 +61,17 @@ bool set_mean_step(O& o) {
   }
 }
 
+// CLIPPER's line search steps (DensestOptions::line_search = clipper), where the build has them.
+template <class O>
+bool set_clipper_steps(O& o) {
+  if constexpr (requires(O x) { x.line_search = O::LineSearch::clipper; }) {
+    o.line_search = O::LineSearch::clipper;
+    return true;
+  } else {
+    return false;
+  }
+}
+
 struct Run {
   double ms = 0;
   std::size_t size = 0;
@@ -91,7 +102,7 @@ void report(const std::string& graph, const char* method, int repeat, F&& once) 
 
 int main(int argc, char** argv) {
   int repeat = 3;
-  std::string methods = "exact,colouring,recolour,maxsat,densest,densest_mean";
+  std::string methods = "exact,colouring,recolour,maxsat,densest,densest_mean,densest_steps,densest_clipper";
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -130,10 +141,20 @@ int main(int argc, char** argv) {
           const auto r = keel::pcm::densest_subgraph(g);
           return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
         });
-      keel::pcm::DensestOptions mean;
+      keel::pcm::DensestOptions mean, steps, both;
       if (wants("densest_mean") && set_mean_step(mean))
         report(name, "densest_mean", repeat, [&] {
           const auto r = keel::pcm::densest_subgraph(g, mean);
+          return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
+        });
+      if (wants("densest_steps") && set_clipper_steps(steps))
+        report(name, "densest_steps", repeat, [&] {
+          const auto r = keel::pcm::densest_subgraph(g, steps);
+          return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
+        });
+      if (wants("densest_clipper") && set_mean_step(both) && set_clipper_steps(both))
+        report(name, "densest_clipper", repeat, [&] {
+          const auto r = keel::pcm::densest_subgraph(g, both);
           return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
         });
     }

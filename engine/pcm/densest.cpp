@@ -149,14 +149,18 @@ bool ByteAdjacency::available(Kernel kernel) {
   return false;
 }
 
+ByteAdjacency::Kernel ByteAdjacency::best() {
+  static const Kernel kernel = available(Kernel::avx512) ? Kernel::avx512
+                               : available(Kernel::avx2) ? Kernel::avx2
+                                                         : Kernel::generic;
+  return kernel;
+}
+
 void ByteAdjacency::product(const double* u, std::span<const int> columns, int block, double* out,
                             Kernel kernel) const {
   if (block < 1) throw std::invalid_argument(fmt::format("ByteAdjacency::product: block {} < 1", block));
   if (kernel == Kernel::automatic) {
-    static const Kernel best = available(Kernel::avx512) ? Kernel::avx512
-                               : available(Kernel::avx2) ? Kernel::avx2
-                                                         : Kernel::generic;
-    kernel = best;
+    kernel = best();
   } else if (!available(kernel)) {
     throw std::invalid_argument(
         "ByteAdjacency::product: this CPU lacks the instructions of the kernel asked for");
@@ -219,11 +223,17 @@ using Mat = Eigen::MatrixXd;
 // product). Sparse (compressed rows of the adjacency; M's off-diagonal weights beside them): Au = Σ_{j in
 // supp u} u_j A_{:,j} scattered over the neighbours of the support when they are fewer than half the stored
 // entries, else gathered row by row; the cost follows the edges, not n². A is symmetric, so a row is also a
-// column. The storages differ only in the order of the sums.
+// column. Either way each row of Au is summed over ascending columns from zero — the order of the byte
+// columns with one block — so where the byte columns cost less (kByteStepCost) the sparse storage takes its
+// Au from them, built on first use, with the same bits. The two storages differ only in the order of the
+// sums.
 struct Problem {
   bool binary = true;
   bool sparse = false;
-  detail::ByteAdjacency bytes;   // dense storage of A
+  const ConsistencyGraph* graph = nullptr;
+  // A as byte columns: the dense storage's A; the sparse storage builds them on first use (byte_columns_pay).
+  mutable detail::ByteAdjacency bytes;
+  mutable bool bytes_built = false;
   Mat M;                         // dense storage, weighted
   std::vector<int> start, next;  // sparse storage: the neighbours of i are next[start[i] … start[i+1])
   std::vector<double> weight;    // sparse, weighted: M_{i,next[k]} beside next[k]
@@ -232,16 +242,27 @@ struct Problem {
     support_.clear();
     for (Eigen::Index i = 0; i < u.size(); ++i)
       if (u(i) != 0.0) support_.push_back(static_cast<int>(i));
+    const int n = static_cast<int>(u.size());
     if (sparse) {
-      sparse_product(u, nullptr, Au_);
+      std::size_t touched = 0;
+      for (const int j : support_) touched += static_cast<std::size_t>(start[j + 1] - start[j]);
+      if (byte_columns_pay(n, touched)) {
+        Au_.resize(n);
+        if (!bytes_built) {
+          bytes = detail::ByteAdjacency(*graph);
+          bytes_built = true;
+        }
+        bytes.product(u.data(), support_, n, Au_.data());
+      } else {
+        sparse_product(u, nullptr, touched, Au_);
+      }
       if (binary) {
         Mu = Au_ + u;
       } else {
-        sparse_product(u, weight.data(), Mu);
+        sparse_product(u, weight.data(), touched, Mu);
         Mu += u;
       }
     } else {
-      const int n = static_cast<int>(u.size());
       Au_.resize(n);
       const bool few = static_cast<Eigen::Index>(support_.size()) * 4 <= n;
       bytes.product(u.data(), support_, few ? n : detail::ByteAdjacency::eigen_block(n), Au_.data());
@@ -254,6 +275,28 @@ struct Problem {
   }
 
  private:
+  // The cost of one (8-row chunk, column) step of the byte columns in units of one stored entry visited by
+  // the sparse product, per kernel: measured on this machine kind at n = 115 … 5000, densities 0.01–0.3 and
+  // supports of 1–100 % of n, about 0.45, 0.75 and 1.5 ns a step (AVX-512, AVX2, generic) against 0.4–1.3 ns
+  // an entry (more where the scatter misses the cache). Beyond kSparseByteColumnsMax vertices (32 MB of byte
+  // columns) the sparse storage never builds them.
+  static constexpr int kSparseByteColumnsMax = 16384;
+  static double byte_step_cost() {
+    switch (detail::ByteAdjacency::best()) {
+      case detail::ByteAdjacency::Kernel::avx512:
+        return 0.75;
+      case detail::ByteAdjacency::Kernel::avx2:
+        return 1.25;
+      default:
+        return 2.5;
+    }
+  }
+  bool byte_columns_pay(int n, std::size_t touched) const {
+    if (n > kSparseByteColumnsMax) return false;
+    const double rows = static_cast<double>(2 * touched < next.size() ? touched : next.size()) + n;
+    const double chunks = (n + 7) / 8;
+    return byte_step_cost() * static_cast<double>(support_.size()) * chunks < rows;
+  }
   void dense_product(const Mat& X, const Vec& u, Vec& out) const {
     const auto n = u.size();
     if (static_cast<Eigen::Index>(support_.size()) * 4 > n) {
@@ -263,11 +306,10 @@ struct Problem {
     out.setZero(n);
     for (const int j : support_) out.noalias() += u(j) * X.col(j);
   }
-  // out = Xu for X = A (w == nullptr) or X = M − I (w: the weights beside `next`).
-  void sparse_product(const Vec& u, const double* w, Vec& out) const {
+  // out = Xu for X = A (w == nullptr) or X = M − I (w: the weights beside `next`); `touched`: the stored
+  // entries in the columns of the support.
+  void sparse_product(const Vec& u, const double* w, std::size_t touched, Vec& out) const {
     const int n = static_cast<int>(u.size());
-    std::size_t touched = 0;
-    for (const int j : support_) touched += static_cast<std::size_t>(start[j + 1] - start[j]);
     if (2 * touched < next.size()) {
       out.setZero(n);
       for (const int j : support_) {
@@ -305,6 +347,7 @@ Problem adjacency(const ConsistencyGraph& g, bool sparse) {
   const int n = g.size();
   Problem p;
   p.sparse = sparse;
+  p.graph = &g;
   if (sparse) {
     p.start.assign(static_cast<std::size_t>(n) + 1, 0);
     p.next.reserve(static_cast<std::size_t>(2 * g.num_edges()));
@@ -317,6 +360,7 @@ Problem adjacency(const ConsistencyGraph& g, bool sparse) {
     }
   } else {
     p.bytes = detail::ByteAdjacency(g);
+    p.bytes_built = true;
   }
   return p;
 }
@@ -429,12 +473,18 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
       // First step length (1/β)³/‖g‖, shortened by β until F_d does not decrease. Stopping at the first hit
       // of the orthant's boundary instead (one more zero of u per step) costs about n − |support| steps:
       // measured 10–20× slower at n = 2000 with the same selections (bench_clique, BM_PlantedDensest).
-      double alpha = std::pow(1.0 / o.beta, 3) / gnorm;
+      // DensestOptions::LineSearch::clipper instead tries u + β^k (M − dC̄)u, i.e. β^k / (1 + β^k F) along g.
+      double alpha = std::pow(1.0 / o.beta, 3) / gnorm, unit = 1.0;
       Vec un, Mun, Cun;
       double Fn = -std::numeric_limits<double>::infinity();
       bool accepted = false;
-      for (int tries = 0; tries < 99; ++tries, alpha *= o.beta) {
-        un = (u + alpha * grad).cwiseMax(0.0);
+      for (int tries = 0; tries < 99; ++tries, alpha *= o.beta, unit *= o.beta) {
+        double step = alpha;
+        if (o.line_search == DensestOptions::LineSearch::clipper) {
+          if (!(1.0 + unit * F > 0.0)) continue;
+          step = unit / (1.0 + unit * F);
+        }
+        un = (u + step * grad).cwiseMax(0.0);
         const double norm = un.norm();
         if (!(norm > 0.0)) continue;
         un /= norm;

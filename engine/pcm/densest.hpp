@@ -44,6 +44,19 @@ struct DensestOptions {
   // steps, fewer outer iterations, and on bench_clique's family a maximum clique less often).
   enum class PenaltyStep { minimum, mean };
   PenaltyStep penalty_step = PenaltyStep::minimum;
+  // The step lengths the line search tries along the projected gradient g = (M − dC̄)u − F u (F = F_d(u),
+  // ‖u‖ = 1), each shortened by β until F_d does not decrease: `long_step`, from (1/β)³/‖g‖ (the paper's long
+  // step); or `clipper`, the steps of CLIPPER's implementation, u + β^k (M − dC̄)u along the unprojected
+  // gradient from k = 0, which after the projection onto u >= 0 and the sphere are the steps β^k / (1 + β^k
+  // F) along g (a k with 1 + β^k F <= 0 is skipped). Near a maximum ‖g‖ is small, so the long step overshoots
+  // and backtracks at every iteration; CLIPPER's first try is a power step on I + M − dC̄. Measured on
+  // bench_clique's family (143 graphs, same process): `clipper` takes 3.6× fewer products on the 1D worlds
+  // and planted cliques (geometric mean; from 0.3× to 25×), about as many on the small City10000 and
+  // sphere2500 candidate sets (0.23× to 29×), and changes answers: the same repaired selection on 134 graphs,
+  // another of the same size on 8 and a larger one on 1 (planted_n1000_k20_p50: 13 against 12). The default
+  // keeps `long_step`, whose answers the benchmarks and experiments record.
+  enum class LineSearch { long_step, clipper };
+  LineSearch line_search = LineSearch::long_step;
   // The homotopy stops when this many outer iterations in a row moved u by less than tol_u each (0: never):
   // it has stalled, with inconsistent pairs left in the support that raising d no longer removes (d grows to
   // ~1e11 over max_outer steps while the line search finds only steps at the rounding of F). The answer is
@@ -57,12 +70,14 @@ struct DensestOptions {
   void validate() const;
 };
 
-// The edge density 2|E| / (n(n − 1)) below which Storage::automatic chooses sparse rows. Measured on
-// bench_clique's family, sparse against dense (same process): 0.04–0.77× the time at densities 0.05–0.21, and
-// 1.2–2.6× at densities 0.38–0.65 with n <= 1000. At n = 2000 sparse rows are faster up to density 0.64
-// (0.42–0.86×) but are not chosen there: on G(2000, 0.5) with a planted 20 (ext_clique_scale) the two paths
-// part at rounding level and round to a different raw selection, and above this density the dense products
-// keep today's answers exactly.
+// The edge density 2|E| / (n(n − 1)) below which Storage::automatic chooses sparse rows. With binary
+// affinities both storages now take Au from byte columns where those cost less, and on bench_clique's family
+// they run within about 10 % of each other (one process, forcing each storage: world1d_m2000_w1
+// 278 ms sparse against 258 dense, world1d_m1000_w0 73 against 65, planted_n2000_k40_p20 25 against 27,
+// planted_n1000_k20_p5 13 against 16, city10000_d00 0.69 against 0.71). So the threshold no longer decides
+// the speed but the order in which Au is summed (and the memory: the rows hold 2|E| ints). It stays where
+// it was because moving it changes that order, and with it answers at rounding level, on the graphs it moves:
+// on G(2000, 0.5) with a planted 20 (ext_clique_scale) the two orders round to different raw selections.
 inline constexpr double kSparseDensity = 0.3;
 
 struct DensestResult {

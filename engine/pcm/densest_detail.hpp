@@ -34,6 +34,7 @@ class ByteAdjacency {
   // widest this CPU has. available() says whether the CPU has a kernel's instructions.
   enum class Kernel { automatic, generic, avx2, avx512 };
   static bool available(Kernel kernel);
+  static Kernel best();  // what `automatic` takes
 
   // out[0 … n) = A u over the columns listed (ascending; the others must have u_j = 0); u and out hold n
   // doubles and must not overlap. Throws std::invalid_argument for block < 1 or a kernel this CPU lacks.

@@ -101,8 +101,9 @@ __attribute__((target("avx2"))) void chunk_sums_avx2(const std::uint8_t* bytes, 
 }
 
 // AVX-512 (F, and DQ for 8-bit mask loads), eight chunks at a time: a masked add leaves the lanes of unset
-// bits as they are, the same sums as adding +0.0 there. On this machine kind (one 512-bit add per cycle) the
-// kernel is bound by those adds, about 2.5x the AVX2 kernel and 5x the generic one (n = 2000).
+// bits as they are, the same sums as adding +0.0 there. Measured on this machine kind: about 0.45 ns per
+// (chunk, column) step against 0.75 (AVX2) and 1.5 (generic); loading the masks from memory rather than
+// moving them from general registers took world1d_m2000_w0 from 0.52 to 0.38 s.
 __attribute__((target("avx512f,avx512dq"))) void chunk_sums_avx512(const std::uint8_t* bytes, std::size_t n,
                                                                    int c0, const double* u,
                                                                    const int* columns, const int* segment_end,
@@ -224,8 +225,8 @@ using Mat = Eigen::MatrixXd;
 // supp u} u_j A_{:,j} scattered over the neighbours of the support when they are fewer than half the stored
 // entries, else gathered row by row; the cost follows the edges, not n². A is symmetric, so a row is also a
 // column. Either way each row of Au is summed over ascending columns from zero — the order of the byte
-// columns with one block — so where the byte columns cost less (kByteStepCost) the sparse storage takes its
-// Au from them, built on first use, with the same bits. The two storages differ only in the order of the
+// columns with one block — so where the byte columns cost less (byte_columns_pay) the sparse storage takes
+// its Au from them, built on first use, with the same bits. The two storages differ only in the order of the
 // sums.
 struct Problem {
   bool binary = true;

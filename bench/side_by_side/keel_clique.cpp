@@ -50,26 +50,24 @@ bool set_bounds(O& o, bool recolour, bool maxsat) {
   }
 }
 
-// The CLIPPER paper's penalty schedule (DensestOptions::penalty_step = mean), where the build has it.
+// The selector's options that this build has: CLIPPER's penalty schedule (DensestOptions::penalty_step =
+// mean) and CLIPPER's line search steps (DensestOptions::line_search = clipper). False when one asked for is
+// missing.
 template <class O>
-bool set_mean_step(O& o) {
-  if constexpr (requires(O x) { x.penalty_step = O::PenaltyStep::mean; }) {
-    o.penalty_step = O::PenaltyStep::mean;
-    return true;
-  } else {
-    return false;
+bool set_densest_options(O& o, bool mean_step, bool clipper_steps) {
+  if (mean_step) {
+    if constexpr (requires(O x) { x.penalty_step = O::PenaltyStep::mean; })
+      o.penalty_step = O::PenaltyStep::mean;
+    else
+      return false;
   }
-}
-
-// CLIPPER's line search steps (DensestOptions::line_search = clipper), where the build has them.
-template <class O>
-bool set_clipper_steps(O& o) {
-  if constexpr (requires(O x) { x.line_search = O::LineSearch::clipper; }) {
-    o.line_search = O::LineSearch::clipper;
-    return true;
-  } else {
-    return false;
+  if (clipper_steps) {
+    if constexpr (requires(O x) { x.line_search = O::LineSearch::clipper; })
+      o.line_search = O::LineSearch::clipper;
+    else
+      return false;
   }
+  return true;
 }
 
 struct Run {
@@ -136,27 +134,20 @@ int main(int argc, char** argv) {
           return Run{0, r.clique.size(), r.nodes_explored, g.is_clique(r.clique)};
         });
       }
-      if (wants("densest"))
-        report(name, "densest", repeat, [&] {
-          const auto r = keel::pcm::densest_subgraph(g);
+      struct Densest {
+        const char* name;
+        bool mean_step, clipper_steps;
+      };
+      for (const Densest v :
+           {Densest{"densest", false, false}, Densest{"densest_mean", true, false},
+            Densest{"densest_steps", false, true}, Densest{"densest_clipper", true, true}}) {
+        keel::pcm::DensestOptions o;
+        if (!wants(v.name) || !set_densest_options(o, v.mean_step, v.clipper_steps)) continue;
+        report(name, v.name, repeat, [&] {
+          const auto r = keel::pcm::densest_subgraph(g, o);
           return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
         });
-      keel::pcm::DensestOptions mean, steps, both;
-      if (wants("densest_mean") && set_mean_step(mean))
-        report(name, "densest_mean", repeat, [&] {
-          const auto r = keel::pcm::densest_subgraph(g, mean);
-          return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
-        });
-      if (wants("densest_steps") && set_clipper_steps(steps))
-        report(name, "densest_steps", repeat, [&] {
-          const auto r = keel::pcm::densest_subgraph(g, steps);
-          return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
-        });
-      if (wants("densest_clipper") && set_mean_step(both) && set_clipper_steps(both))
-        report(name, "densest_clipper", repeat, [&] {
-          const auto r = keel::pcm::densest_subgraph(g, both);
-          return Run{0, r.selection.size(), 0, g.is_clique(r.selection)};
-        });
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "keel_clique: %s\n", e.what());

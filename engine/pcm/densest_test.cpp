@@ -40,6 +40,13 @@ bool maximal(const ConsistencyGraph& g, const std::vector<int>& s) {
   return true;
 }
 
+// bench_clique's world1d_m100_w<w>: the consistency graph at γ(11 %) of a 1D world of the Fig. 2.3 generator.
+ConsistencyGraph bench_world(int w) {
+  const auto o = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 100, 0.5, 0.25);
+  const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o, 20180522, w));
+  return ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
+}
+
 }  // namespace
 
 TEST_CASE("densest subgraph: a planted clique well above √n is recovered exactly") {
@@ -194,9 +201,7 @@ TEST_CASE("densest subgraph: a stalled homotopy stops early with the answer of m
   // converge take exactly the same iterations either way.
   int stalls = 0;
   for (int w = 0; w < 5; ++w) {
-    const auto o = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 100, 0.5, 0.25);
-    const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o, 20180522, w));
-    const auto g = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
+    const auto g = bench_world(w);
     DensestOptions never;
     never.max_stalled_outer = 0;
     const auto full = densest_subgraph(g, never);
@@ -318,9 +323,7 @@ TEST_CASE("densest subgraph: CLIPPER's line search steps") {
   // bench_clique's 1D worlds of m = 100: maximal cliques of the size the long step selects (on the family's
   // 143 graphs the size was never smaller; w = 4 selects another set of that size).
   for (int w = 0; w < 5; ++w) {
-    const auto o = keel::sim::world1d_options_with_total(keel::sim::World1DOptions{}, 100, 0.5, 0.25);
-    const auto Q = keel::sim::world1d_consistency_matrix(keel::sim::generate_world1d(o, 20180522, w));
-    const auto g = ConsistencyGraph::from_threshold(Q.n, Q.q, consistency_threshold(0.11, 1));
+    const auto g = bench_world(w);
     const auto fast = densest_subgraph(g, clipper);
     const auto slow = densest_subgraph(g);
     INFO("world " << w);

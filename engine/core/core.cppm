@@ -8,6 +8,7 @@ module;
 #include "core/config.hpp"
 #include "core/names.hpp"
 #include "core/parallel.hpp"
+#include "core/parse.hpp"
 #include "core/progress.hpp"
 #include "core/random.hpp"
 #include "core/statistics.hpp"
@@ -39,6 +40,18 @@ using keel::core::ConfigError;
 using keel::core::ConfigTable;
 using keel::core::ConfigValue;
 using keel::core::load_toml;
+// the one parser of integers, reals, id ranges and whole files (core/parse.hpp)
+using keel::core::IdRange;
+using keel::core::parse_id_list;
+using keel::core::parse_id_range;
+using keel::core::parse_integer;
+using keel::core::parse_real;
+using keel::core::quote_token;
+using keel::core::read_text_file;
+using keel::core::read_whole_file;
+using keel::core::split_fields;
+using keel::core::to_integer;
+using keel::core::to_real;
 // summary statistics and wall-clock durations
 using keel::core::Clock;
 using keel::core::mean_std;

@@ -30,6 +30,20 @@ bool is_2d_tag(std::string_view t) {
          t == "LANDMARK";
 }
 
+// g2o's "FIX id ..." holds the listed vertices constant. keel's solvers fix the gauge at pose 0, so "FIX 0"
+// states what every solve already does and is accepted; any other id would ask for a different problem
+// (another gauge for marginals, several fixed poses for a solve) and is refused with the reason.
+void parse_fix(const detail::RecordScanner& sc) {
+  if (sc.size() == 0) sc.fail("FIX: expected the id of the fixed vertex (keel fixes pose 0: 'FIX 0')");
+  for (std::size_t k = 1; k <= sc.size(); ++k) {
+    if (sc.id(k) != 0) {
+      sc.fail_field(k, fmt::format("{}: keel holds the gauge at pose 0 in every solve, so only 'FIX 0' is "
+                                   "accepted (renumber the vertices so that the fixed one is 0)",
+                                   detail::quote_token(sc.field(k))));
+    }
+  }
+}
+
 void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
   if (i == j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", i));
 }
@@ -133,12 +147,14 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
       const Edge2 e = parse_edge_se2(sc, check, g.indefinite_information);
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
+    } else if (tag == "FIX") {
+      parse_fix(sc);
     } else if (is_3d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
           detail::quote_token(tag)));
     } else {
-      sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2 and EDGE_SE2)",
+      sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2, EDGE_SE2 and FIX)",
                           detail::quote_token(tag)));
     }
   }
@@ -166,12 +182,14 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
       const Edge3 e = parse_edge_se3(sc, check, g.indefinite_information);
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
+    } else if (tag == "FIX") {
+      parse_fix(sc);
     } else if (is_2d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
           detail::quote_token(tag)));
     } else {
-      sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT and EDGE_SE3:QUAT)",
+      sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX)",
                           detail::quote_token(tag)));
     }
   }

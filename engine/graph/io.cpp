@@ -28,8 +28,13 @@ GraphFormat graph_format_from_string(std::string_view s) { return kGraphFormat.p
 
 std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name) {
   detail::RecordScanner sc(text, name.string());
-  if (sc.next()) {
+  bool fix = false;  // g2o's FIX line says nothing about the dimension: the next record decides
+  while (sc.next()) {
     const std::string_view t = sc.tag();
+    if (t == "FIX") {
+      fix = true;
+      continue;
+    }
     if (t == "VERTEX_SE2" || t == "EDGE_SE2" || t == "VERTEX_SE3:QUAT" || t == "EDGE_SE3:QUAT")
       return GraphFormat::g2o;
     if (t == "ODOMETRY" || t == "EDGE2" || t == "Constraint2" || t == "LANDMARK" || t == "EDGE3") {
@@ -37,7 +42,7 @@ std::optional<GraphFormat> detect_graph_format(std::string_view text, const std:
     }
     return std::nullopt;
   }
-  return name.extension() == ".g2o" ? GraphFormat::g2o : GraphFormat::isam;
+  return fix || name.extension() == ".g2o" ? GraphFormat::g2o : GraphFormat::isam;
 }
 
 namespace {
@@ -45,7 +50,8 @@ namespace {
 GraphFormat format_or_throw(std::string_view text, const std::string& name) {
   if (auto f = detect_graph_format(text, name)) return *f;
   detail::RecordScanner sc(text, name);
-  sc.next();
+  while (sc.next() && sc.tag() == "FIX") {
+  }
   sc.fail(
       fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
                   "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",

@@ -2,12 +2,16 @@
 // exact TUM layout, format dispatch, Euler extraction next to gimbal lock, and one ParseError per
 // malformed-input rule, each checked for file, line and field in its message.
 #include <doctest/doctest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <thread>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -350,9 +354,9 @@ TEST_CASE("malformed g2o 2D input: every rule gives a ParseError with file, line
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 abc" + kInfo2 + "\n");
   CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 5 (dtheta): 'abc' is not a number");
   m = g2o2(kV2 + "EDGE_SE2 0 1 nan 0 0" + kInfo2 + "\n");
-  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 3 (dx): 'nan' is not finite");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 3 (dx): 'nan' is not a finite number");
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 -inf 0" + kInfo2 + "\n");
-  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 4 (dy): '-inf' is not finite");
+  CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 4 (dy): '-inf' is not a finite number");
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 1e999 0" + kInfo2 + "\n");
   CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 4 (dy): '1e999' is out of the range of a double");
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0" + kInfo2 + " 7\n");
@@ -364,8 +368,10 @@ TEST_CASE("malformed g2o 2D input: every rule gives a ParseError with file, line
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n");  // positive diagonal, indefinite
   CHECK_CONTAINS(
       m, "bad.g2o:3: EDGE_SE2 fields 6-11 (I11..I33): the information matrix is not positive definite");
-  m = g2o2(kV2 + kE01 + "FIX 0\n");
-  CHECK_CONTAINS(m, "bad.g2o:4: unknown tag 'FIX'");
+  m = g2o2(kV2 + kE01 + "FIX 1\n");
+  CHECK_CONTAINS(m, "bad.g2o:4: FIX field 1: '1': keel holds the gauge at pose 0 in every solve");
+  m = g2o2(kV2 + kE01 + "FIX\n");
+  CHECK_CONTAINS(m, "bad.g2o:4: FIX: expected the id of the fixed vertex");
   m = g2o2(kV2 + "EDGE_SE2 0 5 1 0 0" + kInfo2 + "\n");
   CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 2 (j): pose 5 has no VERTEX_SE2 line");
   m = g2o2("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 1 0 0\n" + kE01);
@@ -375,9 +381,11 @@ TEST_CASE("malformed g2o 2D input: every rule gives a ParseError with file, line
   m = g2o2(kV2 + "EDGE_SE2 0 -1 1 0 0" + kInfo2 + "\n");
   CHECK_CONTAINS(m, "bad.g2o:3: EDGE_SE2 field 2 (j): '-1' is negative");
   m = g2o2("VERTEX_SE2 1.5 0 0 0\n");
-  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '1.5' is not an integer id");
+  CHECK_CONTAINS(
+      m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '1.5' is not an integer id (expected a decimal integer");
   m = g2o2("VERTEX_SE2 99999999999999999999 0 0 0\n");
-  CHECK_CONTAINS(m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '99999999999999999999' is too large for an id");
+  CHECK_CONTAINS(
+      m, "bad.g2o:1: VERTEX_SE2 field 1 (id): '99999999999999999999' is too large: expected an integer id");
   m = g2o2("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 2 1 0 0\nEDGE_SE2 0 2 1 0 0" + kInfo2 + "\n");
   CHECK_CONTAINS(
       m, "bad.g2o:2: VERTEX_SE2 field 1 (id): vertex ids must be contiguous from 0, but id 1 is missing");
@@ -621,4 +629,34 @@ TEST_CASE("g2o information read for the isotropic model: only the diagonal block
   std::istringstream in3("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 3 1 0 1\n");
   const auto g2 = read_g2o_2d(in3, "coupled2.g2o", InformationCheck::diagonal_blocks);
   CHECK(g2.indefinite_information == 1);
+}
+
+TEST_CASE("g2o FIX 0 states the gauge every solve holds and is read; FIX decides no format") {
+  std::istringstream in("FIX 0\n" + kV2 + kE01 + "FIX 0\n");
+  const auto g = read_g2o_2d(in, "fix.g2o");
+  CHECK(g.poses.size() == 2);
+  CHECK(g.edges.size() == 1);
+  CHECK(detect_graph_format("FIX 0\nVERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n", "x.txt") == GraphFormat::g2o);
+  CHECK(detect_graph_format("FIX 0\nEDGE2 0 1 1 0 0 1 0 0 1 0 1\n", "x.g2o") == GraphFormat::isam);
+}
+
+TEST_CASE("a file is read once: a FIFO works; a directory or a missing file is 'file: reason'") {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / fmt::format("keel_io_fifo_{}", ::getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto fifo = dir / "g.g2o";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  std::thread writer([&] {
+    std::ofstream out(fifo);
+    out << kV2 << kE01;
+  });
+  const auto g = read_pose_graph_2d(fifo);
+  writer.join();
+  CHECK(g.edges.size() == 1);
+  CHECK_CONTAINS(error_of([&] { (void)read_pose_graph_2d(dir); }),
+                 fmt::format("{}: cannot read: is a directory, not a file", dir.string()));
+  CHECK_CONTAINS(error_of([&] { (void)read_pose_graph_2d(dir / "missing.g2o"); }),
+                 "missing.g2o: cannot open file (No such file or directory)");
+  std::filesystem::remove_all(dir);
 }

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/parse.hpp"
 #include "graph/parse_error.hpp"
 
 namespace keel::graph {
@@ -25,13 +26,9 @@ ParseError::ParseError(std::string file, int line, const std::string& message)
 namespace detail {
 
 std::string read_file_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    const int e = errno;
-    throw ParseError(file.string(), 0, fmt::format("cannot open file ({})", std::strerror(e)));
-  }
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw ParseError(file.string(), 0, "read error");
+  // One pass through core::read_whole_file: pipes and FIFOs work, a directory is named as one.
+  std::string text;
+  if (auto why = core::read_whole_file(file, text); !why.empty()) throw ParseError(file.string(), 0, why);
   return text;
 }
 
@@ -64,24 +61,7 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
   }
 }
 
-std::string quote_token(std::string_view token) {
-  std::string out = "'";
-  std::size_t n = 0;
-  for (char ch : token) {
-    if (n++ == 40) {
-      out += "...";
-      break;
-    }
-    const auto c = static_cast<unsigned char>(ch);
-    if (c >= 0x20 && c < 0x7f && c != '\\' && c != '\'') {
-      out += ch;
-    } else {
-      fmt::format_to(std::back_inserter(out), "\\x{:02x}", c);
-    }
-  }
-  out += "'";
-  return out;
-}
+std::string quote_token(std::string_view token) { return core::quote_token(token); }
 
 std::string fmt17(double v) { return fmt::format("{:.17g}", v); }
 
@@ -153,16 +133,8 @@ void RecordScanner::fail_fields(std::size_t first, std::size_t last, const std::
 }
 
 double RecordScanner::number(std::size_t k) const {
-  std::string_view t = fields_[k];
-  std::string_view s = t;
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
   double v = 0.0;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
-  if (ec == std::errc::result_out_of_range)
-    fail_field(k, fmt::format("{} is out of the range of a double", quote_token(t)));
-  if (ec != std::errc() || p != s.data() + s.size())
-    fail_field(k, fmt::format("{} is not a number", quote_token(t)));
-  if (!std::isfinite(v)) fail_field(k, fmt::format("{} is not finite", quote_token(t)));
+  if (auto why = core::parse_real(fields_[k], v); !why.empty()) fail_field(k, why);
   return v;
 }
 
@@ -171,20 +143,11 @@ void RecordScanner::numbers(std::size_t first, std::size_t last, double* out) co
 }
 
 int RecordScanner::id(std::size_t k) const {
-  std::string_view t = fields_[k];
-  std::string_view s = t;
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
-  long long v = 0;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec == std::errc() && p == s.data() + s.size()) {
-    if (v < 0) fail_field(k, fmt::format("{} is negative (ids must be >= 0)", quote_token(t)));
-    if (v >= std::numeric_limits<int>::max())
-      fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
-    return static_cast<int>(v);
-  }
-  if (ec == std::errc::result_out_of_range)
-    fail_field(k, fmt::format("{} is too large for an id", quote_token(t)));
-  fail_field(k, fmt::format("{} is not an integer id", quote_token(t)));
+  std::int64_t v = 0;
+  if (auto why = core::parse_integer(fields_[k], 0, std::numeric_limits<int>::max() - 1, v, "an integer id");
+      !why.empty())
+    fail_field(k, why);
+  return static_cast<int>(v);
 }
 
 }  // namespace detail

@@ -1,13 +1,16 @@
 // keel.app — keel on a researcher's own files, the one door of the `keel` command and the Python module:
 // app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), app::align_surveys
-// (align.hpp), and what a file holds or a two-robot split writes (files.hpp).
+// (align.hpp), what a file holds or a two-robot split writes (files.hpp), and the output files of a command,
+// written all or nothing (outputs.hpp).
 module;
 #include "app/align.hpp"
 #include "app/files.hpp"
 #include "app/marginals.hpp"
+#include "app/outputs.hpp"
 #include "app/pcm.hpp"
 #include "app/progress.hpp"
 #include "app/solve.hpp"
+#include "app/solver_log.hpp"
 export module keel.app;
 
 export namespace keel::app {
@@ -63,4 +66,14 @@ using keel::app::PcmRun3;
 using keel::app::Progress;
 using keel::app::score_selection;
 using keel::app::SelectionScore;
+// outputs
+using keel::app::FolderFile;
+using keel::app::OutputError;
+using keel::app::OutputKind;
+using keel::app::Outputs;
+using keel::app::split_folder_files;
+using keel::app::world_folder_files;
+// Ceres's log
+using keel::app::route_solver_log;
+using keel::app::SolverLogSink;
 }  // namespace keel::app

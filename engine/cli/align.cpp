@@ -114,12 +114,14 @@ struct WorldArgs {
 
 void run_world(WorldArgs a) {
   const Stages stage("align-world", a.common.quiet);
+  app::Outputs outputs({{"--terrain", a.terrain}});
+  const auto staging = outputs.folder("dir", a.dir, app::world_folder_files());
   app::WorldTruth t;
   json extra = json::object();
   std::string unit = "m";
   if (a.terrain.empty()) {
     stage(fmt::format("world {} of seed {}", a.index, a.seed));
-    t = app::write_alignment_world(a.world, a.seed, a.index, a.dir);
+    t = app::write_alignment_world(a.world, a.seed, a.index, staging);
   } else {
     // Table 3.1's geometry (lengths in sample spacings) times the scale, aligned in units of the scale (the
     // settings of ch3_table3_1_terrain_*).
@@ -132,7 +134,7 @@ void run_world(WorldArgs a) {
          {&w.reference_size, &w.query_size, &w.track_spacing, &w.sample_spacing, &w.max_translation})
       *v *= a.scale;
     stage(fmt::format("terrain world {} of seed {}", a.index, a.seed));
-    const app::TerrainWorldTruth tt = app::write_terrain_world(field, w, a.seed, a.index, a.scale, a.dir);
+    const app::TerrainWorldTruth tt = app::write_terrain_world(field, w, a.seed, a.index, a.scale, staging);
     t = tt.truth;
     unit = fmt::format("× {:g} m", a.scale);
     extra = {{"length_unit_m", a.scale},
@@ -140,6 +142,7 @@ void run_world(WorldArgs a) {
              {"roughness_m", tt.roughness},
              {"grid", a.terrain}};
   }
+  outputs.commit();
   if (a.common.json) {
     json j = {{"dir", a.dir},
               {"seed", a.seed},
@@ -202,7 +205,10 @@ void add_align_command(CLI::App& app) {
       "write a simulated survey pair of Table 3.1's generator (or over a real elevation grid, --terrain) as "
       "the CSV files keel align reads");
   cw->group("Your data");
-  cw->add_option("dir", w->dir, "output folder (created)")->required();
+  cw->add_option("dir", w->dir,
+                 "output folder for reference.csv, query.csv, truth.csv (created; files of these names are "
+                 "replaced only as the whole set an earlier keel align-world wrote)")
+      ->required();
   cw->add_option("--seed", w->seed, "experiment seed (ch3_table3_1_alignment's by default)")
       ->capture_default_str();
   cw->add_option("--index", w->index, "world index: world w of that experiment")->capture_default_str();

@@ -11,13 +11,26 @@
 
 namespace keel::cli {
 
-// Exit codes of every subcommand (documented in `keel --help` and docs/USING.md).
+// Exit codes of every subcommand (documented in `keel --help`, each command's --help and docs/USING.md).
 enum Exit : int {
   ok = 0,         // done
-  failed = 1,     // the work ran and its answer is "no": a solver failed, results differ or leave tolerance
+  failed = 1,     // done, but not what was asked: a solver failed, `--certify` not certified, results differ
   usage = 2,      // bad command line or experiment config
   bad_input = 3,  // an input file that cannot be read or parsed, or values the engine refuses
+  cannot_write = 4,  // an output that cannot be written or is refused (an input, or an existing file of
+                     // another kind); nothing was written
 };
+
+// The table above as `keel --help` and each command's --help print it.
+inline constexpr const char* kExitTable =
+    "Exit status: 0 done; 1 done, but not what was asked (a solver failed, --certify not certified, results "
+    "differ or leave their tolerance); 2 bad command line or experiment config; 3 an input that cannot be "
+    "read "
+    "or parsed, or values keel refuses; 4 an output that cannot be written, or is refused (one of the "
+    "inputs, "
+    "or an existing file of another kind). Outputs are written only on exit 0, each to a temporary file "
+    "beside "
+    "it renamed into place at the end: any other exit leaves every file as it was.";
 
 // Thrown by a command whose work ran to completion with a negative answer (exit 1); the message is printed.
 struct CommandFailed : std::runtime_error {
@@ -26,9 +39,12 @@ struct CommandFailed : std::runtime_error {
 
 // Options every file command takes.
 struct Common {
-  bool quiet = false;  // no progress lines on stderr
+  bool quiet = false;  // no progress lines on stderr, no solver log
   bool json = false;   // machine-readable output on stdout
 };
+
+// "keel 0.1 (commit 0123456789ab)": the version and the commit the binary was built from (version.cpp).
+const char* version_string();
 
 // Reproduction ("Reproduction" group of --help).
 void add_list_command(CLI::App& app);

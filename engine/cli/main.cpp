@@ -3,6 +3,7 @@
 // subcommand (commands.hpp). docs/USING.md has a worked example of each. Exit codes: see Exit in
 // commands.hpp.
 import keel.core;
+import keel.app;
 import keel.datasets;
 import keel.graph;
 
@@ -29,6 +30,8 @@ int report_error(const char* command, std::exception_ptr error) {
     std::rethrow_exception(error);
   } catch (const CommandFailed& e) {
     return say("", e, Exit::failed);
+  } catch (const keel::app::OutputError& e) {  // an output refused or not writable; nothing was written
+    return say("", e, Exit::cannot_write);
   } catch (const keel::core::ConfigError& e) {
     return say("config error: ", e, Exit::usage);
   } catch (const keel::graph::ParseError& e) {  // file, line, field
@@ -51,14 +54,14 @@ int main(int argc, char** argv) {
   CLI::App app{"keel — robust multi-agent SLAM (reproduction of Mangelson 2019, and tools for your own data)",
                "keel"};
   app.require_subcommand(1);
-  app.footer(
-      "Each command has --help. Exit codes: 0 done; 1 the work ran and the answer is no (a solver failed, "
-      "results differ or leave their tolerance); 2 bad command line or experiment config; 3 an input file "
-      "that cannot be read or parsed, or values the engine refuses. Worked examples: docs/USING.md.");
+  app.set_version_flag("--version", version_string(),
+                       "print keel's version and the commit it was built from");
+  app.footer(fmt::format("Each command has --help. {} Worked examples: docs/USING.md.", kExitTable));
   for (auto add : {add_list_command, add_diff_command, add_bless_command, add_report_command, add_eta_command,
                    add_prose_check_command, add_same_command, add_check_command, add_solve_command,
                    add_marginals_command, add_pcm_command, add_split_command, add_align_command})
     add(app);
+  for (auto* sub : app.get_subcommands({})) sub->footer(kExitTable);
   const char* command = argc > 1 ? argv[1] : "keel";
   try {
     app.parse(argc, argv);

@@ -109,7 +109,7 @@ void check_pose_ids(const Graph& g, const std::vector<int>& ids, const char* wha
 }
 
 template <class Graph>
-void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage) {
+void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs) {
   const auto& sa = a.solve;
   const bool planar = std::is_same_v<Graph, graph::PoseGraph2D>;
   app::MarginalsRequest request;
@@ -159,7 +159,8 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage)
   out["factorization_time_s"] = m.factor.analyze_time_s + m.factor.factorize_time_s;
   out["extraction_time_s"] = m.extraction_time_s;
   if (!sa.out.empty()) {
-    write_json(sa.out, out);
+    write_json(outputs, sa.out, out);
+    outputs.commit();
     stage(fmt::format("wrote {}", sa.out));
   }
   if (sa.common.json) {
@@ -204,8 +205,10 @@ void run_marginals(const MarginalsArgs& a) {
     throw CLI::ValidationError("marginals", "give exactly one of --pairs and --poses");
   }
   const Stages stage("marginals", a.solve.common.quiet);
+  app::Outputs outputs({{"file", a.solve.file}, {"--pairs", a.pairs}});
+  if (!a.solve.out.empty()) outputs.file("--out", a.solve.out, app::OutputKind::json());
   stage(fmt::format("reading {}", a.solve.file));
-  std::visit([&](const auto& g) { marginals_file(a, g, stage); }, app::read_graph(a.solve.file));
+  std::visit([&](const auto& g) { marginals_file(a, g, stage, outputs); }, app::read_graph(a.solve.file));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@ import keel.app;
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,7 +33,8 @@ struct PcmArgs {
 };
 
 template <class Run>
-void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
+void report_pcm(const PcmArgs& args, const Run& run, const std::optional<std::vector<bool>>& inlier,
+                const Stages& stage, app::Outputs& outputs) {
   const auto& sel = run.selection;
   const auto& search = *sel.search;
   const int n = run.q.n;
@@ -60,13 +62,8 @@ void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
             {"consistency_time_s", run.consistency_time_s},
             {"selection_time_s", sel.time_s}};
   std::optional<app::SelectionScore> score;
-  if (!args.labels.empty()) {
-    const auto inlier = app::read_labels(args.labels);
-    if (static_cast<int>(inlier.size()) != n) {
-      throw std::invalid_argument(
-          fmt::format("{}: {} labels for {} candidates", args.labels, inlier.size(), n));
-    }
-    score = app::score_selection(sel.selected, inlier);
+  if (inlier) {
+    score = app::score_selection(sel.selected, *inlier);
     j["true_positives"] = score->true_positives;
     j["false_positives"] = score->false_positives;
     j["tpr"] = score->tpr;
@@ -78,9 +75,11 @@ void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
   if (!args.out.empty()) {
     json full = j;
     full["q"] = run.q.q;
-    write_json(args.out, full);
-    stage(fmt::format("wrote {}", args.out));
+    write_json(outputs, args.out, full);
   }
+  outputs.commit();
+  if (!args.merged.empty()) stage(fmt::format("wrote {}", args.merged));
+  if (!args.out.empty()) stage(fmt::format("wrote {}", args.out));
   if (args.common.json) {
     fmt::print("{}\n", j.dump(1));
     return;
@@ -112,7 +111,16 @@ void report_pcm(const PcmArgs& args, const Run& run, const Stages& stage) {
 
 template <class Graph, class Edges>
 void pcm_files(const PcmArgs& args, const Graph& a, const Graph& b, const Edges& candidates,
-               const Stages& stage) {
+               const Stages& stage, app::Outputs& outputs) {
+  // The labels are read and counted before the work.
+  std::optional<std::vector<bool>> inlier;
+  if (!args.labels.empty()) {
+    inlier = app::read_labels(args.labels);
+    if (inlier->size() != candidates.size()) {
+      throw std::invalid_argument(fmt::format("{}: {} labels for {} candidates in {}", args.labels,
+                                              inlier->size(), candidates.size(), args.candidates));
+    }
+  }
   app::PcmOptions o;
   o.p = args.p;
   o.composition = pcm::composition_from_string(args.composition);
@@ -123,20 +131,30 @@ void pcm_files(const PcmArgs& args, const Graph& a, const Graph& b, const Edges&
   const auto run = app::pcm(a, b, candidates, o, stage.progress());
   if (run.merged) {
     check_solved(run.merged->summary);
-    graph::write_pose_graph(app::merged_graph(run), args.merged);
+    outputs.write(args.merged, [&](const std::filesystem::path& temporary) {
+      graph::write_pose_graph(app::merged_graph(run), temporary);
+    });
   }
-  report_pcm(args, run, stage);
+  report_pcm(args, run, inlier, stage, outputs);
 }
 
 void run_pcm_command(const PcmArgs& args) {
+  const auto ext = std::filesystem::path(args.merged).extension();
+  if (!args.merged.empty() && ext != ".g2o" && ext != ".txt")
+    throw CLI::ValidationError(
+        "--merged", fmt::format("{}: give a .g2o (g2o) or .txt (iSAM text) file name", args.merged));
   const Stages stage("pcm", args.common.quiet);
+  app::Outputs outputs(
+      {{"--a", args.a}, {"--b", args.b}, {"--candidates", args.candidates}, {"--labels", args.labels}});
+  if (!args.merged.empty()) outputs.file("--merged", args.merged, app::OutputKind::graph());
+  if (!args.out.empty()) outputs.file("--out", args.out, app::OutputKind::json());
   stage(fmt::format("reading {}, {} and {}", args.a, args.b, args.candidates));
   if (app::graph_dimension(args.a) == 2) {
     pcm_files(args, graph::read_pose_graph_2d(args.a), graph::read_pose_graph_2d(args.b),
-              graph::read_g2o_edges_2d(args.candidates), stage);
+              graph::read_g2o_edges_2d(args.candidates), stage, outputs);
   } else {
     pcm_files(args, graph::read_pose_graph_3d(args.a), graph::read_pose_graph_3d(args.b),
-              graph::read_g2o_edges_3d(args.candidates), stage);
+              graph::read_g2o_edges_3d(args.candidates), stage, outputs);
   }
 }
 

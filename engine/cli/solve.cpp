@@ -49,12 +49,13 @@ void write_solution(Graph g, const fs::path& out, const fs::path& input) {
 }
 
 template <class Graph>
-void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
+void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs) {
   stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), a.options.init));
   const auto s = app::solve(g, a.options);
   check_solved(s.summary);
   if (!a.out.empty()) {
-    write_solution(s.graph, a.out, a.file);
+    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, a.file); });
+    outputs.commit();
     stage(fmt::format("wrote {}", a.out));
   }
   if (a.common.json) {
@@ -70,13 +71,18 @@ void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
   }
 }
 
+// Not certified, the command prints what it found and exits 1 (done, but not what was asked) without
+// writing --out: outputs are written only on exit 0.
 template <class Graph>
-void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
+void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs) {
   stage(fmt::format("certified solve ({} poses, {} edges, gap tolerance {:g}, ranks up to {})",
                     g.poses.size(), g.edges.size(), a.options.gap_tolerance, a.options.max_rank));
   const auto s = app::solve_certified(g, a.options);
-  if (!a.out.empty()) {
-    write_solution(s.graph, a.out, a.file);
+  const bool certified = s.summary.certificate.certified;
+  const bool written = certified && !a.out.empty();
+  if (written) {
+    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, a.file); });
+    outputs.commit();
     stage(fmt::format("wrote {}", a.out));
   }
   if (a.common.json) {
@@ -87,16 +93,22 @@ void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage) {
         {"anisotropic_cost", std::isfinite(s.anisotropic_cost) ? json(s.anisotropic_cost) : json(nullptr)},
         {"indefinite_information", g.indefinite_information},
         {"certificate", certificate_json(s.summary)}};
-    if (!a.out.empty()) j["out"] = a.out;
+    if (written) j["out"] = a.out;
     fmt::print("{}\n", j.dump(1));
   } else {
     print_certified_summary(a.file, s.summary, s.anisotropic_cost);
-    if (!a.out.empty()) fmt::print("written      {}\n", a.out);
+    if (written) fmt::print("written      {}\n", a.out);
   }
+  if (!certified)
+    throw CommandFailed(fmt::format(
+        "{}{}{}", s.summary.message.starts_with("not certified") ? "" : "not certified: ", s.summary.message,
+        a.out.empty() ? "" : fmt::format(" ({} not written)", a.out)));
 }
 
 void run_solve(const SolveArgs& a) {
   const Stages stage("solve", a.common.quiet);
+  app::Outputs outputs({{"file", a.file}});
+  if (!a.out.empty()) outputs.file("--out", a.out, app::OutputKind::graph());
   stage(fmt::format("reading {}", a.file));
   // The isotropic model of --certify reads only the diagonal blocks of each information matrix; the
   // anisotropic solve needs all of it and names the option that reads such a file.
@@ -127,9 +139,9 @@ void run_solve(const SolveArgs& a) {
   std::visit(
       [&](const auto& g) {
         if (a.options.certify) {
-          certify_file(a, g, stage);
+          certify_file(a, g, stage, outputs);
         } else {
-          solve_file(a, g, stage);
+          solve_file(a, g, stage, outputs);
         }
       },
       graph);

@@ -25,13 +25,16 @@ struct SplitArgs {
 
 void run_split(const SplitArgs& a) {
   const Stages stage("split", a.common.quiet);
+  app::Outputs outputs({{"graph", a.graph}, {"--ground-truth", a.ground_truth}});
+  const auto staging = outputs.folder("--out-dir", a.out_dir, app::split_folder_files());
   stage(fmt::format("reading {} and {}", a.graph, a.ground_truth));
   if (app::graph_dimension(a.graph) != 2) {
     throw std::invalid_argument(fmt::format("{}: keel split supports 2D graphs", a.graph));
   }
   const auto g = graph::read_pose_graph_2d(a.graph);
   const auto truth = graph::read_poses_2d(a.ground_truth);
-  const auto set = app::split_files(g, truth, a.options, a.out_dir);
+  const auto set = app::split_files(g, truth, a.options, staging);
+  outputs.commit();
   const int inliers = static_cast<int>(set.inliers().size());
   const auto& s = a.options.split;
   if (a.common.json) {
@@ -65,7 +68,10 @@ void add_split_command(CLI::App& app) {
   c->group("Your data");
   c->add_option("graph", a->graph, "the single-robot graph")->required();
   c->add_option("--ground-truth", a->ground_truth, "ground-truth poses, lines 'id x y theta'")->required();
-  c->add_option("--out-dir", a->out_dir, "folder for a.g2o, b.g2o, candidates.g2o, labels.txt, truth.txt")
+  c->add_option(
+       "--out-dir", a->out_dir,
+       "folder for a.g2o, b.g2o, candidates.g2o, labels.txt, truth.txt (created; files of these names "
+       "are replaced only as the whole set an earlier keel split wrote)")
       ->required();
   c->add_option("--first", o.split.first, "first pose of robot a")->capture_default_str();
   c->add_option("--split", o.split.split, "first pose of robot b")->capture_default_str();

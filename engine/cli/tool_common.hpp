@@ -6,10 +6,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -23,7 +23,27 @@ using nlohmann::json;
 // Stage lines on stderr: "keel solve [0.4 s] solving …".
 class Stages {
  public:
-  Stages(const char* command, bool quiet) : command_(command), quiet_(quiet), t0_(core::Clock::now()) {}
+  // Also routes Ceres's own log (app::route_solver_log): dropped under --quiet, otherwise stage lines.
+  Stages(const char* command, bool quiet) : command_(command), quiet_(quiet), t0_(core::Clock::now()) {
+    if (quiet) {
+      app::route_solver_log({});
+      return;
+    }
+    app::route_solver_log([command, t0 = t0_](std::string_view severity, std::string_view message) {
+      // Ceres's message on its own lines, indented under the stage line that names it.
+      std::string text;
+      std::size_t start = 0;
+      while (start < message.size()) {
+        const auto end = std::min(message.find('\n', start), message.size());
+        const auto line = message.substr(start, end - start);
+        if (line.find_first_not_of(" \t\r") != std::string_view::npos) text += fmt::format("    {}\n", line);
+        start = end + 1;
+      }
+      fmt::print(stderr, "keel {} [{:.1f} s] Ceres {}:\n{}", command, core::seconds_since(t0), severity,
+                 text);
+      std::fflush(stderr);
+    });
+  }
   void operator()(std::string_view stage) const {
     if (quiet_) return;
     fmt::print(stderr, "keel {} [{:.1f} s] {}\n", command_, elapsed(), stage);
@@ -46,11 +66,9 @@ inline void add_common(CLI::App* c, Common& o) {
   c->add_flag("--json", o.json, "print one JSON document on stdout instead of the text summary");
 }
 
-inline void write_json(const std::filesystem::path& file, const json& j) {
-  std::ofstream out(file);
-  if (!out) throw std::invalid_argument(fmt::format("cannot write '{}'", file.string()));
-  out << j.dump() << '\n';
-  if (!out) throw std::runtime_error(fmt::format("writing '{}' failed", file.string()));
+// Writes j to the output `file` reserved in `outputs` (renamed into place by outputs.commit()).
+inline void write_json(app::Outputs& outputs, const std::filesystem::path& file, const json& j) {
+  outputs.write_text(file, j.dump() + "\n");
 }
 
 template <class M>

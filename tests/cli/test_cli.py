@@ -384,7 +384,8 @@ class BadInput(unittest.TestCase):
             self.error(3, f"{labels}:2: label field 2 (kind)", "pcm", "--a", "data/square.g2o", "--b",
                        "data/square.g2o", "--candidates", cand, "--labels", labels)
             self.error(3, "keel split supports 2D graphs", "split",
-                       dataset("parking-garage", "se-sync/parking-garage.g2o"), "--ground-truth", bad, "--out-dir", d)
+                       dataset("parking-garage", "se-sync/parking-garage.g2o"), "--ground-truth", bad, "--out-dir",
+                       os.path.join(d, "split"))
 
 
 class ProseCheck(unittest.TestCase):

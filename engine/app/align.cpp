@@ -2,41 +2,41 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "core/names.hpp"
+#include "core/parse.hpp"
 
 namespace keel::app {
 
 namespace {
 
 // Splits a CSV line at commas, trimming blanks around every field.
-std::vector<std::string> fields_of(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  std::istringstream in(line);
-  while (std::getline(in, cur, ',')) {
-    const auto b = cur.find_first_not_of(" \t\r");
-    const auto e = cur.find_last_not_of(" \t\r");
-    out.push_back(b == std::string::npos ? std::string() : cur.substr(b, e - b + 1));
+std::vector<std::string_view> fields_of(std::string_view line) {
+  std::vector<std::string_view> out = core::split_fields(line, ',');
+  for (auto& f : out) {
+    while (!f.empty() && (f.front() == ' ' || f.front() == '\t' || f.front() == '\r')) f.remove_prefix(1);
+    while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
   }
-  if (!line.empty() && line.back() == ',') out.emplace_back();
   return out;
 }
 
-// A finite number, or nullopt.
-std::optional<double> number_of(const std::string& s) {
-  if (s.empty()) return std::nullopt;
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
-  return v;
+// A header field begins with a letter or '_' (after an optional '"') and is no spelling of NaN or infinity,
+// so that "nan", "inf", "1O" or "-x" can never make a data row into a header.
+bool header_field(std::string_view f) {
+  if (!f.empty() && f.front() == '"') f.remove_prefix(1);
+  if (f.empty()) return false;
+  const auto c = static_cast<unsigned char>(f.front());
+  if (!(std::isalpha(c) || c == '_')) return false;
+  std::string lower(f);
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  while (!lower.empty() && lower.back() == '"') lower.pop_back();
+  return lower != "nan" && lower != "inf" && lower != "infinity" && lower.rfind("nan(", 0) != 0;
 }
 
 constexpr core::NameTable<Dissimilarity, 2> kDissimilarities{
@@ -49,23 +49,28 @@ std::string_view to_string(Dissimilarity d) { return kDissimilarities.name(d); }
 Dissimilarity dissimilarity_from_string(std::string_view text) { return kDissimilarities.parse(text); }
 
 Survey read_survey_csv(const std::filesystem::path& file, bool has_depth) {
-  std::ifstream in(file);
-  if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the survey file", file.string()));
+  // Read once (a pipe or FIFO works), then parse from memory.
+  std::string text;
+  if (auto why = core::read_whole_file(file, text); !why.empty())
+    throw std::invalid_argument(fmt::format("{}: the survey file: {}", file.string(), why));
+  std::string_view rest = text;
+  if (rest.starts_with("\xEF\xBB\xBF")) rest.remove_prefix(3);  // a UTF-8 byte-order mark
   Survey s;
   s.name = file.string();
   const std::size_t lead = has_depth ? 3 : 2;
   std::size_t columns = 0;
-  std::string line;
   int number = 0;
   bool first_record = true;
-  while (std::getline(in, line)) {
+  for (const std::string_view line : core::split_fields(rest, '\n')) {
     ++number;
     const auto b = line.find_first_not_of(" \t\r");
-    if (b == std::string::npos || line[b] == '#') continue;
-    const std::vector<std::string> f = fields_of(line);
+    if (b == std::string_view::npos || line[b] == '#') continue;
+    const std::vector<std::string_view> f = fields_of(line);
     if (first_record) {
       first_record = false;
-      if (!number_of(f.front())) continue;  // a header line
+      // The header rule: only the first record can be a header, and only when every field is a name (see
+      // header_field); any other line must be all numbers, or it is an error at its line and column.
+      if (std::all_of(f.begin(), f.end(), header_field)) continue;
     }
     if (columns == 0) {
       columns = f.size();
@@ -79,18 +84,17 @@ Survey read_survey_csv(const std::filesystem::path& file, bool has_depth) {
       throw std::invalid_argument(
           fmt::format("{}:{}: {} columns where the first record has {}", s.name, number, f.size(), columns));
     for (std::size_t k = 0; k < columns; ++k) {
-      const auto v = number_of(f[k]);
-      if (!v)
-        throw std::invalid_argument(
-            fmt::format("{}:{}: column {}: '{}' is not a finite number", s.name, number, k + 1, f[k]));
+      double v = 0.0;
+      if (auto why = core::parse_real(f[k], v); !why.empty())
+        throw std::invalid_argument(fmt::format("{}:{}: column {}: {}", s.name, number, k + 1, why));
       if (k == 0)
-        s.x.push_back(*v);
+        s.x.push_back(v);
       else if (k == 1)
-        s.y.push_back(*v);
+        s.y.push_back(v);
       else if (k == 2 && has_depth)
-        s.z.push_back(*v);
+        s.z.push_back(v);
       else
-        s.features.push_back(*v);
+        s.features.push_back(v);
     }
   }
   if (s.x.empty()) throw std::invalid_argument(fmt::format("{}: no position in the file", s.name));

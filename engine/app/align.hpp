@@ -36,10 +36,12 @@ struct Survey {
 };
 
 /// Reads a survey: one position per line, comma-separated `x, y[, depth], f1, …, fk` (`depth` when
-/// `has_depth`), every line the same number of columns, at least one feature column; blank lines and lines
-/// starting with '#' are skipped, and a first line that is not numeric is a header. Throws
-/// std::invalid_argument naming file, line and column for an unreadable file, a value that is not a finite
-/// number, a line with another column count, or no position at all.
+/// `has_depth`), every line the same number of columns, at least one feature column; a UTF-8 byte-order mark
+/// is dropped, blank lines and lines starting with '#' are skipped. The header rule: the first record is a
+/// header when every field begins with a letter or '_' (after an optional '"') and none spells NaN or
+/// infinity; every other record is data. Numbers go through core::parse_real (subnormals accepted; inf, nan,
+/// overflow and trailing junk refused). Throws std::invalid_argument naming file, line and column for an
+/// unreadable file, a value that is not a finite number, a line with another column count, or no position.
 [[nodiscard]] Survey read_survey_csv(const std::filesystem::path& file, bool has_depth = false);
 /// Writes a survey in that format with a header line, every value to 17 significant digits (read back
 /// bit for bit).

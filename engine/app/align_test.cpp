@@ -144,7 +144,27 @@ TEST_CASE("read_survey_csv: header, comments, depths; located errors for bad fil
                           "narrow.csv:1: 2 columns; need x, y and at least one feature"));
   std::ofstream(d / "empty.csv") << "x,y,f\n# nothing\n";
   CHECK(testkit::contains(error_of(d / "empty.csv"), "empty.csv: no position in the file"));
-  CHECK(testkit::contains(error_of(d / "missing.csv"), "missing.csv: cannot open the survey file"));
+  CHECK(testkit::contains(error_of(d / "missing.csv"),
+                          "missing.csv: the survey file: cannot open file (No such file or directory)"));
+  // The header rule: only the first record, and only when every field is a name. A first data row that fails
+  // to parse is a located error, never a header that silently drops a point.
+  std::ofstream(d / "nanfirst.csv") << "nan,0,1\n1,1,2\n";
+  CHECK(testkit::contains(error_of(d / "nanfirst.csv"),
+                          "nanfirst.csv:1: column 1: 'nan' is not a finite number"));
+  std::ofstream(d / "typo.csv") << "1O,0,1\n1,1,2\n";
+  CHECK(testkit::contains(error_of(d / "typo.csv"), "typo.csv:1: column 1: '1O' is not a number"));
+  std::ofstream(d / "allnan.csv") << "nan,NaN,inf\n1,1,2\n";
+  CHECK(
+      testkit::contains(error_of(d / "allnan.csv"), "allnan.csv:1: column 1: 'nan' is not a finite number"));
+  std::ofstream(d / "bom.csv") << "\xEF\xBB\xBF" << "5,6,7\n1,1,2\n";  // a UTF-8 byte-order mark
+  CHECK(app::read_survey_csv(d / "bom.csv").x == std::vector<double>{5, 1});
+  std::ofstream(d / "bomheader.csv") << "\xEF\xBB\xBF" << "x,y,\"f1\"\n5,6,7\n";
+  CHECK(app::read_survey_csv(d / "bomheader.csv").x == std::vector<double>{5});
+  std::ofstream(d / "sub.csv") << "0,0,1e-310\n";
+  CHECK(app::read_survey_csv(d / "sub.csv").features == std::vector<double>{1e-310});
+  std::ofstream(d / "late.csv") << "0,0,1\nx,y,f\n";  // a header after the first record is data
+  CHECK(testkit::contains(error_of(d / "late.csv"), "late.csv:2: column 1: 'x' is not a number"));
+  CHECK(testkit::contains(error_of(d), "csv: the survey file: cannot read: is a directory, not a file"));
 
   // Surveys that cannot be aligned: another feature count, depths on one side, a query outside the reference.
   app::Survey a, b;

@@ -1,5 +1,6 @@
 #include "app/files.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -42,6 +44,25 @@ struct Components {
   void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
 };
 
+// √diag Ω⁻¹ without a determinant: Ω is scaled by its largest entry s (so Ω/s has entries in [−1, 1] and
+// neither 1e110 nor 1e-110 over- or underflows), factored by LDLᵀ with pivoting, and Ω⁻¹ = (Ω/s)⁻¹ / s.
+template <int N>
+Eigen::Matrix<double, N, 1> sigmas(const Eigen::Matrix<double, N, N>& W) {
+  const double s = W.cwiseAbs().maxCoeff();
+  const Eigen::Matrix<double, N, N> scaled = W / s;
+  const Eigen::Matrix<double, N, N> inv = scaled.ldlt().solve(Eigen::Matrix<double, N, N>::Identity());
+  return inv.diagonal().cwiseMax(0.0).cwiseSqrt() / std::sqrt(s);
+}
+
+// λ_max and λ_min of a symmetric matrix, computed on the matrix scaled by its largest entry.
+template <int N>
+std::pair<double, double> eigen_range(const Eigen::Matrix<double, N, N>& W) {
+  const double s = W.cwiseAbs().maxCoeff();
+  if (!(s > 0.0) || !std::isfinite(s)) return {s, 0.0};
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(W / s, Eigen::EigenvaluesOnly);
+  return {eig.eigenvalues().maxCoeff() * s, eig.eigenvalues().minCoeff() * s};
+}
+
 // Counts, duplicates, noise levels of the edges; `dof` 3 (2D: x, y, θ) or 6 (3D: t, φ).
 template <class Edge>
 void summarize_edges(const std::vector<Edge>& edges, int translation_dims, GraphSummary& s, Components& cc) {
@@ -54,9 +75,9 @@ void summarize_edges(const std::vector<Edge>& edges, int translation_dims, Graph
     const auto& W = e.information;
     const bool cross = (W - decltype(W)(W.diagonal().asDiagonal())).cwiseAbs().maxCoeff() > 0.0;
     if (cross) ++s.cross_term_edges;
-    const auto cov = W.inverse().eval();
+    const auto sigma_of = sigmas(W);
     for (int k = 0; k < W.rows(); ++k) {
-      const double sigma = std::sqrt(cov(k, k));
+      const double sigma = sigma_of(k);
       if (k < translation_dims) {
         st_min = std::min(st_min, sigma);
         st_max = std::max(st_max, sigma);
@@ -65,8 +86,8 @@ void summarize_edges(const std::vector<Edge>& edges, int translation_dims, Graph
         sr_max = std::max(sr_max, sigma);
       }
     }
-    Eigen::SelfAdjointEigenSolver<std::decay_t<decltype(W)>> eig(W, Eigen::EigenvaluesOnly);
-    s.condition_max = std::max(s.condition_max, eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff());
+    const auto [lmax, lmin] = eigen_range(W);
+    s.condition_max = std::max(s.condition_max, lmax / lmin);
     cc.join(e.i, e.j);
   }
   if (!edges.empty()) {
@@ -75,6 +96,42 @@ void summarize_edges(const std::vector<Edge>& edges, int translation_dims, Graph
     s.sigma_rotation_min = sr_min;
     s.sigma_rotation_max = sr_max;
   }
+}
+
+constexpr double kEpsilon = 2.220446049250313e-16;  // 2⁻⁵², the rounding unit of a double
+
+// M of check_numeric_range: max(1, largest vertex coordinate, Σ over edges of |t_z|∞).
+template <class Graph>
+double coordinate_scale(const Graph& g) {
+  double m = 1.0, sum = 0.0;
+  for (const auto& T : g.poses) m = std::max(m, T.translation().cwiseAbs().maxCoeff());
+  for (const auto& e : g.edges) sum += e.measurement.translation().cwiseAbs().maxCoeff();
+  if constexpr (requires { g.landmark_measurements; }) {
+    for (const auto& p : g.landmarks) m = std::max(m, p.cwiseAbs().maxCoeff());
+    for (const auto& lm : g.landmark_measurements) sum += lm.position.cwiseAbs().maxCoeff();
+  }
+  return std::max(m, sum);
+}
+
+template <class W>
+void check_weight(const std::string& file, int line, const char* tag, const W& information, double M) {
+  const auto [lmax, lmin] = eigen_range(information);
+  (void)lmin;
+  const double unit = kEpsilon * M;
+  const double cost = lmax * unit * unit;
+  if (std::isfinite(M) && std::isfinite(cost) && cost <= 1.0) return;
+  const std::string where = line > 0 ? fmt::format("{}:{}", file, line) : file;
+  if (!std::isfinite(M)) {
+    throw std::invalid_argument(fmt::format(
+        "{}: {}: the measured translations sum beyond the largest double: keel cannot solve at this scale",
+        where, tag));
+  }
+  throw std::invalid_argument(fmt::format(
+      "{}: {}: information of largest eigenvalue {:.4g} at coordinates up to M = {:.4g} (the largest vertex "
+      "coordinate or the sum of the measured translations): one rounding unit of a coordinate (ε·M = {:.3g}) "
+      "would cost {:.3g} > 1, so the solved cost would be rounding noise; keel refuses λ_max(Ω)·(ε·M)² > 1 "
+      "(here: λ_max above {:.4g}, or smaller coordinates)",
+      where, tag, lmax, M, unit, cost, 1.0 / (unit * unit)));
 }
 
 void count_components(GraphSummary& s, Components& cc, int variables) {
@@ -86,11 +143,25 @@ void count_components(GraphSummary& s, Components& cc, int variables) {
 
 }  // namespace
 
+void check_numeric_range(const graph::PoseGraph2D& g) {
+  const double M = coordinate_scale(g);
+  for (const auto& e : g.edges) check_weight(g.source, e.line, "EDGE_SE2", e.information, M);
+  for (const auto& m : g.landmark_measurements) check_weight(g.source, m.line, "LANDMARK", m.information, M);
+}
+
+void check_numeric_range(const graph::PoseGraph3D& g) {
+  const double M = coordinate_scale(g);
+  for (const auto& e : g.edges) check_weight(g.source, e.line, "EDGE_SE3:QUAT", e.information, M);
+}
+
 int graph_dimension(std::string_view text, const std::string& name) {
   graph::detail::RecordScanner sc(text, name);
-  if (!sc.next()) return 2;
-  const std::string_view tag = sc.tag();
-  return (tag == "EDGE_SE3:QUAT" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE3") ? 3 : 2;
+  while (sc.next()) {
+    const std::string_view tag = sc.tag();
+    if (tag == "FIX") continue;  // g2o's FIX line holds no dimension
+    return (tag == "EDGE_SE3:QUAT" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE3") ? 3 : 2;
+  }
+  return 2;
 }
 
 int graph_dimension(const std::filesystem::path& file) {
@@ -100,11 +171,15 @@ int graph_dimension(const std::filesystem::path& file) {
 GraphSummary summarize(const std::filesystem::path& file) {
   GraphSummary s;
   s.file = file.string();
-  s.dimension = graph_dimension(file);
-  const auto format = graph::detect_graph_format(graph::detail::read_file_text(file), file);
+  // The file is read once (a pipe or FIFO works) and parsed from memory.
+  const std::string text = graph::detail::read_file_text(file);
+  s.dimension = graph_dimension(text, s.file);
+  const auto format = graph::detect_graph_format(text, file);
   s.format = format ? std::string(graph::to_string(*format)) : "unknown";
+  std::istringstream in(text);
   if (s.dimension == 2) {
-    const auto g = graph::read_pose_graph_2d(file);
+    const auto g = graph::read_pose_graph_2d(in, s.file);
+    check_numeric_range(g);  // what solve refuses, check refuses
     s.poses = static_cast<int>(g.poses.size());
     s.edges = static_cast<int>(g.edges.size());
     s.landmarks = static_cast<int>(g.landmarks.size());
@@ -115,7 +190,8 @@ GraphSummary summarize(const std::filesystem::path& file) {
     for (const auto& m : g.landmark_measurements) cc.join(m.pose, s.poses + m.landmark);
     count_components(s, cc, s.poses + s.landmarks);
   } else {
-    const auto g = graph::read_pose_graph_3d(file);
+    const auto g = graph::read_pose_graph_3d(in, s.file);
+    check_numeric_range(g);
     s.poses = static_cast<int>(g.poses.size());
     s.edges = static_cast<int>(g.edges.size());
     s.has_initial_poses = g.has_initial_poses;

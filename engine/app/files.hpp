@@ -49,6 +49,16 @@ struct GraphSummary {
 /// line and field.
 [[nodiscard]] GraphSummary summarize(const std::filesystem::path& file);
 
+/// Refuses a graph whose least-squares cost (eq. 2.1) a solver cannot evaluate in double precision: the rule
+/// is λ_max(Ω_e) · (ε · M)² ≤ 1 for every edge e (and landmark measurement), where ε = 2⁻⁵² is the rounding
+/// unit and M = max(1, the largest vertex coordinate, the sum of the measured translations' largest
+/// components) bounds the coordinates a solve can reach. Beyond it one rounding unit of a coordinate costs
+/// more than 1 (a unit of χ²), so the computed optimum is rounding noise (a measurement of 1e100 on a tree
+/// gives a cost of 5e170 instead of 0) or overflows (an information of 1e308). Throws std::invalid_argument
+/// "file:line: TAG: ..." naming the edge, its weight, M and the limit.
+void check_numeric_range(const graph::PoseGraph2D& g);
+void check_numeric_range(const graph::PoseGraph3D& g);
+
 struct SplitFilesOptions {
   sim::SplitOptions split;           // robot a = poses [first, split), robot b = [split, last)
   sim::CandidateOptions candidates;  // inliers, aliased groups, random outliers (§2.7.2)

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <limits>
+#include <sstream>
+#include <string>
 #include <type_traits>
 #include <utility>
 
 #include "app/files.hpp"
 #include "core/timing.hpp"
 #include "graph/io.hpp"
+#include "graph/text_records.hpp"
 
 namespace keel::app {
 
@@ -16,6 +19,7 @@ namespace {
 template <class Graph, class Estimate>
 Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Estimate* initial) {
   const pgo::Options o = options.pgo_options();
+  check_numeric_range(g);  // the cost must be computable in double before a solver starts (files.hpp)
   const auto t0 = core::Clock::now();
   auto r = pgo::optimize(g, o, initial);
   Solution<Graph> out;
@@ -30,6 +34,7 @@ Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Es
 
 template <class Graph>
 CertifiedSolution<Graph> certified_impl(const Graph& g, const SolveOptions& options) {
+  check_numeric_range(g);  // as solve_impl
   pgo::CertifiedOptions o;
   o.gap_tolerance = options.gap_tolerance;
   o.max_rank = options.max_rank;
@@ -65,8 +70,12 @@ CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptio
 }
 
 AnyGraph read_graph(const std::filesystem::path& file, graph::InformationCheck information) {
-  if (graph_dimension(file) == 3) return graph::read_pose_graph_3d(file, information);
-  return graph::read_pose_graph_2d(file, information);
+  // Read once and parse from memory, so a pipe or FIFO (`<(cat g.g2o)`) works.
+  const std::string text = graph::detail::read_file_text(file);
+  std::istringstream in(text);
+  if (graph_dimension(text, file.string()) == 3)
+    return graph::read_pose_graph_3d(in, file.string(), information);
+  return graph::read_pose_graph_2d(in, file.string(), information);
 }
 
 pgo::Options SolveOptions::pgo_options() const {

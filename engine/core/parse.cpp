@@ -61,11 +61,13 @@ std::string parse_integer(std::string_view token, std::int64_t lo, std::int64_t 
                        lo, hi);
   }
   const bool negative = !s.empty() && s[0] == '-';
+  const bool small = ec == std::errc::result_out_of_range ? negative : v < lo;
   if (ec == std::errc::result_out_of_range || v < lo || v > hi) {
-    if (negative && lo == 0)
+    if (negative && lo == 0) {
       return fmt::format("{} is negative: expected {} in 0 … {}", quote_token(token), expected, hi);
-    return fmt::format("{} is too {}: expected {} in {} … {}", quote_token(token),
-                       negative ? "small" : "large", expected, lo, hi);
+    }
+    return fmt::format("{} is too {}: expected {} in {} … {}", quote_token(token), small ? "small" : "large",
+                       expected, lo, hi);
   }
   out = v;
   return {};

@@ -54,6 +54,9 @@ TEST_CASE("parse_integer: sign, overflow, trailing junk, bounds") {
         "'99999999999999999999999' is too large: expected a pose id in 0 … 2147483646");
   CHECK(int_error("-1") == "'-1' is negative: expected a pose id in 0 … 2147483646");
   CHECK(int_error("-9", -5, 5) == "'-9' is too small: expected a pose id in -5 … 5");
+  CHECK(int_error("2", 3, 5) == "'2' is too small: expected a pose id in 3 … 5");
+  CHECK(int_error("-99999999999999999999", -5, 5) ==
+        "'-99999999999999999999' is too small: expected a pose id in -5 … 5");
   for (const char* junk : {"1x", "1O", " 1", "1 ", "", "+", "-", "+-1", "++1", "0x10", "1e3", "1.0", "٣"}) {
     INFO(junk);
     CHECK(int_error(junk).find("is not a pose id (expected a decimal integer in 0 … 2147483646)") !=

@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "core/parse.hpp"
 #include "core/random.hpp"
 #include "graph/parse_error.hpp"
 
@@ -19,10 +21,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Reads the file's lines, numbered, for located errors.
+// Reads the file's lines (the text read once, so a pipe works), numbered, for located errors.
 struct GridReader {
   std::filesystem::path file;
-  std::ifstream in;
+  std::istringstream in;
   int line = 0;
   [[noreturn]] void fail(const std::string& what) const {
     throw graph::ParseError(file.string(), line, what);
@@ -42,19 +44,12 @@ struct GridReader {
   }
   std::vector<double> numbers(const std::string& text, std::size_t count, const char* what) {
     std::istringstream s(text);
-    std::vector<double> v;
-    v.reserve(count);
+    std::vector<double> v;  // not reserved: `count` is checked against the values actually there
     std::string token;
     while (s >> token) {
-      std::size_t used = 0;
       double x = 0;
-      try {
-        x = std::stod(token, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != token.size() || !std::isfinite(x))
-        fail(fmt::format("{} value {} is '{}', not a finite number", what, v.size() + 1, token));
+      if (auto why = core::parse_real(token, x); !why.empty())
+        fail(fmt::format("{} value {}: {}", what, v.size() + 1, why));
       v.push_back(x);
     }
     if (v.size() != count) fail(fmt::format("{} values: {} where {} were expected", what, v.size(), count));
@@ -62,15 +57,9 @@ struct GridReader {
   }
   std::size_t count(const std::string& key) {
     const std::string text = keyed(key);
-    std::size_t used = 0;
-    long n = 0;
-    try {
-      n = std::stol(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || n < 3)
-      fail(fmt::format("{} is '{}': need an integer >= 3", key, text));
+    std::int64_t n = 0;
+    if (auto why = core::parse_integer(text, 3, std::int64_t{1} << 30, n, "a node count"); !why.empty())
+      fail(fmt::format("{}: {}", key, why));
     return static_cast<std::size_t>(n);
   }
 };
@@ -92,8 +81,10 @@ std::size_t cell_of(const std::vector<double>& v, double t) {
 }  // namespace
 
 TerrainGrid read_terrain_grid(const std::filesystem::path& file) {
-  GridReader r{file, std::ifstream(file), 0};
-  if (!r.in) throw graph::ParseError(file.string(), 0, "cannot open the grid file");
+  std::string text;
+  if (auto why = core::read_whole_file(file, text); !why.empty())
+    throw graph::ParseError(file.string(), 0, fmt::format("the grid file: {}", why));
+  GridReader r{file, std::istringstream(std::move(text)), 0};
   if (r.next("the header") != "keel-grid 1")
     r.fail("not a keel grid file (the first line must be 'keel-grid 1')");
   TerrainGrid g;

@@ -147,17 +147,24 @@ TEST_CASE("terrain grid: a malformed file is refused at its line") {
   std::string e = with("header", [&](std::string s) { return replace(s, "keel-grid 1", "keel-grid 2"); });
   CHECK_MESSAGE(e.find(":1: not a keel grid file") != std::string::npos, e);
   e = with("rows", [&](std::string s) { return replace(s, "rows 3", "rows 2"); });
-  CHECK_MESSAGE(e.find(":3: rows is '2'") != std::string::npos, e);
+  CHECK_MESSAGE(
+      e.find(":3: rows: '2' is too small: expected a node count in 3 … 1073741824") != std::string::npos, e);
   e = with("lon", [&](std::string s) { return replace(s, "lon 10 ", "lon "); });
   CHECK_MESSAGE(e.find(":5: lon values: 2 where 3 were expected") != std::string::npos, e);
   e = with("nan", [&](std::string s) { return replace(s, "values\n1", "values\nnan"); });
-  CHECK_MESSAGE(e.find(":9: row 1 value 1 is 'nan'") != std::string::npos, e);
+  CHECK_MESSAGE(e.find(":9: row 1 value 1: 'nan' is not a finite number") != std::string::npos, e);
   e = with("short", [&](std::string s) { return s.substr(0, s.rfind("1 1 1\n")); });
   CHECK_MESSAGE(e.find("the file ends where a row of values was expected") != std::string::npos, e);
   e = with("order", [&](std::string s) { return replace(s, "lat 45 45.01", "lat 45 44.99"); });
   CHECK_MESSAGE(e.find(":6: the latitudes are not strictly monotonic") != std::string::npos, e);
   CHECK(error_of(fs::temp_directory_path() / "keel_terrain_test_missing.grid").find("cannot open") !=
         std::string::npos);
+  // A subnormal depth is a number; a count beyond the limit is refused before anything is allocated.
+  e = with("subnormal", [&](std::string s) { return replace(s, "values\n1", "values\n1e-310"); });
+  CHECK_MESSAGE(e == "(no error)", e);
+  e = with("huge", [&](std::string s) { return replace(s, "rows 3", "rows 99999999999999999999"); });
+  CHECK_MESSAGE(e.find(":3: rows: '99999999999999999999' is too large") != std::string::npos, e);
+  CHECK(error_of(fs::temp_directory_path()).find("is a directory") != std::string::npos);
   fs::remove(good);
 }
 

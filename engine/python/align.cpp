@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iterator>
 #include <optional>
 #include <string>
 
@@ -16,12 +17,12 @@ namespace {
 
 // A survey from (n, 2|3) positions and (n, k) features (a 1-D array: one feature per position).
 app::Survey survey_of(const py::object& xy, const py::object& features, const std::string& who) {
-  const Array p = Array::ensure(xy), f = Array::ensure(features);
-  if (!p || p.ndim() != 2 || (p.shape(1) != 2 && p.shape(1) != 3))
+  const Array p = numeric_array(xy, who, "positions"), f = numeric_array(features, who, "features");
+  if (p.ndim() != 2 || (p.shape(1) != 2 && p.shape(1) != 3))
     throw std::invalid_argument(
         fmt::format("{}: positions must be an (n, 2) or (n, 3) array (x, y[, depth])", who));
   const auto n = static_cast<std::size_t>(p.shape(0));
-  if (!f || (f.ndim() != 1 && f.ndim() != 2) || static_cast<std::size_t>(f.shape(0)) != n)
+  if ((f.ndim() != 1 && f.ndim() != 2) || static_cast<std::size_t>(f.shape(0)) != n)
     throw std::invalid_argument(fmt::format(
         "{}: features must be an (n, k) or (n,) array with one row per position ({} positions)", who, n));
   app::Survey s;
@@ -74,6 +75,9 @@ py::dict align_py(const py::object& ref_xy, const py::object& ref_features, cons
     s = app::align_surveys(ref, query, o);
   }
   const align::AlignResult& r = s.result;
+  const double numbers[] = {r.raw.a11, r.raw.a12, r.raw.a21,     r.raw.a22,
+                            r.raw.tx,  r.raw.ty,  r.rigid.theta, r.cost};
+  check_finite_result(numbers, std::size(numbers), "align", "the transform or its cost");
   py::dict out = transform_dict(r.raw);
   out["theta"] = r.rigid.theta;
   out["rigid_t"] = Array(py::ssize_t{2}, std::vector<double>{r.rigid.tx, r.rigid.ty}.data());

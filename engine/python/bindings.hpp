@@ -30,7 +30,6 @@ namespace py = pybind11;
 
 /// A float64 array in C order (numpy inputs of other dtypes or layouts are converted on the way in).
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using IntArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
 
 void bind_lie(py::module_& m);
 void bind_graph(py::module_& m);
@@ -50,7 +49,8 @@ void quaternion_of(const lie::SE3& T, double* xyzw);
 // ------------------------------------------------------------------
 Array poses_to_array(const std::vector<lie::SE2>& poses);
 Array poses_to_array(const std::vector<lie::SE3>& poses);
-/// Throws std::invalid_argument naming `who` unless the array is (n, 3) (resp. (n, 7)) and finite.
+/// Throws std::invalid_argument naming `who` unless the array is (n, 3) (resp. (n, 7)) and finite;
+/// py::type_error unless it is a numeric (float or integer) array.
 std::vector<lie::SE2> poses2_from_array(const py::object& a, const std::string& who);
 std::vector<lie::SE3> poses3_from_array(const py::object& a, const std::string& who);
 
@@ -71,15 +71,62 @@ Array edge_measurements(const std::vector<graph::Edge2>& edges);  // (m, 3)
 Array edge_measurements(const std::vector<graph::Edge3>& edges);  // (m, 7)
 Array edge_information(const std::vector<graph::Edge2>& edges);   // (m, 3, 3)
 Array edge_information(const std::vector<graph::Edge3>& edges);   // (m, 6, 6)
-/// Edges from (m, 2) ids, (m, 3|7) measurements and (m, d, d) information (None: identity). Throws
-/// std::invalid_argument naming `who` on a shape mismatch, a negative id or a non-finite number.
+/// Edges from (m, 2) ids, (m, 3|7) measurements and (m, d, d) information (None: identity), named in errors
+/// as `who`: ids as in ids_from_object (num_poses >= 0: every id below it, and no edge from a pose to
+/// itself); every information matrix finite and positive definite as the graph readers demand
+/// (graph::detail::information_problem), else ValueError naming the edge; non-finite numbers: ValueError.
 std::vector<graph::Edge2> edges2_from_arrays(const py::object& ids, const py::object& measurements,
-                                             const py::object& information, const std::string& who);
+                                             const py::object& information, const std::string& who,
+                                             long long num_poses);
 std::vector<graph::Edge3> edges3_from_arrays(const py::object& ids, const py::object& measurements,
-                                             const py::object& information, const std::string& who);
+                                             const py::object& information, const std::string& who,
+                                             long long num_poses);
 
-/// (m, 2) int array or sequence of pairs -> pairs; throws std::invalid_argument naming `who`.
-std::vector<std::pair<int, int>> pairs_from_object(const py::object& o, const std::string& who);
+// ---- arguments
+// ----------------------------------------------------------------------------------------------------
+// Every refusal names the function (`who`) and the argument. The exception types (pybind11 translates the
+// standard ones): py::type_error -> TypeError for a wrong type (a float where an integer id belongs, a string
+// where an array belongs); std::overflow_error -> OverflowError for an integer beyond the engine's int range;
+// std::out_of_range -> IndexError for an id outside the graph (or negative); std::invalid_argument ->
+// ValueError for a refused value of the right type; NonFiniteResult -> FloatingPointError (an
+// ArithmeticError) for a result that holds NaN or infinity (module.cpp registers it).
+
+/// A computation whose result holds NaN or infinity, e.g. because finite inputs overflowed double precision.
+struct NonFiniteResult : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The name of o's type for messages ("float", "numpy.float64", "str").
+std::string type_name(const py::handle& o);
+
+/// A C-ordered float64 copy of a numeric array (float or integer dtype, or a sequence numpy reads as one;
+/// an empty one of any dtype): TypeError naming `who` and `what` otherwise.
+Array numeric_array(const py::object& a, const std::string& who, const char* what);
+
+/// A Python int or numpy integer, never a bool or a float (2.0 is refused like 2.5: nothing is truncated);
+/// TypeError otherwise, OverflowError outside the C++ int range.
+int int_arg(const py::handle& o, const std::string& who, const std::string& arg);
+/// int_arg, then IndexError unless 0 <= i < n.
+int index_arg(const py::handle& o, const std::string& who, const std::string& arg, std::size_t n);
+
+/// The integer ids of an array or nested sequence (any shape, flattened in C order). The dtype must be an
+/// integer one (numpy int8..int64, uint8..uint64, or Python ints): TypeError otherwise (float arrays are
+/// refused even when every value is integral, so that no id is ever rounded or truncated). OverflowError for
+/// a value beyond the engine's int range, IndexError for a negative one or, when n >= 0, one >= n. `what`
+/// names one id in messages ("pose id").
+struct Ids {
+  std::vector<int> values;
+  std::vector<py::ssize_t> shape;
+};
+Ids ids_from_object(const py::object& o, const std::string& who, const std::string& arg, long long n,
+                    const char* what = "pose id");
+
+/// (m, 2) ids or a sequence of pairs -> pairs (ids_from_object with n = num_poses; ValueError for another
+/// shape).
+std::vector<std::pair<int, int>> pairs_from_object(const py::object& o, const std::string& who, long long n);
+
+/// A float array's values checked finite, or NonFiniteResult naming `who` and `what` (results only).
+void check_finite_result(const double* v, std::size_t count, const std::string& who, const std::string& what);
 
 /// A (rows, cols) float64 array copied from an Eigen matrix (column-major in memory) in row-major order.
 template <class M>

@@ -26,7 +26,7 @@ using graph::PoseGraph3D;
 
 int dim_of(const py::object& dim, const char* who) {
   if (dim.is_none()) return 0;
-  const int d = dim.cast<int>();
+  const int d = int_arg(dim, who, "dim");
   if (d != 2 && d != 3)
     throw std::invalid_argument(fmt::format("{}: dim must be 2, 3 or None (got {})", who, d));
   return d;
@@ -57,13 +57,16 @@ void bind_graph(py::module_& m) {
                        const py::object& information) {
              PoseGraph2D g;
              g.poses = poses2_from_array(poses, "Graph2D");
-             g.edges = edges2_from_arrays(edges, measurements, information, "Graph2D");
+             g.edges = edges2_from_arrays(edges, measurements, information, "Graph2D",
+                                          static_cast<long long>(g.poses.size()));
              g.has_initial_poses = true;
              return g;
            }),
            py::arg("poses"), py::arg("edges"), py::arg("measurements"), py::arg("information") = py::none(),
            "From (n, 3) poses [x, y, theta], (m, 2) edge ids, (m, 3) measurements and (m, 3, 3) information "
-           "(None: identity). Ids are checked when the graph is solved or written.")
+           "(None: identity). Edge ids must be integers (an integer dtype: a float array is refused, "
+           "TypeError) naming poses 0 .. n-1 (IndexError; OverflowError beyond the C++ int range); each "
+           "information matrix must be symmetric and positive definite as read_graph demands (ValueError).")
       .def_property(
           "poses", [](const PoseGraph2D& g) { return poses_to_array(g.poses); },
           [](PoseGraph2D& g, const py::object& a) {
@@ -109,13 +112,14 @@ void bind_graph(py::module_& m) {
                        const py::object& information) {
              PoseGraph3D g;
              g.poses = poses3_from_array(poses, "Graph3D");
-             g.edges = edges3_from_arrays(edges, measurements, information, "Graph3D");
+             g.edges = edges3_from_arrays(edges, measurements, information, "Graph3D",
+                                          static_cast<long long>(g.poses.size()));
              g.has_initial_poses = true;
              return g;
            }),
            py::arg("poses"), py::arg("edges"), py::arg("measurements"), py::arg("information") = py::none(),
            "From (n, 7) poses [x, y, z, qx, qy, qz, qw], (m, 2) edge ids, (m, 7) measurements and (m, 6, 6) "
-           "information over (t, phi) (None: identity).")
+           "information over (t, phi) (None: identity). Ids and information are checked as in Graph2D.")
       .def_property(
           "poses", [](const PoseGraph3D& g) { return poses_to_array(g.poses); },
           [](PoseGraph3D& g, const py::object& a) {
@@ -156,22 +160,24 @@ void bind_graph(py::module_& m) {
 Candidate inter-robot loop closures (edge-only g2o files, `keel pcm`): edge k = (i, j) is a pose id i of robot a
 and a pose id j of robot b (two id spaces, so i = j is allowed) and measures z ~ (T^a_i)^-1 T^b_j, with the
 information of its residual as in a graph's edges. `dim` is 2 or 3; the arrays are as in Graph2D / Graph3D.)doc")
-      .def(py::init(
-               [](const py::object& edges, const py::object& measurements, const py::object& information) {
-                 Candidates c;
-                 const Array z = Array::ensure(measurements);
-                 PyErr_Clear();
-                 const py::ssize_t cols = z && z.ndim() == 2 ? z.shape(1) : 0;
-                 if (cols == 7) {
-                   c.edges = edges3_from_arrays(edges, measurements, information, "Candidates");
-                 } else {
-                   c.edges = edges2_from_arrays(edges, measurements, information, "Candidates");
-                 }
-                 return c;
-               }),
-           py::arg("edges"), py::arg("measurements"), py::arg("information") = py::none(),
-           "From (m, 2) ids [pose of a, pose of b], (m, 3) or (m, 7) measurements (which decides dim) and "
-           "(m, d, d) information (None: identity).")
+      .def(
+          py::init(
+              [](const py::object& edges, const py::object& measurements, const py::object& information) {
+                Candidates c;
+                const Array z = Array::ensure(measurements);
+                PyErr_Clear();
+                const py::ssize_t cols = z && z.ndim() == 2 ? z.shape(1) : 0;
+                if (cols == 7) {
+                  c.edges = edges3_from_arrays(edges, measurements, information, "Candidates", -1);
+                } else {
+                  c.edges = edges2_from_arrays(edges, measurements, information, "Candidates", -1);
+                }
+                return c;
+              }),
+          py::arg("edges"), py::arg("measurements"), py::arg("information") = py::none(),
+          "From (m, 2) ids [pose of a, pose of b], (m, 3) or (m, 7) measurements (which decides dim) and "
+          "(m, d, d) information (None: identity). Ids must be integers >= 0 (TypeError for a float array, "
+          "IndexError for a negative id, OverflowError beyond the C++ int range); information as in Graph2D.")
       .def_property_readonly("dim", &Candidates::dim, "2 or 3.")
       .def_property_readonly(
           "edges",
@@ -230,7 +236,12 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
         if (py::isinstance<PoseGraph2D>(g)) {
           PoseGraph2D copy = g.cast<PoseGraph2D>();
           if (!poses.is_none()) {
-            copy.poses = poses2_from_array(poses, "write_graph");
+            auto p = poses2_from_array(poses, "write_graph (poses)");
+            // read_graph would refuse a file whose vertices and edges disagree: refuse it before writing.
+            if (p.size() != copy.poses.size())
+              throw std::invalid_argument(fmt::format(
+                  "write_graph: poses has {} rows but the graph has {} poses", p.size(), copy.poses.size()));
+            copy.poses = std::move(p);
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;
@@ -238,7 +249,12 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
         } else if (py::isinstance<PoseGraph3D>(g)) {
           PoseGraph3D copy = g.cast<PoseGraph3D>();
           if (!poses.is_none()) {
-            copy.poses = poses3_from_array(poses, "write_graph");
+            auto p = poses3_from_array(poses, "write_graph (poses)");
+            // read_graph would refuse a file whose vertices and edges disagree: refuse it before writing.
+            if (p.size() != copy.poses.size())
+              throw std::invalid_argument(fmt::format(
+                  "write_graph: poses has {} rows but the graph has {} poses", p.size(), copy.poses.size()));
+            copy.poses = std::move(p);
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;
@@ -250,8 +266,8 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
       py::arg("graph"), py::arg("path"), py::arg("poses") = py::none(), R"doc(
 Writes a graph; the format comes from the extension (.g2o: g2o, .txt: iSAM text, else ValueError), numbers
 with %.17g so a read gives back every field to the last bit (angles as theta in (-pi, pi], quaternions with
-w >= 0). `poses` ((n, 3) / (n, 7)) replaces the graph's poses in the file, e.g. a solution. The file is written
-to a temporary name and renamed.)doc");
+w >= 0). `poses` ((n, 3) / (n, 7), n the graph's number of poses, else ValueError) replaces the graph's poses
+in the file, e.g. a solution. The file is written to a temporary name and renamed.)doc");
 
   m.def(
       "read_candidates",
@@ -290,8 +306,9 @@ record, any other tag, or a file without edges.)doc");
 
   m.def(
       "read_poses",
-      [](const std::filesystem::path& file, int dim) {
+      [](const std::filesystem::path& file, const py::object& dim_obj) {
         const std::string path = file.string();
+        const int dim = int_arg(dim_obj, "read_poses", "dim");
         if (dim == 2) {
           std::vector<lie::SE2> p;
           {

@@ -42,6 +42,19 @@ const M& finite(const M& v, const char* who) {
   return v;
 }
 
+// A fixed-size Eigen argument taken as py::object (so that a wrong type is a TypeError naming the argument,
+// not pybind11's "Unable to cast").
+template <class M>
+M fixed_arg(const py::object& o, const char* who, const char* arg) {
+  py::detail::make_caster<M> c;
+  if (!c.load(o, true)) {
+    constexpr int rows = M::RowsAtCompileTime, cols = M::ColsAtCompileTime;
+    throw py::type_error(fmt::format("{}: {} must be a float array of shape ({}{}) (got {})", who, arg, rows,
+                                     cols == 1 ? std::string(",") : fmt::format(", {}", cols), type_name(o)));
+  }
+  return py::detail::cast_op<M>(std::move(c));
+}
+
 void bind_se2(py::module_& m) {
   py::class_<SE2>(m, "SE2", R"doc(
 A planar rigid motion T = [R(theta), t; 0, 1] (keel::lie::SE2).
@@ -105,7 +118,11 @@ tangent's first two entries are NOT the translation unless theta = 0. theta is s
       .def(py::pickle(
           [](const SE2& T) { return py::make_tuple(T.translation().x(), T.translation().y(), T.angle()); },
           [](const py::tuple& t) {
-            return SE2(t[0].cast<double>(), t[1].cast<double>(), t[2].cast<double>());
+            if (t.size() != 3) throw std::invalid_argument("SE2.__setstate__: expected (x, y, theta)");
+            const lie::Vec3 v(py::float_(t[0]).cast<double>(), py::float_(t[1]).cast<double>(),
+                              py::float_(t[2]).cast<double>());
+            (void)finite(v, "SE2.__setstate__");
+            return SE2(v[0], v[1], v[2]);
           }));
 }
 
@@ -118,8 +135,11 @@ first, rotation vector last (thesis eq. 5.6); exp(xi) = [exp(phi^), J_l(phi) rho
 Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() returns w >= 0.)doc")
       .def(
           py::init([](const py::object& rotation, const py::object& translation) {
-            const lie::Mat3 R = rotation.is_none() ? lie::Mat3::Identity() : rotation.cast<lie::Mat3>();
-            const lie::Vec3 t = translation.is_none() ? lie::Vec3::Zero() : translation.cast<lie::Vec3>();
+            const lie::Mat3 R = rotation.is_none() ? lie::Mat3::Identity()
+                                                   : fixed_arg<lie::Mat3>(rotation, "SE3", "rotation");
+            const lie::Vec3 t = translation.is_none()
+                                    ? lie::Vec3::Zero()
+                                    : fixed_arg<lie::Vec3>(translation, "SE3", "translation");
             return SE3(lie::SO3::from_matrix(finite(R, "SE3 (rotation)")), finite(t, "SE3 (translation)"));
           }),
           py::arg("rotation") = py::none(), py::arg("translation") = py::none(),
@@ -213,7 +233,7 @@ void bind_joint(py::module_& m, const char* name, const char* group_name, const 
   const std::string doc = fmt::format(R"doc(
 n jointly distributed {0} poses (thesis eqs. 5.28-5.29): means T_1..T_n and the joint tangent covariance
 Sigma_1:n ((d n) x (d n), d = {1}), block (i, j) = E[xi_i xi_j^T], left perturbation T_i = exp(xi_i^) mean_i.
-Pose indices are 0-based; an index out of range raises ValueError (the engine's message).)doc",
+Pose indices are 0-based integers; an index out of range raises IndexError, a non-integer one TypeError.)doc",
                                       group_name, G::DoF);
   py::class_<J>(m, name, doc.c_str())
       .def(py::init([](const std::vector<G>& means, const lie::MatX& covariance) {
@@ -234,35 +254,60 @@ Pose indices are 0-based; an index out of range raises ValueError (the engine's 
       .def_property_readonly(
           "covariance", [](const J& j) -> lie::MatX { return j.cov; }, "The joint covariance (a copy).")
       .def("__len__", &J::size)
-      .def("marginal", &J::marginal, py::arg("i"), "Pose i with its marginal covariance (block (i, i)).")
-      .def("cross", &J::cross, py::arg("i"), py::arg("j"), "E[xi_i xi_j^T], block (i, j) of the covariance.")
+      .def(
+          "marginal",
+          [fn = std::string(name) + ".marginal"](const J& j, const py::object& i) {
+            return j.marginal(static_cast<std::size_t>(index_arg(i, fn, "i", j.size())));
+          },
+          py::arg("i"), "Pose i with its marginal covariance (block (i, i)).")
+      .def(
+          "cross",
+          [fn = std::string(name) + ".cross"](const J& j, const py::object& a, const py::object& b) {
+            return j.cross(static_cast<std::size_t>(index_arg(a, fn, "i", j.size())),
+                           static_cast<std::size_t>(index_arg(b, fn, "j", j.size())));
+          },
+          py::arg("i"), py::arg("j"), "E[xi_i xi_j^T], block (i, j) of the covariance.")
       .def(
           "compose",
-          [](const J& j, std::size_t a, std::size_t b, bool use_cross) {
-            return lie::compose(j, a, b, use_cross);
+          [fn = std::string(name) + ".compose"](const J& j, const py::object& a, const py::object& b,
+                                                bool use_cross) {
+            return lie::compose(j, static_cast<std::size_t>(index_arg(a, fn, "i", j.size())),
+                                static_cast<std::size_t>(index_arg(b, fn, "j", j.size())), use_cross);
           },
           py::arg("i"), py::arg("j"), py::arg("use_cross") = true,
           "T_i T_j with covariance by eq. 5.39 using cross(i, j) (use_cross=False: as if independent).")
       .def(
           "between",
-          [](const J& j, std::size_t a, std::size_t k, bool use_cross) {
-            return lie::relative(j, a, k, use_cross);
+          [fn = std::string(name) + ".between"](const J& j, const py::object& a, const py::object& k,
+                                                bool use_cross) {
+            return lie::relative(j, static_cast<std::size_t>(index_arg(a, fn, "i", j.size())),
+                                 static_cast<std::size_t>(index_arg(k, fn, "k", j.size())), use_cross);
           },
           py::arg("i"), py::arg("k"), py::arg("use_cross") = true,
           "T_i^-1 T_k (mean eq. 5.48) with covariance by eq. 5.51 using cross(i, k) (use_cross=False: as if "
           "independent).")
       .def(
           "append_composition",
-          [](J& j, std::size_t a, std::size_t b) { return lie::append_composition(j, a, b); }, py::arg("i"),
-          py::arg("j"),
+          [fn = std::string(name) + ".append_composition"](J& j, const py::object& a, const py::object& b) {
+            return lie::append_composition(j, static_cast<std::size_t>(index_arg(a, fn, "i", j.size())),
+                                           static_cast<std::size_t>(index_arg(b, fn, "j", j.size())));
+          },
+          py::arg("i"), py::arg("j"),
           "Appends T_i T_j with xi_new = xi_i + Ad(T_i) xi_j (repeated eq. 5.39), keeping every "
           "cross-covariance; "
           "returns its index.")
       .def(
-          "append_inverse", [](J& j, std::size_t a) { return lie::append_inverse(j, a); }, py::arg("i"),
-          "Appends T_i^-1 with xi_new = -Ad(T_i^-1) xi_i (eq. 5.43); returns its index.")
+          "append_inverse",
+          [fn = std::string(name) + ".append_inverse"](J& j, const py::object& a) {
+            return lie::append_inverse(j, static_cast<std::size_t>(index_arg(a, fn, "i", j.size())));
+          },
+          py::arg("i"), "Appends T_i^-1 with xi_new = -Ad(T_i^-1) xi_i (eq. 5.43); returns its index.")
       .def(
-          "append_relative", [](J& j, std::size_t a, std::size_t k) { return lie::append_relative(j, a, k); },
+          "append_relative",
+          [fn = std::string(name) + ".append_relative"](J& j, const py::object& a, const py::object& k) {
+            return lie::append_relative(j, static_cast<std::size_t>(index_arg(a, fn, "i", j.size())),
+                                        static_cast<std::size_t>(index_arg(k, fn, "k", j.size())));
+          },
           py::arg("i"), py::arg("k"),
           "Appends T_i^-1 T_k with xi_new = Ad(T_i^-1)(xi_k - xi_i) (eq. 5.47); returns its index.")
       .def(
@@ -279,7 +324,7 @@ void bind_uncertain_functions(py::module_& m) {
   m.def(
       "compose",
       [](const U& a, const U& b, const std::optional<Jac>& cross) {
-        return cross ? lie::compose(a, b, *cross) : lie::compose(a, b);
+        return cross ? lie::compose(a, b, finite(*cross, "compose (cross)")) : lie::compose(a, b);
       },
       py::arg("a"), py::arg("b"), py::arg("cross") = py::none(),
       "T_a T_b of two uncertain poses, to first order in the left perturbation. Mean: eq. 5.32. Covariance: "
@@ -298,7 +343,7 @@ void bind_uncertain_functions(py::module_& m) {
   m.def(
       "between",
       [](const U& a, const U& b, const std::optional<Jac>& cross) {
-        return cross ? lie::relative(a, b, *cross) : lie::relative(a, b);
+        return cross ? lie::relative(a, b, finite(*cross, "between (cross)")) : lie::relative(a, b);
       },
       py::arg("a"), py::arg("b"), py::arg("cross") = py::none(),
       "T_a^-1 T_b (the engine's `relative`). Mean: eq. 5.48. Covariance: eq. 5.51, A (Sigma_a + Sigma_b - C "

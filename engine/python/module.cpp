@@ -4,6 +4,7 @@
 #include "bindings.hpp"
 #include "datasets/manifest.hpp"
 #include "graph/parse_error.hpp"
+#include "keel_python_version.hpp"  // generated: KEEL_VERSION, KEEL_GIT_COMMIT (engine/python/version.cmake)
 
 PYBIND11_MODULE(keel, m) {
   namespace py = pybind11;
@@ -19,10 +20,19 @@ data association (ch. 3, keel.align).
 Conventions: arrays are numpy float64 copies; 2D poses are rows [x, y, theta] (radians, theta in (-pi, pi]),
 3D poses rows [x, y, z, qx, qy, qz, qw] (Hamilton quaternion, qw >= 0); tangents are [rho_x, rho_y, theta]
 (SE2) and [rho; phi] = translation part first, rotation vector last (SE3, eq. 5.6); times are seconds.
-Errors: ParseError (a ValueError) for malformed files, with the engine's message "file:line: TAG field k
-(name): ..."; DatasetError (a RuntimeError) when a data-set file cannot be found or verified; ValueError for
-invalid arguments (unknown names: "unknown pgo::InitialGuess 'lm' (valid: ...)"); IndexError for ids out of
-range; RuntimeError for numerical failures. Long computations release the GIL.)doc";
+Errors, each naming the function and the argument: TypeError for an argument of the wrong type (a float
+array where integer ids belong: ids are never truncated; a string where an array belongs); ValueError for a
+refused value (shape, NaN, an information matrix that is not positive definite, unknown names: "unknown
+pgo::InitialGuess 'lm' (valid: ...)"); IndexError for ids out of range (negative or not in the graph);
+OverflowError for an integer beyond the engine's int range (2**31 - 1); ParseError (a ValueError) for
+malformed files, with the engine's message "file:line: TAG field k (name): ..."; DatasetError (a RuntimeError)
+when a data-set file cannot be found or verified; FloatingPointError (an ArithmeticError) for a result that
+would hold NaN or infinity (finite inputs that overflow double precision); RuntimeError for other numerical
+failures. Long computations release the GIL.
+
+__version__ is keel's version, __git_commit__ the commit the module was built from ("+dirty": with changes).)doc";
+  m.attr("__version__") = KEEL_VERSION;
+  m.attr("__git_commit__") = KEEL_GIT_COMMIT;
 
   static py::exception<keel::graph::ParseError> parse_error(m, "ParseError", PyExc_ValueError);
   parse_error.doc() =
@@ -44,6 +54,8 @@ range; RuntimeError for numerical failures. Long computations release the GIL.)d
       PyErr_SetObject(parse_error.ptr(), exc.ptr());
     } catch (const keel::datasets::DatasetError& e) {
       dataset_error(e.what());
+    } catch (const kp::NonFiniteResult& e) {
+      PyErr_SetString(PyExc_FloatingPointError, e.what());
     }
   });
 

@@ -1,6 +1,7 @@
 // keel Python module — pairwise consistency (thesis eq. 2.4), maximum clique and PCM selection (§2.5).
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 #include <variant>
 
@@ -23,11 +24,9 @@ struct PcmSelection {
 };
 
 pcm::ConsistencyMatrix q_from_array(const py::object& in, int dof) {
-  const Array a = Array::ensure(in);
-  if (!a || a.ndim() != 2 || a.shape(0) != a.shape(1)) {
-    PyErr_Clear();
+  const Array a = numeric_array(in, "pcm_select", "Q");
+  if (a.ndim() != 2 || a.shape(0) != a.shape(1))
     throw std::invalid_argument("pcm_select: Q must be a square (n, n) float array");
-  }
   pcm::ConsistencyMatrix Q;
   Q.n = static_cast<int>(a.shape(0));
   Q.dof = dof;
@@ -35,10 +34,48 @@ pcm::ConsistencyMatrix q_from_array(const py::object& in, int dof) {
   return Q;
 }
 
-pcm::CliqueOptions clique_options(const std::optional<double>& time_limit_s) {
+// time_limit_s: None (no limit) or a number of seconds > 0 (the engine reads 0, a negative number or NaN as
+// "no limit", which a caller who gave one did not mean).
+pcm::CliqueOptions clique_options(const std::optional<double>& time_limit_s, const char* who) {
   pcm::CliqueOptions o;
-  if (time_limit_s) o.time_limit_s = *time_limit_s;
+  if (time_limit_s) {
+    if (!(*time_limit_s > 0.0))
+      throw std::invalid_argument(fmt::format(
+          "{}: time_limit_s must be > 0 seconds or None for no limit (got {})", who, *time_limit_s));
+    o.time_limit_s = *time_limit_s;
+  }
   return o;
+}
+
+// An (n, n) adjacency of bools, or of numbers that are exactly 0 or 1: anything else (NaN, 0.5, 2, a
+// string) is refused instead of being read as true.
+std::vector<std::vector<bool>> adjacency_rows(const py::object& in) {
+  const py::array raw = py::array::ensure(in);
+  if (!raw) PyErr_Clear();
+  const char kind = raw ? raw.dtype().kind() : 'O';
+  if (!raw || (kind != 'b' && kind != 'f' && kind != 'i' && kind != 'u' && raw.size() > 0))
+    throw py::type_error(
+        fmt::format("max_clique: adjacency must be an (n, n) array of bool or 0/1 (got {}{})", type_name(in),
+                    raw ? " of dtype " + py::str(raw.dtype()).cast<std::string>() : ""));
+  if (raw.ndim() != 2 || raw.shape(0) != raw.shape(1))
+    throw std::invalid_argument("max_clique: adjacency must be a square (n, n) array of bool or 0/1");
+  const Array a = Array::ensure(raw);  // bool and integers convert exactly
+  if (!a) {
+    PyErr_Clear();
+    throw py::type_error("max_clique: adjacency must be an (n, n) array of bool or 0/1");
+  }
+  const auto n = static_cast<std::size_t>(a.shape(0));
+  std::vector<std::vector<bool>> rows(n, std::vector<bool>(n));
+  auto r = a.unchecked<2>();
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    for (py::ssize_t j = 0; j < a.shape(1); ++j) {
+      const double x = r(i, j);
+      if (x != 0.0 && x != 1.0)
+        throw std::invalid_argument(
+            fmt::format("max_clique: adjacency[{}, {}] = {} is neither 0 nor 1 (nor a bool)", i, j, x));
+      rows[i][j] = x == 1.0;
+    }
+  return rows;
 }
 
 }  // namespace
@@ -105,6 +142,13 @@ void bind_pcm(py::module_& m) {
               "consistency_matrix: graph_a, graph_b and candidates must all be 2D (Graph2D) or all 3D "
               "(Graph3D)");
         }
+        // NaN in Q (graphs or candidates whose numbers overflow) raises instead of reaching pcm_select.
+        for (std::size_t k = 0; k < Q.q.size(); ++k)
+          if (std::isnan(Q.q[k]))
+            throw NonFiniteResult(
+                fmt::format("consistency_matrix: Q[{}, {}] is NaN: the graphs' or the candidates' "
+                            "numbers overflow double precision",
+                            k / static_cast<std::size_t>(Q.n), k % static_cast<std::size_t>(Q.n)));
         Array out({static_cast<py::ssize_t>(Q.n), static_cast<py::ssize_t>(Q.n)});
         std::copy(Q.q.begin(), Q.q.end(), out.mutable_data());
         return out;
@@ -129,11 +173,12 @@ For inliers q_uv ~ chi2(dof), dof = 3 (2D) or 6 (3D).)doc");
 
   m.def(
       "pcm_select",
-      [](const py::object& q, double p, const std::optional<double>& gamma, int dof,
+      [](const py::object& q, double p, const std::optional<double>& gamma, const py::object& dof_obj,
          const std::string& algorithm, const std::optional<double>& time_limit_s) {
+        const int dof = int_arg(dof_obj, "pcm_select", "dof");
         pcm::ConsistencyMatrix Q = q_from_array(q, dof);
         const pcm::CliqueAlgorithm alg = pcm::clique_algorithm_from_string(algorithm);
-        const pcm::CliqueOptions o = clique_options(time_limit_s);
+        const pcm::CliqueOptions o = clique_options(time_limit_s, "pcm_select");
         PcmSelection out;
         py::gil_scoped_release release;
         out.gamma = gamma ? *gamma : pcm::consistency_threshold(p, dof);
@@ -149,35 +194,23 @@ PCM (thesis eq. 2.5, section 2.5): the largest set of pairwise-consistent candid
 the consistency graph with edge {u, v} iff q_uv <= gamma and q_vu <= gamma (pcm::select_pcm).
 gamma = consistency_threshold(p, dof) unless given. algorithm: 'exact' (branch and bound), 'heuristic'
 (Pattabiraman et al.'s, the thesis's PCM-HeuPatt) or 'brute_force' (<= 32 candidates). time_limit_s: exact
-search only; then status may be 'time_limit'. Q: NaN or negative off-diagonal entries raise ValueError; +inf
-means never consistent.)doc");
+search only (> 0 seconds, else ValueError); then status may be 'time_limit'. Q: NaN or negative off-diagonal
+entries raise ValueError, a non-numeric array TypeError; +inf means never consistent. dof: an integer.)doc");
 
   m.def(
       "max_clique",
       [](const py::object& adjacency, const std::string& algorithm,
          const std::optional<double>& time_limit_s) {
-        py::array_t<bool, py::array::c_style | py::array::forcecast> a = py::array_t < bool,
-                                                                     py::array::c_style |
-                                                                         py::array::forcecast >
-                                                                             ::ensure(adjacency);
-        if (!a || a.ndim() != 2) {
-          PyErr_Clear();
-          throw std::invalid_argument("max_clique: adjacency must be an (n, n) array of bool or 0/1");
-        }
-        std::vector<std::vector<bool>> rows(static_cast<std::size_t>(a.shape(0)));
-        auto r = a.unchecked<2>();
-        for (py::ssize_t i = 0; i < a.shape(0); ++i) {
-          rows[i].resize(static_cast<std::size_t>(a.shape(1)));
-          for (py::ssize_t j = 0; j < a.shape(1); ++j) rows[i][j] = r(i, j);
-        }
+        const std::vector<std::vector<bool>> rows = adjacency_rows(adjacency);
         const pcm::CliqueAlgorithm alg = pcm::clique_algorithm_from_string(algorithm);
-        const pcm::CliqueOptions o = clique_options(time_limit_s);
+        const pcm::CliqueOptions o = clique_options(time_limit_s, "max_clique");
         py::gil_scoped_release release;
         return pcm::maximum_clique(pcm::ConsistencyGraph::from_matrix(rows), alg, o);
       },
       py::arg("adjacency"), py::arg("algorithm") = "exact", py::arg("time_limit_s") = py::none(), R"doc(
 Maximum clique of an undirected graph given by a symmetric (n, n) bool / 0-1 adjacency matrix (the diagonal is
-ignored; an asymmetric matrix raises ValueError naming the entry). algorithm: 'exact', 'heuristic' or
+ignored; an asymmetric matrix, or an entry that is not exactly 0 or 1 (NaN, 0.5), raises ValueError naming the
+entry; a non-numeric array TypeError). algorithm: 'exact', 'heuristic' or
 'brute_force' (pcm::CliqueAlgorithm); time_limit_s limits the exact search. Returns a CliqueResult.)doc");
 }
 

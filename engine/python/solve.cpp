@@ -57,6 +57,9 @@ SolveResult solve_graph(const Graph& g, const app::SolveOptions& o, const std::o
   }
   SolveResult out;
   out.poses = poses_to_array(r->graph.poses);
+  // A solution or cost of NaN / infinity (finite inputs that overflow) is an error, not a result.
+  check_finite_result(out.poses.data(), static_cast<std::size_t>(out.poses.size()), "solve", "the solution");
+  check_finite_result(&r->summary.final_cost, 1, "solve", "the final cost");
   out.summary = r->summary;
   out.edge_chi2 = edge_field(r->edges, &pgo::EdgeReport::chi2);
   out.edge_weights = edge_field(r->edges, &pgo::EdgeReport::weight);
@@ -83,6 +86,9 @@ CertifiedSolveResult certify_graph(const Graph& g, const app::SolveOptions& o) {
   }
   CertifiedSolveResult out;
   out.poses = poses_to_array(r->graph.poses);
+  check_finite_result(out.poses.data(), static_cast<std::size_t>(out.poses.size()), "solve (certify)",
+                      "the estimate");
+  check_finite_result(&r->summary.final_cost, 1, "solve (certify)", "the cost F");
   out.summary = r->summary;
   out.anisotropic_cost = r->anisotropic_cost;
   out.solve_time_s = r->solve_time_s;
@@ -125,6 +131,12 @@ cov::CovarianceOptions covariance_options(const std::string& ordering, const std
   return o;
 }
 
+void check_pose_count(std::size_t given, std::size_t graph) {
+  if (given != graph)
+    throw std::invalid_argument(
+        fmt::format("marginals: poses has {} rows but the graph has {} poses", given, graph));
+}
+
 // The graph (2D or 3D) at `poses` (default: the graph's own estimate), factorized (app::factorize).
 std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, const py::object& poses,
                                                         const cov::CovarianceOptions& options) {
@@ -132,12 +144,14 @@ std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, con
     const auto& graph = g.cast<const PoseGraph2D&>();
     pgo::Estimate2D at{poses.is_none() ? graph.poses : poses2_from_array(poses, "marginals (poses)"),
                        graph.landmarks};
+    check_pose_count(at.poses.size(), graph.poses.size());
     py::gil_scoped_release release;
     return std::make_unique<cov::MarginalCovariance>(app::factorize(graph, at, options));
   }
   if (py::isinstance<PoseGraph3D>(g)) {
     const auto& graph = g.cast<const PoseGraph3D&>();
     pgo::Estimate3D at{poses.is_none() ? graph.poses : poses3_from_array(poses, "marginals (poses)")};
+    check_pose_count(at.poses.size(), graph.poses.size());
     py::gil_scoped_release release;
     return std::make_unique<cov::MarginalCovariance>(app::factorize(graph, at, options));
   }
@@ -145,6 +159,8 @@ std::unique_ptr<cov::MarginalCovariance> make_marginals(const py::object& g, con
 }
 
 // (m, 6, 6) for 2D, (m, 12, 12) for 3D, handed to numpy without a copy (matrices_as_array).
+// NaN or infinity in a covariance (poses or information that overflow double precision) raises
+// NonFiniteResult naming the pair.
 template <class Query>
 py::array pairs_as_array(const Query& query) {
   decltype(query()) out;
@@ -152,14 +168,29 @@ py::array pairs_as_array(const Query& query) {
     py::gil_scoped_release release;
     out = query();
   }
+  for (std::size_t k = 0; k < out.size(); ++k)
+    check_finite_result(out[k].data(), static_cast<std::size_t>(out[k].size()), "marginals",
+                        fmt::format("the covariance of pairs[{}]", k));
   return matrices_as_array(std::move(out));
 }
 
 py::array pair_query(const cov::MarginalCovariance& mc, const py::object& pairs_obj, unsigned threads) {
-  const auto pairs = pairs_from_object(pairs_obj, "marginals");
+  // Ids outside the graph raise IndexError here, before the engine's own check (a ValueError).
+  const auto pairs = pairs_from_object(pairs_obj, "marginals", mc.num_poses());
   if (mc.num_poses() > 0 && mc.variable_dim(0) == 6)
     return pairs_as_array([&] { return cov::pair_marginals_3d(mc, pairs, threads); });
   return pairs_as_array([&] { return cov::pair_marginals_2d(mc, pairs, threads); });
+}
+
+// Variable ids (poses, then 2D landmarks): integers (TypeError otherwise), a 1-D sequence (ValueError),
+// each within the factorization (IndexError: ids_from_object for negative ones, the engine's check for the
+// rest).
+std::vector<int> variable_ids(const py::object& o, const std::string& who) {
+  Ids ids = ids_from_object(o, who, "ids", -1, "variable id");
+  if (ids.shape.size() != 1)
+    throw std::invalid_argument(fmt::format(
+        "{}: ids must be a 1-D sequence of variable ids (got {} dimensions)", who, ids.shape.size()));
+  return std::move(ids.values);
 }
 
 Array ids_query(const cov::MarginalCovariance& mc, const std::vector<int>& ids) {
@@ -168,6 +199,8 @@ Array ids_query(const cov::MarginalCovariance& mc, const std::vector<int>& ids) 
     py::gil_scoped_release release;
     out = mc.joint(ids);
   }
+  check_finite_result(out.data(), static_cast<std::size_t>(out.size()), "marginals",
+                      "the joint covariance of ids");
   return matrix_to_array(out);
 }
 
@@ -198,8 +231,11 @@ Exactly one of:
          (cov::pair_marginals_2d); 3D -> (m, 12, 12) (cov::pair_marginals_3d). `threads` spreads the
          work; the result does not depend on it.
   ids    a list of pose ids (repeats allowed): the (d k, d k) joint covariance, blocks in the order given.
-An id out of range raises IndexError; a graph that is not connected to pose 0 raises RuntimeError naming the
-variable where the factorization broke down.)doc";
+Ids must be integers (an integer dtype or Python ints: a float array raises TypeError, nothing is truncated);
+an id out of range raises IndexError, one beyond the C++ int range OverflowError; `poses` with another number
+of rows than the graph raises ValueError; a graph that is not connected to pose 0 raises RuntimeError naming the
+variable where the factorization broke down; a covariance holding NaN or infinity (e.g. poses of 1e308, whose
+Jacobians overflow) raises FloatingPointError (an ArithmeticError) instead of being returned.)doc";
 
 }  // namespace
 
@@ -403,7 +439,8 @@ exactly as the CLI `keel solve` does (same inputs give bit-identical results):
                   thread counts (Ceres reduces per thread), so keep it fixed where results are compared
   max_iterations  trust-region iterations (>= 0)
 Returns a SolveResult. Graphs with inconsistent edges raise ValueError naming the edge; a solver failure is
-reported in SolveResult.termination / message, not raised.
+reported in SolveResult.termination / message, not raised, but a solution or cost holding NaN or infinity
+(inputs that overflow double precision) raises FloatingPointError (an ArithmeticError).
 
 certify=True solves the isotropic (chordal) model instead, as `keel solve --certify` does
 (pgo::solve_certified: chordal initialization, Newton on the Burer-Monteiro lift, the Riemannian staircase up
@@ -433,7 +470,9 @@ keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run fro
           "Joint covariances of pairs: (m, 6, 6) for 2D, (m, 12, 12) for 3D (see keel.marginals).")
       .def(
           "joint",
-          [](const cov::MarginalCovariance& mc, const std::vector<int>& ids) { return ids_query(mc, ids); },
+          [](const cov::MarginalCovariance& mc, const py::object& ids) {
+            return ids_query(mc, variable_ids(ids, "MarginalCovariance.joint"));
+          },
           py::arg("ids"), "The joint covariance of the variables `ids` (poses first, then 2D landmarks).")
       .def_property_readonly("num_poses", &cov::MarginalCovariance::num_poses, "Number of poses.")
       .def_property_readonly(
@@ -447,7 +486,7 @@ keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run fro
         if (pairs.is_none() == ids.is_none())
           throw std::invalid_argument("marginals: give exactly one of pairs and ids");
         std::vector<int> id_list;
-        if (!ids.is_none()) id_list = ids.cast<std::vector<int>>();
+        if (!ids.is_none()) id_list = variable_ids(ids, "marginals");
         const auto mc = make_marginals(g, poses, {});
         return pairs.is_none() ? py::array(ids_query(*mc, id_list)) : pair_query(*mc, pairs, threads);
       },

@@ -14,11 +14,12 @@ import keel.app;
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cstdio>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -36,76 +37,62 @@ struct MarginalsArgs {
   std::string pairs, poses;
 };
 
-// "i:j,k:l" or a file of "i j" lines.
-std::vector<std::pair<int, int>> parse_pairs(const std::string& spec) {
+// "i:j,k:l" or a file of "i j" lines (read once, so a pipe works); every id through core::parse_integer and
+// checked against the graph's pose count, so an id beyond int (4294967297) is refused instead of wrapping.
+std::vector<std::pair<int, int>> parse_pairs(const std::string& spec, std::size_t poses) {
+  const std::int64_t top = static_cast<std::int64_t>(poses) - 1;
+  const std::string expected = fmt::format("a pose id of the graph ({} poses)", poses);
   std::vector<std::pair<int, int>> out;
+  std::int64_t i = 0, j = 0;
   if (fs::exists(spec)) {
-    std::ifstream in(spec);
-    std::string line;
+    const std::string text = core::read_text_file(spec);
     int number = 0;
-    while (std::getline(in, line)) {
+    for (std::string_view line : core::split_fields(text, '\n')) {
       ++number;
-      const auto hash = line.find('#');
-      if (hash != std::string::npos) line.erase(hash);
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      int i = 0, j = 0;
-      char extra = 0;
-      if (std::sscanf(line.c_str(), "%d %d %c", &i, &j, &extra) != 2 || i < 0 || j < 0) {
-        throw std::invalid_argument(
-            fmt::format("{}:{}: expected two non-negative pose ids 'i j', got '{}'", spec, number, line));
+      if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      std::vector<std::string_view> f;
+      for (std::string_view t : core::split_fields(line, ' '))
+        for (std::string_view u : core::split_fields(t, '\t')) {
+          while (!u.empty() && u.back() == '\r') u.remove_suffix(1);
+          if (!u.empty()) f.push_back(u);
+        }
+      if (f.empty()) continue;
+      if (f.size() != 2) {
+        throw std::invalid_argument(fmt::format("{}:{}: expected two pose ids 'i j', got {} field{}", spec,
+                                                number, f.size(), f.size() == 1 ? "" : "s"));
       }
-      out.emplace_back(i, j);
+      for (int k = 0; k < 2; ++k) {
+        if (auto why = core::parse_integer(f[static_cast<std::size_t>(k)], 0, top, k == 0 ? i : j, expected);
+            !why.empty())
+          throw std::invalid_argument(fmt::format("{}:{}: field {}: {}", spec, number, k + 1, why));
+      }
+      out.emplace_back(static_cast<int>(i), static_cast<int>(j));
     }
     if (out.empty()) throw std::invalid_argument(fmt::format("{}: no pair", spec));
     return out;
   }
-  std::size_t start = 0;
-  while (start <= spec.size()) {
-    const auto end = std::min(spec.find(',', start), spec.size());
-    const std::string item = spec.substr(start, end - start);
-    int i = 0, j = 0;
-    char extra = 0;
-    if (std::sscanf(item.c_str(), "%d:%d%c", &i, &j, &extra) != 2 || i < 0 || j < 0) {
-      throw std::invalid_argument(fmt::format(
-          "--pairs: '{}' is not a pair 'i:j' of pose ids (give 'i:j,k:l' or a file of 'i j' lines)", item));
-    }
-    out.emplace_back(i, j);
-    start = end + 1;
-  }
-  return out;
-}
-
-// "0,5,9" with ranges "10-20" (inclusive).
-std::vector<int> parse_ids(const std::string& spec) {
-  std::vector<int> out;
-  std::size_t start = 0;
-  while (start <= spec.size()) {
-    const auto end = std::min(spec.find(',', start), spec.size());
-    const std::string item = spec.substr(start, end - start);
-    int a = 0, b = 0;
-    char extra = 0;
-    const int n = std::sscanf(item.c_str(), "%d-%d%c", &a, &b, &extra);
-    if (n == 1 && a >= 0) {
-      out.push_back(a);
-    } else if (n == 2 && a >= 0 && b >= a) {
-      for (int k = a; k <= b; ++k) out.push_back(k);
-    } else {
+  for (const std::string_view item : core::split_fields(spec, ',')) {
+    const auto colon = item.find(':');
+    if (colon == std::string_view::npos) {
       throw std::invalid_argument(
-          fmt::format("--poses: '{}' is not a pose id or a range 'a-b' (give e.g. '0,5,10-20')", item));
+          fmt::format("--pairs: {} is not a pair 'i:j' of pose ids (give 'i:j,k:l' or a file of 'i j' lines)",
+                      core::quote_token(item)));
     }
-    start = end + 1;
+    for (int k = 0; k < 2; ++k) {
+      const std::string_view t = k == 0 ? item.substr(0, colon) : item.substr(colon + 1);
+      if (auto why = core::parse_integer(t, 0, top, k == 0 ? i : j, expected); !why.empty())
+        throw std::invalid_argument(fmt::format("--pairs: pair {}: {}", core::quote_token(item), why));
+    }
+    out.emplace_back(static_cast<int>(i), static_cast<int>(j));
   }
   return out;
 }
 
-template <class Graph>
-void check_pose_ids(const Graph& g, const std::vector<int>& ids, const char* what) {
-  for (int id : ids) {
-    if (id >= static_cast<int>(g.poses.size())) {
-      throw std::invalid_argument(fmt::format("{}: pose {} is not in the graph (it has {} poses: 0 … {})",
-                                              what, id, g.poses.size(), g.poses.size() - 1));
-    }
-  }
+// "0,5,9" with ranges "10-20" (inclusive), every id below the pose count and at most that many ids in all,
+// checked before the list is expanded.
+std::vector<int> parse_ids(const std::string& spec, std::size_t poses) {
+  const auto n = static_cast<std::int64_t>(poses);
+  return core::parse_id_list(spec, n, n, "--poses", fmt::format("a pose id of the graph ({} poses)", poses));
 }
 
 template <class Graph>
@@ -115,16 +102,9 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
   app::MarginalsRequest request;
   request.threads = sa.options.threads;
   if (!a.pairs.empty()) {
-    request.pairs = parse_pairs(a.pairs);
-    std::vector<int> flat;
-    for (auto [i, j] : request.pairs) {
-      flat.push_back(i);
-      flat.push_back(j);
-    }
-    check_pose_ids(g, flat, "--pairs");
+    request.pairs = parse_pairs(a.pairs, g.poses.size());
   } else {
-    request.ids = parse_ids(a.poses);
-    check_pose_ids(g, request.ids, "--poses");
+    request.ids = parse_ids(a.poses, g.poses.size());
   }
   stage(
       fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), sa.options.init));

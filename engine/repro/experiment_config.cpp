@@ -24,6 +24,7 @@ std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
 }
 
 bool Tolerance::accepts(double ours, double base) const {
+  if (!diagnostic.empty()) return true;
   if (std::isnan(ours) || std::isnan(base)) return std::isnan(ours) && std::isnan(base);
   if (std::isinf(ours) || std::isinf(base)) return ours == base;
   const double d = std::fabs(ours - base);
@@ -45,6 +46,7 @@ Tolerance Tolerance::resolve_flips(double count) const {
 }
 
 std::string Tolerance::describe() const {
+  if (!diagnostic.empty()) return "diagnostic (shown, not diffed)";
   if (flips >= 0) {
     const std::string rest = abs >= 0 && rel >= 0 ? fmt::format(": abs {:g} or rel {:g}", abs, rel)
                              : abs >= 0           ? fmt::format(": abs {:g}", abs)
@@ -107,6 +109,7 @@ Tolerance parse_tolerance(const ConfigTable& t, std::string& only_profile) {
   if (t.has("rel")) tol.rel = t.number("rel");
   if (t.has("flips")) tol.flips = t.number("flips");
   if (t.has("of")) tol.of = t.string("of");
+  if (t.has("diagnostic")) tol.diagnostic = t.string("diagnostic");
   only_profile = t.has("profile") ? t.string("profile") : "";
   t.finish();
   if ((t.has("abs") && !(tol.abs >= 0)) || (t.has("rel") && !(tol.rel >= 0)) ||
@@ -119,8 +122,19 @@ Tolerance parse_tolerance(const ConfigTable& t, std::string& only_profile) {
                     "of = \"datasets\") and 'of' needs 'flips'",
                     t.file(), t.name()));
   }
+  if (t.has("diagnostic")) {
+    // A diagnostic is never diffed, so a bound beside it would be read as one that holds.
+    if (t.has("abs") || t.has("rel") || t.has("flips"))
+      throw ConfigError(fmt::format("{}: [{}] 'diagnostic' stands alone: a diagnostic has no tolerance",
+                                    t.file(), t.name()));
+    if (tol.diagnostic.find_first_not_of(" \t") == std::string::npos)
+      throw ConfigError(
+          fmt::format("{}: [{}] 'diagnostic' must say why the value is not diffed", t.file(), t.name()));
+    return tol;
+  }
   if (!t.has("abs") && !t.has("rel") && !t.has("flips")) {
-    throw ConfigError(fmt::format("{}: [{}] needs 'abs', 'rel' and/or 'flips'", t.file(), t.name()));
+    throw ConfigError(
+        fmt::format("{}: [{}] needs 'abs', 'rel' and/or 'flips', or 'diagnostic'", t.file(), t.name()));
   }
   return tol;
 }

@@ -27,6 +27,10 @@ struct Tolerance {
   // D. Resolved into `abs` by resolve_flips() against the baseline's count. flips < 0: not set.
   double flips = -1.0;
   std::string of;
+  // A diagnostic (docs/GRADING.md "Diagnostics"): a value read at a solver's stopping point short of its own
+  // convergence test, which follows the arithmetic path there and may move by any amount within its meaning
+  // on another machine. Non-empty: why. Shown in the diff beside the baseline, never a failure.
+  std::string diagnostic;
   bool accepts(double ours, double base) const;
   std::string describe() const;
   // This tolerance with abs raised to flips / count (count = the baseline's value of metric `of`).

@@ -163,6 +163,12 @@ std::string expand_prose(std::string_view text, const ProseLookup& lookup, std::
       out += lookup.missing_text;
       return;
     }
+    if (!v && lookup.unavailable) {
+      if (std::string instead = lookup.unavailable(r); !instead.empty()) {
+        out += instead;
+        return;
+      }
+    }
     if (!v) {
       std::string hint;
       if (lookup.keys) {

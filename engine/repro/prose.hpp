@@ -36,6 +36,10 @@ struct ProseLookup {
   // Written for a placeholder whose key does not resolve, instead of an error (a quick-profile report: the
   // discussion names points only the full profile computes). Empty: an unresolved key is an error.
   std::string missing_text;
+  // Written for a placeholder whose experiment has no results to read (a run of some experiments only, whose
+  // discussion quotes one that was neither run nor blessed); returns empty where the results exist, so a key
+  // missing from existing results stays an error. Unset: every unresolved key is an error.
+  std::function<std::string(const ProseRef&)> unavailable;
 };
 
 // Replaces every placeholder of `text`. Throws std::invalid_argument "<where>: placeholder '{…}': <reason>".

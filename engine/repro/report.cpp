@@ -13,6 +13,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "core/config.hpp"
@@ -73,21 +74,42 @@ struct Section {
   double wall = 0;
 };
 
+// The results of experiment `id` a report section reads: `file_name` (latest.json, or a baseline) and, for a
+// report of this machine's runs, the committed baseline of the profile standing in where the experiment was
+// not run here (`stand_in` set). Null (json()) where neither exists.
+json read_results(const std::filesystem::path& results_dir, const std::string& id,
+                  const std::string& file_name, const std::string& profile, bool* stand_in) {
+  if (stand_in) *stand_in = false;
+  if (std::ifstream in(results_dir / id / file_name); in) return json::parse(in);
+  const std::string baseline = fmt::format("baseline.{}.json", profile);
+  if (file_name == baseline) return json();
+  std::ifstream in(results_dir / id / baseline);
+  if (!in) return json();
+  if (stand_in) *stand_in = true;
+  return json::parse(in);
+}
+
 // Placeholders of the discussion (core/prose.hpp): this run's metrics, timings and series, the toml's
-// [thesis.values], and other experiments' results read from the same results folder.
+// [thesis.values], and other experiments' results read from the same results folder — their committed
+// baselines where they were not run (named in `stand_ins`), and "n/a (… not run)" where they have none.
 ProseLookup prose_lookup(const ExperimentConfig& cfg, const json& r, const std::filesystem::path& results_dir,
-                         const std::string& file_name) {
+                         const std::string& file_name, std::shared_ptr<std::set<std::string>> stand_ins) {
   auto others = std::make_shared<std::map<std::string, json>>();
-  auto doc_of = [&r, others, results_dir, file_name](const std::string& id) -> const json* {
+  auto doc_of = [&r, &cfg, others, results_dir, file_name, stand_ins](const std::string& id) -> const json* {
     if (id.empty()) return &r;
     auto it = others->find(id);
     if (it == others->end()) {
-      std::ifstream in(results_dir / id / file_name);
-      it = others->emplace(id, in ? json::parse(in) : json()).first;
+      bool stand_in = false;
+      it = others->emplace(id, read_results(results_dir, id, file_name, cfg.profile, &stand_in)).first;
+      if (stand_in) stand_ins->insert(id);
     }
     return it->second.is_null() ? nullptr : &it->second;
   };
   ProseLookup l;
+  l.unavailable = [doc_of](const ProseRef& ref) -> std::string {
+    if (ref.experiment.empty() || ref.kind == "thesis" || doc_of(ref.experiment)) return "";
+    return fmt::format("n/a (`{}` was not run and has no baseline)", ref.experiment);
+  };
   l.value = [&cfg, doc_of](const ProseRef& ref) -> std::optional<double> {
     if (ref.kind == "thesis") {
       if (!cfg.thesis.has("values")) return std::nullopt;
@@ -154,15 +176,23 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   text += "\n\n";
 
   const auto latest_file = results_dir / cfg.id / file_name;
-  std::ifstream in(latest_file);
-  if (!in) {
+  // A run of some experiments only: the others are shown from their committed baselines, and say so.
+  bool stand_in = false;
+  const json r = read_results(results_dir, cfg.id, file_name, cfg.profile, &stand_in);
+  if (r.is_null()) {
     s.verdict = "not run";
     fmt::format_to(os, "**Not run**: `{}` is missing. Run `scripts/reproduce {}`.\n\n", latest_file.string(),
                    cfg.id);
     s.body = std::move(text);
     return s;
   }
-  const json r = json::parse(in);
+  if (stand_in)
+    fmt::format_to(
+        os,
+        "**Not run here**: `{}` is missing, so this section shows the committed baseline "
+        "`baseline.{}.json` in its place. Run `scripts/reproduce {}` for this machine's numbers.\n\n",
+        latest_file.string(), cfg.profile, cfg.id);
+  auto stand_ins = std::make_shared<std::set<std::string>>();
   const std::string run_profile = r.value("profile", "?");
   s.wall = r["provenance"].value("wall_time_s", 0.0);
   // A result from other code or another config cannot carry a verdict about the current code.
@@ -173,7 +203,7 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
     stale = fmt::format("the latest run used the `{}` profile", run_profile);
   } else if (r["provenance"].value("config_hash", "") != hash) {
     stale = "experiment.toml changed since this result was produced";
-  } else if (!from_baseline && code_changed_since(run_sha, cfg.id, cfg.params_from)) {
+  } else if (!from_baseline && !stand_in && code_changed_since(run_sha, cfg.id, cfg.params_from)) {
     // A baseline is checked against the code by CI (every quick baseline is diffed against a fresh run), so a
     // report from baselines is stale only where the configuration moved.
     stale = fmt::format("the result was produced from code ({}) that differs from the working tree", run_sha);
@@ -360,20 +390,27 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
   }
   // scope = "beyond the thesis" / "substitute data": what kind of comparison the counts are.
   if (stale.empty() && th.has("scope")) s.verdict = fmt::format("{}: {}", th.string("scope"), s.verdict);
+  if (stand_in) s.verdict += " (committed baseline; not run here)";
   fmt::format_to(os, "**Verdict: {}.**", s.verdict);
   if (!stale.empty()) fmt::format_to(os, " {}; run `scripts/reproduce {}`.", stale, cfg.id);
   if (!central_failed.empty())
     fmt::format_to(os, " The thesis's central claim ({}) fails on our numbers.",
                    fmt::join(central_failed, "; "));
   if (th.has("explained"))
-    fmt::format_to(os, " **Why:** {}",
-                   expand_prose(th.string("explained"), prose_lookup(cfg, r, results_dir, file_name),
-                                fmt::format("{} [thesis] explained", cfg.file.string())));
+    fmt::format_to(
+        os, " **Why:** {}",
+        expand_prose(th.string("explained"), prose_lookup(cfg, r, results_dir, file_name, stand_ins),
+                     fmt::format("{} [thesis] explained", cfg.file.string())));
   text += "\n\n";
   if (!cfg.discussion.empty())
     fmt::format_to(os, "{}\n\n",
-                   expand_prose(cfg.discussion, prose_lookup(cfg, r, results_dir, file_name),
+                   expand_prose(cfg.discussion, prose_lookup(cfg, r, results_dir, file_name, stand_ins),
                                 fmt::format("{} [discussion]", cfg.file.string())));
+  if (!stand_ins->empty())
+    fmt::format_to(os,
+                   "<sub>Numbers quoted above from {} come from the committed `baseline.{}.json`: not run "
+                   "here.</sub>\n\n",
+                   fmt::join(*stand_ins, ", "), cfg.profile);
 
   // Key metrics not covered above.
   if (r.contains("metrics") && !r["metrics"].empty()) {
@@ -414,9 +451,9 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
                                 : "";
   fmt::format_to(os,
                  "<sub>{}profile `{}`, seed {}, git {}, config {}, {}, {} threads, wall {} s{}{}</sub>\n\n",
-                 from_baseline ? fmt::format("{}: ", file_name) : "", run_profile, p.value("seed", 0), sha,
-                 p.value("config_hash", "?"), p.value("compiler", "?"), p.value("threads", 0),
-                 number_text(s.wall), machine, dirty);
+                 from_baseline || stand_in ? fmt::format("baseline.{}.json: ", cfg.profile) : "", run_profile,
+                 p.value("seed", 0), sha, p.value("config_hash", "?"), p.value("compiler", "?"),
+                 p.value("threads", 0), number_text(s.wall), machine, dirty);
   s.body = std::move(text);
   return s;
 }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "repro/experiment.hpp"
 #include "repro/experiment_config.hpp"
 #include "repro/machine.hpp"
+#include "repro/report.hpp"
 #include "repro/results.hpp"
 
 using namespace keel::repro;
@@ -265,6 +267,83 @@ extra = 1
                       "seed = 7\n[params]\n"),
               "full");
         }).find("is itself a variant") != std::string::npos);
+}
+
+TEST_CASE("a diagnostic is shown in the diff and never fails it; it stands alone and says why") {
+  Scratch s("diagnostic");
+  const std::string text = fmt::format(
+      "{}\"loose.max_gap\" = {{ diagnostic = \"a solver's stopping point short of convergence\" }}\n", kGood);
+  auto c = ExperimentConfig::load(s.write("experiments/demo/experiment.toml", text), "quick");
+  const Tolerance t = *c.tolerance_for("loose.max_gap");
+  CHECK(t.describe() == "diagnostic (shown, not diffed)");
+  CHECK(t.accepts(0.0128026, 0.0156922));
+  const fs::path results = s.root / "results";
+  Results r;
+  r.metric("a.b", 0.5);
+  r.metric("loose.max_gap", 0.0156922);
+  Results::Provenance p;
+  p.id = "demo";
+  p.profile = "quick";
+  p.git_sha = "0123456789ab";
+  r.write(latest_path(results, "demo"), p);
+  bless(c, results);
+  r.metric("loose.max_gap", 0.0128026);  // what a second machine measured
+  r.write(latest_path(results, "demo"), p);
+  const auto d = diff_against_baseline(c, results);
+  CHECK(d.ok());
+  CHECK(format_diff(d).find("diagnostic") != std::string::npos);
+  for (const auto& [bad, message] :
+       {std::pair<std::string, std::string>{"\"x\" = { diagnostic = \"why\", abs = 1 }", "stands alone"},
+        {"\"x\" = { diagnostic = \"  \" }", "must say why"}}) {
+    CAPTURE(bad);
+    const std::string e = error_of([&] {
+      (void)ExperimentConfig::load(s.write("experiments/demo/experiment.toml", kGood + bad + "\n"), "quick");
+    });
+    CHECK(e.find(message) != std::string::npos);
+  }
+}
+
+TEST_CASE("a report of some experiments shows the others from their baselines and says so") {
+  Scratch s("partial");
+  auto toml = [](const std::string& id, const std::string& discussion) {
+    return fmt::format(
+        "id = \"{0}\"\ntitle = \"T {0}\"\nreproduces = \"Fig. {0}\"\nseed = 1\ndiscussion = \"\"\"{1}\"\"\"\n"
+        "[params]\nn = 2\n[profiles.quick]\n[profiles.full]\n[tolerance]\ndefault = {{ rel = 1e-6 }}\n",
+        id, discussion);
+  };
+  s.write("experiments/a/experiment.toml", toml("a", "B says {b/metric:x|.3g}; C says {c/metric:y}."));
+  s.write("experiments/b/experiment.toml", toml("b", "x is {metric:x|.3g}."));
+  s.write("experiments/c/experiment.toml", toml("c", ""));
+  const fs::path results = s.root / "results";
+  auto write = [&](const std::string& id, double v, const fs::path& file) {
+    Results r;
+    r.metric("x", v);
+    Results::Provenance p;
+    p.id = id;
+    p.profile = "full";
+    p.git_sha = "0123456789ab";
+    p.config_hash = ExperimentConfig::load(s.root / "experiments" / id / "experiment.toml", "full").hash;
+    r.write(file, p);
+  };
+  write("a", 1.0, latest_path(results, "a"));              // run here
+  write("b", 0.125, baseline_path(results, "b", "full"));  // not run here, blessed
+  // c: neither run nor blessed.
+  ReportOptions o;
+  o.experiments_dir = s.root / "experiments";
+  o.results_dir = results;
+  o.paper_dir = s.root / "paper";
+  o.profile = "full";
+  std::ifstream in(write_report(o));
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(md.find("B says 0.125; C says n/a (`c` was not run and has no baseline).") != std::string::npos);
+  CHECK(md.find("Numbers quoted above from b come from the committed `baseline.full.json`") !=
+        std::string::npos);
+  CHECK(md.find("**Not run here**") != std::string::npos);
+  CHECK(md.find("x is 0.125.") != std::string::npos);
+  CHECK(md.find("(committed baseline; not run here)") != std::string::npos);
+  // A key missing from results that exist is still a typo, and an error.
+  s.write("experiments/a/experiment.toml", toml("a", "B says {b/metric:xx}."));
+  CHECK(error_of([&] { (void)write_report(o); }).find("no metric 'xx' in b") != std::string::npos);
 }
 
 TEST_CASE("results round trip through baseline diff and bless") {

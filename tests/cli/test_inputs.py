@@ -1,0 +1,195 @@
+"""Inputs the `keel` command refuses, and the inputs it must not refuse: ids, ranges and numbers through one parser
+(engine/core/parse.hpp), survey CSV's header rule, files read once (pipes work), directories named, g2o's FIX,
+and graphs whose cost double precision cannot evaluate (check refuses what solve cannot use).
+
+Run by CTest (cli.inputs) with KEEL set to the binary; from this folder: KEEL=../../build/release/keel
+/usr/bin/python3 -m unittest -v test_inputs. Every case writes its small files into a scratch folder.
+Exit codes: 0 done, 3 bad input (docs/USING.md's table).
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+KEEL = os.path.abspath(os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel")))
+
+INFO = " 1 0 0 1 0 1\n"
+# Three poses in a triangle (3 poses: valid ids 0 … 2).
+TRIANGLE = ("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
+            "EDGE_SE2 0 1 1 0 0" + INFO + "EDGE_SE2 1 2 1 0 0" + INFO + "EDGE_SE2 0 2 2 0 0" + INFO)
+WORK = None
+
+
+def setUpModule():
+    global WORK
+    WORK = tempfile.mkdtemp(prefix="keel-inputs-")
+
+
+def tearDownModule():
+    shutil.rmtree(WORK, ignore_errors=True)
+
+
+def write(name, text, mode="w"):
+    path = os.path.join(WORK, name)
+    with open(path, mode) as f:
+        f.write(text)
+    return path
+
+
+def keel(*args, expect=0, stdin=None):
+    """Runs keel in the scratch folder; checks the exit code; returns (stdout, stderr)."""
+    p = subprocess.run([KEEL, *args], cwd=WORK, capture_output=True, text=True, timeout=300, input=stdin)
+    if p.returncode != expect:
+        raise AssertionError(f"keel {' '.join(args)}: exit {p.returncode}, expected {expect}\n"
+                             f"stdout:\n{p.stdout}\nstderr:\n{p.stderr}")
+    return p.stdout, p.stderr
+
+
+class Ids(unittest.TestCase):
+    """`--pairs` and `--poses` ids beyond int wrapped through sscanf %d (4294967297 became 1) and a range was
+    expanded before it was checked (bad_alloc): now one parser, against the graph's pose count."""
+
+    def refused(self, text, *args):
+        _, err = keel(*args, expect=3)
+        self.assertIn(text, err)
+
+    def test_pairs_and_poses_beyond_int_are_refused(self):
+        g = write("tri.g2o", TRIANGLE)
+        expected = "expected a pose id of the graph (3 poses) in 0 … 2"
+        self.refused(f"--pairs: pair '4294967297:1': '4294967297' is too large: {expected}",
+                     "marginals", g, "--pairs", "4294967297:1")
+        self.refused(f"--poses: '4294967296' is too large: {expected}", "marginals", g, "--poses", "4294967296")
+        self.refused(f"--pairs: pair '99999999999:1': '99999999999' is too large: {expected}",
+                     "marginals", g, "--pairs", "99999999999:1")
+        self.refused(f"--poses: range '0-2147483647': '2147483647' is too large: {expected}",
+                     "marginals", g, "--poses", "0-2147483647")
+        self.refused("--poses: range '2-1': the end 1 is below the start 2", "marginals", g, "--poses", "2-1")
+        self.refused("--pairs: pair '0:1x': '1x' is not a pose id", "marginals", g, "--pairs", "0:1x")
+        self.refused("--poses: '-1' is negative", "marginals", g, "--poses", "-1")
+
+    def test_pairs_file_through_the_same_parser(self):
+        g = write("tri.g2o", TRIANGLE)
+        pairs = write("pairs.txt", "# i j\n0 1\n4294967297 1\n")
+        self.refused(f"{pairs}:3: field 1: '4294967297' is too large", "marginals", g, "--pairs", pairs)
+        pairs = write("pairs3.txt", "0 1 2\n")
+        self.refused(f"{pairs}:1: expected two pose ids 'i j', got 3 fields", "marginals", g, "--pairs", pairs)
+
+    def test_valid_ids_still_work(self):
+        g = write("tri.g2o", TRIANGLE)
+        out, _ = keel("marginals", g, "--poses", "0-2", "--json", "-q")
+        self.assertEqual(json.loads(out)["poses"], [0, 1, 2])
+        pairs = write("ok_pairs.txt", "0 1\n1\t2\r\n")
+        out, _ = keel("marginals", g, "--pairs", pairs, "--json", "-q")
+        self.assertEqual([(p["i"], p["j"]) for p in json.loads(out)["pairs"]], [(0, 1), (1, 2)])
+
+
+class Surveys(unittest.TestCase):
+    """A headerless survey whose first row starts with `nan,`, a BOM or a typo (`1O,`) lost that row as a
+    header; 1e-310 was refused as "not a finite number"."""
+
+    REF = "x,y,f\n0,0,1\n10,0,2\n0,10,3\n10,10,4\n"
+
+    def align(self, query_text, expect=0, mode="w"):
+        ref = write("ref.csv", self.REF)
+        query = write("query.csv", query_text, mode)
+        out, err = keel("align", ref, query, "--json", "-q", expect=expect)
+        return (json.loads(out) if expect == 0 else None), err, query
+
+    def test_a_bad_first_row_is_a_located_error_not_a_header(self):
+        _, err, q = self.align("nan,1,1\n2,2,2\n3,3,3\n", expect=3)
+        self.assertIn(f"{q}:1: column 1: 'nan' is not a finite number", err)
+        _, err, q = self.align("1O,1,1\n2,2,2\n3,3,3\n", expect=3)
+        self.assertIn(f"{q}:1: column 1: '1O' is not a number", err)
+
+    def test_a_bom_is_dropped_and_the_row_kept(self):
+        r, _, _ = self.align(b"\xef\xbb\xbf1,1,1\n2,2,2\n3,3,3\n", mode="wb")
+        self.assertEqual(r["query_points"], 3)
+        r, _, _ = self.align(b"\xef\xbb\xbfx,y,f\n2,2,2\n3,3,3\n", mode="wb")
+        self.assertEqual(r["query_points"], 2)
+
+    def test_a_subnormal_is_a_number(self):
+        r, _, _ = self.align("1,1,1e-310\n2,2,2\n3,3,3\n")
+        self.assertEqual(r["query_points"], 3)
+
+    def test_a_directory_is_named(self):
+        ref = write("ref.csv", self.REF)
+        _, err = keel("align", ref, WORK, expect=3)
+        self.assertIn(f"{WORK}: the survey file: cannot read: is a directory, not a file", err)
+
+
+class Files(unittest.TestCase):
+    def test_a_pipe_is_read_once(self):
+        out, _ = keel("check", "/dev/stdin", "--json", "-q", stdin=TRIANGLE)
+        self.assertEqual(json.loads(out)["poses"], 3)
+        out, _ = keel("solve", "/dev/stdin", "--json", "-q", stdin=TRIANGLE)
+        self.assertEqual(json.loads(out)["poses"], 3)
+
+    def test_a_fifo_works(self):
+        fifo = os.path.join(WORK, "g.fifo")
+        os.mkfifo(fifo)
+        def feed():
+            with open(fifo, "w") as f:
+                f.write(TRIANGLE)
+
+        writer = threading.Thread(target=feed)
+        writer.start()
+        out, _ = keel("check", fifo, "--json", "-q")
+        writer.join()
+        self.assertEqual(json.loads(out)["edges"], 3)
+        os.remove(fifo)
+
+    def test_a_directory_or_missing_file_is_bad_input_with_a_reason(self):
+        for command in ("check", "solve", "marginals"):
+            extra = ["--poses", "0"] if command == "marginals" else []
+            _, err = keel(command, WORK, *extra, expect=3)
+            self.assertIn(f"{WORK}: cannot read: is a directory, not a file", err)
+            self.assertNotIn("basic_filebuf", err)
+        _, err = keel("check", os.path.join(WORK, "missing.g2o"), expect=3)
+        self.assertIn("missing.g2o: cannot open file (No such file or directory)", err)
+
+    def test_g2o_fix_0_is_the_gauge_other_ids_are_refused(self):
+        g = write("fix.g2o", "FIX 0\n" + TRIANGLE)
+        out, _ = keel("solve", g, "--json", "-q")
+        self.assertEqual(json.loads(out)["poses"], 3)
+        g = write("fix2.g2o", TRIANGLE + "FIX 2\n")
+        _, err = keel("check", g, expect=3)
+        self.assertIn(f"{g}:7: FIX field 1: '2': keel holds the gauge at pose 0 in every solve", err)
+
+
+class Range(unittest.TestCase):
+    """An information or measurement of 1e308 passed check; solve failed or printed "final_cost": null / 5e170.
+    Now both refuse λ_max(Ω)·(ε·M)² > 1 before anything is solved."""
+
+    def test_huge_measurements_on_a_tree_are_refused_by_check_and_solve(self):
+        for z in ("1e100", "1e200", "1e300"):
+            g = write("tree.g2o", f"EDGE_SE2 0 1 {z} 0 0{INFO}EDGE_SE2 1 2 1 0 0{INFO}")
+            for args in (["check", g], ["solve", g], ["solve", "--certify", g], ["marginals", g, "--poses", "1"]):
+                out, err = keel(*args, "--json", "-q", expect=3)
+                self.assertIn(f"{g}:1: EDGE_SE2: information of largest eigenvalue 1 at coordinates up to M = ", err)
+                self.assertIn("keel refuses λ_max(Ω)·(ε·M)² > 1", err)
+                self.assertNotIn("null", out)
+
+    def test_huge_information_is_refused_by_check_and_solve(self):
+        g = write("w.g2o", "EDGE_SE2 0 1 1 0 0 1e308 0 0 1 0 1\nEDGE_SE2 1 2 1 0 0" + INFO +
+                  "EDGE_SE2 0 2 2 0 0" + INFO)
+        for args in (["check", g], ["solve", g], ["solve", "--certify", g]):
+            _, err = keel(*args, expect=3)
+            self.assertIn(f"{g}:1: EDGE_SE2: information of largest eigenvalue 1e+308", err)
+
+    def test_sigma_comes_from_a_factorization(self):
+        g = write("tiny.g2o", "EDGE_SE2 0 1 1 0 0 1e-110 0 0 1e-110 0 1e-110\n")
+        out, _ = keel("check", g, "--json", "-q")
+        s = json.loads(out)
+        for key in ("sigma_translation", "sigma_rotation"):
+            for v in s[key]:
+                self.assertTrue(math.isclose(v, 1e55, rel_tol=1e-12), (key, v))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 
 #include <stdexcept>
+#include <type_traits>
 
 #include "bindings.hpp"
 #include "lie/se2.hpp"
@@ -55,6 +56,24 @@ M fixed_arg(const py::object& o, const char* who, const char* arg) {
   return py::detail::cast_op<M>(std::move(c));
 }
 
+// Results holding NaN or infinity (finite poses whose products overflow double precision) raise
+// NonFiniteResult (FloatingPointError) naming the operation.
+template <class Derived>
+typename Derived::PlainObject result(const Eigen::MatrixBase<Derived>& v, const char* who) {
+  if (!v.allFinite())
+    throw NonFiniteResult(
+        fmt::format("{}: the result holds a non-finite number (the inputs overflow double "
+                    "precision)",
+                    who));
+  return v;
+}
+template <class G>
+  requires std::is_same_v<G, SE2> || std::is_same_v<G, SE3>
+G result(const G& T, const char* who) {
+  (void)result(T.matrix(), who);
+  return T;
+}
+
 void bind_se2(py::module_& m) {
   py::class_<SE2>(m, "SE2", R"doc(
 A planar rigid motion T = [R(theta), t; 0, 1] (keel::lie::SE2).
@@ -80,7 +99,7 @@ tangent's first two entries are NOT the translation unless theta = 0. theta is s
           "exp", [](const lie::Vec3& xi) { return SE2::exp(finite(xi, "SE2.exp")); }, py::arg("xi"),
           "Exponential map of the tangent xi = [rho_x, rho_y, theta].")
       .def(
-          "log", [](const SE2& T) -> lie::Vec3 { return T.log(); },
+          "log", [](const SE2& T) -> lie::Vec3 { return result(T.log(), "SE2.log"); },
           "Logarithm: the tangent [rho_x, rho_y, theta] with theta in (-pi, pi], rho = V(theta)^-1 t.")
       .def(
           "matrix", [](const SE2& T) -> lie::Mat3 { return T.matrix(); }, "The 3x3 homogeneous matrix.")
@@ -97,20 +116,24 @@ tangent's first two entries are NOT the translation unless theta = 0. theta is s
           "adjoint", [](const SE2& T) -> lie::Mat3 { return T.adjoint(); },
           "Ad_T = [R, [t_y; -t_x]; 0, 1] for the tangent order [rho; theta].")
       .def(
-          "inverse", [](const SE2& T) { return T.inverse(); }, "T^-1.")
+          "inverse", [](const SE2& T) { return result(T.inverse(), "SE2.inverse"); }, "T^-1.")
       .def(
-          "between", [](const SE2& a, const SE2& b) { return a.inverse() * b; }, py::arg("other"),
+          "between", [](const SE2& a, const SE2& b) { return result(a.inverse() * b, "SE2.between"); },
+          py::arg("other"),
           "a.between(b) = a^-1 b: the pose of b in the frame of a (the measurement convention of pose "
           "graphs).")
       .def(
-          "compose", [](const SE2& a, const SE2& b) { return a * b; }, py::arg("other"),
-          "a.compose(b) = a b.")
+          "compose", [](const SE2& a, const SE2& b) { return result(a * b, "SE2.compose"); },
+          py::arg("other"), "a.compose(b) = a b.")
       .def(
-          "__mul__", [](const SE2& a, const SE2& b) { return a * b; }, py::is_operator(),
-          "a * b: composition.")
+          "__mul__", [](const SE2& a, const SE2& b) { return result(a * b, "SE2.__mul__"); },
+          py::is_operator(), "a * b: composition.")
       .def(
-          "act", [](const SE2& T, const lie::Vec2& p) -> lie::Vec2 { return T * p; }, py::arg("point"),
-          "R p + t for a point p = [x, y].")
+          "act",
+          [](const SE2& T, const lie::Vec2& p) -> lie::Vec2 {
+            return result(T * finite(p, "SE2.act"), "SE2.act");
+          },
+          py::arg("point"), "R p + t for a point p = [x, y].")
       .def(
           "is_approx", [](const SE2& a, const SE2& b, double tol) { return a.is_approx(b, tol); },
           py::arg("other"), py::arg("tol") = 1e-9, "Whether the two poses agree within tol.")
@@ -162,7 +185,7 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
           "exp", [](const lie::Vec6& xi) { return SE3::exp(finite(xi, "SE3.exp")); }, py::arg("xi"),
           "Exponential map of xi = [rho; phi] (translation part first, thesis eq. 5.6).")
       .def(
-          "log", [](const SE3& T) -> lie::Vec6 { return T.log(); },
+          "log", [](const SE3& T) -> lie::Vec6 { return result(T.log(), "SE3.log"); },
           "Logarithm: xi = [J_l(phi)^-1 t; log(R)], |phi| <= pi.")
       .def(
           "matrix", [](const SE3& T) -> lie::Mat4 { return T.matrix(); }, "The 4x4 homogeneous matrix.")
@@ -183,19 +206,22 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
           "adjoint", [](const SE3& T) -> lie::Mat6 { return T.adjoint(); },
           "Ad_T = [R, t^ R; 0, R] for the tangent order [rho; phi] (thesis eqs. 5.9-5.10).")
       .def(
-          "inverse", [](const SE3& T) { return T.inverse(); }, "T^-1.")
+          "inverse", [](const SE3& T) { return result(T.inverse(), "SE3.inverse"); }, "T^-1.")
       .def(
-          "between", [](const SE3& a, const SE3& b) { return a.inverse() * b; }, py::arg("other"),
-          "a.between(b) = a^-1 b: the pose of b in the frame of a.")
+          "between", [](const SE3& a, const SE3& b) { return result(a.inverse() * b, "SE3.between"); },
+          py::arg("other"), "a.between(b) = a^-1 b: the pose of b in the frame of a.")
       .def(
-          "compose", [](const SE3& a, const SE3& b) { return a * b; }, py::arg("other"),
-          "a.compose(b) = a b.")
+          "compose", [](const SE3& a, const SE3& b) { return result(a * b, "SE3.compose"); },
+          py::arg("other"), "a.compose(b) = a b.")
       .def(
-          "__mul__", [](const SE3& a, const SE3& b) { return a * b; }, py::is_operator(),
-          "a * b: composition.")
+          "__mul__", [](const SE3& a, const SE3& b) { return result(a * b, "SE3.__mul__"); },
+          py::is_operator(), "a * b: composition.")
       .def(
-          "act", [](const SE3& T, const lie::Vec3& p) -> lie::Vec3 { return T * p; }, py::arg("point"),
-          "R p + t for a point p = [x, y, z].")
+          "act",
+          [](const SE3& T, const lie::Vec3& p) -> lie::Vec3 {
+            return result(T * finite(p, "SE3.act"), "SE3.act");
+          },
+          py::arg("point"), "R p + t for a point p = [x, y, z].")
       .def(
           "is_approx", [](const SE3& a, const SE3& b, double tol) { return a.is_approx(b, tol); },
           py::arg("other"), py::arg("tol") = 1e-9, "Whether the two poses agree within tol.")

@@ -222,6 +222,20 @@ class NonFiniteResults(unittest.TestCase):
         with self.assertRaisesRegex(FloatingPointError, "^marginals: the joint covariance of ids holds a non-finite"):
             keel.marginals(g, poses=huge, ids=[1, 2])
 
+    def test_pose_arithmetic(self):
+        far = keel.SE2(1e308, 0.0, 0.0)
+        with self.assertRaisesRegex(FloatingPointError, r"^SE2.__mul__: the result holds a non-finite number"):
+            far * far
+        with self.assertRaisesRegex(FloatingPointError, r"^SE2.compose: the result holds a non-finite number"):
+            far.compose(far)
+        with self.assertRaisesRegex(FloatingPointError, r"^SE2.act: the result holds a non-finite number"):
+            far.act([1e308, 0.0])
+        far3 = keel.SE3(translation=[1e308, 0.0, 0.0])
+        with self.assertRaisesRegex(FloatingPointError, r"^SE3.between: the result holds a non-finite number"):
+            far3.inverse().between(far3)
+        with self.assertRaisesRegex(ValueError, "SE2.act: the input holds a non-finite number"):
+            keel.SE2().act([float("nan"), 0.0])
+
     def test_marginals_poses_of_another_count(self):
         with self.assertRaisesRegex(ValueError, "marginals: poses has 2 rows but the graph has 3 poses"):
             keel.marginals(chain(), poses=POSES[:2], ids=[1])

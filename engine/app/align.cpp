@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -16,29 +14,6 @@ namespace keel::app {
 
 namespace {
 
-// Splits a CSV line at commas, trimming blanks around every field.
-std::vector<std::string_view> fields_of(std::string_view line) {
-  std::vector<std::string_view> out = core::split_fields(line, ',');
-  for (auto& f : out) {
-    while (!f.empty() && (f.front() == ' ' || f.front() == '\t' || f.front() == '\r')) f.remove_prefix(1);
-    while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
-  }
-  return out;
-}
-
-// A header field begins with a letter or '_' (after an optional '"') and is no spelling of NaN or infinity,
-// so that "nan", "inf", "1O" or "-x" can never make a data row into a header.
-bool header_field(std::string_view f) {
-  if (!f.empty() && f.front() == '"') f.remove_prefix(1);
-  if (f.empty()) return false;
-  const auto c = static_cast<unsigned char>(f.front());
-  if (!(std::isalpha(c) || c == '_')) return false;
-  std::string lower(f);
-  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  while (!lower.empty() && lower.back() == '"') lower.pop_back();
-  return lower != "nan" && lower != "inf" && lower != "infinity" && lower.rfind("nan(", 0) != 0;
-}
-
 constexpr core::NameTable<Dissimilarity, 2> kDissimilarities{
     "app::Dissimilarity",
     {{{Dissimilarity::standardized, "standardized"}, {Dissimilarity::euclidean, "euclidean"}}}};
@@ -49,55 +24,26 @@ std::string_view to_string(Dissimilarity d) { return kDissimilarities.name(d); }
 Dissimilarity dissimilarity_from_string(std::string_view text) { return kDissimilarities.parse(text); }
 
 Survey read_survey_csv(const std::filesystem::path& file, bool has_depth) {
-  // Read once (a pipe or FIFO works), then parse from memory.
+  // Read once (a pipe or FIFO works), then parsed from memory by the one CSV reader (core::parse_numeric_csv:
+  // BOM, comments, the header rule, located errors).
   std::string text;
   if (auto why = core::read_whole_file(file, text); !why.empty())
     throw std::invalid_argument(fmt::format("{}: the survey file: {}", file.string(), why));
-  std::string_view rest = text;
-  if (rest.starts_with("\xEF\xBB\xBF")) rest.remove_prefix(3);  // a UTF-8 byte-order mark
   Survey s;
   s.name = file.string();
   const std::size_t lead = has_depth ? 3 : 2;
-  std::size_t columns = 0;
-  int number = 0;
-  bool first_record = true;
-  for (const std::string_view line : core::split_fields(rest, '\n')) {
-    ++number;
-    const auto b = line.find_first_not_of(" \t\r");
-    if (b == std::string_view::npos || line[b] == '#') continue;
-    const std::vector<std::string_view> f = fields_of(line);
-    if (first_record) {
-      first_record = false;
-      // The header rule: only the first record can be a header, and only when every field is a name (see
-      // header_field); any other line must be all numbers, or it is an error at its line and column.
-      if (std::all_of(f.begin(), f.end(), header_field)) continue;
-    }
-    if (columns == 0) {
-      columns = f.size();
-      if (columns < lead + 1)
-        throw std::invalid_argument(
-            fmt::format("{}:{}: {} columns; need x, y{} and at least one feature column", s.name, number,
-                        columns, has_depth ? ", depth" : ""));
-      s.dim = static_cast<int>(columns - lead);
-    }
-    if (f.size() != columns)
-      throw std::invalid_argument(
-          fmt::format("{}:{}: {} columns where the first record has {}", s.name, number, f.size(), columns));
-    for (std::size_t k = 0; k < columns; ++k) {
-      double v = 0.0;
-      if (auto why = core::parse_real(f[k], v); !why.empty())
-        throw std::invalid_argument(fmt::format("{}:{}: column {}: {}", s.name, number, k + 1, why));
-      if (k == 0)
-        s.x.push_back(v);
-      else if (k == 1)
-        s.y.push_back(v);
-      else if (k == 2 && has_depth)
-        s.z.push_back(v);
-      else
-        s.features.push_back(v);
-    }
+  const core::NumericCsv t = core::parse_numeric_csv(
+      text, s.name, lead + 1,
+      fmt::format("x, y{} and at least one feature column", has_depth ? ", depth" : ""));
+  if (t.rows() == 0) throw std::invalid_argument(fmt::format("{}: no position in the file", s.name));
+  s.dim = static_cast<int>(t.columns - lead);
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    const double* row = t.values.data() + r * t.columns;
+    s.x.push_back(row[0]);
+    s.y.push_back(row[1]);
+    if (has_depth) s.z.push_back(row[2]);
+    s.features.insert(s.features.end(), row + lead, row + t.columns);
   }
-  if (s.x.empty()) throw std::invalid_argument(fmt::format("{}: no position in the file", s.name));
   return s;
 }
 

@@ -42,6 +42,9 @@ using keel::core::ConfigValue;
 using keel::core::load_toml;
 // the one parser of integers, reals, id ranges and whole files (core/parse.hpp)
 using keel::core::IdRange;
+using keel::core::is_header_field;
+using keel::core::NumericCsv;
+using keel::core::parse_numeric_csv;
 using keel::core::parse_id_list;
 using keel::core::parse_id_range;
 using keel::core::parse_integer;

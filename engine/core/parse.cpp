@@ -159,6 +159,65 @@ std::vector<int> parse_id_list(std::string_view spec, std::int64_t limit, std::i
   return out;
 }
 
+bool is_header_field(std::string_view f) {
+  if (!f.empty() && f.front() == '"') f.remove_prefix(1);
+  if (f.empty()) return false;
+  const auto c = static_cast<unsigned char>(f.front());
+  const bool letter = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
+  if (!letter) return false;
+  std::string lower(f);
+  for (char& ch : lower)
+    if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+  while (!lower.empty() && lower.back() == '"') lower.pop_back();
+  return lower != "nan" && lower != "inf" && lower != "infinity" && lower.rfind("nan(", 0) != 0;
+}
+
+NumericCsv parse_numeric_csv(std::string_view text, const std::string& name, std::size_t min_columns,
+                             std::string_view need) {
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);  // a UTF-8 byte-order mark
+  NumericCsv t;
+  int number = 0;
+  bool first_record = true;
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  for (const std::string_view line : split_fields(text, '\n')) {
+    ++number;
+    std::size_t b = 0;
+    while (b < line.size() && blank(line[b])) ++b;
+    if (b == line.size() || line[b] == '#') continue;
+    std::vector<std::string_view> f = split_fields(line, ',');
+    for (auto& x : f) {
+      while (!x.empty() && blank(x.front())) x.remove_prefix(1);
+      while (!x.empty() && blank(x.back())) x.remove_suffix(1);
+    }
+    if (first_record) {
+      first_record = false;
+      bool header = true;
+      for (const auto& x : f) header = header && is_header_field(x);
+      if (header) {
+        t.header = true;
+        continue;
+      }
+    }
+    if (t.columns == 0) {
+      if (f.size() < min_columns)
+        throw std::invalid_argument(fmt::format("{}:{}: {} columns; need {}", name, number, f.size(), need));
+      t.columns = f.size();
+    }
+    if (f.size() != t.columns) {
+      throw std::invalid_argument(
+          fmt::format("{}:{}: {} columns where the first record has {}", name, number, f.size(), t.columns));
+    }
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      double v = 0.0;
+      if (auto why = parse_real(f[k], v); !why.empty())
+        throw std::invalid_argument(fmt::format("{}:{}: column {}: {}", name, number, k + 1, why));
+      t.values.push_back(v);
+    }
+    t.lines.push_back(number);
+  }
+  return t;
+}
+
 std::string read_whole_file(const std::filesystem::path& file, std::string& text) {
   text.clear();
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);

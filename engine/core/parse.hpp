@@ -53,6 +53,29 @@ struct IdRange {
                                              std::int64_t max_count, std::string_view what,
                                              std::string_view expected = "an id");
 
+/// A table of numbers read from CSV text (core::parse_numeric_csv).
+struct NumericCsv {
+  std::size_t columns = 0;
+  std::vector<double> values;  // row-major, rows × columns
+  std::vector<int> lines;      // the 1-based source line of each row
+  bool header = false;         // the first record was a header (see the rule below)
+  [[nodiscard]] std::size_t rows() const { return lines.size(); }
+};
+
+/// Whether a CSV field is a column name: it begins with a letter or '_' (after an optional '"') and spells no
+/// NaN or infinity ("nan", "inf", "infinity", "nan(...)", any case).
+[[nodiscard]] bool is_header_field(std::string_view field);
+
+/// CSV text of numbers: a UTF-8 byte-order mark is dropped; blank lines and lines whose first non-blank is
+/// '#' are skipped; fields are split at ',' and trimmed of blanks and CR. The header rule: only the first
+/// record can be a header, and it is one exactly when every field is_header_field; every other record is
+/// data, each field through parse_real. Every row has the first row's column count, at least `min_columns`
+/// (`need` says what they are). Throws std::invalid_argument "name:line: column k: why", "name:line: n
+/// columns where the first record has m" or "name:line: n columns; need {need}". An empty table is not an
+/// error here.
+[[nodiscard]] NumericCsv parse_numeric_csv(std::string_view text, const std::string& name,
+                                           std::size_t min_columns, std::string_view need);
+
 /// Reads a whole file in one pass (so a pipe, a FIFO or `<(cmd)` works: nothing is read twice): empty on
 /// success, else the reason ("No such file or directory", "is a directory", "Permission denied", "read error:
 /// ...").

@@ -51,6 +51,8 @@ inline constexpr double kEarthRadius = 6371008.8;
 // header line, a count that disagrees with rows or cols, a value that is not a finite number, coordinates
 // that are not strictly monotonic, fewer than 3 rows or columns.
 [[nodiscard]] TerrainGrid read_terrain_grid(const std::filesystem::path& file);
+/// The same on a file's text (`name` in messages); read_terrain_grid reads the file once and calls it.
+[[nodiscard]] TerrainGrid parse_terrain_grid(std::string text, const std::string& name);
 
 // The features a survey measures at a position, from the grid: elevation z (m), slope |∇z| (m/m) and
 // curvature ∇²z (1/m). The derivatives are central differences at the nodes on the (possibly non-uniform)

@@ -358,7 +358,8 @@ class BadInput(unittest.TestCase):
             self.error(2, "--bogus", "solve", "data/square.g2o", "--bogus")
             self.error(2, "file is required", "solve")
             self.error(2, "give exactly one of --pairs and --poses", "marginals", "data/square.g2o")
-            self.error(3, "--pairs: pose 8 is not in the graph (it has 8 poses: 0 … 7)", "marginals",
+            self.error(3, "--pairs: pair '1:8': '8' is too large: expected a pose id of the graph (8 poses) in 0 … 7",
+                       "marginals",
                        "data/square.g2o", "--pairs", "1:8")
             self.error(3, "--pairs: '1-2' is not a pair 'i:j'", "marginals", "data/square.g2o", "--pairs", "1-2")
             self.error(3, "pose 3 of 'data/islands.g2o' is not connected to pose 0", "marginals", "data/islands.g2o",

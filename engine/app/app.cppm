@@ -67,6 +67,7 @@ using keel::app::Progress;
 using keel::app::score_selection;
 using keel::app::SelectionScore;
 // outputs
+using keel::app::check_folder_writable;
 using keel::app::FolderFile;
 using keel::app::OutputError;
 using keel::app::OutputKind;

@@ -109,6 +109,24 @@ std::vector<FolderFile> world_folder_files() {
           {"truth.csv", OutputKind::starting_with("theta,tx,ty")}};
 }
 
+void check_folder_writable(const std::string& name, const fs::path& dir) {
+  std::error_code ec;
+  fs::path existing = dir.empty() ? fs::path(".") : dir;
+  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (existing.empty() || !fs::exists(existing, ec)) existing = ".";
+  if (!fs::is_directory(existing, ec))
+    throw OutputError(
+        fmt::format("{}: {} cannot be created: {} is not a folder", dir.string(), name, existing.string()));
+  std::string pattern = (existing / ".keel-XXXXXX").string();
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0)
+    throw OutputError(fmt::format("{}: cannot write: {} (creating a file in {})", dir.string(), reason(errno),
+                                  existing.string()));
+  ::close(fd);
+  ::unlink(pattern.c_str());
+}
+
 Outputs::Outputs(std::vector<std::pair<std::string, fs::path>> inputs) {
   for (auto& [name, path] : inputs) {
     std::error_code ec;

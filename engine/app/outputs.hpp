@@ -57,6 +57,12 @@ struct FolderFile {
 /// query.csv, truth.csv.
 [[nodiscard]] std::vector<FolderFile> world_folder_files();
 
+/// Checks, before a command's work, that files can be created in folder `dir` (or, when it does not exist
+/// yet, in its nearest existing ancestor, where it will be created) by creating and removing a temporary file
+/// there; for commands that write through their own atomic writer (keel report, keel bless). Throws
+/// OutputError "dir: cannot write: reason" naming `name`.
+void check_folder_writable(const std::string& name, const std::filesystem::path& dir);
+
 /// The outputs of one command. Reserve each output (file() or folder()) before the work, write to the
 /// temporary path returned (write() turns a writer's failure into OutputError), then commit(). Destroyed
 /// without commit() (the command failed), it removes its temporary files and the folders it created.

@@ -1,10 +1,13 @@
 // keel bless --profile P ids... — latest.json becomes the baseline (numbers only), on purpose.
 import keel.core;
 import keel.repro;
+import keel.app;
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,7 +28,16 @@ void add_bless_command(CLI::App& app) {
       throw CLI::ValidationError("ids",
                                  "bless needs explicit experiment ids (baselines change only on purpose)");
     }
-    for (const auto& id : resolve_ids(*a)) {
+    const auto ids = resolve_ids(*a);
+    // Before any baseline is written: every result exists (bad input otherwise) and every folder is writable.
+    for (const auto& id : ids) {
+      const auto latest = repro::latest_path(a->results, id);
+      if (!std::filesystem::is_regular_file(latest))
+        throw std::invalid_argument(
+            fmt::format("{}: not found (run the experiment before blessing it)", latest.string()));
+      app::check_folder_writable("--results", repro::baseline_path(a->results, id, a->profile).parent_path());
+    }
+    for (const auto& id : ids) {
       const bool dirty = repro::bless(load(*a, id), a->results, *allow_dirty);
       fmt::print("blessed {}\n", repro::baseline_path(a->results, id, a->profile).string());
       if (dirty) {

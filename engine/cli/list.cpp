@@ -15,7 +15,7 @@ namespace keel::cli {
 void add_list_command(CLI::App& app) {
   auto a = std::make_shared<ReproArgs>();
   repro_command(app, "list", "list the experiment ids", *a, false)->callback([a] {
-    for (const auto& id : repro::list_experiments(a->experiments)) fmt::print("{}\n", id);
+    for (const auto& id : experiment_ids(a->experiments)) fmt::print("{}\n", id);
   });
 }
 

@@ -20,7 +20,7 @@ void add_prose_check_command(CLI::App& app) {
   auto prose_ids = std::make_shared<std::vector<std::string>>();
   prose->add_option("ids", *prose_ids, "experiments (default: all)");
   prose->callback([prose_ids] {
-    const auto ids = prose_ids->empty() ? repro::list_experiments("experiments") : *prose_ids;
+    const auto ids = prose_ids->empty() ? experiment_ids("experiments") : *prose_ids;
     std::size_t count = 0;
     for (const auto& id : ids) {
       const auto cfg =

@@ -2,6 +2,7 @@
 // baselines.
 import keel.core;
 import keel.repro;
+import keel.app;
 
 #include <fmt/format.h>
 
@@ -33,6 +34,8 @@ void add_report_command(CLI::App& app) {
       ->check(CLI::IsMember({"latest", "baseline"}))
       ->capture_default_str();
   report->callback([a] {
+    resolve_ids(*a);  // a missing experiments folder or an unknown id: bad input, before anything is read
+    app::check_folder_writable("--paper", a->paper);
     repro::ReportOptions o;
     o.experiments_dir = a->experiments;
     o.results_dir = a->results;

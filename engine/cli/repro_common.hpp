@@ -19,9 +19,18 @@ struct ReproArgs {
   std::vector<std::string> ids;
 };
 
+// The experiment ids under `dir`; a missing folder is bad input (exit 3), named with the option that sets it.
+inline std::vector<std::string> experiment_ids(const std::string& dir) {
+  if (!std::filesystem::is_directory(dir))
+    throw std::invalid_argument(fmt::format(
+        "{}: not a folder (the experiments folder: run keel from the repository root or give --experiments)",
+        dir));
+  return repro::list_experiments(dir);
+}
+
 // The ids given (each checked against the experiment folders), or every experiment.
 inline std::vector<std::string> resolve_ids(const ReproArgs& a) {
-  auto all = repro::list_experiments(a.experiments);
+  auto all = experiment_ids(a.experiments);
   if (a.ids.empty()) return all;
   for (const auto& id : a.ids) {
     bool found = false;

@@ -5,6 +5,7 @@ import keel.repro;
 #include <fmt/format.h>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,14 @@ void add_same_command(CLI::App& app) {
   same->add_option("files", *files, "two result files")->required()->expected(2);
   same->callback([files] {
     std::string why;
-    if (repro::same_results((*files)[0], (*files)[1], &why)) {
+    const bool same = [&] {
+      try {
+        return repro::same_results((*files)[0], (*files)[1], &why);
+      } catch (const std::runtime_error& e) {  // a file missing or not JSON: bad input, not a difference
+        throw std::invalid_argument(e.what());
+      }
+    }();
+    if (same) {
       fmt::print("identical (provenance aside)\n");
       return;
     }

@@ -167,6 +167,42 @@ class ExitTable(Scratch):
         self.assertIn("notes.txt: dir exists and is not a folder", err)
 
 
+class ReproductionCommands(Scratch):
+    EXPERIMENTS = os.path.join(REPO, "experiments")
+
+    def first_id(self):
+        out, _ = self.keel("list", "--experiments", self.EXPERIMENTS)
+        return out.split()[0]
+
+    def test_a_missing_folder_or_file_is_3(self):
+        for c in ("list", "diff", "eta", "report"):
+            _, err = self.keel(c, "--experiments", "nope", expect=3)
+            self.assertIn("nope: not a folder", err)
+        _, err = self.keel("prose-check", expect=3)  # no experiments/ in the scratch folder
+        self.assertIn("experiments: not a folder", err)
+        ident = self.first_id()
+        _, err = self.keel("diff", "--experiments", self.EXPERIMENTS, "--results", "r", ident, expect=3)
+        self.assertIn("1 experiment(s) could not be compared", err)
+        _, err = self.keel("bless", "--experiments", self.EXPERIMENTS, "--results", "r", ident, expect=3)
+        self.assertIn("latest.json: not found", err)
+        self.assertFalse(os.path.exists(self.path("r")))
+        self.put("one.json", '{"metrics": {"a": 1}}\n')
+        _, err = self.keel("same", "one.json", "missing.json", expect=3)
+        self.assertIn("missing.json: not found", err)
+        self.keel("same", "one.json", "square.g2o", expect=3)
+
+    def test_results_that_differ_are_1(self):
+        self.put("one.json", '{"metrics": {"a": 1}}\n')
+        self.put("two.json", '{"metrics": {"a": 2}}\n')
+        self.keel("same", "one.json", "one.json")
+        self.keel("same", "one.json", "two.json", expect=1)
+
+    def test_an_unwritable_paper_folder_is_4_before_the_work(self):
+        _, err = self.keel("report", "--experiments", self.EXPERIMENTS, "--results", "r", "--paper", "square.g2o/p",
+                           expect=4)
+        self.assertIn("square.g2o/p: --paper cannot be created: square.g2o is not a folder", err)
+
+
 class OutputIsInput(Scratch):
     def test_marginals_out_equal_to_its_graph(self):
         for spelling in ("square.g2o", "./square.g2o", os.path.join(self.dir, "square.g2o")):

@@ -2,6 +2,7 @@
 // function behind `keel align`, so both give bit-identical transforms).
 #include <fmt/format.h>
 
+#include <climits>
 #include <cmath>
 #include <iterator>
 #include <optional>
@@ -60,8 +61,10 @@ py::dict transform_dict(const align::Transform2& t) {
 
 py::dict align_py(const py::object& ref_xy, const py::object& ref_features, const py::object& query_xy,
                   const py::object& query_features, const std::string& method,
-                  const std::string& dissimilarity, int rounds, double shrink, double min_half_width,
-                  double depth_gate, bool certify, unsigned threads) {
+                  const std::string& dissimilarity, const py::object& rounds_obj, double shrink,
+                  double min_half_width, double depth_gate, bool certify, const py::object& threads_obj) {
+  const int rounds = int_arg(rounds_obj, "align", "rounds");
+  const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "align", "threads", UINT_MAX));
   app::AlignSurveysOptions o;
   o.method = align::method_from_string(method);
   o.dissimilarity = app::dissimilarity_from_string(dissimilarity);

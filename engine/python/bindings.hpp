@@ -106,6 +106,10 @@ Array numeric_array(const py::object& a, const std::string& who, const char* wha
 /// A Python int or numpy integer, never a bool or a float (2.0 is refused like 2.5: nothing is truncated);
 /// TypeError otherwise, OverflowError outside the C++ int range.
 int int_arg(const py::handle& o, const std::string& who, const std::string& arg);
+/// A Python int or numpy integer in [0, max] (a count, a seed, a number of threads): TypeError as int_arg,
+/// OverflowError for a negative number or one above max (as Python converts to an unsigned C type).
+unsigned long long uint_arg(const py::handle& o, const std::string& who, const std::string& arg,
+                            unsigned long long max);
 /// int_arg, then IndexError unless 0 <= i < n.
 int index_arg(const py::handle& o, const std::string& who, const std::string& arg, std::size_t n);
 

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -111,6 +112,24 @@ int int_arg(const py::handle& o, const std::string& who, const std::string& arg)
     throw std::overflow_error(
         fmt::format("{}: {} = {} is beyond the C++ int range ({} … {})", who, arg, text, kIntMin, kIntMax));
   return static_cast<int>(v);
+}
+
+unsigned long long uint_arg(const py::handle& o, const std::string& who, const std::string& arg,
+                            unsigned long long max) {
+  bool overflow = false;
+  std::string text;
+  const long long v = integer_value(o, who, arg, "an integer >= 0", overflow, text);
+  unsigned long long u = 0;
+  bool fits = !overflow && v >= 0;
+  if (fits) {
+    u = static_cast<unsigned long long>(v);
+  } else if (overflow && !text.empty() && text[0] != '-') {  // beyond long long: parse the decimal text
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), u);
+    fits = ec == std::errc() && end == text.data() + text.size();
+  }
+  if (!fits || u > max)
+    throw std::overflow_error(fmt::format("{}: {} = {} is outside 0 … {}", who, arg, text, max));
+  return u;
 }
 
 int index_arg(const py::handle& o, const std::string& who, const std::string& arg, std::size_t n) {

@@ -1,8 +1,10 @@
 // keel Python module — pairwise consistency (thesis eq. 2.4), maximum clique and PCM selection (§2.5).
 #include <fmt/format.h>
 
+#include <climits>
 #include <cmath>
 #include <optional>
+#include <tuple>
 #include <variant>
 
 #include "bindings.hpp"
@@ -78,6 +80,19 @@ std::vector<std::vector<bool>> adjacency_rows(const py::object& in) {
   return rows;
 }
 
+// Candidate k = (i, j) names pose i of graph_a and pose j of graph_b: IndexError otherwise (ids out of range
+// are IndexError throughout the module).
+template <class Edge, class Graph>
+void check_candidate_ids(const std::vector<Edge>& edges, const Graph& a, const Graph& b) {
+  for (std::size_t k = 0; k < edges.size(); ++k)
+    for (const auto& [id, g, name, col] :
+         {std::tuple{edges[k].i, &a, "graph_a", 0}, std::tuple{edges[k].j, &b, "graph_b", 1}})
+      if (id < 0 || static_cast<std::size_t>(id) >= g->poses.size())
+        throw std::out_of_range(fmt::format(
+            "consistency_matrix: candidates.edges[{}, {}] = {} is not a pose of {} (it has {} poses)", k, col,
+            id, name, g->poses.size()));
+}
+
 }  // namespace
 
 void bind_pcm(py::module_& m) {
@@ -120,21 +135,23 @@ void bind_pcm(py::module_& m) {
   m.def(
       "consistency_matrix",
       [](const py::object& ga, const py::object& gb, const Candidates& c, const std::string& composition,
-         unsigned threads) {
+         const py::object& threads) {
         app::PcmOptions o;  // of which app::consistency uses local, composition and threads
         o.composition = pcm::composition_from_string(composition);
-        o.threads = threads;
+        o.threads = static_cast<unsigned>(uint_arg(threads, "consistency_matrix", "threads", UINT_MAX));
         pcm::ConsistencyMatrix Q;
         if (py::isinstance<graph::PoseGraph2D>(ga) && py::isinstance<graph::PoseGraph2D>(gb) &&
             c.dim() == 2) {
           const auto& a = ga.cast<const graph::PoseGraph2D&>();
           const auto& b = gb.cast<const graph::PoseGraph2D&>();
+          check_candidate_ids(std::get<0>(c.edges), a, b);
           py::gil_scoped_release release;
           Q = app::consistency(a, b, std::get<0>(c.edges), o).q;
         } else if (py::isinstance<graph::PoseGraph3D>(ga) && py::isinstance<graph::PoseGraph3D>(gb) &&
                    c.dim() == 3) {
           const auto& a = ga.cast<const graph::PoseGraph3D&>();
           const auto& b = gb.cast<const graph::PoseGraph3D&>();
+          check_candidate_ids(std::get<1>(c.edges), a, b);
           py::gil_scoped_release release;
           Q = app::consistency(a, b, std::get<1>(c.edges), o).q;
         } else {

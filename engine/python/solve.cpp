@@ -1,7 +1,9 @@
 // keel Python module — batch solve (keel::pgo) and joint marginal covariances (keel::cov).
 #include <fmt/format.h>
 
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <variant>
 
@@ -397,8 +399,13 @@ each edge's information) and its certificate: a lower bound on the global minimu
   m.def(
       "solve",
       [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
-         std::uint64_t seed, unsigned threads, int max_iterations, bool certify, double gap_tolerance,
-         int max_rank) -> py::object {
+         const py::object& seed_obj, const py::object& threads_obj, const py::object& max_iterations_obj,
+         bool certify, double gap_tolerance, const py::object& max_rank_obj) -> py::object {
+        // Integers named in errors (TypeError for a float or a bool, OverflowError beyond the C++ type).
+        const std::uint64_t seed = uint_arg(seed_obj, "solve", "seed", UINT64_MAX);
+        const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "solve", "threads", UINT_MAX));
+        const int max_iterations = int_arg(max_iterations_obj, "solve", "max_iterations");
+        const int max_rank = int_arg(max_rank_obj, "solve", "max_rank");
         if (certify) {
           app::SolveOptions o;
           o.certify = true;
@@ -463,8 +470,10 @@ keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run fro
            "'nesdis', 'natural'; extraction: 'auto', 'forward', 'solve' (cov::CovarianceOptions).")
       .def(
           "pairs",
-          [](const cov::MarginalCovariance& mc, const py::object& pairs, unsigned threads) {
-            return pair_query(mc, pairs, threads);
+          [](const cov::MarginalCovariance& mc, const py::object& pairs, const py::object& threads) {
+            return pair_query(
+                mc, pairs,
+                static_cast<unsigned>(uint_arg(threads, "MarginalCovariance.pairs", "threads", UINT_MAX)));
           },
           py::arg("pairs"), py::arg("threads") = 1,
           "Joint covariances of pairs: (m, 6, 6) for 2D, (m, 12, 12) for 3D (see keel.marginals).")
@@ -482,7 +491,8 @@ keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run fro
   m.def(
       "marginals",
       [](const py::object& g, const py::object& poses, const py::object& pairs, const py::object& ids,
-         unsigned threads) {
+         const py::object& threads_obj) {
+        const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "marginals", "threads", UINT_MAX));
         if (pairs.is_none() == ids.is_none())
           throw std::invalid_argument("marginals: give exactly one of pairs and ids");
         std::vector<int> id_list;

@@ -103,6 +103,29 @@ class WrongTypes(unittest.TestCase):
         self.assertTypeError(r"^pcm_select: dof must be an integer \(got float", keel.pcm_select, np.zeros((2, 2)),
                              dof=3.0)
 
+    def test_counts_seeds_and_threads(self):
+        g = chain()
+        self.assertTypeError(r"^solve: max_iterations must be an integer \(got float 2.5\)", keel.solve, g,
+                             max_iterations=2.5)
+        self.assertTypeError(r"^solve: max_rank must be an integer \(got bool True\)", keel.solve, g, certify=True,
+                             max_rank=True)
+        self.assertTypeError(r"^solve: seed must be an integer >= 0 \(got float", keel.solve, g, seed=1.0)
+        self.assertTypeError(r"^marginals: threads must be an integer >= 0 \(got float 1.0\)", keel.marginals, g,
+                             ids=[1], threads=1.0)
+        self.assertTypeError(r"^MarginalCovariance.pairs: threads must be an integer >= 0 \(got str",
+                             keel.MarginalCovariance(g).pairs, [(1, 2)], threads="2")
+        self.assertTypeError(r"^consistency_matrix: threads must be an integer >= 0 \(got NoneType",
+                             keel.consistency_matrix, g, g, keel.Candidates([[0, 1]], [[1.0, 0.0, 0.0]]),
+                             threads=None)
+        self.assertTypeError(r"^align: rounds must be an integer \(got float 2.0\)", keel.align,
+                             np.zeros((5, 2)), np.zeros(5), np.zeros((3, 2)), np.zeros(3), rounds=2.0)
+        with self.assertRaisesRegex(OverflowError, r"^solve: threads = -1 is outside 0 … 4294967295"):
+            keel.solve(g, threads=-1)
+        with self.assertRaisesRegex(OverflowError, r"^solve: seed = 18446744073709551616 is outside 0 … "
+                                                   r"18446744073709551615"):
+            keel.solve(g, seed=2**64)
+        self.assertEqual(keel.solve(g, seed=np.uint64(2**64 - 1), init="random").termination, "converged")
+
     def test_arrays(self):
         self.assertTypeError(r"^Graph2D: 2D poses must be a float array \(got str", keel.Graph2D, "abc",
                              [[0, 1]], [[1, 0, 0]])
@@ -149,6 +172,12 @@ class IdsOutOfRange(unittest.TestCase):
             keel.marginals(g, ids=[-2])
         with self.assertRaises(IndexError):
             keel.marginals(g, ids=[5])
+
+    def test_candidates_beyond_the_graphs(self):
+        g = chain()
+        with self.assertRaisesRegex(IndexError, re.escape("consistency_matrix: candidates.edges[0, 1] = 5 is not a "
+                                                          "pose of graph_b (it has 3 poses)")):
+            keel.consistency_matrix(g, g, keel.Candidates([[0, 5]], [[1.0, 0.0, 0.0]]))
 
     def test_graph_edges_and_joint_poses(self):
         with self.assertRaisesRegex(IndexError, re.escape("Graph2D: edges[1, 1] = 3 is not a pose id (the graph "

@@ -27,34 +27,43 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes the graph with the solution as its initial estimate: the format of --out's extension (.g2o or .txt),
-// otherwise the input's.
+// The format --out is written in: its extension's (.g2o, .txt), otherwise the input's, from the input's first
+// record, read before the work. An input that is not a regular file (a pipe) cannot be read again: such an
+// --out must name its format.
+graph::GraphFormat out_format(const SolveArgs& a) {
+  const auto ext = fs::path(a.out).extension();
+  if (ext == ".g2o") return graph::GraphFormat::g2o;
+  if (ext == ".txt") return graph::GraphFormat::isam;
+  std::error_code ec;
+  if (!fs::exists(a.file, ec)) return graph::GraphFormat::g2o;  // reading the input reports the error
+  if (!fs::is_regular_file(a.file, ec))
+    throw CLI::ValidationError("--out",
+                               fmt::format("{}: name it .g2o or .txt ({} is not a regular file, so its "
+                                           "format cannot be read from it a second time)",
+                                           a.out, a.file));
+  std::ifstream in(a.file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return graph::detect_graph_format(text, a.file).value_or(graph::GraphFormat::g2o);
+}
+
+// Writes the graph with the solution as its initial estimate.
 template <class Graph>
-void write_solution(Graph g, const fs::path& out, const fs::path& input) {
-  const auto ext = out.extension();
-  if (ext != ".g2o" && ext != ".txt") {
-    const auto text = [&] {
-      std::ifstream in(input);
-      return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    }();
-    const auto format = graph::detect_graph_format(text, input).value_or(graph::GraphFormat::g2o);
-    if (format == graph::GraphFormat::g2o) {
-      graph::write_g2o(g, out);
-    } else {
-      graph::write_isam(g, out);
-    }
-    return;
+void write_solution(const Graph& g, const fs::path& out, graph::GraphFormat format) {
+  if (format == graph::GraphFormat::g2o) {
+    graph::write_g2o(g, out);
+  } else {
+    graph::write_isam(g, out);
   }
-  graph::write_pose_graph(g, out);
 }
 
 template <class Graph>
-void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs) {
+void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs,
+                graph::GraphFormat format) {
   stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), a.options.init));
   const auto s = app::solve(g, a.options);
   check_solved(s.summary);
   if (!a.out.empty()) {
-    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, a.file); });
+    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, format); });
     outputs.commit();
     stage(fmt::format("wrote {}", a.out));
   }
@@ -74,14 +83,15 @@ void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Ou
 // Not certified, the command prints what it found and exits 1 (done, but not what was asked) without
 // writing --out: outputs are written only on exit 0.
 template <class Graph>
-void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs) {
+void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs,
+                  graph::GraphFormat format) {
   stage(fmt::format("certified solve ({} poses, {} edges, gap tolerance {:g}, ranks up to {})",
                     g.poses.size(), g.edges.size(), a.options.gap_tolerance, a.options.max_rank));
   const auto s = app::solve_certified(g, a.options);
   const bool certified = s.summary.certificate.certified;
   const bool written = certified && !a.out.empty();
   if (written) {
-    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, a.file); });
+    outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, format); });
     outputs.commit();
     stage(fmt::format("wrote {}", a.out));
   }
@@ -108,6 +118,7 @@ void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::
 void run_solve(const SolveArgs& a) {
   const Stages stage("solve", a.common.quiet);
   app::Outputs outputs({{"file", a.file}});
+  const auto format = a.out.empty() ? graph::GraphFormat::g2o : out_format(a);
   if (!a.out.empty()) outputs.file("--out", a.out, app::OutputKind::graph());
   stage(fmt::format("reading {}", a.file));
   // The isotropic model of --certify reads only the diagonal blocks of each information matrix; the
@@ -139,9 +150,9 @@ void run_solve(const SolveArgs& a) {
   std::visit(
       [&](const auto& g) {
         if (a.options.certify) {
-          certify_file(a, g, stage, outputs);
+          certify_file(a, g, stage, outputs, format);
         } else {
-          solve_file(a, g, stage, outputs);
+          solve_file(a, g, stage, outputs, format);
         }
       },
       graph);

@@ -289,6 +289,18 @@ class FailingRunsChangeNothing(Scratch):
         self.keel("solve", "coupled.g2o", "--out", "out.g2o", expect=1)
         self.assertEqual(self.bytes("out.g2o"), SQUARE.encode())
 
+    def test_solve_from_a_pipe_writes_its_out_once_named(self):
+        def run(out):
+            return subprocess.run(["bash", "-c", f'"{KEEL}" solve <(cat square.g2o) --out {out} --quiet'],
+                                  cwd=self.dir, capture_output=True, text=True, timeout=60)
+        p = run("x.sol")  # the input's format would need a second read of the pipe
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("x.sol: name it .g2o or .txt", p.stderr)
+        self.assertFalse(os.path.exists(self.path("x.sol")))
+        p = run("x.g2o")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertTrue(self.bytes("x.g2o").startswith(b"VERTEX_SE2 0 "))
+
     def test_outputs_keep_the_usual_permissions(self):
         self.keel("solve", "square.g2o", "--out", "new.g2o", "--quiet")
         mask = os.umask(0)

@@ -114,6 +114,12 @@ inline void add_solve_options(CLI::App* c, SolveArgs& a) {
   c->add_option("--max-iterations", o.max_iterations, "trust-region iterations")->capture_default_str();
 }
 
+// The attempts of a certificate's proof that failed, as failed: null when none did.
+inline json certificate_failures_json(const pgo::Certificate& c) {
+  if (!(c.failed_shift > 0.0)) return json(nullptr);
+  return {{"proven", false}, {"largest_failed_shift", c.failed_shift}, {"attempts", c.attempts}};
+}
+
 inline json certificate_json(const pgo::CertifiedSummary& s) {
   const auto& c = s.certificate;
   json stairs = json::array();
@@ -127,6 +133,9 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
                       {"certified", r.certified},
                       {"lambda_min_estimate", r.lambda_min_estimate},
                       {"time_s", r.time_s}});
+  // Every figure of a proof comes from the proof behind lower_bound and is null when nothing was proven;
+  // failed attempts are reported under "failed_attempts" only.
+  const auto proven = [&](const json& v) { return c.proven ? v : json(nullptr); };
   return {{"termination", std::string(pgo::to_string(s.termination))},
           {"status", std::string(core::to_string(s.status))},
           {"message", s.message},
@@ -134,15 +143,30 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
           {"initial_cost", s.initial_cost},
           {"final_cost", s.final_cost},
           {"certified", c.certified},
-          {"lower_bound", c.bound.lower},
-          {"upper_bound", c.bound.upper},
-          {"relative_gap", c.bound.relative_gap()},
-          {"lambda_min_lower_bound", std::isfinite(c.bound.lower) ? json(-c.shift) : json(nullptr)},
+          {"proven", c.proven},
+          {"lower_bound", proven(c.bound.lower)},  // rounded down
+          {"upper_bound", c.bound.upper},          // F at the returned point, rounded up
+          {"relative_gap", proven(c.bound.relative_gap_up())},
+          {"lambda_min_lower_bound", proven(-c.shift)},
+          {"shift", proven(c.shift)},
+          {"tolerance_shift", c.tolerance_shift},
           {"trace_lambda", c.trace_lambda},
-          {"rounding_margin", c.rounding_margin},
-          {"residual", c.residual},
-          {"worst_case_residual", c.worst_case_residual},
-          {"extended_precision", c.extended_precision},
+          {"proof_rank", proven(c.rank)},
+          {"rounding_margin", proven(c.rounding_margin)},
+          {"residual", proven(c.residual)},
+          {"worst_case_residual", proven(c.worst_case_residual)},
+          {"formation_error", proven(c.formation_error)},
+          {"extended_precision", proven(c.extended_precision)},
+          {"failed_attempts", certificate_failures_json(c)},
+          {"bound_from_staircase", s.bound_from_staircase},
+          {"returned_point",
+           s.bound_from_staircase
+               ? json{{"proven", s.returned_point.proven},
+                      {"lower_bound",
+                       s.returned_point.proven ? json(s.returned_point.bound.lower) : json(nullptr)},
+                      {"message", s.returned_point.message},
+                      {"failed_attempts", certificate_failures_json(s.returned_point)}}
+               : json(nullptr)},
           {"certificate_order", c.size},
           {"final_rank", s.final_rank},
           {"staircase", stairs},
@@ -169,14 +193,30 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
              std::isfinite(anisotropic)
                  ? fmt::format("{:.10g}", anisotropic)
                  : std::string("n/a (not every information matrix is positive definite)"));
-  if (std::isfinite(c.bound.lower)) {
+  // Only what the proof behind the lower bound established is printed as proven, rounded outward (the lower
+  // bound down, the gap and the shift up); a failed attempt is printed as failed.
+  if (c.proven) {
+    const double dual_gap = core::round_up(core::round_up(c.bound.upper - c.trace_lambda) /
+                                           std::fmax(1.0, std::abs(c.bound.upper)));
     fmt::print(
-        "certificate  F* ≥ {:.10g} (relative gap {:.3g}); λ_min(S) ≥ −{:.3g} on the rotations, proven with "
-        "rounding margin {:.3g} (S of order {})\n",
-        c.bound.lower, c.bound.relative_gap(), c.shift, c.rounding_margin, c.size);
+        "certificate  {}: F* ≥ {} proven, relative gap (F − bound) / F ≤ {} ((F − tr Λ) / F = {} at the "
+        "multipliers, plus the shift η·d·n / F chosen from the gap tolerance); λ_min(S) ≥ −{} on the "
+        "rotations, proven with rounding margin {:.3g} (S of order {}{})\n",
+        c.certified ? "certified" : "not certified", core::format_lower(c.bound.lower, 10),
+        core::format_upper(c.bound.relative_gap_up(), 3), core::format_upper(dual_gap, 3),
+        core::format_upper(c.shift, 3), c.rounding_margin, c.size,
+        c.rank > s.dimension ? fmt::format(", multipliers of the rank-{} staircase point", c.rank) : "");
   } else {
-    fmt::print("certificate  none: {}\n", c.message);
+    fmt::print("certificate  not certified: {}\n", c.message);  // "no lower bound: " and what failed
   }
+  if (c.failed_shift > 0.0)
+    fmt::print(
+        "failed       S + η·D ⪰ 0 could not be shown for η up to {:.3g} at the rank-{} point ({} attempts; "
+        "not a bound)\n",
+        c.failed_shift, c.rank, c.attempts);
+  if (s.bound_from_staircase)
+    fmt::print("returned     the returned estimate's own test: {}\n",
+               s.returned_point.proven ? s.returned_point.message : "failed, " + s.returned_point.message);
   std::string stairs;
   for (const auto& r : s.staircase)
     stairs +=

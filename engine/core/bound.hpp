@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <string_view>
 
 namespace keel::core {
@@ -39,6 +40,29 @@ struct Bound {
     if (lower >= upper) return 0.0;
     return (upper - lower) / std::max(1.0, std::abs(upper));
   }
+  // The same gap rounded upward (each operation's result moved one ulp toward +∞, round_up below): what a
+  // certificate prints and records, never below the gap of the exact ends.
+  [[nodiscard]] double relative_gap_up() const { return relative_gap_up_of(lower, upper); }
+  [[nodiscard]] static double relative_gap_up_of(double lower, double upper);
 };
+
+// Outward rounding by one-ulp steps. A double operation rounded to nearest errs by at most half an ulp of its
+// result, so moving the result one ulp toward −∞ (round_down) after each operation of a lower bound, or
+// toward +∞ (round_up) after each operation of an upper bound, keeps the bound on its side of the exact value
+// whatever the rounding mode the compiler assumed. Non-finite values are returned as they are.
+[[nodiscard]] inline double round_down(double x) {
+  return std::isfinite(x) ? std::nextafter(x, -std::numeric_limits<double>::infinity()) : x;
+}
+[[nodiscard]] inline double round_up(double x) {
+  return std::isfinite(x) ? std::nextafter(x, std::numeric_limits<double>::infinity()) : x;
+}
+
+// x with `significant` significant digits in the style of printf's %.Ng (1 ≤ N ≤ 15), the decimal rounded
+// toward −∞ (format_lower) or toward +∞ (format_upper) instead of to nearest: a printed lower bound is never
+// above the value, a printed upper bound never below it ("F* ≥ 638.6245" for 638.624599974, not 638.6246).
+// The decision uses x's exact decimal expansion; "inf", "-inf" and "nan" as they are. Throws
+// std::invalid_argument for N outside [1, 15].
+[[nodiscard]] std::string format_lower(double x, int significant);
+[[nodiscard]] std::string format_upper(double x, int significant);
 
 }  // namespace keel::core

@@ -26,6 +26,10 @@ using keel::core::splitmix64;
 using keel::core::Streams;
 // the bound and status of every search that can stop early and every certificate
 using keel::core::Bound;
+using keel::core::format_lower;
+using keel::core::format_upper;
+using keel::core::round_down;
+using keel::core::round_up;
 using keel::core::search_status_from_string;
 using keel::core::SearchStatus;
 using keel::core::to_string;

@@ -45,9 +45,6 @@ using Block =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 2 * kMaxTangent, 2 * kMaxTangent>;
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;  // u = 2⁻⁵³
 
-// γ_k = k u / (1 − k u) (Higham §3.1).
-double gamma(double k) { return k * kUnitRoundoff / (1.0 - k * kUnitRoundoff); }
-
 [[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(fmt::format("pgo: {}", what)); }
 
 struct EdgeData {
@@ -827,27 +824,80 @@ using detail::dd_prod;
 using detail::dd_scale;
 
 // M's entries of one edge as blocks in the local coordinates of pose blocks (pose 0 has no translation
-// column), in double-double. Returns through `add(a, b, row, col, value)` with a, b the poses and row/col
-// local indices (translation 0 when present, rotation c at 1 + c; for pose 0 rotation c at c).
+// column), in double-double. Returns through `add(a, b, row, col, value, magnitude)` with a, b the poses,
+// row/col local indices (translation 0 when present, rotation c at 1 + c; for pose 0 rotation c at c) and
+// `magnitude` ≥ the sum of the magnitudes of the products the value is formed from, rounded up: the error of
+// forming a value scales with it, not with the value (the off-diagonal entries of R̃R̃ᵀ cancel to ~u while
+// their products are of order one).
 template <class Add>
 void edge_entries(const EdgeData& e, int d, Add&& add) {
+  using core::round_up;
   const int ti = e.i == 0 ? -1 : 0, tj = e.j == 0 ? -1 : 0;
   const int ri = e.i == 0 ? 0 : 1, rj = e.j == 0 ? 0 : 1;
-  if (ti >= 0) add(e.i, e.i, ti, ti, DD{e.tau, 0.0});
-  if (tj >= 0) add(e.j, e.j, tj, tj, DD{e.tau, 0.0});
-  if (ti >= 0 && tj >= 0) add(e.i, e.j, ti, tj, DD{-e.tau, 0.0});
+  if (ti >= 0) add(e.i, e.i, ti, ti, DD{e.tau, 0.0}, e.tau);
+  if (tj >= 0) add(e.j, e.j, tj, tj, DD{e.tau, 0.0}, e.tau);
+  if (ti >= 0 && tj >= 0) add(e.i, e.j, ti, tj, DD{-e.tau, 0.0}, e.tau);
   for (int c = 0; c < d; ++c) {
     for (int c2 = 0; c2 < d; ++c2) {
-      DD rr;  // (R̃ R̃ᵀ)_{c c2}, of the stored R̃ (orthonormal only to rounding)
-      for (int m = 0; m < d; ++m) rr = dd_add(rr, dd_prod(e.R(c, m), e.R(c2, m)));
-      add(e.i, e.i, ri + c, ri + c2,
-          dd_add(dd_scale(rr, e.kappa), dd_scale(dd_prod(e.t(c), e.t(c2)), e.tau)));
-      if (c == c2) add(e.j, e.j, rj + c, rj + c2, DD{e.kappa, 0.0});
-      add(e.i, e.j, ri + c, rj + c2, dd_prod(-e.kappa, e.R(c, c2)));
+      DD rr;              // (R̃ R̃ᵀ)_{c c2}, of the stored R̃ (orthonormal only to rounding)
+      double rr_abs = 0;  // Σ_m |R̃_{cm} R̃_{c2 m}|, rounded up
+      for (int m = 0; m < d; ++m) {
+        rr = dd_add(rr, dd_prod(e.R(c, m), e.R(c2, m)));
+        rr_abs = round_up(rr_abs + round_up(std::abs(e.R(c, m) * e.R(c2, m))));
+      }
+      const double magnitude =
+          round_up(round_up(e.kappa * rr_abs) + round_up(e.tau * round_up(std::abs(e.t(c) * e.t(c2)))));
+      add(e.i, e.i, ri + c, ri + c2, dd_add(dd_scale(rr, e.kappa), dd_scale(dd_prod(e.t(c), e.t(c2)), e.tau)),
+          magnitude);
+      if (c == c2) add(e.j, e.j, rj + c, rj + c2, DD{e.kappa, 0.0}, e.kappa);
+      add(e.i, e.j, ri + c, rj + c2, dd_prod(-e.kappa, e.R(c, c2)), round_up(std::abs(e.kappa * e.R(c, c2))));
     }
-    if (ti >= 0) add(e.i, e.i, ti, ri + c, dd_prod(e.tau, e.t(c)));  // translation first: the upper triangle
-    if (tj >= 0) add(e.i, e.j, ri + c, tj, dd_prod(-e.tau, e.t(c)));
+    // Translation first: the upper triangle.
+    if (ti >= 0) add(e.i, e.i, ti, ri + c, dd_prod(e.tau, e.t(c)), round_up(std::abs(e.tau * e.t(c))));
+    if (tj >= 0) add(e.i, e.j, ri + c, tj, dd_prod(-e.tau, e.t(c)), round_up(std::abs(e.tau * e.t(c))));
   }
+}
+
+// F at X rounded upward, an upper bound on F at the point as stored: every residual entry in double-double
+// (exact products; k additions err by at most 8k·u² times the sum of their terms' magnitudes), its
+// magnitude bounded above, then squares, weights and sums each moved one ulp toward +∞ (core::round_up).
+// Near a zero residual the entries of R_j − R_i R̃ cancel, so a bound relative to F itself would not hold.
+double cost_upper(const Problem& P, const Point& X) {
+  using core::round_up;
+  const int d = P.d, r = X.r;
+  constexpr double u2 = kUnitRoundoff * kUnitRoundoff;
+  // |exact| ≤ |hi| + |lo| + 8(k + 1)u²·magnitude (exact products of small integers and powers of two).
+  auto entry = [&](DD s, double magnitude, int additions) {
+    const double err = round_up(8.0 * (additions + 1) * u2 * magnitude);
+    const double v = round_up(round_up(std::abs(s.hi) + std::abs(s.lo)) + err);
+    return round_up(v * v);
+  };
+  double f = 0.0;
+  for (const auto& e : P.edges) {
+    const auto Yi = X.Y(e.i, d);
+    const auto Yj = X.Y(e.j, d);
+    double rot = 0.0, trans = 0.0;
+    for (int a = 0; a < r; ++a) {
+      for (int c = 0; c < d; ++c) {
+        DD s{Yj(a, c), 0.0};
+        double mag = std::abs(Yj(a, c));
+        for (int m = 0; m < d; ++m) {
+          s = dd_add(s, dd_prod(-Yi(a, m), e.R(m, c)));
+          mag = round_up(mag + round_up(std::abs(Yi(a, m) * e.R(m, c))));
+        }
+        rot = round_up(rot + entry(s, mag, d));
+      }
+      DD s = dd_add(DD{X.T(a, e.j), 0.0}, DD{-X.T(a, e.i), 0.0});
+      double mag = round_up(std::abs(X.T(a, e.j)) + std::abs(X.T(a, e.i)));
+      for (int m = 0; m < d; ++m) {
+        s = dd_add(s, dd_prod(-Yi(a, m), e.t(m)));
+        mag = round_up(mag + round_up(std::abs(Yi(a, m) * e.t(m))));
+      }
+      trans = round_up(trans + entry(s, mag, d + 1));
+    }
+    f = round_up(f + round_up(round_up(e.kappa * rot) + round_up(e.tau * trans)));
+  }
+  return f;
 }
 
 // The certificate at X: Λ from the first-order conditions, the shift η* of the gap tolerance and the proof of
@@ -870,13 +920,14 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   for (const auto& L : Lam)
     for (int c = 0; c < d; ++c) {
       trace += L(c, c);
-      trace_abs += std::abs(L(c, c));
+      trace_abs = core::round_up(trace_abs + std::abs(L(c, c)));  // an upper bound on Σ|Λ_cc|
     }
   C.trace_lambda = trace;
   const double dn = static_cast<double>(d) * P.n;
   const double eta = (gap_tolerance * std::max(F, 1.0) - (F - trace)) / dn;
-  C.shift = eta;
-  C.bound.upper = F;
+  C.tolerance_shift = eta;
+  C.rank = X.r;
+  C.bound.upper = cost_upper(P, X);
   CertificateMatrix CM(P);
   const BlockPattern& pat = CM.pattern;
   const int N = pat.dimension();
@@ -886,17 +937,17 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   const std::size_t nnz = pat.row_index().size();
   std::vector<double> S(nnz, 0.0), S_lo(nnz, 0.0), Sabs(nnz, 0.0);
   std::vector<int> S_terms(nnz, 0);
-  auto accumulate = [&](int idx, DD value) {
+  auto accumulate = [&](int idx, DD value, double magnitude) {
     const auto q = static_cast<std::size_t>(idx);
     const DD sum = dd_add(DD{S[q], S_lo[q]}, value);
     S[q] = sum.hi;
     S_lo[q] = sum.lo;
-    Sabs[q] += std::abs(value.hi) + std::abs(value.lo);
+    Sabs[q] = core::round_up(Sabs[q] + magnitude);
     ++S_terms[q];
   };
   for (std::size_t k = 0; k < P.edges.size(); ++k) {
     const int pos = CM.pos[k];
-    edge_entries(P.edges[k], d, [&](int a, int b, int row, int col, DD value) {
+    edge_entries(P.edges[k], d, [&](int a, int b, int row, int col, DD value, double magnitude) {
       int idx = 0;
       if (a == b) {
         if (row > col) return;  // upper triangle only (the lower one is its mirror)
@@ -906,7 +957,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
       } else {
         idx = pat.index(pos, a, col, row);
       }
-      accumulate(idx, value);
+      accumulate(idx, value, magnitude);
     });
   }
   // − Λ on the rotation blocks (Λ as stored: any symmetric Λ gives a valid bound).
@@ -915,11 +966,14 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     const int dp = pat.diagonal_position(v);
     for (int c2 = 0; c2 < d; ++c2)
       for (int c = 0; c <= c2; ++c)
-        accumulate(pat.index(dp, v, rot + c, rot + c2), DD{-Lam[static_cast<std::size_t>(v)](c, c2), 0.0});
+        accumulate(pat.index(dp, v, rot + c, rot + c2), DD{-Lam[static_cast<std::size_t>(v)](c, c2), 0.0},
+                   std::abs(Lam[static_cast<std::size_t>(v)](c, c2)));
   }
-  // Each term of an entry is formed with an error below 3u²|term| (products of two or three stored numbers, a
-  // sum of d products for R̃R̃ᵀ) and each of the entry's additions errs by at most 4u²·(the partial sums'
-  // magnitudes) ≤ 4u²·Σ|terms|: |error| ≤ (4m + 3d + 3)·u²·Σ|terms| for m terms.
+  // Each term of an entry is formed from products of stored numbers with an error below (4d + 7)·u² times the
+  // sum of those products' magnitudes (the term's `magnitude`: d exact products added in double-double for
+  // R̃R̃ᵀ, 4u² of the partial sums each, then κ· and τ· scalings of 3u² and one addition of 4u²), and each of
+  // the entry's m additions errs by at most 4u²·(the partial sums' magnitudes) ≤ 4u²·Σ magnitudes:
+  // |error| ≤ (4m + 4d + 8)·u²·Σ magnitudes.
   const std::vector<double> S_unshifted = S;
   auto is_rotation = [&](int col) {
     // Pose 0 occupies columns 0 … d−1 (all rotation); pose v ≥ 1 starts with its translation.
@@ -934,7 +988,8 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   SS.lo = S_lo;
   SS.error.resize(nnz);
   for (std::size_t q = 0; q < nnz; ++q)
-    SS.error[q] = (4.0 * S_terms[q] + 3.0 * d + 3.0) * kUnitRoundoff * kUnitRoundoff * Sabs[q];
+    SS.error[q] =
+        core::round_up((4.0 * S_terms[q] + 4.0 * d + 8.0) * kUnitRoundoff * kUnitRoundoff * Sabs[q]);
   std::vector<char> rotation_columns(static_cast<std::size_t>(N));
   for (int col = 0; col < N; ++col)
     rotation_columns[static_cast<std::size_t>(col)] = is_rotation(col) ? 1 : 0;
@@ -945,32 +1000,51 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   // The proof of S + η·D ⪰ 0 at the smallest shift it can reach (psd_proof.hpp): η*/33 or η*/2 certify;
   // otherwise up to 10⁵·gap·max(F, 1)/(dn), the tightest bound that can be proven, outside the tolerance.
   const detail::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5);
-  C.rounding_margin = search.proof.margin;
-  C.residual = search.proof.residual;
-  C.worst_case_residual = search.proof.worst_case_residual;
-  C.formation_error = search.proof.formation_error;
-  C.extended_precision = search.within_tolerance && search.proof.extended_precision;
-  const bool proven = search.proven;
-  const double eta_proven = search.shift;
+  C.attempts = search.attempts;
+  C.failed_shift = search.largest_failed;
+  C.proven = search.proven;
+  // The proof's fields only from the proof that succeeded (search.proof is the last attempt's: a failed one
+  // when nothing was proven).
+  if (search.proven) {
+    C.shift = search.shift;
+    C.rounding_margin = search.proof.margin;
+    C.residual = search.proof.residual;
+    C.worst_case_residual = search.proof.worst_case_residual;
+    C.formation_error = search.proof.formation_error;
+    C.extended_precision = search.proof.extended_precision;
+  }
+  // What failed is kept apart from what was proven (C.failure, C.message): a failed attempt is never
+  // described beside a proof.
+  const std::string all_failed = search.proven
+                                     ? std::string()
+                                     : fmt::format("; every shift up to η = {:.3g} failed too ({} attempts)",
+                                                   C.failed_shift, C.attempts);
   if (!search.within_tolerance)
-    C.message =
+    C.failure =
         eta > 0.0
-            ? std::string("the factorization of W(S + η·D)W − μI broke down at η = η*/2")
-            : fmt::format("not stationary enough for the gap tolerance: F − tr(Λ) = {:.3g} exceeds {:.3g}",
-                          F - trace, gap_tolerance * std::max(F, 1.0));
-  C.tolerance_shift = eta;
-  C.shift = proven ? eta_proven : eta;
+            ? fmt::format(
+                  "S + η·D ⪰ 0 could not be shown at η*/33 or η*/2 = {:.3g} (η* = {:.3g}): the "
+                  "factorization of W(S + η·D)W − μI broke down or its residual exceeded μ{}",
+                  0.5 * eta, eta, all_failed)
+            : fmt::format("not stationary enough for the gap tolerance: F − tr(Λ) = {:.3g} exceeds {:.3g}{}",
+                          F - trace, gap_tolerance * std::max(F, 1.0), all_failed);
   bool certified = false;
-  if (!proven) C.residual = C.worst_case_residual = C.formation_error = 0.0;
-  // The lower bound: tr(Λ) − η d n, rounded down (the trace's own rounding, γ_{dn} Σ|Λ_cc|).
-  if (proven) {
-    C.bound.lower = trace - gamma(dn) * trace_abs - eta_proven * dn * (1.0 + 4.0 * kUnitRoundoff);
-    certified = core::Bound::relative_gap_of(C.bound.lower, C.bound.upper) <= gap_tolerance;
+  if (search.proven) {
+    // The lower bound tr(Λ) − γ_{dn}Σ|Λ_cc| − η d n (γ_{dn}Σ|Λ_cc|: the rounding of the trace's sum), every
+    // operation rounded outward: the subtracted terms up, the differences down (core::round_down).
+    const double k_u = dn * kUnitRoundoff;  // exact: an integer times a power of two
+    const double gamma_up = core::round_up(k_u / core::round_down(1.0 - k_u));
+    const double trace_error = core::round_up(gamma_up * trace_abs);
+    const double shift_term = core::round_up(C.shift * dn);
+    C.bound.lower = core::round_down(core::round_down(trace - trace_error) - shift_term);
+    certified = C.bound.relative_gap_up() <= gap_tolerance;
     C.certified = certified;
-    const std::string proof =
-        fmt::format("S + {:.3g}·D ⪰ 0 proven with rounding margin μ = {:.3g} (scaled){}", eta_proven,
-                    C.rounding_margin, C.extended_precision ? " by a double-double factor" : "");
-    C.message = certified ? proof : C.message + "; " + proof + ", outside the gap tolerance";
+    C.message = fmt::format("S + {}·D ⪰ 0 proven with rounding margin μ = {:.3g} (scaled){}{}",
+                            core::format_upper(C.shift, 3), C.rounding_margin,
+                            C.extended_precision ? " by a double-double factor" : "",
+                            certified ? "" : ", outside the gap tolerance");
+  } else {
+    C.message = "no lower bound: " + C.failure;
   }
   if (!certified && escape) {
     // A direction of negative curvature: σ doubled from max(η, tiny) until S + σD factorizes, then inverse
@@ -1155,7 +1229,17 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   S.initial_cost = cost(P, X);
   S.initialization_time_s = core::seconds_since(t0);
 
-  double best_lower = -std::numeric_limits<double>::infinity();
+  // The proven certificate with the highest lower bound over every point tested (any proven Λ bounds the
+  // minimum, whichever point it came from), and whether it is the last one tested.
+  Certificate best;
+  int tested = 0, best_index = -1;
+  auto keep = [&](const Certificate& C) {
+    if (C.proven && (!best.proven || C.bound.lower > best.bound.lower)) {
+      best = C;
+      best_index = tested;
+    }
+    ++tested;
+  };
   bool rank_limited = false;
   for (;;) {
     const auto t_rank = core::Clock::now();
@@ -1175,7 +1259,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     t0 = core::Clock::now();
     const Certificate C = certificate_at(P, X, o.gap_tolerance, X.r < o.max_rank ? &esc : nullptr);
     S.certificate_time_s += core::seconds_since(t0);
-    if (std::isfinite(C.bound.lower)) best_lower = std::max(best_lower, C.bound.lower);
+    keep(C);
     rec.certified = C.certified;
     rec.lambda_min_estimate = esc.found ? esc.rayleigh : 0.0;
     rec.time_s = core::seconds_since(t_rank);
@@ -1206,7 +1290,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     t0 = core::Clock::now();
     Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
     S.certificate_time_s += core::seconds_since(t0);
-    if (std::isfinite(C.bound.lower)) best_lower = std::max(best_lower, C.bound.lower);
+    keep(C);
     S.certificate = C;
   } else {
     // Already SO(d)ⁿ (to rounding): re-project and re-solve the translations so the returned rotations are
@@ -1216,22 +1300,41 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     S.rounding_time_s = core::seconds_since(t0);
   }
   S.final_cost = cost(P, X);
-  S.certificate.bound.upper = S.final_cost;
-  if (std::isfinite(best_lower)) S.certificate.bound.lower = std::max(S.certificate.bound.lower, best_lower);
-  const double gap = S.certificate.bound.relative_gap();
-  S.certificate.certified = std::isfinite(best_lower) && gap <= o.gap_tolerance;
+  // The reported certificate is the proof behind the best lower bound, every field its own; the upper end is
+  // F at the returned point, rounded up. Nothing proven: the last test's failure, lower −∞.
+  const double upper = cost_upper(P, X);
+  if (best.proven) {
+    if (best_index != tested - 1) {
+      // The bound comes from a staircase point: the returned point's own test is reported beside it.
+      S.bound_from_staircase = true;
+      S.returned_point = S.certificate;
+      S.returned_point.bound.upper = upper;
+    }
+    S.certificate = best;
+  } else {
+    S.certificate.bound.lower = -std::numeric_limits<double>::infinity();
+  }
+  S.certificate.bound.upper = upper;
+  const double gap = S.certificate.bound.relative_gap_up();
+  S.certificate.certified = S.certificate.proven && gap <= o.gap_tolerance;
   if (S.certificate.certified) {
     S.termination = CertifiedTermination::certified;
     S.status = core::SearchStatus::optimal;
-    S.message = fmt::format("numerically certified at rank {}: relative gap {:.3g} ≤ {:.3g}", S.final_rank,
-                            gap, o.gap_tolerance);
+    S.message = fmt::format("numerically certified at rank {}: relative gap {} ≤ {:.3g}", S.final_rank,
+                            core::format_upper(gap, 3), o.gap_tolerance);
   } else {
     S.termination = rank_limited ? CertifiedTermination::rank_limit : CertifiedTermination::not_certified;
     S.status = core::SearchStatus::unproven;
     if (S.message.empty())
       S.message = rank_limited
                       ? fmt::format("the staircase reached max_rank = {} without a certificate", o.max_rank)
-                      : fmt::format("not certified: {}", S.certificate.message);
+                  : !S.certificate.proven
+                      ? fmt::format("not certified: {}", S.certificate.message)
+                      : fmt::format(
+                            "not certified: the best lower bound (multipliers of the rank-{} point) leaves a "
+                            "relative gap of {} > {:.3g}{}",
+                            S.certificate.rank, core::format_lower(gap, 3), o.gap_tolerance,
+                            S.bound_from_staircase ? "; the returned point's own test failed" : "");
   }
   poses.resize(static_cast<std::size_t>(P.n));
   for (int v = 0; v < P.n; ++v)

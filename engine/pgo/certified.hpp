@@ -88,15 +88,23 @@ struct CertifiedOptions {
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
-// The certificate of one point (the last one tested is the one reported).
+// A certificate: the lower bound and the proof behind it. Every field that describes a proof (shift,
+// rounding_margin, residual, worst_case_residual, formation_error, extended_precision) belongs to the proof
+// of S + η·D ⪰ 0 that produced `bound.lower`, and is zero (false) when no proof succeeded (`proven` false,
+// bound.lower = −∞). Attempts that failed are reported only as failed: `failed_shift` and `attempts`.
 struct Certificate {
-  bool certified = false;
-  core::Bound bound;          // lower: proven; upper: F at the point
-  double trace_lambda = 0.0;  // tr(Λ)
-  double shift = 0.0;         // η proven: S + η·D ⪰ 0 (D the identity on the rotation coordinates)
+  bool certified = false;     // proven, and the relative gap (rounded up) is within the gap tolerance
+  bool proven = false;        // a proof of S + η·D ⪰ 0 stands behind bound.lower
+  core::Bound bound;          // lower: proven (rounded down; −∞ when nothing was proven); upper: F at the
+                              // returned point, rounded up
+  double trace_lambda = 0.0;  // tr(Λ) of the multipliers that the proof is about (of the tested point when
+                              // nothing was proven)
+  int rank = 0;               // rank of the point whose multipliers Λ were tested (> d: a staircase point)
+  double shift = 0.0;  // η proven: S + η·D ⪰ 0 (D the identity on the rotation coordinates); 0 when not
   double tolerance_shift =
       0.0;  // η* = (gap_tolerance · max(F, 1) − (F − tr Λ)) / (d n), the largest the gap allows
-  double rounding_margin = 0.0;  // μ (in the scaled matrix) that the factorization had to clear
+  double rounding_margin =
+      0.0;  // μ (in the scaled matrix) that the proof's factorization cleared; 0 when not
   // The proof's error terms, in the scaled matrix: the bound on ‖W(S + ηD)W − μI − L̂L̂ᵀ‖₂ that cleared μ
   // (Higham's when it sufficed, else the measured residual's), Higham's worst case for the same factor, and
   // the bound on the rounding of forming W(S + ηD)W in double-double. Zero when nothing was proven.
@@ -104,10 +112,13 @@ struct Certificate {
   double worst_case_residual = 0.0;
   double formation_error = 0.0;
   bool extended_precision = false;  // the proof needed the double-double factor (residual of order u²)
+  double failed_shift = 0.0;        // the largest η whose proof FAILED at the tested point (0: none failed)
+  int attempts = 0;                 // proofs attempted at the tested point (failed ones included)
   int max_row_count = 0;            // largest row count of the symbolic factor (supernodal, padded)
   int size = 0;                     // order of S (translation 0 removed)
   double time_s = 0.0;
-  std::string message;
+  std::string message;  // the proof when proven; otherwise "no lower bound: " and the failure
+  std::string failure;  // what failed at the tested point (empty when the tolerance's shifts were proven)
 };
 
 // One rank of the staircase.
@@ -139,10 +150,17 @@ struct CertifiedSummary {
   int edges = 0;
   int dimension = 2;
   double initial_cost = 0.0;  // F at the initial estimate
-  double final_cost = 0.0;    // F at the returned estimate
+  double final_cost = 0.0;    // F at the returned estimate (rounded to nearest)
   int final_rank = 0;         // rank of the last local solve before rounding
   std::vector<RankRecord> staircase;
+  // The proof behind the reported lower bound: the best proven over the points tested (the staircase's and
+  // the returned one, `certificate.rank` says which), with the upper end F at the returned point rounded up.
+  // When nothing was proven, the returned point's failed test (proven false, lower −∞).
   Certificate certificate;
+  // True when `certificate` comes from a point of the staircase (rank > d) rather than the returned estimate;
+  // `returned_point` then holds the returned estimate's own test (usually failed, and reported as failed).
+  bool bound_from_staircase = false;
+  Certificate returned_point;
   std::string ordering;  // CHOLMOD's fill-reducing ordering of the Newton systems
   int iterations = 0;    // Newton iterations over all ranks (and the final rank-d solve)
   int factorizations =

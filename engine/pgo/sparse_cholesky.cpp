@@ -512,6 +512,17 @@ double SparseCholesky::residual_bound(const std::vector<double>* trailing) const
   return residual_bound_entrywise(trailing);
 }
 
+void SparseCholesky::computed_factor(std::vector<int>& col_start, std::vector<int>& row_index,
+                                     std::vector<double>& values, std::vector<int>& perm) const {
+  const LowerFactor& L = impl_->lower_factor();
+  col_start = L.p;
+  row_index = L.i;
+  values = L.x;
+  const int* P = static_cast<const int*>(impl_->L->Perm);
+  perm.resize(static_cast<std::size_t>(n_));
+  for (int k = 0; k < n_; ++k) perm[static_cast<std::size_t>(k)] = P ? P[k] : k;
+}
+
 double SparseCholesky::residual_bound_entrywise(const std::vector<double>* trailing) const {
   if (trailing && trailing->size() != values_.size())
     throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");

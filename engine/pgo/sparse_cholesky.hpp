@@ -75,6 +75,11 @@ class SparseCholesky {
   // double-double factor L̂ = L_hi + L_lo (every product split into exact parts, summed as in
   // residual_bound), of the order of u² times the entries.
   [[nodiscard]] double extended_residual_bound(const std::vector<double>& trailing) const;
+  // After a successful factorize(): the computed factor L̂ of P A Pᵀ (lower triangle in compressed columns,
+  // CHOLMOD's simplicial form) and the permutation (row k of P A Pᵀ is row perm[k] of A), so that the tests
+  // can check the bounds above against the residual computed exactly.
+  void computed_factor(std::vector<int>& col_start, std::vector<int>& row_index, std::vector<double>& values,
+                       std::vector<int>& perm) const;
   [[nodiscard]] std::string ordering_name() const;
   [[nodiscard]] double factor_nonzeros() const;
 

@@ -105,18 +105,45 @@ py::object finite_or_none(double x) {
 py::dict certificate_dict(const pgo::CertifiedSummary& s) {
   const auto& c = s.certificate;
   py::dict d;
+  // The proof's figures come from the proof behind lower_bound and are None when nothing was proven; a
+  // failed attempt is reported under "failed_attempts" only.
+  const auto proven = [&](py::object v) { return c.proven ? v : py::object(py::none()); };
   d["certified"] = c.certified;
-  d["lower_bound"] = finite_or_none(c.bound.lower);
-  d["upper_bound"] = c.bound.upper;
-  d["relative_gap"] = finite_or_none(c.bound.relative_gap());
-  d["lambda_min_lower_bound"] =
-      std::isfinite(c.bound.lower) ? py::object(py::float_(-c.shift)) : py::object(py::none());
+  d["proven"] = c.proven;
+  d["lower_bound"] = proven(finite_or_none(c.bound.lower));  // rounded down
+  d["upper_bound"] = c.bound.upper;                          // F at the estimate, rounded up
+  d["relative_gap"] = proven(finite_or_none(c.bound.relative_gap_up()));
+  d["lambda_min_lower_bound"] = proven(py::float_(-c.shift));
+  d["shift"] = proven(py::float_(c.shift));
   d["tolerance_shift"] = c.tolerance_shift;
   d["trace_lambda"] = c.trace_lambda;
-  d["rounding_margin"] = c.rounding_margin;
-  d["residual"] = c.residual;
-  d["worst_case_residual"] = c.worst_case_residual;
-  d["extended_precision"] = c.extended_precision;
+  d["proof_rank"] = proven(py::int_(c.rank));
+  d["rounding_margin"] = proven(py::float_(c.rounding_margin));
+  d["residual"] = proven(py::float_(c.residual));
+  d["worst_case_residual"] = proven(py::float_(c.worst_case_residual));
+  d["formation_error"] = proven(py::float_(c.formation_error));
+  d["extended_precision"] = proven(py::bool_(c.extended_precision));
+  const auto failures = [](const pgo::Certificate& x) -> py::object {
+    if (!(x.failed_shift > 0.0)) return py::none();
+    py::dict failed;
+    failed["proven"] = false;
+    failed["largest_failed_shift"] = x.failed_shift;
+    failed["attempts"] = x.attempts;
+    return failed;
+  };
+  d["failed_attempts"] = failures(c);
+  d["bound_from_staircase"] = s.bound_from_staircase;
+  if (s.bound_from_staircase) {
+    py::dict r;
+    r["proven"] = s.returned_point.proven;
+    r["lower_bound"] =
+        s.returned_point.proven ? finite_or_none(s.returned_point.bound.lower) : py::object(py::none());
+    r["message"] = s.returned_point.message;
+    r["failed_attempts"] = failures(s.returned_point);
+    d["returned_point"] = r;
+  } else {
+    d["returned_point"] = py::none();
+  }
   d["order"] = c.size;
   d["message"] = c.message;
   return d;
@@ -327,14 +354,18 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "True when the relative gap between cost and the proven lower bound is within gap_tolerance.")
       .def_property_readonly(
           "certificate", [](const CertifiedSolveResult& r) { return certificate_dict(r.summary); },
-          "The certificate as a dict: certified, lower_bound (None when nothing was proven), upper_bound, "
-          "relative_gap, lambda_min_lower_bound (S + eta D >= 0 proven: lambda_min over the rotations >= "
-          "-eta), "
-          "tolerance_shift (eta* of the gap tolerance), trace_lambda, rounding_margin (mu of the scaled "
-          "matrix), residual (the bound on the factor's residual that mu cleared) and worst_case_residual "
-          "(Higham's bound for the same factor; both 0 when nothing was proven), extended_precision (the "
-          "proof "
-          "needed a double-double factor), order, message.")
+          "The certificate as a dict: certified, proven (a proof stands behind lower_bound), "
+          "lower_bound (rounded down), upper_bound (F, rounded up), relative_gap (rounded up; set by "
+          "the shift chosen from the gap tolerance), lambda_min_lower_bound (S + eta D >= 0 proven: "
+          "lambda_min over the rotations >= -eta), shift (eta), proof_rank (rank of the point whose "
+          "multipliers were proven), rounding_margin (mu of the scaled matrix), residual (the bound on "
+          "the factor's residual that mu cleared), worst_case_residual (Higham's bound for the same "
+          "factor), formation_error, extended_precision (the proof needed a double-double factor) -- "
+          "each of these None when nothing was proven --, tolerance_shift (eta* of the gap tolerance), "
+          "trace_lambda, failed_attempts (None, or a dict {proven: False, largest_failed_shift, "
+          "attempts}: what failed, not a bound), bound_from_staircase and returned_point (when the "
+          "bound comes from a staircase point: the returned estimate's own test, {proven, lower_bound, "
+          "message, failed_attempts}), order, message.")
       .def_property_readonly(
           "termination",
           [](const CertifiedSolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },

@@ -118,7 +118,7 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
     const double li = v(c) * qv(c) + v(c + 1) * qv(c + 1);
     lambda(c) = lambda(c + 1) = li;
     out.multiplier_sum += li;
-    multiplier_abs += std::abs(li);
+    multiplier_abs = core::round_up(multiplier_abs + std::abs(li));  // an upper bound on Σ|λ|
     out.min_rotation_multiplier = std::min(out.min_rotation_multiplier, li);
   }
   if (p.poses < 2) out.min_rotation_multiplier = 0.0;
@@ -206,12 +206,16 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   out.factor_nonzeros = static_cast<long>(prover.cholesky().factor_nonzeros());
   out.factor_time_s = core::seconds_since(tf);
   out.lambda_min_bound = std::isfinite(best) ? -best : -std::numeric_limits<double>::infinity();
-  // The lower bound rounded down: the sum of the multipliers errs by at most γ_{poses}·Σ|λ|.
+  // The lower bound Σλ − γ_{poses+1}·Σ|λ| − η·poses (the sum of the multipliers errs by at most
+  // γ_{poses}·Σ|λ|), every operation rounded outward: the subtracted terms up, the differences down.
   constexpr double u = std::numeric_limits<double>::epsilon() / 2;
-  out.bound.lower = std::isfinite(best) ? out.multiplier_sum -
-                                              (poses + 1.0) * u / (1.0 - (poses + 1.0) * u) * multiplier_abs -
-                                              best * poses * (1.0 + 4.0 * u)
-                                        : -std::numeric_limits<double>::infinity();
+  const double k_u = (poses + 1.0) * u;  // exact: an integer times a power of two
+  const double trace_error =
+      core::round_up(core::round_up(k_u / core::round_down(1.0 - k_u)) * multiplier_abs);
+  out.bound.lower = std::isfinite(best)
+                        ? core::round_down(core::round_down(out.multiplier_sum - trace_error) -
+                                           core::round_up(best * poses))
+                        : -std::numeric_limits<double>::infinity();
   out.status =
       out.relative_gap() <= o.gap_tolerance ? core::SearchStatus::optimal : core::SearchStatus::unproven;
   out.time_s = core::seconds_since(t0);

@@ -105,6 +105,10 @@ TerrainGrid parse_terrain_grid(std::string text, const std::string& name) {
     r.line = lat_line;
     r.fail("latitudes beyond ±89°: the equirectangular projection does not hold there");
   }
+  if (std::abs(lon.front()) > 360 || std::abs(lon.back()) > 360) {
+    r.line = lon_line;
+    r.fail("longitudes beyond ±360°");
+  }
   // Projected about the middle of the extent; rows and columns reordered so x and y increase.
   g.lon0 = 0.5 * (lon.front() + lon.back()), g.lat0 = 0.5 * (lat.front() + lat.back());
   const double kx = kEarthRadius * std::cos(g.lat0 * kPi / 180) * kPi / 180, ky = kEarthRadius * kPi / 180;
@@ -114,6 +118,15 @@ TerrainGrid parse_terrain_grid(std::string text, const std::string& name) {
   for (std::size_t i = 0; i < rows; ++i)
     for (std::size_t c = 0; c < cols; ++c)
       g.z[i * cols + c] = z[(sy > 0 ? i : rows - 1 - i) * cols + (sx > 0 ? c : cols - 1 - c)];
+  // Nodes closer than a rounding unit of the projected metres would make cells of width 0.
+  if (monotonic(g.x) != 1) {
+    r.line = lon_line;
+    r.fail("the longitudes are too close together to tell apart once projected to metres");
+  }
+  if (monotonic(g.y) != 1) {
+    r.line = lat_line;
+    r.fail("the latitudes are too close together to tell apart once projected to metres");
+  }
   return g;
 }
 

@@ -1,8 +1,8 @@
-// libFuzzer target: every text reader of keel.graph on the same bytes (in memory, through the std::istream
-// overloads). A reader may only succeed or throw keel::graph::ParseError; any other exception, a crash, a
-// hang or a sanitizer report is a bug. When a graph reader succeeds, its writer must write the graph back so
-// that the reader gives the same graph again (the round-trip property of engine/graph): a violation aborts
-// with the difference.
+// libFuzzer target: every text reader of keel.graph (graphs, candidate edge files, pose lists) on the same
+// bytes (in memory, through the std::istream overloads). A reader may only succeed or throw
+// keel::graph::ParseError; any other exception, a crash, a hang or a sanitizer report is a bug. When a graph
+// reader succeeds, its writer must write the graph back so that the reader gives the same graph again (the
+// round-trip property of engine/graph): a violation aborts with the difference.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -173,6 +173,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   expect_parse_error_only("read_pose_list_2d", [&] {
     auto s = in();
     read_pose_list_2d(s, "n.dat");
+  });
+  // Candidate files of `keel pcm` (edge-only g2o).
+  expect_parse_error_only("read_g2o_edges_2d", [&] {
+    auto s = in();
+    read_g2o_edges_2d(s, "cand.g2o");
+  });
+  expect_parse_error_only("read_g2o_edges_3d", [&] {
+    auto s = in();
+    read_g2o_edges_3d(s, "cand.g2o");
   });
   expect_parse_error_only("read_tum", [&] {
     auto s = in();

@@ -233,16 +233,17 @@ fs::path Outputs::folder(const std::string& name, const fs::path& dir, const std
   return pattern;
 }
 
-const Outputs::File& Outputs::reserved(const fs::path& target) const {
-  for (const auto& f : files_)
+Outputs::File& Outputs::reserved(const fs::path& target) {
+  for (auto& f : files_)
     if (f.target == target) return f;
   throw std::logic_error(fmt::format("Outputs: {} was not reserved", target.string()));
 }
 
 void Outputs::write(const fs::path& target, const std::function<void(const fs::path&)>& writer) {
-  const File& f = reserved(target);
+  File& f = reserved(target);
   try {
     writer(f.temporary);
+    f.written = true;
   } catch (const OutputError&) {
     throw;
   } catch (const std::exception& e) {
@@ -251,16 +252,20 @@ void Outputs::write(const fs::path& target, const std::function<void(const fs::p
 }
 
 void Outputs::write_text(const fs::path& target, std::string_view text) {
-  const File& f = reserved(target);
+  File& f = reserved(target);
   std::FILE* out = std::fopen(f.temporary.c_str(), "wb");
   if (out == nullptr) throw OutputError(fmt::format("{}: cannot write: {}", target.string(), reason(errno)));
   const bool written = std::fwrite(text.data(), 1, text.size(), out) == text.size() && std::fflush(out) == 0;
   const int error = errno;
   if (std::fclose(out) != 0 || !written)
     throw OutputError(fmt::format("{}: cannot write: {}", target.string(), reason(written ? errno : error)));
+  f.written = true;
 }
 
 void Outputs::commit() {
+  for (const auto& f : files_)
+    if (!f.written)
+      throw std::logic_error(fmt::format("Outputs: {} was reserved but not written", f.target.string()));
   for (const auto& f : files_) {
     if (std::rename(f.temporary.c_str(), resolved(f.target).c_str()) != 0)
       throw OutputError(fmt::format("{}: cannot write: {} (renaming {} into place)", f.target.string(),

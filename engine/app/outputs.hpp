@@ -89,12 +89,14 @@ class Outputs {
   /// Writes text to a reserved file output. Throws OutputError with the system's reason.
   void write_text(const std::filesystem::path& target, std::string_view text);
   /// Renames every temporary into place (the files of a folder output too, then removes the temporary
-  /// folder). Throws OutputError naming the file that could not be renamed.
+  /// folder). Throws OutputError naming the file that could not be renamed, std::logic_error for a file
+  /// output that write() or write_text() never wrote.
   void commit();
 
  private:
   struct File {
     std::filesystem::path target, temporary;
+    bool written = false;  // by write() or write_text(); commit() refuses to rename an unwritten temporary
   };
   struct Folder {
     std::filesystem::path dir, temporary;
@@ -102,7 +104,7 @@ class Outputs {
   };
   void check_target(const std::string& name, const std::filesystem::path& target, const OutputKind& kind,
                     bool folder_member);
-  const File& reserved(const std::filesystem::path& target) const;
+  File& reserved(const std::filesystem::path& target);
 
   std::vector<std::pair<std::string, std::filesystem::path>> inputs_;
   std::vector<std::pair<std::string, std::filesystem::path>> claimed_;  // (name, absolute path) of outputs

@@ -3,6 +3,7 @@
 
 #include <Eigen/LU>
 
+#include <cmath>
 #include <stdexcept>
 #include <type_traits>
 
@@ -54,6 +55,13 @@ M fixed_arg(const py::object& o, const char* who, const char* arg) {
                                      cols == 1 ? std::string(",") : fmt::format(", {}", cols), type_name(o)));
   }
   return py::detail::cast_op<M>(std::move(c));
+}
+
+// A tolerance is a finite number >= 0 (NaN would make every comparison false): ValueError otherwise.
+double tolerance(double tol, const char* who) {
+  if (!(tol >= 0.0) || !std::isfinite(tol))
+    throw std::invalid_argument(fmt::format("{}: tol must be a finite number >= 0 (got {})", who, tol));
+  return tol;
 }
 
 // Results holding NaN or infinity (finite poses whose products overflow double precision) raise
@@ -135,7 +143,10 @@ tangent's first two entries are NOT the translation unless theta = 0. theta is s
           },
           py::arg("point"), "R p + t for a point p = [x, y].")
       .def(
-          "is_approx", [](const SE2& a, const SE2& b, double tol) { return a.is_approx(b, tol); },
+          "is_approx",
+          [](const SE2& a, const SE2& b, double tol) {
+            return a.is_approx(b, tolerance(tol, "SE2.is_approx"));
+          },
           py::arg("other"), py::arg("tol") = 1e-9, "Whether the two poses agree within tol.")
       .def("__repr__", [](const SE2& T) { return repr(T); })
       .def(py::pickle(
@@ -176,7 +187,8 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
       .def_static(
           "from_quaternion",
           [](const lie::Vec3& t, const lie::Vec4& q) {
-            return se3_from_quaternion(t.data(), q.data(), "SE3.from_quaternion");
+            return se3_from_quaternion(finite(t, "SE3.from_quaternion (translation)").data(),
+                                       finite(q, "SE3.from_quaternion (q)").data(), "SE3.from_quaternion");
           },
           py::arg("translation"), py::arg("q"),
           "From a translation and a quaternion q = [qx, qy, qz, qw] whose norm is within 1e-3 of 1 (it is "
@@ -223,7 +235,10 @@ Quaternions are [qx, qy, qz, qw] (Hamilton, as in g2o files); quaternion() retur
           },
           py::arg("point"), "R p + t for a point p = [x, y, z].")
       .def(
-          "is_approx", [](const SE3& a, const SE3& b, double tol) { return a.is_approx(b, tol); },
+          "is_approx",
+          [](const SE3& a, const SE3& b, double tol) {
+            return a.is_approx(b, tolerance(tol, "SE3.is_approx"));
+          },
           py::arg("other"), py::arg("tol") = 1e-9, "Whether the two poses agree within tol.")
       .def("__repr__", [](const SE3& T) { return repr(T); });
 }

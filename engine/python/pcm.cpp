@@ -184,9 +184,14 @@ diagonal; q_uv ~ q_vu to first order only). Steps, with the engine's defaults:
      ch. 5) or 'independent' (cross-covariance dropped), `threads` workers (the result does not depend on it).
 For inliers q_uv ~ chi2(dof), dof = 3 (2D) or 6 (3D).)doc");
 
-  m.def("consistency_threshold", &pcm::consistency_threshold, py::arg("p"), py::arg("dof"),
-        "gamma(p) = F^-1_chi2(dof)(1 - p): a pair is consistent when its squared distance has a chi2 tail "
-        "probability of at least p (larger p is stricter). p in (0, 1), else ValueError.");
+  m.def(
+      "consistency_threshold",
+      [](double p, const py::object& dof) {
+        return pcm::consistency_threshold(p, int_arg(dof, "consistency_threshold", "dof"));
+      },
+      py::arg("p"), py::arg("dof"),
+      "gamma(p) = F^-1_chi2(dof)(1 - p): a pair is consistent when its squared distance has a chi2 tail "
+      "probability of at least p (larger p is stricter). p in (0, 1), else ValueError.");
 
   m.def(
       "pcm_select",

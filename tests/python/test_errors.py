@@ -102,6 +102,8 @@ class WrongTypes(unittest.TestCase):
             self.assertTypeError(r"^read_poses: dim must be an integer", keel.read_poses, path, dim=2.5)
         self.assertTypeError(r"^pcm_select: dof must be an integer \(got float", keel.pcm_select, np.zeros((2, 2)),
                              dof=3.0)
+        self.assertTypeError(r"^consistency_threshold: dof must be an integer \(got bool True\)",
+                             keel.consistency_threshold, 0.1, True)
 
     def test_counts_seeds_and_threads(self):
         g = chain()
@@ -264,6 +266,10 @@ class NonFiniteResults(unittest.TestCase):
             far3.inverse().between(far3)
         with self.assertRaisesRegex(ValueError, "SE2.act: the input holds a non-finite number"):
             keel.SE2().act([float("nan"), 0.0])
+        with self.assertRaisesRegex(ValueError, r"SE3.from_quaternion \(translation\): the input holds a non-finite"):
+            keel.SE3.from_quaternion([float("nan"), 0.0, 0.0], [0.0, 0.0, 0.0, 1.0])
+        with self.assertRaisesRegex(ValueError, "SE2.is_approx: tol must be a finite number >= 0 \(got nan\)"):
+            keel.SE2().is_approx(keel.SE2(), tol=float("nan"))
 
     def test_marginals_poses_of_another_count(self):
         with self.assertRaisesRegex(ValueError, "marginals: poses has 2 rows but the graph has 3 poses"):

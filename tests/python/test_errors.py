@@ -382,6 +382,21 @@ class DocumentedExceptions(unittest.TestCase):
         huge = np.array([[0.0, 0.0, 0.0], [1e308, 1e308, 0.0], [-1e308, 1e308, 1.0]])
         self.assertRaises(FloatingPointError, keel.marginals, chain(), poses=huge, ids=[1])
 
+    def test_the_functions_docstrings(self):
+        # what each function's docstring says it raises
+        with self.assertRaisesRegex(ValueError, r"q\[0\]\[1\] = nan is NaN"):
+            keel.pcm_select(np.array([[0.0, float("nan")], [float("nan"), 0.0]]))
+        disconnected = keel.Graph2D(POSES, [[0, 1]], [[1.0, 0.0, 0.0]])
+        with self.assertRaisesRegex(ValueError, "pose 2 .*not connected to pose 0"):
+            keel.solve(disconnected)
+        with self.assertRaisesRegex(ValueError, "pose 2 .*not connected to pose 0"):
+            keel.solve(disconnected, certify=True)
+        with self.assertRaisesRegex(ValueError, "unknown extension"):
+            keel.write_graph(chain(), os.path.join(tempfile.gettempdir(), "keel-test.xyz"))
+        with self.assertRaises(keel.ParseError) as cm:
+            keel.read_graph(os.path.join(tempfile.gettempdir(), "keel-no-such-file.g2o"))
+        self.assertEqual(cm.exception.line, 0)
+
     def test_runtime_error(self):
         # pose 2 is connected to nothing: the information matrix is singular there
         g = keel.Graph2D(POSES, [[0, 1]], [[1.0, 0.0, 0.0]])

@@ -62,7 +62,7 @@ class Stages {
 };
 
 inline void add_common(CLI::App* c, Common& o) {
-  c->add_flag("--quiet,-q", o.quiet, "no progress lines on stderr");
+  c->add_flag("--quiet,-q", o.quiet, "no progress lines and no solver log on stderr");
   c->add_flag("--json", o.json, "print one JSON document on stdout instead of the text summary");
 }
 

@@ -24,11 +24,11 @@ Errors, each naming the function and the argument: TypeError for an argument of 
 array where integer ids belong: ids are never truncated; a string where an array belongs); ValueError for a
 refused value (shape, NaN, an information matrix that is not positive definite, unknown names: "unknown
 pgo::InitialGuess 'lm' (valid: ...)"); IndexError for ids out of range (negative or not in the graph);
-OverflowError for an integer beyond the engine's int range (2**31 - 1); ParseError (a ValueError) for
-malformed files, with the engine's message "file:line: TAG field k (name): ..."; DatasetError (a RuntimeError)
-when a data-set file cannot be found or verified; FloatingPointError (an ArithmeticError) for a result that
-would hold NaN or infinity (finite inputs that overflow double precision); RuntimeError for other numerical
-failures. Long computations release the GIL.
+OverflowError for an integer the engine cannot hold (an id or count above 2**31 - 1, a negative threads or
+seed); ParseError (a ValueError) for malformed files, with the engine's message "file:line: TAG field k
+(name): ..."; DatasetError (a RuntimeError) when a data-set file cannot be found or verified;
+FloatingPointError (an ArithmeticError) for a result that would hold NaN or infinity (finite inputs that
+overflow double precision); RuntimeError for other numerical failures. Long computations release the GIL.
 
 __version__ is keel's version, __git_commit__ the commit the module was built from ("+dirty": with changes).)doc";
   m.attr("__version__") = KEEL_VERSION;

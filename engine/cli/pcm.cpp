@@ -1,5 +1,8 @@
 // keel pcm --a A --b B --candidates C — pairwise consistency maximization of inter-robot loop closures on a
 // user's files (app::pcm: thesis §2.6 steps i–iv).
+// <variant> before the imports (docs/DESIGN.md, toolchain notes; as in marginals.cpp).
+#include <variant>
+
 import keel.core;
 import keel.lie;
 import keel.graph;
@@ -149,11 +152,13 @@ void run_pcm_command(const PcmArgs& args) {
   if (!args.merged.empty()) outputs.file("--merged", args.merged, app::OutputKind::graph());
   if (!args.out.empty()) outputs.file("--out", args.out, app::OutputKind::json());
   stage(fmt::format("reading {}, {} and {}", args.a, args.b, args.candidates));
-  if (app::graph_dimension(args.a) == 2) {
-    pcm_files(args, graph::read_pose_graph_2d(args.a), graph::read_pose_graph_2d(args.b),
-              graph::read_g2o_edges_2d(args.candidates), stage, outputs);
+  // Robot a's file is read once (a pipe works); its dimension decides how b and the candidates are read.
+  const auto graph_a = app::read_graph(args.a);
+  if (const auto* a2 = std::get_if<graph::PoseGraph2D>(&graph_a)) {
+    pcm_files(args, *a2, graph::read_pose_graph_2d(args.b), graph::read_g2o_edges_2d(args.candidates), stage,
+              outputs);
   } else {
-    pcm_files(args, graph::read_pose_graph_3d(args.a), graph::read_pose_graph_3d(args.b),
+    pcm_files(args, std::get<graph::PoseGraph3D>(graph_a), graph::read_pose_graph_3d(args.b),
               graph::read_g2o_edges_3d(args.candidates), stage, outputs);
   }
 }

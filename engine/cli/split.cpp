@@ -1,4 +1,7 @@
 // keel split GRAPH --ground-truth T — a two-robot split with generated outliers (the Table 2.1 set-up).
+// <variant> before the imports (docs/DESIGN.md, toolchain notes; as in marginals.cpp).
+#include <variant>
+
 import keel.core;
 import keel.graph;
 import keel.pgo;
@@ -28,10 +31,11 @@ void run_split(const SplitArgs& a) {
   app::Outputs outputs({{"graph", a.graph}, {"--ground-truth", a.ground_truth}});
   const auto staging = outputs.folder("--out-dir", a.out_dir, app::split_folder_files());
   stage(fmt::format("reading {} and {}", a.graph, a.ground_truth));
-  if (app::graph_dimension(a.graph) != 2) {
+  const auto any = app::read_graph(a.graph);  // read once: a pipe works
+  if (!std::holds_alternative<graph::PoseGraph2D>(any)) {
     throw std::invalid_argument(fmt::format("{}: keel split supports 2D graphs", a.graph));
   }
-  const auto g = graph::read_pose_graph_2d(a.graph);
+  const auto& g = std::get<graph::PoseGraph2D>(any);
   const auto truth = graph::read_poses_2d(a.ground_truth);
   const auto set = app::split_files(g, truth, a.options, staging);
   outputs.commit();

@@ -130,6 +130,12 @@ class Files(unittest.TestCase):
         out, _ = keel("solve", "/dev/stdin", "--json", "-q", stdin=TRIANGLE)
         self.assertEqual(json.loads(out)["poses"], 3)
 
+    def test_pcm_reads_robot_a_once(self):
+        b = write("b.g2o", TRIANGLE)
+        cand = write("cand.g2o", "EDGE_SE2 2 0 1 0 0" + INFO + "EDGE_SE2 1 1 2 0 0" + INFO)
+        out, _ = keel("pcm", "--a", "/dev/stdin", "--b", b, "--candidates", cand, "--json", "-q", stdin=TRIANGLE)
+        self.assertEqual(json.loads(out)["candidates"], 2)
+
     def test_a_fifo_works(self):
         fifo = os.path.join(WORK, "g.fifo")
         os.mkfifo(fifo)

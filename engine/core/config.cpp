@@ -1,4 +1,5 @@
 #include "core/config.hpp"
+#include "core/parse.hpp"
 
 #include <fmt/format.h>
 
@@ -232,9 +233,10 @@ void ConfigTable::finish() const {
 }
 
 ConfigTable load_toml(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ConfigError(fmt::format("{}: cannot open file", file.string()));
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  // Read once through core::read_whole_file: a directory or an unreadable file says why.
+  std::string text;
+  if (auto why = read_whole_file(file, text); !why.empty())
+    throw ConfigError(fmt::format("{}: {}", file.string(), why));
   toml::table root;
   try {
     root = toml::parse(text, file.string());

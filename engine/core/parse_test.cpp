@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "core/config.hpp"
 #include "core/parse.hpp"
 
 using namespace keel::core;
@@ -142,5 +143,20 @@ TEST_CASE("read_whole_file: one pass (a FIFO works); a directory or a missing fi
   CHECK_THROWS_WITH_AS((void)read_text_file(dir),
                        fmt::format("{}: cannot read: is a directory, not a file", dir.string()).c_str(),
                        std::invalid_argument);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("load_toml: a directory or a missing file is 'file: reason', not a stream error") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / fmt::format("keel_core_toml_dir_{}", ::getpid());
+  fs::create_directories(dir);
+  CHECK_THROWS_WITH_AS((void)load_toml(dir),
+                       fmt::format("{}: cannot read: is a directory, not a file", dir.string()).c_str(),
+                       ConfigError);
+  CHECK_THROWS_WITH_AS(
+      (void)load_toml(dir / "missing.toml"),
+      fmt::format("{}: cannot open file (No such file or directory)", (dir / "missing.toml").string())
+          .c_str(),
+      ConfigError);
   fs::remove_all(dir);
 }

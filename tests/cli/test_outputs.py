@@ -265,6 +265,17 @@ class ExistingOutputOfAnotherKind(Scratch):
         self.refused(["split", "square.g2o", "--ground-truth", "square.g2o", "--out-dir", "s"], ["s/labels.txt"],
                      "refusing to replace labels.txt")
 
+    def test_split_again_into_its_own_folder(self):
+        self.put("gt.txt", "".join(" ".join(line.split()[1:5]) + "\n" for line in SQUARE.splitlines()
+                                   if line.startswith("VERTEX_SE2")))
+        args = ["split", "square.g2o", "--ground-truth", "gt.txt", "--out-dir", "t", "--split", "4", "--last", "8",
+                "--inliers", "1", "--aliased-groups", "0", "--quiet"]
+        self.keel(*args, "--random-outliers", "1")
+        self.keel(*args, "--random-outliers", "2")  # the complete set an earlier split wrote is replaced
+        self.assertEqual(self.bytes("t/candidates.g2o").count(b"EDGE_SE2"), 3)
+        self.put("t/truth.txt", "my own truth\n")
+        self.refused(args, ["t/truth.txt", "t/a.g2o"], "t/truth.txt: --out-dir exists and is not")
+
 
 class FailingRunsChangeNothing(Scratch):
     def test_pcm_with_short_labels_keeps_the_merged_map(self):

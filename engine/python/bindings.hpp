@@ -89,10 +89,16 @@ std::vector<graph::Edge3> edges3_from_arrays(const py::object& ids, const py::ob
 // where an array belongs); std::overflow_error -> OverflowError for an integer beyond the engine's int range;
 // std::out_of_range -> IndexError for an id outside the graph (or negative); std::invalid_argument ->
 // ValueError for a refused value of the right type; NonFiniteResult -> FloatingPointError (an
-// ArithmeticError) for a result that holds NaN or infinity (module.cpp registers it).
+// ArithmeticError) for a result that holds NaN or infinity, WriteError -> OSError for a file that cannot be
+// written (module.cpp registers both).
 
 /// A computation whose result holds NaN or infinity, e.g. because finite inputs overflowed double precision.
 struct NonFiniteResult : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// A file that cannot be written (OSError in Python; module.cpp registers it).
+struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 

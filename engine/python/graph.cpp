@@ -32,6 +32,19 @@ int dim_of(const py::object& dim, const char* who) {
   return d;
 }
 
+// Runs a writer: a file that cannot be written (the writers throw std::runtime_error naming the file and what
+// failed) becomes WriteError, an OSError in Python; refused values (std::invalid_argument) pass through.
+template <class Write>
+void written(const Write& write) {
+  try {
+    write();
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw WriteError(e.what());
+  }
+}
+
 template <class Graph>
 std::string graph_repr(const char* name, const Graph& g) {
   return fmt::format("{}(<{} poses, {} edges>, source='{}')", name, g.poses.size(), g.edges.size(), g.source);
@@ -245,7 +258,7 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;
-          graph::write_pose_graph(copy, path);
+          written([&] { graph::write_pose_graph(copy, path); });
         } else if (py::isinstance<PoseGraph3D>(g)) {
           PoseGraph3D copy = g.cast<PoseGraph3D>();
           if (!poses.is_none()) {
@@ -258,7 +271,7 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
             copy.has_initial_poses = true;
           }
           py::gil_scoped_release release;
-          graph::write_pose_graph(copy, path);
+          written([&] { graph::write_pose_graph(copy, path); });
         } else {
           throw py::type_error("write_graph: graph must be a keel.Graph2D or keel.Graph3D");
         }
@@ -267,7 +280,8 @@ saying so. Errors: ParseError (ValueError) naming file, line and field.)doc");
 Writes a graph; the format comes from the extension (.g2o: g2o, .txt: iSAM text, else ValueError), numbers
 with %.17g so a read gives back every field to the last bit (angles as theta in (-pi, pi], quaternions with
 w >= 0). `poses` ((n, 3) / (n, 7), n the graph's number of poses, else ValueError) replaces the graph's poses
-in the file, e.g. a solution. The file is written to a temporary name and renamed.)doc");
+in the file, e.g. a solution. The file is written to a temporary name and renamed; a file that cannot be
+written raises OSError naming it.)doc");
 
   m.def(
       "read_candidates",
@@ -297,12 +311,11 @@ record, any other tag, or a file without edges.)doc");
       [](const Candidates& c, const std::filesystem::path& file) {
         const std::string path = file.string();
         py::gil_scoped_release release;
-        std::visit([&](const auto& e) { graph::write_g2o_edges(e, path); }, c.edges);
+        written([&] { std::visit([&](const auto& e) { graph::write_g2o_edges(e, path); }, c.edges); });
       },
       py::arg("candidates"), py::arg("path"),
       "Writes candidates as an edge-only g2o file (%.17g, atomically); read_candidates gives them back to "
-      "the "
-      "last bit.");
+      "the last bit. OSError when the file cannot be written.");
 
   m.def(
       "read_poses",

@@ -28,7 +28,8 @@ OverflowError for an integer the engine cannot hold (an id or count above 2**31 
 seed); ParseError (a ValueError) for malformed files, with the engine's message "file:line: TAG field k
 (name): ..."; DatasetError (a RuntimeError) when a data-set file cannot be found or verified;
 FloatingPointError (an ArithmeticError) for a result that would hold NaN or infinity (finite inputs that
-overflow double precision); RuntimeError for other numerical failures. Long computations release the GIL.
+overflow double precision); OSError for a file that cannot be written; RuntimeError for other numerical
+failures. Long computations release the GIL.
 
 __version__ is keel's version, __git_commit__ the commit the module was built from ("+dirty": with changes).)doc";
   m.attr("__version__") = KEEL_VERSION;
@@ -56,6 +57,8 @@ __version__ is keel's version, __git_commit__ the commit the module was built fr
       dataset_error(e.what());
     } catch (const kp::NonFiniteResult& e) {
       PyErr_SetString(PyExc_FloatingPointError, e.what());
+    } catch (const kp::WriteError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
     }
   });
 

@@ -347,7 +347,7 @@ class DocumentedExceptions(unittest.TestCase):
             text = f.read()
         python = text[text.index("## Python"):]
         for name in ("TypeError", "ValueError", "IndexError", "OverflowError", "keel.ParseError",
-                     "keel.DatasetError", "FloatingPointError", "RuntimeError"):
+                     "keel.DatasetError", "FloatingPointError", "OSError", "RuntimeError"):
             self.assertIn(f"`{name}`", python)
             self.assertIn(name.replace("keel.", ""), keel.__doc__)
 
@@ -396,6 +396,16 @@ class DocumentedExceptions(unittest.TestCase):
         with self.assertRaises(keel.ParseError) as cm:
             keel.read_graph(os.path.join(tempfile.gettempdir(), "keel-no-such-file.g2o"))
         self.assertEqual(cm.exception.line, 0)
+
+    def test_os_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            folder = os.path.join(d, "a.g2o")  # a folder where the file should go
+            os.mkdir(folder)
+            with self.assertRaisesRegex(OSError, re.escape(folder)):
+                keel.write_graph(chain(), folder)
+            with self.assertRaisesRegex(OSError, "cannot"):
+                keel.write_candidates(keel.Candidates([[0, 1]], [[1.0, 0.0, 0.0]]),
+                                      os.path.join(d, "no", "such", "folder", "c.g2o"))
 
     def test_runtime_error(self):
         # pose 2 is connected to nothing: the information matrix is singular there

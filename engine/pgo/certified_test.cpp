@@ -457,3 +457,109 @@ TEST_CASE("the Newton model is exact: quadratic convergence from a perturbed sta
     CHECK(s.termination == CertifiedTermination::certified);
   }
 }
+
+namespace {
+
+// The counterexample to the exactness of the order-1 relaxation (sos::exactness_counterexample, Theorems
+// 4.5.3–4.5.4): K4, rotation-only measurements, unit weights. The rank-2 estimate cannot be certified; the
+// staircase's higher-rank point proves the relaxation's value, a valid bound below the minimum.
+graph::PoseGraph2D exactness_counterexample() {
+  const double theta[6] = {0.23, 0.43, 1.13, -1.81, 1.36, -1.35};
+  const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  graph::PoseGraph2D g;
+  g.poses.assign(4, lie::SE2::identity());
+  for (int k = 0; k < 6; ++k) {
+    graph::Edge2 e;
+    e.i = pairs[k][0], e.j = pairs[k][1];
+    e.measurement = lie::SE2(0, 0, theta[k]);
+    e.information = lie::Mat3(Eigen::Vector3d(1, 1, 2).asDiagonal());
+    g.edges.push_back(e);
+  }
+  return g;
+}
+
+// min F over SO(2)⁴ (translations 0 at the optimum), θ_0 = 0: a 90³ grid polished by gradient steps (an
+// upper estimate of the minimum, within 1e-6 of it).
+double counterexample_minimum() {
+  const double theta[6] = {0.23, 0.43, 1.13, -1.81, 1.36, -1.35};
+  const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  auto f = [&](const double* th) {  // κ = 2: ‖R(a) − R(b)‖²_F = 4(1 − cos(a − b))
+    double s = 0.0;
+    for (int k = 0; k < 6; ++k) s += 8.0 * (1.0 - std::cos(th[pairs[k][1]] - th[pairs[k][0]] - theta[k]));
+    return s;
+  };
+  double best[4] = {0, 0, 0, 0}, fbest = std::numeric_limits<double>::infinity();
+  const double kPi = std::acos(-1.0);
+  for (int a = 0; a < 90; ++a)
+    for (int b = 0; b < 90; ++b)
+      for (int c = 0; c < 90; ++c) {
+        const double th[4] = {0.0, -kPi + 2 * kPi * a / 90, -kPi + 2 * kPi * b / 90, -kPi + 2 * kPi * c / 90};
+        if (const double v = f(th); v < fbest) fbest = v, std::copy(th, th + 4, best);
+      }
+  for (int it = 0; it < 2000; ++it) {
+    double g[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 6; ++k) {
+      const double s = 8.0 * std::sin(best[pairs[k][1]] - best[pairs[k][0]] - theta[k]);
+      g[pairs[k][1]] += s, g[pairs[k][0]] -= s;
+    }
+    for (int v = 1; v < 4; ++v) best[v] -= 0.01 * g[v];
+  }
+  return std::min(fbest, f(best));
+}
+
+}  // namespace
+
+TEST_CASE("a failed certificate reports no figure of a proof, only what failed") {
+  CertifiedOptions o;
+  o.max_rank = 2;  // no staircase: the rank-2 test is the only one
+  const auto r = solve_certified(exactness_counterexample(), o);
+  const Certificate& c = r.summary.certificate;
+  CHECK_FALSE(c.certified);
+  CHECK_FALSE(c.proven);
+  CHECK(std::isinf(c.bound.lower));
+  CHECK(c.bound.lower < 0.0);
+  // The failed attempts' margin, residual and shift are not reported as the certificate's.
+  CHECK(c.shift == 0.0);
+  CHECK(c.rounding_margin == 0.0);
+  CHECK(c.residual == 0.0);
+  CHECK(c.worst_case_residual == 0.0);
+  CHECK(c.formation_error == 0.0);
+  CHECK_FALSE(c.extended_precision);
+  // What failed is reported as failed: λ_min(S) ≈ −0.7, far below every shift tried.
+  CHECK(c.failed_shift > 0.1);
+  CHECK(c.attempts >= 5);
+  CHECK(c.message.rfind("no lower bound: ", 0) == 0);
+  CHECK(c.message.find("proven") == std::string::npos);
+  CHECK(r.summary.message.find("proven") == std::string::npos);
+  CHECK_FALSE(r.summary.bound_from_staircase);
+}
+
+TEST_CASE("the staircase's proof is reported with its own fields; the returned point's failure apart") {
+  const auto r = solve_certified(exactness_counterexample());
+  const CertifiedSummary& s = r.summary;
+  const Certificate& c = s.certificate;
+  CHECK(s.termination == CertifiedTermination::not_certified);
+  CHECK_FALSE(c.certified);
+  REQUIRE(c.proven);
+  CHECK(c.rank > 2);
+  CHECK(s.bound_from_staircase);
+  // The bound is the relaxation's value: proven, below the minimum, rounded down past tr Λ − η·d·n.
+  const double minimum = counterexample_minimum();
+  CHECK(c.bound.lower < minimum - 1.0);
+  CHECK(c.bound.lower < c.trace_lambda - c.shift * 2.0 * 4.0);
+  CHECK(c.rounding_margin > 0.0);
+  CHECK(c.residual > 0.0);
+  CHECK(c.residual <= c.rounding_margin);
+  CHECK(c.message.find("proven") != std::string::npos);
+  // The returned estimate (the minimum, to the solver's accuracy) fails its own test, reported as failed.
+  CHECK(s.final_cost == doctest::Approx(minimum).epsilon(1e-6));
+  CHECK_FALSE(s.returned_point.proven);
+  CHECK(std::isinf(s.returned_point.bound.lower));
+  CHECK(s.returned_point.rounding_margin == 0.0);
+  CHECK(s.returned_point.failed_shift > 0.1);
+  CHECK(s.returned_point.message.find("proven") == std::string::npos);
+  // The upper end is F at the returned estimate rounded up, the gap measured from both ends, rounded up.
+  CHECK(c.bound.upper >= s.final_cost * (1.0 - 1e-13));  // exact comparisons: residual_bound_test.cpp
+  CHECK(c.bound.upper <= s.final_cost * (1.0 + 1e-12));
+  CHECK(c.bound.relative_gap_up() >= (c.bound.upper - c.bound.lower) / c.bound.upper);
+}

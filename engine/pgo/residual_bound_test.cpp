@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "graph/pose_graph.hpp"
+#include "lie/se2.hpp"
+#include "pgo/certified.hpp"
 #include "pgo/sparse_cholesky.hpp"
 
 using keel::pgo::detail::FillOrdering;
@@ -57,6 +60,17 @@ Expansion negate(Expansion e) {
   return e;
 }
 Expansion abs(const Expansion& e) { return sign(e) < 0 ? negate(e) : e; }
+// e·b exactly.
+Expansion scale(const Expansion& e, double b) {
+  Expansion out{0.0};
+  for (const double x : e) out = add_product(out, x, b);
+  return out;
+}
+Expansion square(const Expansion& e) {
+  Expansion out{0.0};
+  for (const double x : e) out = add(out, scale(e, x));
+  return out;
+}
 // a ≥ b exactly.
 bool at_least(const Expansion& a, const Expansion& b) { return sign(add(a, negate(b))) >= 0; }
 
@@ -274,4 +288,84 @@ TEST_CASE(
   const Expansion ra = exact_residual_row_sum(m, chol, false);
   CHECK(sign(ra) >= 0);
   CHECK(at_least(Expansion{chol.residual_bound()}, ra));
+}
+
+namespace {
+
+// The isotropic cost F (pgo/certified.hpp) of planar poses, exactly: every residual entry, its square and the
+// weighted sum as expansions. Pose 0 must be the identity, so that the certificate's gauge (pose 0's frame)
+// is applied without rounding.
+Expansion exact_isotropic_cost(const keel::graph::PoseGraph2D& g, const std::vector<keel::lie::SE2>& x) {
+  Expansion f{0.0};
+  for (const auto& e : g.edges) {
+    const keel::pgo::IsotropicWeights w = keel::pgo::isotropic_weights(e);
+    const auto Ri = x[static_cast<std::size_t>(e.i)].rotation(),
+               Rj = x[static_cast<std::size_t>(e.j)].rotation();
+    const auto ti = x[static_cast<std::size_t>(e.i)].translation(),
+               tj = x[static_cast<std::size_t>(e.j)].translation();
+    const auto Rm = e.measurement.rotation();
+    const auto tm = e.measurement.translation();
+    Expansion rot{0.0}, trans{0.0};
+    for (int a = 0; a < 2; ++a) {
+      for (int c = 0; c < 2; ++c) {
+        Expansion r = grow(Expansion{0.0}, Rj(a, c));
+        for (int m = 0; m < 2; ++m) r = add_product(r, -Ri(a, m), Rm(m, c));
+        rot = add(rot, square(r));
+      }
+      Expansion t = grow(grow(Expansion{0.0}, tj(a)), -ti(a));
+      for (int m = 0; m < 2; ++m) t = add_product(t, -Ri(a, m), tm(m));
+      trans = add(trans, square(t));
+    }
+    f = add(f, add(scale(rot, w.kappa), scale(trans, w.tau)));
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("the certificate's upper end is at least F computed exactly, also where the residuals cancel") {
+  std::mt19937_64 gen(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int below = 0;  // cases where F rounded to nearest lies below the exact F (the upper end must not)
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 4 + trial % 5;
+    const double noise = trial % 3 == 0 ? 0.0 : trial % 3 == 1 ? 1e-9 : 0.05;
+    std::vector<keel::lie::SE2> truth{keel::lie::SE2::identity()};
+    for (int i = 1; i < n; ++i) truth.push_back(keel::lie::SE2(5.0 * u(gen), 5.0 * u(gen), 3.0 * u(gen)));
+    keel::graph::PoseGraph2D g;
+    g.poses = truth;
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        if (j != i + 1 && u(gen) < 0.0) continue;
+        const keel::lie::SE2 z =
+            truth[static_cast<std::size_t>(i)].inverse() * truth[static_cast<std::size_t>(j)];
+        keel::graph::Edge2 e;
+        e.i = i, e.j = j;
+        e.measurement = keel::lie::SE2(z.translation().x() + noise * u(gen),
+                                       z.translation().y() + noise * u(gen), z.angle() + noise * u(gen));
+        e.information =
+            keel::lie::Mat3(Eigen::Vector3d(1.0 + u(gen) * u(gen), 2.0, 3.0 + u(gen)).asDiagonal());
+        g.edges.push_back(e);
+      }
+    // At the truth (the residuals of the noise-free graphs are rounding: F ~ 1e-30) and at the solution.
+    std::vector<std::vector<keel::lie::SE2>> points{truth};
+    if (noise > 0.0) {
+      auto solved = keel::pgo::solve_certified(g).poses;
+      const keel::lie::SE2 inv0 = solved[0].inverse();
+      for (auto& p : solved) p = inv0 * p;
+      solved[0] = keel::lie::SE2::identity();
+      points.push_back(solved);
+    }
+    for (const auto& x : points) {
+      const keel::pgo::Certificate c = keel::pgo::certify(g, x, 1e-6);
+      const Expansion exact = exact_isotropic_cost(g, x);
+      INFO("trial " << trial << ", noise " << noise << ": upper " << c.bound.upper << ", exact ≈ "
+                    << exact.back() << ", nearest " << keel::pgo::isotropic_cost(g, x));
+      CHECK(at_least(Expansion{c.bound.upper}, exact));
+      // Not loose: within 1e-12 relative, or the residuals' rounding where F is of that order.
+      CHECK(c.bound.upper <= exact.back() * (1.0 + 1e-12) + 1e-28);
+      if (!at_least(Expansion{keel::pgo::isotropic_cost(g, x)}, exact)) ++below;
+    }
+  }
+  MESSAGE("F rounded to nearest was below the exact F in " << below << " cases");
 }

@@ -165,6 +165,8 @@ void Outputs::check_target(const std::string& name, const fs::path& target, cons
     if (!fs::is_regular_file(st))
       throw OutputError(
           fmt::format("{}: {} exists and is not a regular file; refusing to replace it", t, name));
+    if (::access(target.c_str(), W_OK) != 0)
+      throw OutputError(fmt::format("{}: cannot write: {}", t, reason(errno)));
     std::string head;
     if (!read_head(target, head))
       throw OutputError(
@@ -190,7 +192,10 @@ fs::path Outputs::file(const std::string& name, const fs::path& target, OutputKi
                                   reason(errno), dir.string()));
   ::fchmod(fd, new_file_mode());
   ::close(fd);
-  files_.push_back({target, pattern});
+  std::error_code ec;
+  const auto existing = fs::status(real, ec);
+  files_.push_back(
+      {target, pattern, false, fs::is_regular_file(existing) ? existing.permissions() : fs::perms::unknown});
   return pattern;
 }
 
@@ -267,6 +272,8 @@ void Outputs::commit() {
     if (!f.written)
       throw std::logic_error(fmt::format("Outputs: {} was reserved but not written", f.target.string()));
   for (const auto& f : files_) {
+    std::error_code ec;
+    if (f.mode != fs::perms::unknown) fs::permissions(f.temporary, f.mode, ec);
     if (std::rename(f.temporary.c_str(), resolved(f.target).c_str()) != 0)
       throw OutputError(fmt::format("{}: cannot write: {} (renaming {} into place)", f.target.string(),
                                     reason(errno), f.temporary.string()));

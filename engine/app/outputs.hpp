@@ -11,7 +11,8 @@
 //    recognized by its first line; anything else at an output path (another kind of file, a folder, a
 //    device) is refused;
 //  - the output's folder must exist (a folder output's folder is created) and be writable: the temporary file
-//    is created there at once, so an unwritable path fails with the system's reason before the work.
+//    is created there at once, so an unwritable path fails with the system's reason before the work; an
+//    existing file must be writable too, and its replacement keeps its permissions.
 #pragma once
 
 #include <filesystem>
@@ -97,6 +98,7 @@ class Outputs {
   struct File {
     std::filesystem::path target, temporary;
     bool written = false;  // by write() or write_text(); commit() refuses to rename an unwritten temporary
+    std::filesystem::perms mode = std::filesystem::perms::unknown;  // an existing target's, kept by commit()
   };
   struct Folder {
     std::filesystem::path dir, temporary;

@@ -317,6 +317,14 @@ class FailingRunsChangeNothing(Scratch):
         mask = os.umask(0)
         os.umask(mask)
         self.assertEqual(os.stat(self.path("new.g2o")).st_mode & 0o777, 0o666 & ~mask)
+        # A replaced file keeps its own.
+        os.chmod(self.path("new.g2o"), 0o640)
+        self.put("m.json", "{}\n")
+        os.chmod(self.path("m.json"), 0o600)
+        self.keel("solve", "square.g2o", "--out", "new.g2o", "--init", "as-read", "--quiet")
+        self.keel("marginals", "square.g2o", "--poses", "1", "--out", "m.json", "--quiet")
+        self.assertEqual(os.stat(self.path("new.g2o")).st_mode & 0o777, 0o640)
+        self.assertEqual(os.stat(self.path("m.json")).st_mode & 0o777, 0o600)
 
 
 class SolverLog(Scratch):

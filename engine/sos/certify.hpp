@@ -40,8 +40,9 @@ struct CertifyOptions {
 struct CertifiedSolution {
   PlanarEstimate estimate;  // pose 0 at the identity, original units
   Eigen::VectorXd z;        // the same as unknowns
-  // upper: f at the solution (the thesis's cost, problem.hpp); lower: the best certified lower bound over the
-  // relaxations tried (core/bound.hpp).
+  // upper: f at the solution (the thesis's cost, problem.hpp); lower: the best lower bound over the
+  // relaxations tried (core/bound.hpp), numerical: recomputed in double from the SDP's returned matrices
+  // without a rounding margin ("certified" in the thesis's sense, not proven like sos/verify.hpp's).
   core::Bound bound{0.0, 0.0};
   // optimal: a relaxation's lower bound is within gap_tolerance of the solution's cost; unproven: no
   // relaxation tried closed the gap (the note says which were tried or skipped), or the structure is cliques,

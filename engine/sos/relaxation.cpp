@@ -182,7 +182,9 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
   if (o.order > 1) {
     // Higher orders: the moment form over the rotations alone, with the reduced cost written as a sum of
     // squares (q = Lᵀ L from its eigen-decomposition, the rows of L as residuals). Every unknown is on the
-    // circle, so the lower bound's residual correction is rigorous.
+    // circle, so the residual correction covers the returned matrices' infeasibility; its sums are evaluated
+    // in double without a rounding margin, so the bound is numerical, not proven (pgo/psd_proof.hpp is not
+    // used).
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(q);
     const Eigen::MatrixXd l =
         es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();

@@ -256,14 +256,15 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, const repro::Run
         r.rank_ratio = c.first.rank_ratio;
         // The dual certificate at the best minimum. Its multipliers with the proven shift are a feasible
         // point of the order-1 SDP's dual (Q − diag(λ₀ − η, λ_i − η) ⪰ 0), so its bound Σλ − η · poses is a
-        // second certified lower bound on order 1's value, independent of DSDP's iterates.
+        // second lower bound on order 1's value, independent of DSDP's iterates and, unlike DSDP's (λ_min(S)
+        // from Eigen, no rounding margin), proven with one (pgo/psd_proof.hpp).
         const GlobalCertificate dual = certify_solution(p, r.multistart <= r.upper ? ms.z : c.z, o.dual);
         r.dual_certified = dual.certified();
         r.dual_gap = dual.relative_gap();
         r.lower_dual = dual.bound.lower;
         r.dual_failed_shift = dual.failed_shift;
         // Tightness of order 1 judged against the best minimum found, not against its own rounding, with the
-        // better of the two certified bounds on its value.
+        // better of the two bounds on its value (DSDP's numerical one, the dual certificate's proven one).
         const double lower = std::max(c.first.lower_bound, dual.bound.lower);
         r.gap_order1 = std::isfinite(lower) ? (r.best - lower) / std::max(r.best, 1.0)
                                             : std::numeric_limits<double>::infinity();

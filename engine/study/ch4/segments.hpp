@@ -136,7 +136,8 @@ struct ExactnessOptions {
 };
 
 struct ExactnessTrial {
-  bool tight_order1 = false;  // a certified bound on order 1's value within gap_tolerance of the best minimum
+  bool tight_order1 =
+      false;  // a bound on order 1's value (DSDP's or the dual's) within gap_tolerance of the best minimum
   bool certified_order1 = false;  // order 1's certificate (its rounded, polished answer within tolerance)
   bool certified = false;         // by order 1 or 2
   bool escalated = false, escalation_skipped = false;

@@ -110,7 +110,7 @@ TEST_CASE("exactness study: trials are certified and counted per family") {
 TEST_CASE("exactness study: where order 1 is not tight, multistart and order 2 find the same minimum") {
   // Rotations drawn uniformly on K5: order 1 leaves some trials open (its bound below every minimum found);
   // escalation certifies them at order 2, and the multistart (Newton on f from random angles, independent of
-  // both relaxations) must reach the certified minimum and never go below a certified bound.
+  // both relaxations) must reach the certified minimum and never go below a lower bound.
   ExactnessOptions o;
   ExactnessFamily f;
   f.name = "k5", f.poses = 5, f.uniform_rotations = true, f.rotation_noise = 0, f.translation_noise = 0;

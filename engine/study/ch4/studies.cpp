@@ -364,7 +364,8 @@ namespace {
 struct FamilyCount {
   int tight = 0, certified_order1 = 0, certified = 0, skipped = 0, escalated = 0;
   int dual_certified = 0;
-  int bound_violations = 0;    // the multistart's minimum below a certified bound (DSDP's or the dual's)
+  int bound_violations =
+      0;  // the multistart's minimum below a lower bound (DSDP's numerical one or the dual's)
   int multistart_missed = 0;   // the relaxation's answer below the multistart's minimum
   int sdp_loose = 0;           // tight only by the dual certificate's bound: DSDP's falls short
   int dual_refused_tight = 0;  // order 1 tight, but the dual certificate at the minimum refused

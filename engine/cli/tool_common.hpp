@@ -199,9 +199,9 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
     const double dual_gap = core::round_up(core::round_up(c.bound.upper - c.trace_lambda) /
                                            std::fmax(1.0, std::abs(c.bound.upper)));
     fmt::print(
-        "certificate  {}: F* ≥ {} proven, relative gap (F − bound) / F ≤ {} ((F − tr Λ) / F = {} at the "
-        "multipliers, plus the shift η·d·n / F chosen from the gap tolerance); λ_min(S) ≥ −{} on the "
-        "rotations, proven with rounding margin {:.3g} (S of order {}{})\n",
+        "certificate  F* ≥ {1} proven ({0}), relative gap (F − bound) / F ≤ {2} ((F − tr Λ) / F = {3} at the "
+        "multipliers, plus the shift η·d·n / F chosen from the gap tolerance); λ_min(S) ≥ −{4} on the "
+        "rotations, proven with rounding margin {5:.3g} (S of order {6}{7})\n",
         c.certified ? "certified" : "not certified", core::format_lower(c.bound.lower, 10),
         core::format_upper(c.bound.relative_gap_up(), 3), core::format_upper(dual_gap, 3),
         core::format_upper(c.shift, 3), c.rounding_margin, c.size,

@@ -72,6 +72,7 @@ using keel::app::FolderFile;
 using keel::app::OutputError;
 using keel::app::OutputKind;
 using keel::app::Outputs;
+using keel::app::remove_temporaries_on_signals;
 using keel::app::split_folder_files;
 using keel::app::world_folder_files;
 // Ceres's log

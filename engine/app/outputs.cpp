@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -61,7 +63,46 @@ mode_t new_file_mode() {
   return mode;
 }
 
+// The temporaries a signal handler removes: fixed storage written before a slot is marked used, so the
+// handler only reads it and calls async-signal-safe functions (unlink, rmdir, raise).
+struct SignalSlot {
+  std::atomic<bool> used{false};
+  bool folder = false;
+  char path[4096] = {};
+};
+constexpr int kSignalSlots = 256;
+SignalSlot g_signal_slots[kSignalSlots];
+std::atomic<int> g_signal_slot_count{0};
+
+int register_temporary(const fs::path& p, bool folder) {
+  const std::string s = p.string();
+  if (s.size() >= sizeof(SignalSlot::path)) return -1;
+  const int k = g_signal_slot_count.fetch_add(1);
+  if (k >= kSignalSlots) return -1;
+  std::memcpy(g_signal_slots[k].path, s.c_str(), s.size() + 1);
+  g_signal_slots[k].folder = folder;
+  g_signal_slots[k].used.store(true);
+  return k;
+}
+
+extern "C" void remove_temporaries_and_reraise(int sig) {
+  const int n = std::min(g_signal_slot_count.load(), kSignalSlots);
+  for (int k = 0; k < n; ++k)  // files first, then folders (empty by then), the innermost first
+    if (g_signal_slots[k].used.load() && !g_signal_slots[k].folder) ::unlink(g_signal_slots[k].path);
+  for (int k = n - 1; k >= 0; --k)
+    if (g_signal_slots[k].used.load() && g_signal_slots[k].folder) ::rmdir(g_signal_slots[k].path);
+  ::raise(sig);  // SA_RESETHAND restored the default action
+}
+
 }  // namespace
+
+void remove_temporaries_on_signals() {
+  struct sigaction action = {};
+  action.sa_handler = remove_temporaries_and_reraise;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
+}
 
 std::string OutputKind::describe() const {
   switch (type) {
@@ -135,6 +176,8 @@ Outputs::Outputs(std::vector<std::pair<std::string, fs::path>> inputs) {
 }
 
 Outputs::~Outputs() {
+  for (int k : signal_slots_)
+    if (k >= 0) g_signal_slots[k].used.store(false);
   if (committed_) return;
   std::error_code ec;
   for (const auto& f : files_) fs::remove(f.temporary, ec);
@@ -194,6 +237,9 @@ fs::path Outputs::file(const std::string& name, const fs::path& target, OutputKi
   ::close(fd);
   std::error_code ec;
   const auto existing = fs::status(real, ec);
+  // A graph writer may stage through "<temporary>.tmp" itself.
+  signal_slots_.push_back(register_temporary(pattern, false));
+  signal_slots_.push_back(register_temporary(pattern + ".tmp", false));
   files_.push_back(
       {target, pattern, false, fs::is_regular_file(existing) ? existing.permissions() : fs::perms::unknown});
   return pattern;
@@ -230,10 +276,17 @@ fs::path Outputs::folder(const std::string& name, const fs::path& dir, const std
     fs::create_directories(dir, ec);
     if (ec) throw OutputError(fmt::format("{}: cannot create the folder: {}", dir.string(), ec.message()));
     created_dirs_.insert(created_dirs_.end(), chain.rbegin(), chain.rend());
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it)
+      signal_slots_.push_back(register_temporary(*it, true));
   }
   std::string pattern = (dir / ".keel-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr)
     throw OutputError(fmt::format("{}: cannot write: {}", dir.string(), reason(errno)));
+  signal_slots_.push_back(register_temporary(pattern, true));
+  for (const auto& n : names) {
+    signal_slots_.push_back(register_temporary(fs::path(pattern) / n, false));
+    signal_slots_.push_back(register_temporary(fs::path(pattern) / (n + ".tmp"), false));
+  }
   folders_.push_back({dir, pattern, names});
   return pattern;
 }

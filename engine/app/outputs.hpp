@@ -64,6 +64,11 @@ struct FolderFile {
 /// OutputError "dir: cannot write: reason" naming `name`.
 void check_folder_writable(const std::string& name, const std::filesystem::path& dir);
 
+/// From now on, SIGINT, SIGTERM and SIGHUP first remove every temporary of a live Outputs (and the folders it
+/// created, when still empty), then end the process as the signal would. For programs that own their signals
+/// (the `keel` command); a host such as Python keeps its own handlers by not calling this.
+void remove_temporaries_on_signals();
+
 /// The outputs of one command. Reserve each output (file() or folder()) before the work, write to the
 /// temporary path returned (write() turns a writer's failure into OutputError), then commit(). Destroyed
 /// without commit() (the command failed), it removes its temporary files and the folders it created.
@@ -113,6 +118,7 @@ class Outputs {
   std::vector<File> files_;
   std::vector<Folder> folders_;
   std::vector<std::filesystem::path> created_dirs_;  // removed again (when empty) if the command fails
+  std::vector<int> signal_slots_;  // this object's entries for remove_temporaries_on_signals
   bool committed_ = false;
 };
 

@@ -51,6 +51,7 @@ int report_error(const char* command, std::exception_ptr error) {
 
 int main(int argc, char** argv) {
   using namespace keel::cli;
+  keel::app::remove_temporaries_on_signals();  // Ctrl-C during a command leaves no temporary output behind
   CLI::App app{"keel — robust multi-agent SLAM (reproduction of Mangelson 2019, and tools for your own data)",
                "keel"};
   app.require_subcommand(1);

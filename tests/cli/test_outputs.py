@@ -9,8 +9,10 @@ Run by CTest (cli.outputs) with KEEL set to the binary; from this folder: KEEL=.
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
+import time
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -311,6 +313,30 @@ class FailingRunsChangeNothing(Scratch):
         p = run("x.g2o")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertTrue(self.bytes("x.g2o").startswith(b"VERTEX_SE2 0 "))
+
+    def test_a_signal_during_the_work_leaves_no_temporary(self):
+        # The input is a FIFO nobody writes: keel reserves its outputs (their temporaries appear), then blocks
+        # reading; SIGTERM or SIGINT there must remove the temporaries and the folder it created.
+        os.mkfifo(self.path("pipe.g2o"))
+        for sig, args in ((signal.SIGTERM, ["solve", "pipe.g2o", "--out", "x.g2o"]),
+                          (signal.SIGINT, ["split", "pipe.g2o", "--ground-truth", "square.g2o", "--out-dir", "s/t"])):
+            p = subprocess.Popen([KEEL, *args, "--quiet"], cwd=self.dir, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL)
+            try:
+                for _ in range(600):  # up to 60 s for the temporaries to appear
+                    if any(".keel-" in n for _, dirs, files in os.walk(self.dir) for n in files + dirs):
+                        break
+                    time.sleep(0.1)
+                else:
+                    self.fail(f"keel {' '.join(args)}: no temporary appeared")
+                p.send_signal(sig)
+                self.assertEqual(p.wait(timeout=60), -sig)
+            finally:
+                if p.poll() is None:
+                    p.kill()
+            self.assertFalse(os.path.exists(self.path("x.g2o")))
+            self.assertFalse(os.path.exists(self.path("s")), "the folders split created are removed")
+        os.remove(self.path("pipe.g2o"))
 
     def test_outputs_keep_the_usual_permissions(self):
         self.keel("solve", "square.g2o", "--out", "new.g2o", "--quiet")

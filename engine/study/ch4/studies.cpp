@@ -634,17 +634,25 @@ void WholeDataCertificate::record(Results& r, const Outcome& outcome) {
     record_run(r, d.name + ".random", d.random);
     const auto& od = d.odometry;
     if (!od.failed)
-      r.check(fmt::format("{}: LM from odometry, refined on f, is numerically certified globally optimal",
-                          d.name),
-              od.certificate.certified(),
-              fmt::format(
-                  "f {:.8g} ≥ min f ≥ {:.8g}: proven gap {:.2g} (tolerance {:.0e}); S + {:.3g}·D ⪰ 0 proven "
-                  "(η* = {:.3g}) with rounding margin μ = {:.3g}{}; stationarity {:.2e}",
-                  od.certificate.cost(), od.certificate.bound.lower, od.certificate.relative_gap(),
-                  o.certificate.gap_tolerance, -od.certificate.lambda_min_bound, od.certificate.eta,
-                  od.certificate.rounding_margin,
-                  od.certificate.extended_precision ? " (double-double factor)" : "",
-                  od.certificate.stationarity));
+      r.check(
+          fmt::format("{}: LM from odometry, refined on f, is numerically certified globally optimal",
+                      d.name),
+          od.certificate.certified(),
+          // Proven figures only from the proof that succeeded (rounded outward); a failure as a failure.
+          std::isfinite(od.certificate.bound.lower)
+              ? fmt::format("f {:.8g} ≥ min f ≥ {}: proven gap {} (tolerance {:.0e}); S + {}·D ⪰ 0 proven "
+                            "(η* = {:.3g}) with rounding margin μ = {:.3g}{}; stationarity {:.2e}",
+                            od.certificate.cost(), core::format_lower(od.certificate.bound.lower, 8),
+                            core::format_upper(od.certificate.bound.relative_gap_up(), 2),
+                            o.certificate.gap_tolerance,
+                            core::format_upper(-od.certificate.lambda_min_bound, 3), od.certificate.eta,
+                            od.certificate.rounding_margin,
+                            od.certificate.extended_precision ? " (double-double factor)" : "",
+                            od.certificate.stationarity)
+              : fmt::format("f {:.8g}: no lower bound (S + η·D ⪰ 0 could not be shown for η up to {:.3g}, "
+                            "η* = {:.3g}); stationarity {:.2e}",
+                            od.certificate.cost(), od.certificate.failed_shift, od.certificate.eta,
+                            od.certificate.stationarity));
     const auto& rd = d.random;
     if (!od.failed && !rd.failed) {
       // Shown, not counted: a start that ends above a certified cost cannot be certified (weak duality: its
@@ -657,10 +665,14 @@ void WholeDataCertificate::record(Results& r, const Outcome& outcome) {
           fmt::format("{}: LM from a random start is rejected exactly when it ends above the certified cost",
                       d.name),
           !od.certificate.certified() || local != rd.certificate.certified(),
-          fmt::format("random: f {:.8g} ({:+.3g} vs odometry), certified {}, stationarity {:.2e}, S + η D "
-                      "proven from η = {:.3g} (fails at {:.3g})",
+          fmt::format("random: f {:.8g} ({:+.3g} vs odometry), certified {}, stationarity {:.2e}, {}",
                       rd.certificate.cost(), above, rd.certificate.certified(), rd.certificate.stationarity,
-                      -rd.certificate.lambda_min_bound, rd.certificate.failed_shift),
+                      std::isfinite(rd.certificate.lambda_min_bound)
+                          ? fmt::format("S + η D proven from η = {} (could not be shown at {:.3g})",
+                                        core::format_upper(-rd.certificate.lambda_min_bound, 3),
+                                        rd.certificate.failed_shift)
+                          : fmt::format("no shift proven (S + η D could not be shown for η up to {:.3g})",
+                                        rd.certificate.failed_shift)),
           false);
     }
   }

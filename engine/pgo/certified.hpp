@@ -47,8 +47,11 @@
 //     certificate again at the returned point.
 //
 // "Numerically certified": the lower bound is rigorous for the data as stored (κ, τ, R̃, t̃ in double), with
-// every rounding error of the test bounded as above; the upper bound is the cost of the returned estimate,
-// whose rotations are orthonormal to rounding.
+// every rounding error of the test bounded as above and its last operations rounded toward −∞
+// (core::round_down); the upper bound is F at the returned estimate as stored (rotations orthonormal to
+// rounding), bounded upward in double-double. The reported Certificate holds only what the proof behind the
+// lower bound established (the best proven over the staircase's points and the returned one); failed attempts
+// are reported as failed.
 #pragma once
 
 #include <string>

@@ -180,7 +180,10 @@ Outputs::~Outputs() {
     if (k >= 0) g_signal_slots[k].used.store(false);
   if (committed_) return;
   std::error_code ec;
-  for (const auto& f : files_) fs::remove(f.temporary, ec);
+  for (const auto& f : files_) {
+    fs::remove(f.temporary, ec);
+    fs::remove(f.temporary.string() + ".tmp", ec);  // a graph writer's own stage, if it was interrupted
+  }
   for (const auto& d : folders_) fs::remove_all(d.temporary, ec);
   for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) fs::remove(*it, ec);  // if empty
 }

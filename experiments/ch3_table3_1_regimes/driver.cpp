@@ -1,4 +1,5 @@
-// Beyond Table 3.1 (§3.7): the four alignment methods on a grid of regimes fixed in advance (README: five cells repeat earlier runs).
+// Beyond Table 3.1 (§3.7): the four alignment methods on a grid of regimes fixed in advance (README: five
+// cells repeat earlier runs).
 import keel.repro;
 import keel.study;
 

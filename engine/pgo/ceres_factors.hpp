@@ -24,6 +24,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "lie/euler.hpp"
@@ -219,8 +220,11 @@ class KernelLoss final : public ceres::LossFunction {
   void Evaluate(double sq_norm, double out[3]) const override {
     const Rho r = robust_rho(kernel_, parameter_, sq_norm);
     out[0] = r.rho;
-    out[1] = r.d1;
-    out[2] = r.d2;
+    // Ceres requires ρ' > 0 (its corrector aborts otherwise); a weight that underflows for a huge χ² (a
+    // residual far out on the kernel's tail) is held at the smallest normal double instead of 0.
+    constexpr double tiny = std::numeric_limits<double>::min();
+    out[1] = r.d1 > tiny ? r.d1 : tiny;
+    out[2] = std::isfinite(r.d2) ? r.d2 : 0.0;
   }
 
  private:

@@ -90,6 +90,12 @@ void Options::validate() const {
   if (robust_kernel != RobustKernel::none && !(robust_parameter > 0.0 && std::isfinite(robust_parameter)))
     fail(fmt::format("robust_parameter must be finite and > 0 for robust_kernel = {} (got {})",
                      to_string(robust_kernel), robust_parameter));
+  // The kernels square their parameter (Huber and Cauchy b = a², DCS 2φ/(φ + χ²)): within this range b and
+  // the weights are normal doubles for every χ² a graph can give, so ρ' > 0 as Ceres requires.
+  if (robust_kernel != RobustKernel::none &&
+      !(robust_parameter >= kMinRobustParameter && robust_parameter <= kMaxRobustParameter))
+    fail(fmt::format("robust_parameter must be in [{:g}, {:g}] for robust_kernel = {} (got {})",
+                     kMinRobustParameter, kMaxRobustParameter, to_string(robust_kernel), robust_parameter));
   for (int k : constant_poses)
     if (k < 0) fail(fmt::format("constant_poses must hold pose indices >= 0 (got {})", k));
   if (method == Method::dogleg &&

@@ -94,6 +94,11 @@ std::string_view to_string(Termination v);
 [[nodiscard]] AnchorGuess anchor_guess_from_string(std::string_view text);
 [[nodiscard]] Termination termination_from_string(std::string_view text);
 
+// The range of Options::robust_parameter: a² (Huber, Cauchy) and φ² stay normal doubles, so the kernels'
+// values and weights are representable.
+inline constexpr double kMinRobustParameter = 1e-150;
+inline constexpr double kMaxRobustParameter = 1e150;
+
 struct Options {
   Method method = Method::levenberg_marquardt;                        // trust-region strategy
   LinearSolver linear_solver = LinearSolver::sparse_normal_cholesky;  // linear solver of each step
@@ -113,7 +118,8 @@ struct Options {
   double random_extent = 10.0;  // InitialGuess::random: translations uniform in [−extent, extent] (> 0);
                                 // angles uniform in (−π, π], 3D rotations uniform on SO(3)
   RobustKernel robust_kernel = RobustKernel::none;  // kernel ρ on the χ² of each edge in robust_scope
-  double robust_parameter = 5.0;  // DCS φ (Agarwal et al. and thesis §2.7 use 5) or Huber/Cauchy a (> 0)
+  double robust_parameter = 5.0;  // DCS φ (Agarwal et al. and thesis §2.7 use 5) or Huber/Cauchy a, in
+                                  // [kMinRobustParameter, kMaxRobustParameter]
   RobustScope robust_scope = RobustScope::loop_closures;  // which measurements get the kernel
   std::vector<int> constant_poses = {0};  // pose indices held constant (gauge); in a multi-robot graph they
                                           // apply to every robot, and robot 0's anchor is always constant

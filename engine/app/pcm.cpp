@@ -134,9 +134,9 @@ Graph merged_graph_impl(const PcmRun<G>& run) {
 void PcmOptions::validate() const {
   if (!(p > 0.0 && p < 1.0))
     throw std::invalid_argument(fmt::format("app::PcmOptions: p must be in (0, 1) (got {})", p));
-  if (!std::isfinite(time_limit_s)) {
-    throw std::invalid_argument(
-        fmt::format("app::PcmOptions: time_limit_s must be finite (got {})", time_limit_s));
+  if (!(std::isfinite(time_limit_s) && time_limit_s >= 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "app::PcmOptions: time_limit_s must be finite and >= 0, 0 for none (got {})", time_limit_s));
   }
   local.validate();
   merge_options.validate();

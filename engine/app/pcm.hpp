@@ -21,7 +21,8 @@ struct PcmOptions {
       0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
   pcm::Composition composition = pcm::Composition::joint;  // x̂_ij from the joint marginals (eq. 2.4)
   pcm::CliqueAlgorithm algorithm = pcm::CliqueAlgorithm::exact;
-  double time_limit_s = 0.0;          // exact clique search limit; <= 0: none (the result says if it stopped)
+  double time_limit_s = 0.0;          // exact clique search limit (s, >= 0); 0: none (the result says if it
+                                      // stopped)
   merge::LocalSolveOptions local;     // the two local solves (odometry initial guess, pose 0 fixed)
   bool merge = false;                 // also solve the merged two-robot graph with the selected candidates
   merge::MergeOptions merge_options;  // of that solve

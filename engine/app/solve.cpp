@@ -1,8 +1,11 @@
 #include "app/solve.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -35,9 +38,7 @@ Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Es
 template <class Graph>
 CertifiedSolution<Graph> certified_impl(const Graph& g, const SolveOptions& options) {
   check_numeric_range(g);  // as solve_impl
-  pgo::CertifiedOptions o;
-  o.gap_tolerance = options.gap_tolerance;
-  o.max_rank = options.max_rank;
+  const pgo::CertifiedOptions o = options.certified_options();
   const auto t0 = core::Clock::now();
   auto r = pgo::solve_certified(g, o);
   CertifiedSolution<Graph> out;
@@ -89,6 +90,17 @@ pgo::Options SolveOptions::pgo_options() const {
   o.threads = threads;
   o.max_iterations = max_iterations;
   o.validate();
+  return o;
+}
+
+pgo::CertifiedOptions SolveOptions::certified_options() const {
+  pgo::CertifiedOptions o;
+  o.gap_tolerance = gap_tolerance;
+  o.max_rank = max_rank;
+  o.validate();
+  if (max_rank < 2)
+    throw std::invalid_argument(
+        fmt::format("CertifiedOptions: max_rank must be >= 2, the smallest dimension d (got {})", max_rank));
   return o;
 }
 

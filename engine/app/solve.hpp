@@ -42,6 +42,10 @@ struct SolveOptions {
   /// pgo::Options with these fields set. Throws std::invalid_argument for an unknown name or an invalid
   /// value.
   [[nodiscard]] pgo::Options pgo_options() const;
+  /// pgo::CertifiedOptions with gap_tolerance and max_rank set, checked (CertifiedOptions::validate, and
+  /// max_rank >= 2, the smallest dimension; a rank below a 3D graph's d = 3 is refused once the graph is
+  /// read). Throws std::invalid_argument.
+  [[nodiscard]] pgo::CertifiedOptions certified_options() const;
 };
 
 template <class Graph>

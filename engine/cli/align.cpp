@@ -43,6 +43,24 @@ void check_certified(const app::SurveyAlignment& s) {
                     core::to_string(s.certificate->status)));
 }
 
+// The option values, each by the engine's own check (check_option: a refusal is exit 2 naming the option),
+// before any file is read.
+void check_align_options(const AlignArgs& a) {
+  check_option("--method", [&] { (void)align::method_from_string(a.method); });
+  check_option("--dissimilarity", [&] { (void)app::dissimilarity_from_string(a.dissimilarity); });
+  const auto check = [](const char* option, auto set) {
+    app::AlignSurveysOptions o;
+    set(o);
+    check_option(option, [&] { o.validate(); });
+  };
+  const auto& given = a.options;
+  check("--rounds", [&](app::AlignSurveysOptions& o) { o.region.max_rounds = given.region.max_rounds; });
+  check("--shrink", [&](app::AlignSurveysOptions& o) { o.region.shrink = given.region.shrink; });
+  check("--min-half-width",
+        [&](app::AlignSurveysOptions& o) { o.region.min_half_width = given.region.min_half_width; });
+  check("--depth-gate", [&](app::AlignSurveysOptions& o) { o.depth_gate = given.depth_gate; });
+}
+
 void run_align(AlignArgs a) {
   const Stages stage("align", a.common.quiet);
   a.options.method = align::method_from_string(a.method);
@@ -123,6 +141,28 @@ struct WorldArgs {
   sim::AlignmentWorldOptions world;
 };
 
+// The option values, each by the engine's own check (check_option: a refusal is exit 2 naming the option),
+// before anything is read or written. --scale is checked with or without --terrain.
+void check_world_options(const WorldArgs& a) {
+  const auto check = [](const char* option, auto set) {
+    sim::AlignmentWorldOptions o;
+    set(o);
+    check_option(option, [&] { o.validate(); });
+  };
+  const auto& given = a.world;
+  check("--feature-noise", [&](sim::AlignmentWorldOptions& o) { o.feature_noise = given.feature_noise; });
+  check("--query-size", [&](sim::AlignmentWorldOptions& o) { o.query_size = given.query_size; });
+  check("--bump-sigma-min/--bump-sigma-max", [&](sim::AlignmentWorldOptions& o) {
+    o.bump_sigma_min = given.bump_sigma_min;
+    o.bump_sigma_max = given.bump_sigma_max;
+  });
+  check("--bumps", [&](sim::AlignmentWorldOptions& o) { o.bumps = given.bumps; });
+  check_option("--scale", [&] {
+    if (!(a.scale > 0 && std::isfinite(a.scale)))
+      throw std::invalid_argument(fmt::format("{}: must be a length > 0 (m)", a.scale));
+  });
+}
+
 void run_world(WorldArgs a) {
   const Stages stage("align-world", a.common.quiet);
   app::Outputs outputs({{"--terrain", a.terrain}});
@@ -136,8 +176,6 @@ void run_world(WorldArgs a) {
   } else {
     // Table 3.1's geometry (lengths in sample spacings) times the scale, aligned in units of the scale (the
     // settings of ch3_table3_1_terrain_*).
-    if (!(a.scale > 0 && std::isfinite(a.scale)))
-      throw std::invalid_argument(fmt::format("--scale {}: must be a length > 0 (m)", a.scale));
     stage(fmt::format("reading the grid {}", a.terrain));
     const sim::TerrainField field(sim::read_terrain_grid(a.terrain));
     auto& w = a.world;
@@ -195,7 +233,9 @@ void add_align_command(CLI::App& app) {
        "euclidean (raw feature vectors)")
       ->capture_default_str();
   auto& o = a->options;
-  c->add_option("--rounds", o.region.max_rounds, "shrinking rounds after round 0")->capture_default_str();
+  c->add_option("--rounds", o.region.max_rounds,
+                "shrinking rounds after round 0 (0: round 0 only, the whole reference)")
+      ->capture_default_str();
   c->add_option("--shrink", o.region.shrink, "box half-width factor per round")->capture_default_str();
   c->add_option("--min-half-width", o.region.min_half_width, "rounds stop below this half-width (m)")
       ->capture_default_str();
@@ -206,7 +246,10 @@ void add_align_command(CLI::App& app) {
   c->add_option("--threads", o.threads, "threads for hulls and sectors (the answer does not depend on it)")
       ->capture_default_str();
   add_common(c, a->common);
-  c->callback([a] { run_align(*a); });
+  c->callback([a] {
+    check_align_options(*a);
+    run_align(*a);
+  });
 
   auto w = std::make_shared<WorldArgs>();
   auto& wo = w->world;
@@ -239,7 +282,10 @@ void add_align_command(CLI::App& app) {
                  "sample spacings), and the written positions in units of it")
       ->capture_default_str();
   add_common(cw, w->common);
-  cw->callback([w] { run_world(*w); });
+  cw->callback([w] {
+    check_world_options(*w);
+    run_world(*w);
+  });
 }
 
 }  // namespace keel::cli

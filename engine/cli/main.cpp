@@ -9,11 +9,15 @@ import keel.graph;
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "commands.hpp"
 
@@ -47,6 +51,47 @@ int report_error(const char* command, std::exception_ptr error) {
   }
 }
 
+// Every number on the command line goes through the one parser (core::parse_integer, core::parse_real)
+// before CLI11 converts it: a value out of range of its type (overflow, a negative for an unsigned option),
+// trailing junk, inf or nan is a usage error (exit 2) naming the option, never a wrapped or clamped value.
+// CLI11 names an option's C++ type INT (signed), UINT (unsigned) or FLOAT; its own conversion then refuses a
+// value that does not fit a narrower type (int, unsigned).
+CLI::Validator number_check(const std::string& type) {
+  return CLI::Validator(
+      [type](std::string& token) -> std::string {
+        if (type == "FLOAT") {
+          double v = 0.0;
+          return keel::core::parse_real(token, v);
+        }
+        std::int64_t v = 0;
+        if (type == "INT")
+          return keel::core::parse_integer(token, std::numeric_limits<std::int64_t>::min(),
+                                           std::numeric_limits<std::int64_t>::max(), v);
+        // UINT: 0 … 2^64 − 1; the parser's range is that of int64, so the upper half is read apart.
+        auto why = keel::core::parse_integer(token, 0, std::numeric_limits<std::int64_t>::max(), v);
+        if (why.empty()) return why;
+        std::uint64_t u = 0;
+        const std::string_view s =
+            !token.empty() && token[0] == '+' ? std::string_view(token).substr(1) : token;
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), u, 10);
+        if (!s.empty() && s[0] != '-' && ec == std::errc() && end == s.data() + s.size()) return {};
+        const std::string int64_max = std::to_string(std::numeric_limits<std::int64_t>::max());
+        if (const auto at = why.find(int64_max); at != std::string::npos)
+          why.replace(at, int64_max.size(), std::to_string(std::numeric_limits<std::uint64_t>::max()));
+        return why;
+      },
+      "", type == "FLOAT" ? "real" : "integer");
+}
+
+// Adds number_check to every numeric option of `app` and its subcommands.
+void check_numbers(CLI::App& app) {
+  for (auto* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    if (type == "INT" || type == "UINT" || type == "FLOAT") option->check(number_check(type));
+  }
+  for (auto* sub : app.get_subcommands({})) check_numbers(*sub);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,6 +108,7 @@ int main(int argc, char** argv) {
                    add_marginals_command, add_pcm_command, add_split_command, add_align_command})
     add(app);
   for (auto* sub : app.get_subcommands({})) sub->footer(kExitTable);
+  check_numbers(app);
   const char* command = argc > 1 ? argv[1] : "keel";
   try {
     app.parse(argc, argv);

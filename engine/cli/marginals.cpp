@@ -206,7 +206,10 @@ void add_marginals_command(CLI::App& app) {
   c->add_option("--out", a->solve.out, "write every covariance to this JSON file");
   add_solve_options(c, a->solve);
   add_common(c, a->solve.common);
-  c->callback([a] { run_marginals(*a); });
+  c->callback([a] {
+    check_solve_options(a->solve);
+    run_marginals(*a);
+  });
 }
 
 }  // namespace keel::cli

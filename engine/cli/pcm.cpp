@@ -141,6 +141,26 @@ void pcm_files(const PcmArgs& args, const Graph& a, const Graph& b, const Edges&
   report_pcm(args, run, inlier, stage, outputs);
 }
 
+// The option values, each by the engine's own check (check_option: a refusal is exit 2 naming the option),
+// before any file is read. --time-limit, when given, is a number of seconds > 0 (left out: no limit).
+void check_pcm_options(const PcmArgs& args, bool time_limit_given) {
+  check_option("--p", [&] {
+    app::PcmOptions o;
+    o.p = args.p;
+    o.validate();
+  });
+  check_option("--composition", [&] { (void)pcm::composition_from_string(args.composition); });
+  check_option("--algorithm", [&] { (void)pcm::clique_algorithm_from_string(args.algorithm); });
+  check_option("--time-limit", [&] {
+    if (time_limit_given && !(args.time_limit_s > 0.0))
+      throw std::invalid_argument(fmt::format(
+          "{} s: give a time limit > 0 seconds, or leave the option out for no limit", args.time_limit_s));
+    app::PcmOptions o;
+    o.time_limit_s = args.time_limit_s;
+    o.validate();
+  });
+}
+
 void run_pcm_command(const PcmArgs& args) {
   const auto ext = std::filesystem::path(args.merged).extension();
   if (!args.merged.empty() && ext != ".g2o" && ext != ".txt")
@@ -181,15 +201,18 @@ void add_pcm_command(CLI::App& app) {
   c->add_option("--composition", a->composition, "joint (eq. 2.4 with the joint marginals) or independent")
       ->capture_default_str();
   c->add_option("--algorithm", a->algorithm, "maximum clique: exact or heuristic")->capture_default_str();
-  c->add_option("--time-limit", a->time_limit_s, "stop the exact search after this many seconds (0: none)")
-      ->capture_default_str();
+  auto* time_limit =
+      c->add_option("--time-limit", a->time_limit_s, "stop the exact search after this many seconds (> 0)");
   c->add_option("--labels", a->labels, "labels.txt of keel split: score the selection (TPR, FPR)");
   c->add_option("--merged", a->merged, "solve the merged map with the selected candidates and write it here");
   c->add_option("--out", a->out, "write the result and the consistency matrix Q to this JSON file");
   c->add_option("--threads", a->threads, "threads for Q (the result does not depend on it); 0 = all cores")
       ->capture_default_str();
   add_common(c, a->common);
-  c->callback([a] { run_pcm_command(*a); });
+  c->callback([a, time_limit] {
+    check_pcm_options(*a, time_limit->count() > 0);
+    run_pcm_command(*a);
+  });
 }
 
 }  // namespace keel::cli

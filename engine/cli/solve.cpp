@@ -16,6 +16,7 @@ import keel.app;
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -129,7 +130,8 @@ void run_solve(const SolveArgs& a) {
       return app::read_graph(a.file);
     } catch (const graph::ParseError& e) {
       if (std::string_view(e.what()).find("not positive definite") == std::string_view::npos) throw;
-      throw CommandFailed(
+      // An input refused (exit 3), with the option that reads it.
+      throw std::invalid_argument(
           fmt::format("{}\n(the anisotropic solve needs every information matrix positive "
                       "definite; `keel solve --certify` reads this file: its isotropic model uses "
                       "only the translation and rotation blocks)",
@@ -177,7 +179,10 @@ void add_solve_command(CLI::App& app) {
   c->add_option("--max-rank", a->options.max_rank, "--certify: the staircase's last rank")
       ->capture_default_str();
   add_common(c, a->common);
-  c->callback([a] { run_solve(*a); });
+  c->callback([a] {
+    check_solve_options(*a);
+    run_solve(*a);
+  });
 }
 
 }  // namespace keel::cli

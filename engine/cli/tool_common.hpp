@@ -114,6 +114,42 @@ inline void add_solve_options(CLI::App* c, SolveArgs& a) {
   c->add_option("--max-iterations", o.max_iterations, "trust-region iterations")->capture_default_str();
 }
 
+// The engine's own check of option values (a validate() or from_string) run right after parsing, before any
+// input is read: a value it refuses (std::invalid_argument) is a bad command line, exit 2, named by its
+// option.
+template <class Check>
+void check_option(const char* option, Check&& check) {
+  try {
+    check();
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError(option, e.what());
+  }
+}
+
+// The solver options of `keel solve` and `keel marginals`, each checked alone by app::SolveOptions's own
+// checks (pgo::Options::validate, pgo::CertifiedOptions::validate) so that a refusal names its option.
+// --robust-param is checked as a parameter of the chosen kernel (of huber when --robust is none).
+inline void check_solve_options(const SolveArgs& a) {
+  const auto& given = a.options;
+  const auto check = [](const char* option, auto set) {
+    app::SolveOptions o;
+    set(o);
+    check_option(option, [&] {
+      (void)o.pgo_options();
+      (void)o.certified_options();
+    });
+  };
+  check("--init", [&](app::SolveOptions& o) { o.init = given.init; });
+  check("--robust", [&](app::SolveOptions& o) { o.robust = given.robust; });
+  check("--robust-param", [&](app::SolveOptions& o) {
+    o.robust = given.robust == "none" ? "huber" : given.robust;
+    o.robust_parameter = given.robust_parameter;
+  });
+  check("--max-iterations", [&](app::SolveOptions& o) { o.max_iterations = given.max_iterations; });
+  check("--gap-tolerance", [&](app::SolveOptions& o) { o.gap_tolerance = given.gap_tolerance; });
+  check("--max-rank", [&](app::SolveOptions& o) { o.max_rank = given.max_rank; });
+}
+
 // The attempts of a certificate's proof that failed, as failed: null when none did.
 inline json certificate_failures_json(const pgo::Certificate& c) {
   if (!(c.failed_shift > 0.0)) return json(nullptr);

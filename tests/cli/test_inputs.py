@@ -4,7 +4,7 @@ and graphs whose cost double precision cannot evaluate (check refuses what solve
 
 Run by CTest (cli.inputs) with KEEL set to the binary; from this folder: KEEL=../../build/release/keel
 /usr/bin/python3 -m unittest -v test_inputs. Every case writes its small files into a scratch folder.
-Exit codes: 0 done, 3 bad input (docs/USING.md's table).
+Exit codes: 0 done, 2 bad command line, 3 bad input (docs/USING.md's table).
 """
 import json
 import math
@@ -195,6 +195,82 @@ class Range(unittest.TestCase):
         for key in ("sigma_translation", "sigma_rotation"):
             for v in s[key]:
                 self.assertTrue(math.isclose(v, 1e55, rel_tol=1e-12), (key, v))
+
+
+class OptionValues(unittest.TestCase):
+    """An option value keel refuses is a bad command line (exit 2) naming the option, refused before any input
+    is read: every case below names a file that does not exist (reading it would be exit 3). Numbers go through
+    the one parser (overflow, a negative unsigned, trailing junk, inf and nan refused), the rest through the
+    engine's own checks (validate(), from_string)."""
+
+    SOLVE = ("solve", "missing.g2o")
+    PCM = ("pcm", "--a", "missing.g2o", "--b", "missing.g2o", "--candidates", "missing.g2o")
+    ALIGN = ("align", "missing.csv", "missing.csv")
+
+    def usage(self, args, *texts):
+        _, err = keel(*args, expect=2)
+        for text in texts:
+            self.assertIn(text, err, args)
+        self.assertNotIn("missing", err, args)
+
+    def test_solve_options(self):
+        self.usage(self.SOLVE + ("--max-iterations", "-1"), "--max-iterations:", "max_iterations must be >= 0")
+        self.usage(self.SOLVE + ("--init", "bogus"), "--init:", "unknown pgo::InitialGuess 'bogus'")
+        self.usage(self.SOLVE + ("--robust", "bogus"), "--robust:", "unknown pgo::RobustKernel 'bogus'")
+        self.usage(self.SOLVE + ("--robust", "huber", "--robust-param", "nan"), "--robust-param:",
+                   "'nan' is not a finite number")
+        self.usage(self.SOLVE + ("--robust-param", "-1"), "--robust-param:", "robust_parameter must be finite and > 0")
+        self.usage(self.SOLVE + ("--certify", "--gap-tolerance", "-1"), "--gap-tolerance:",
+                   "gap_tolerance must be in (0, 1)")
+        self.usage(self.SOLVE + ("--certify", "--max-rank", "0"), "--max-rank:", "max_rank must be >= 2")
+        self.usage(("marginals", "missing.g2o", "--poses", "1", "--robust", "bogus"), "--robust:")
+
+    def test_pcm_options(self):
+        for p in ("0", "1.5", "nan"):
+            self.usage(self.PCM + ("--p", p), "--p:")
+        self.usage(self.PCM + ("--algorithm", "bogus"), "--algorithm:", "bogus")
+        self.usage(self.PCM + ("--composition", "bogus"), "--composition:", "bogus")
+        for t in ("-1", "0", "nan"):
+            self.usage(self.PCM + ("--time-limit", t), "--time-limit:")
+
+    def test_align_options(self):
+        self.usage(self.ALIGN + ("--method", "bogus"), "--method:", "unknown align::Method 'bogus'")
+        self.usage(self.ALIGN + ("--shrink", "1.5"), "--shrink:", "must be in (0, 1)")
+        self.usage(self.ALIGN + ("--rounds", "-1"), "--rounds:", "must be >= 0")
+        self.usage(self.ALIGN + ("--dissimilarity", "bogus"), "--dissimilarity:")
+        for scale in ("0", "-1", "inf", "nan"):
+            self.usage(("align-world", "w", "--terrain", "missing.grid", "--scale", scale), "--scale:")
+            self.assertFalse(os.path.exists(os.path.join(WORK, "w")))
+        self.usage(("align-world", "w", "--bumps", "0"), "--bumps:")
+
+    def test_integers_through_the_one_parser(self):
+        # Overflow of 64 bits was accepted (a seed of 10^23 ran), -1 of an unsigned wrapped to 2^64 - 1.
+        self.usage(self.SOLVE + ("--init", "random", "--seed", "99999999999999999999999"), "--seed:", "too large")
+        self.usage(("align-world", "w", "--index", "-1"), "--index:", "is negative")
+        self.usage(("align-world", "w", "--seed", "18446744073709551616"), "--seed:", "too large")
+        self.usage(self.SOLVE + ("--threads", "-1"), "--threads:")
+        self.usage(self.SOLVE + ("--threads", "1x"), "--threads:")
+        self.usage(self.SOLVE + ("--max-iterations", "1e3"), "--max-iterations:")
+        self.usage(("split", "missing.g2o", "--ground-truth", "missing.txt", "--out-dir", "s", "--seed", "-1"),
+                   "--seed:")
+        self.usage(self.PCM + ("--threads", "4294967296"), "--threads")
+        self.assertFalse(os.path.exists(os.path.join(WORK, "w")))
+        # The whole unsigned 64-bit range is a seed.
+        write("t.g2o", TRIANGLE)
+        keel("solve", "t.g2o", "-q", "--init", "random", "--seed", "18446744073709551615")
+
+    def test_robust_parameters_keel_can_represent(self):
+        # A Cauchy a of 1e-300 squared to 0 and Ceres aborted (rho'(s) = 0); the range is stated, its ends run.
+        write("t.g2o", TRIANGLE)
+        for kernel in ("huber", "cauchy", "dcs"):
+            for a in ("1e-300", "5e-324", "1e300", "1e-151"):
+                self.usage(("solve", "t.g2o", "--robust", kernel, "--robust-param", a), "--robust-param:",
+                           "robust_parameter must be in [1e-150, 1e+150]")
+            for a in ("1e-150", "1e150"):
+                p = subprocess.run([KEEL, "solve", "t.g2o", "-q", "--init", "random", "--robust", kernel,
+                                    "--robust-param", a], cwd=WORK, capture_output=True, text=True, timeout=300)
+                self.assertIn(p.returncode, (0, 1), (kernel, a, p.stderr))
+                self.assertNotIn("Check failed", p.stderr)
 
 
 if __name__ == "__main__":

@@ -296,10 +296,12 @@ class FailingRunsChangeNothing(Scratch):
         self.assertNotEqual((self.bytes("m.g2o"), self.bytes("p.json")), before)
 
     def test_a_failed_solve_keeps_its_out(self):
-        # An information matrix that is not positive definite: the anisotropic solve refuses the file (exit 1).
+        # An information matrix that is not positive definite: the anisotropic solve refuses the file (exit 3).
         self.put("coupled.g2o", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 0 1 0 3 1 0 1\n")
         self.put("out.g2o", SQUARE)
-        self.keel("solve", "coupled.g2o", "--out", "out.g2o", expect=1)
+        _, err = self.keel("solve", "coupled.g2o", "--out", "out.g2o", expect=3)
+        self.assertIn("not positive definite", err)
+        self.assertIn("`keel solve --certify` reads this file", err)
         self.assertEqual(self.bytes("out.g2o"), SQUARE.encode())
 
     def test_solve_from_a_pipe_writes_its_out_once_named(self):

@@ -1,6 +1,7 @@
 // keel Python module — PYBIND11_MODULE(keel): the docstring, the exception classes and the topic bindings.
 #include <exception>
 
+#include "app/solver_log.hpp"
 #include "bindings.hpp"
 #include "datasets/manifest.hpp"
 #include "graph/parse_error.hpp"
@@ -32,6 +33,9 @@ overflow double precision); OSError for a file that cannot be written; RuntimeEr
 failures. Long computations release the GIL.
 
 __version__ is keel's version, __git_commit__ the commit the module was built from ("+dirty": with changes).)doc";
+  // Ceres's own log (glog, straight to stderr by default) is dropped: a solver's outcome is in the returned
+  // summary (termination, message), as under `keel solve --quiet`.
+  keel::app::route_solver_log({});
   m.attr("__version__") = KEEL_VERSION;
   m.attr("__git_commit__") = KEEL_GIT_COMMIT;
 

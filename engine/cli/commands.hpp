@@ -15,8 +15,8 @@ namespace keel::cli {
 enum Exit : int {
   ok = 0,         // done
   failed = 1,     // done, but not what was asked: a solver failed, `--certify` not certified, results differ
-  usage = 2,      // bad command line or experiment config
-  bad_input = 3,  // an input file that cannot be read or parsed, or values the engine refuses
+  usage = 2,      // bad command line (an unknown option, an option value refused) or experiment config
+  bad_input = 3,  // an input file that cannot be read or parsed, or values in it the engine refuses
   cannot_write = 4,  // an output that cannot be written or is refused (an input, or an existing file of
                      // another kind); nothing was written
 };
@@ -24,9 +24,9 @@ enum Exit : int {
 // The table above as `keel --help` and each command's --help print it.
 inline constexpr const char* kExitTable =
     "Exit status: 0 done; 1 done, but not what was asked (a solver failed, --certify not certified, results "
-    "differ or leave their tolerance); 2 bad command line or experiment config; 3 an input that cannot be "
-    "read "
-    "or parsed, or values keel refuses; 4 an output that cannot be written, or is refused (one of the "
+    "differ or leave their tolerance); 2 bad command line or experiment config (an unknown option, or an "
+    "option value keel refuses, before any input is read); 3 an input that cannot be read or parsed, or "
+    "values in it keel refuses; 4 an output that cannot be written, or is refused (one of the "
     "inputs, "
     "or an existing file of another kind). Outputs are written only on exit 0, each to a temporary file "
     "beside "

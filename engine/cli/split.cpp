@@ -11,6 +11,7 @@ import keel.app;
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -25,6 +26,25 @@ struct SplitArgs {
   std::string graph, ground_truth, out_dir;
   app::SplitFilesOptions options;
 };
+
+// The option values, each by the engine's own check (check_option: a refusal is exit 2 naming the option),
+// before any file is read: the counts (CandidateOptions::validate) and the split's order (SplitOptions::
+// validate with any pose count; `--last` against the graph's pose count is checked once it is read).
+void check_split_options(const SplitArgs& a) {
+  const auto& c = a.options.candidates;
+  const auto check = [](const char* option, auto set) {
+    sim::CandidateOptions o;
+    set(o);
+    check_option(option, [&] { o.validate(); });
+  };
+  check("--inliers", [&](sim::CandidateOptions& o) { o.num_inliers = c.num_inliers; });
+  check("--aliased-groups/--aliased-size", [&](sim::CandidateOptions& o) {
+    o.aliased_groups = c.aliased_groups;
+    o.aliased_group_size = c.aliased_group_size;
+  });
+  check("--random-outliers", [&](sim::CandidateOptions& o) { o.random_outliers = c.random_outliers; });
+  check_option("--first/--split/--last", [&] { a.options.split.validate(std::numeric_limits<int>::max()); });
+}
 
 void run_split(const SplitArgs& a) {
   const Stages stage("split", a.common.quiet);
@@ -88,7 +108,10 @@ void add_split_command(CLI::App& app) {
   c->add_option("--random-outliers", o.candidates.random_outliers, "random outliers")->capture_default_str();
   c->add_option("--seed", o.seed, "seed of the draw")->capture_default_str();
   add_common(c, a->common);
-  c->callback([a] { run_split(*a); });
+  c->callback([a] {
+    check_split_options(*a);
+    run_split(*a);
+  });
 }
 
 }  // namespace keel::cli

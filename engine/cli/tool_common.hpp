@@ -107,7 +107,8 @@ inline void add_solve_options(CLI::App* c, SolveArgs& a) {
   c->add_option("--seed", o.seed, "seed of --init random")->capture_default_str();
   c->add_option("--robust", o.robust, "robust kernel on the loop closures: none, huber, cauchy or dcs")
       ->capture_default_str();
-  c->add_option("--robust-param", o.robust_parameter, "Huber/Cauchy a or DCS φ")->capture_default_str();
+  c->add_option("--robust-param", o.robust_parameter, "Huber/Cauchy a or DCS φ, in 1e-150 … 1e150")
+      ->capture_default_str();
   c->add_option("--threads", o.threads,
                 "Ceres threads (the last bits of the result depend on it); 0 = all cores")
       ->capture_default_str();

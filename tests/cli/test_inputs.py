@@ -243,6 +243,14 @@ class OptionValues(unittest.TestCase):
             self.assertFalse(os.path.exists(os.path.join(WORK, "w")))
         self.usage(("align-world", "w", "--bumps", "0"), "--bumps:")
 
+    def test_split_options(self):
+        split = ("split", "missing.g2o", "--ground-truth", "missing.txt", "--out-dir", "s")
+        self.usage(split + ("--inliers", "-1"), "--inliers:", "num_inliers must be >= 0")
+        self.usage(split + ("--random-outliers", "-2"), "--random-outliers:")
+        self.usage(split + ("--aliased-groups", "1", "--aliased-size", "0"), "--aliased-groups/--aliased-size:")
+        self.usage(split + ("--first", "5", "--split", "6"), "--first/--split/--last:", "at least 2 poses")
+        self.assertFalse(os.path.exists(os.path.join(WORK, "s")))
+
     def test_integers_through_the_one_parser(self):
         # Overflow of 64 bits was accepted (a seed of 10^23 ran), -1 of an unsigned wrapped to 2^64 - 1.
         self.usage(self.SOLVE + ("--init", "random", "--seed", "99999999999999999999999"), "--seed:", "too large")

@@ -109,7 +109,7 @@ class Version(unittest.TestCase):
             p = subprocess.run([KEEL, *args, "--help"], capture_output=True, text=True, timeout=60)
             self.assertEqual(p.returncode, 0, args)
             text = " ".join(p.stdout.split())
-            for item in ("Exit status: 0 done;", "2 bad command line", "3 an input that cannot be read",
+            for item in ("Exit status: 0 done;", "2 bad command line", "an option value keel refuses", "3 an input that cannot be read",
                          "4 an output that cannot be written"):
                 self.assertIn(item, text, args)
         p = subprocess.run([KEEL, "--help"], capture_output=True, text=True, timeout=60)
@@ -364,6 +364,24 @@ class SolverLog(Scratch):
         self.assertRegex(err, r"keel solve \[[0-9.]+ s\] Ceres warning:\n    Specified options.num_threads: 1000000")
         self.assertNotRegex(err, r"(?m)^[IWEF]\d{8} ")  # no glog line of its own
         self.assertNotIn("InitGoogleLogging", err)
+
+    def test_ceres_is_silent_in_python(self):
+        # The module drops Ceres's log (app::route_solver_log) as `keel solve --quiet` does: the outcome is in the
+        # returned summary.
+        module = os.path.join(os.path.dirname(KEEL), "python")
+        if not os.path.isdir(module):
+            self.skipTest(f"no Python module beside {KEEL}")
+        code = ("import keel\n"
+                "g = keel.read_graph('square.g2o')\n"
+                "keel.solve(g, threads=1000000)\n"
+                "print('solved')\n")
+        p = subprocess.run(["/usr/bin/python3", "-c", code], cwd=self.dir, capture_output=True, text=True,
+                           timeout=300, env={**os.environ, "PYTHONPATH": module})
+        if "No module named" in p.stderr:
+            self.skipTest(p.stderr.strip().splitlines()[-1])
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(p.stdout, "solved\n")
+        self.assertEqual(p.stderr, "")
 
 
 if __name__ == "__main__":

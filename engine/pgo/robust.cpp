@@ -25,9 +25,15 @@ Rho robust_rho(RobustKernel kernel, double a, double s) {
     }
     case RobustKernel::cauchy: {
       const double b = a * a;
-      const double sum = 1.0 + s / b;
-      const double inv = 1.0 / sum;
-      r = {b * std::log1p(s / b), inv, -inv * inv / b};
+      if (const double ratio = s / b; std::isfinite(ratio)) {
+        const double inv = 1.0 / (1.0 + ratio);
+        r = {b * std::log1p(ratio), inv, -inv * inv / b};
+      } else {
+        // s/b beyond the largest double (a tiny a, a far outlier): log1p(s/b) = log s − log b to within
+        // b/s, and ρ' = b/(b + s), ρ'' = −b/(b + s)², without forming s/b.
+        const double inv = b / (b + s);
+        r = {b * (std::log(s) - std::log(b)), inv, -inv / (b + s)};
+      }
       break;
     }
     case RobustKernel::dcs: {

@@ -279,6 +279,16 @@ class OptionValues(unittest.TestCase):
                                     "--robust-param", a], cwd=WORK, capture_output=True, text=True, timeout=300)
                 self.assertIn(p.returncode, (0, 1), (kernel, a, p.stderr))
                 self.assertNotIn("Check failed", p.stderr)
+        # A far outlier (χ² 1e10) under Cauchy a = 1e-150: s/a² is beyond the largest double; the cost stays finite
+        # (it was inf with exit 0) and the weight positive.
+        write("far.g2o", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\nEDGE_SE2 0 1 1 0 0" + INFO +
+              "EDGE_SE2 1 2 1 0 0" + INFO + "EDGE_SE2 0 2 100000 0 0" + INFO)
+        for kernel in ("huber", "cauchy", "dcs"):
+            out, _ = keel("solve", "far.g2o", "-q", "--json", "--robust", kernel, "--robust-param", "1e-150")
+            summary = json.loads(out)["summary"]
+            for key in ("initial_cost", "final_cost"):
+                self.assertIsNotNone(summary[key], (kernel, key))
+                self.assertTrue(math.isfinite(summary[key]) and summary[key] > 0, (kernel, key, summary[key]))
 
 
 if __name__ == "__main__":

@@ -76,12 +76,16 @@ struct Section {
 
 // The results of experiment `id` a report section reads: `file_name` (latest.json, or a baseline) and, for a
 // report of this machine's runs, the committed baseline of the profile standing in where the experiment was
-// not run here (`stand_in` set). Null (json()) where neither exists.
+// not run here at that profile (`stand_in` set). Null (json()) where neither exists.
 json read_results(const std::filesystem::path& results_dir, const std::string& id,
                   const std::string& file_name, const std::string& profile, bool* stand_in) {
   if (stand_in) *stand_in = false;
-  if (std::ifstream in(results_dir / id / file_name); in) return json::parse(in);
   const std::string baseline = fmt::format("baseline.{}.json", profile);
+  if (std::ifstream in(results_dir / id / file_name); in) {
+    json r = json::parse(in);
+    // A latest.json of another profile (a quick run before a full report) was not run at this profile here.
+    if (file_name == baseline || r.value("profile", profile) == profile) return r;
+  }
   if (file_name == baseline) return json();
   std::ifstream in(results_dir / id / baseline);
   if (!in) return json();

@@ -326,7 +326,14 @@ TEST_CASE("a report of some experiments shows the others from their baselines an
     r.write(file, p);
   };
   write("a", 1.0, latest_path(results, "a"));              // run here
-  write("b", 0.125, baseline_path(results, "b", "full"));  // not run here, blessed
+  write("b", 0.125, baseline_path(results, "b", "full"));  // not run here at this profile, blessed
+  {
+    Results quick;  // b's quick run, which lacks what the full discussion quotes
+    Results::Provenance p;
+    p.id = "b";
+    p.profile = "quick";
+    quick.write(latest_path(results, "b"), p);
+  }
   // c: neither run nor blessed.
   ReportOptions o;
   o.experiments_dir = s.root / "experiments";

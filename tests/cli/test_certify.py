@@ -22,21 +22,10 @@ import unittest
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-KEEL = os.path.abspath(os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel")))
+from cli_fixtures import K4_ANGLES, KEEL, complete_graph
 
-# Rotation-only complete graphs with unit weights (information diag(1, 1, 2): κ = 2, τ = 1): angle per edge (i, j),
-# pairs in lexicographic order.
-K4_ANGLES = [0.23, 0.43, 1.13, -1.81, 1.36, -1.35]  # sos::exactness_counterexample
+# Rotation-only complete graphs with unit weights (cli_fixtures.complete_graph); K5 has no consistent truth either.
 K5_ANGLES = [-1.93, -2.92, -0.22, -0.75, 0.7, 0.57, -1.65, 2.53, -3.14, -0.59]
-
-
-def complete_graph(n, angles):
-    lines = [f"VERTEX_SE2 {i} 0 0 0" for i in range(n)]
-    for (i, j), t in zip(itertools.combinations(range(n), 2), angles):
-        lines.append(f"EDGE_SE2 {i} {j} 0 0 {t!r} 1 0 0 1 0 2")
-    return "\n".join(lines) + "\n"
 
 
 def minimum_estimate(n, angles, grid=120):

@@ -15,34 +15,13 @@ import unittest
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-KEEL = os.path.abspath(os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel")))
+from cli_fixtures import HERE, KEEL, REPO, SQUARE
 
 # Small synthetic graphs, written by setUpModule into data/ of a scratch folder where every command runs:
 # square (8 poses, two laps, two loop closures, one information with cross terms), pair (two poses and one edge:
 # the marginal of pose 1 has a closed form) and islands (two connected components, a duplicate edge).
 FIXTURES = {
-    "square": (
-        '# a synthetic 8-pose square (tests/cli): two laps, two loop closures\n'
-        'VERTEX_SE2 0 0.000000 0.000000 0.000000\n'
-        'VERTEX_SE2 1 2.100000 -0.050000 1.590796\n'
-        'VERTEX_SE2 2 2.200000 1.900000 3.181593\n'
-        'VERTEX_SE2 3 0.300000 1.850000 -1.510796\n'
-        'VERTEX_SE2 4 0.450000 -0.180000 0.090000\n'
-        'VERTEX_SE2 5 2.530000 -0.290000 1.690796\n'
-        'VERTEX_SE2 6 2.580000 1.710000 3.251593\n'
-        'VERTEX_SE2 7 0.720000 1.620000 -1.430796\n'
-        'EDGE_SE2 0 1 2.010000 -0.020000 1.575796 100 0 0 100 0 400\n'
-        'EDGE_SE2 1 2 1.985000 0.010000 1.566796 100 0 0 100 0 400\n'
-        'EDGE_SE2 2 3 2.020000 0.000000 1.573796 100 0 0 100 0 400\n'
-        'EDGE_SE2 3 4 1.980000 0.062000 1.574796 100 20 0 80 5 400\n'
-        'EDGE_SE2 4 5 1.969301 -0.089797 1.582796 100 0 0 100 0 400\n'
-        'EDGE_SE2 5 6 2.055590 0.028993 1.544796 100 0 0 100 0 400\n'
-        'EDGE_SE2 6 7 1.969502 0.059598 1.577796 100 0 0 100 0 400\n'
-        'EDGE_SE2 0 4 0.080000 0.010000 0.014000 50 0 0 50 0 200\n'
-        'EDGE_SE2 2 6 0.000000 0.010000 -0.015000 50 0 0 50 0 200\n'
-    ),
+    "square": SQUARE,
     "pair": (
         '# two poses and one edge (tests/cli: closed-form marginal)\n'
         'EDGE_SE2 0 1 1.5 -0.5 0.7 40 3 1 25 -2 90\n'

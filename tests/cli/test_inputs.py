@@ -15,9 +15,7 @@ import tempfile
 import threading
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-KEEL = os.path.abspath(os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel")))
+from cli_fixtures import KEEL
 
 INFO = " 1 0 0 1 0 1\n"
 # Three poses in a triangle (3 poses: valid ids 0 … 2).

@@ -7,7 +7,6 @@ Run by CTest (cli.outputs) with KEEL set to the binary; from this folder: KEEL=.
 /usr/bin/python3 -m unittest -v test_outputs.
 """
 import os
-import re
 import shutil
 import signal
 import subprocess
@@ -15,34 +14,9 @@ import tempfile
 import time
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-KEEL = os.path.abspath(os.environ.get("KEEL", os.path.join(REPO, "build", "release", "keel")))
+from cli_fixtures import K4_ANGLES, KEEL, REPO, SQUARE, complete_graph
 
-# An 8-pose square with two loop closures (the fixture of test_cli.py).
-SQUARE = (
-    'VERTEX_SE2 0 0.000000 0.000000 0.000000\n'
-    'VERTEX_SE2 1 2.100000 -0.050000 1.590796\n'
-    'VERTEX_SE2 2 2.200000 1.900000 3.181593\n'
-    'VERTEX_SE2 3 0.300000 1.850000 -1.510796\n'
-    'VERTEX_SE2 4 0.450000 -0.180000 0.090000\n'
-    'VERTEX_SE2 5 2.530000 -0.290000 1.690796\n'
-    'VERTEX_SE2 6 2.580000 1.710000 3.251593\n'
-    'VERTEX_SE2 7 0.720000 1.620000 -1.430796\n'
-    'EDGE_SE2 0 1 2.010000 -0.020000 1.575796 100 0 0 100 0 400\n'
-    'EDGE_SE2 1 2 1.985000 0.010000 1.566796 100 0 0 100 0 400\n'
-    'EDGE_SE2 2 3 2.020000 0.000000 1.573796 100 0 0 100 0 400\n'
-    'EDGE_SE2 3 4 1.980000 0.062000 1.574796 100 20 0 80 5 400\n'
-    'EDGE_SE2 4 5 1.969301 -0.089797 1.582796 100 0 0 100 0 400\n'
-    'EDGE_SE2 5 6 2.055590 0.028993 1.544796 100 0 0 100 0 400\n'
-    'EDGE_SE2 6 7 1.969502 0.059598 1.577796 100 0 0 100 0 400\n'
-    'EDGE_SE2 0 4 0.080000 0.010000 0.014000 50 0 0 50 0 200\n'
-    'EDGE_SE2 2 6 0.000000 0.010000 -0.015000 50 0 0 50 0 200\n'
-)
-# The K4 rotation-only counterexample of sos::exactness_counterexample: its SDP relaxation is not tight, so the
-# certified solve cannot certify it.
-K4 = ''.join(f'EDGE_SE2 {i} {j} 0 0 {t} 1 0 0 1 0 2\n' for (i, j), t in zip(
-    [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)], [0.23, 0.43, 1.13, -1.81, 1.36, -1.35]))
+K4 = complete_graph(4, K4_ANGLES)
 CANDIDATES = 'EDGE_SE2 0 1 2.01 -0.02 1.575796 100 0 0 100 0 400\nEDGE_SE2 2 6 0 0.01 -0.015 50 0 0 50 0 200\n'
 PROSE = 'A JSON-free note a user keeps beside the data.\n'
 SURVEY = 'x,y,f\n0,0,1\n10,0,2\n0,10,3\n10,10,4\n'

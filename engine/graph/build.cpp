@@ -239,7 +239,18 @@ void assemble(PoseGraph3D& g, const std::vector<Vertex3>& vertices, const std::s
   assemble_poses(g, vertices, vertex_tag, edge_tag);
 }
 
+// The gauge pose names a pose of the graph (pose 0 of an empty graph is the default).
+template <class Graph>
+void check_gauge(const Graph& g, const char* writer) {
+  if (g.gauge_pose == 0) return;
+  if (g.gauge_pose < 0 || static_cast<std::size_t>(g.gauge_pose) >= g.poses.size()) {
+    throw std::invalid_argument(fmt::format("{}: the gauge pose {} is outside the graph ({} poses)", writer,
+                                            g.gauge_pose, g.poses.size()));
+  }
+}
+
 void check_indices(const PoseGraph2D& g, const char* writer) {
+  check_gauge(g, writer);
   const auto n = static_cast<int>(g.poses.size());
   for (const auto& e : g.edges) {
     if (e.i < 0 || e.j < 0 || e.i >= n || e.j >= n) {
@@ -258,6 +269,7 @@ void check_indices(const PoseGraph2D& g, const char* writer) {
 }
 
 void check_indices(const PoseGraph3D& g, const char* writer) {
+  check_gauge(g, writer);
   const auto n = static_cast<int>(g.poses.size());
   for (const auto& e : g.edges) {
     if (e.i < 0 || e.j < 0 || e.i >= n || e.j >= n) {

@@ -30,18 +30,43 @@ bool is_2d_tag(std::string_view t) {
          t == "LANDMARK";
 }
 
-// g2o's "FIX id ..." holds the listed vertices constant. keel's solvers fix the gauge at pose 0, so "FIX 0"
-// states what every solve already does and is accepted; any other id would ask for a different problem
-// (another gauge for marginals, several fixed poses for a solve) and is refused with the reason.
-void parse_fix(const detail::RecordScanner& sc) {
-  if (sc.size() == 0) sc.fail("FIX: expected the id of the fixed vertex (keel fixes pose 0: 'FIX 0')");
+// g2o's "FIX id ..." holds the listed vertices constant. keel holds exactly one pose fixed, the gauge: "FIX
+// k" makes pose k the graph's gauge_pose (every solve keeps it at its input value; marginals are reported
+// with it fixed). FIX lines may repeat that id; a second, different id is refused (several fixed poses would
+// be another problem). Vertex ids are keel's pose indices (assemble() takes them contiguous from 0, as for
+// the edges), so the id must name a vertex of the graph: checked by check_fix() once every vertex is read.
+struct FixRecord {
+  int id = -1;  // -1: no FIX line
+  int line = 0;
+  std::string field;  // "FIX field k"
+  std::string token;  // the id as written
+};
+
+void parse_fix(const detail::RecordScanner& sc, FixRecord& fix) {
+  if (sc.size() == 0) sc.fail("FIX: expected the id of the fixed vertex (e.g. 'FIX 0')");
   for (std::size_t k = 1; k <= sc.size(); ++k) {
-    if (sc.id(k) != 0) {
-      sc.fail_field(k, fmt::format("{}: keel holds the gauge at pose 0 in every solve, so only 'FIX 0' is "
-                                   "accepted (renumber the vertices so that the fixed one is 0)",
-                                   detail::quote_token(sc.field(k))));
+    const int id = sc.id(k);
+    if (fix.id < 0) {
+      fix = {id, sc.line(), sc.describe_field(k), std::string(sc.field(k))};
+    } else if (id != fix.id) {
+      sc.fail_field(k,
+                    fmt::format("{}: keel holds one pose fixed (the gauge), and {} on line {} already fixes "
+                                "pose {}; this one names pose {} (give one FIX id)",
+                                detail::quote_token(sc.field(k)), fix.field, fix.line, fix.id, id));
     }
   }
+}
+
+template <class Graph>
+void check_fix(Graph& g, const FixRecord& fix) {
+  if (fix.id < 0) return;
+  if (static_cast<std::size_t>(fix.id) >= g.poses.size()) {
+    detail::fail_at(g.source, fix.line,
+                    fmt::format("{}: {}: no pose {} in the graph (its {} poses have ids 0 to {})", fix.field,
+                                detail::quote_token(fix.token), fix.id, g.poses.size(),
+                                static_cast<long long>(g.poses.size()) - 1));
+  }
+  g.gauge_pose = fix.id;
 }
 
 void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
@@ -135,6 +160,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
   PoseGraph2D g;
   g.source = name;
   std::vector<detail::Vertex2> vertices;
+  FixRecord fix;
   while (sc.next()) {
     const std::string_view tag = sc.tag();
     if (tag == "VERTEX_SE2") {
@@ -148,7 +174,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
     } else if (tag == "FIX") {
-      parse_fix(sc);
+      parse_fix(sc, fix);
     } else if (is_3d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
@@ -159,6 +185,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE2", "EDGE_SE2");
+  check_fix(g, fix);
   return g;
 }
 
@@ -167,6 +194,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
   PoseGraph3D g;
   g.source = name;
   std::vector<detail::Vertex3> vertices;
+  FixRecord fix;
   std::string why;
   while (sc.next()) {
     const std::string_view tag = sc.tag();
@@ -183,7 +211,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
       check_edge_ids(sc, e.i, e.j);
       g.edges.push_back(e);
     } else if (tag == "FIX") {
-      parse_fix(sc);
+      parse_fix(sc, fix);
     } else if (is_2d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
@@ -194,6 +222,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE3:QUAT", "EDGE_SE3:QUAT");
+  check_fix(g, fix);
   return g;
 }
 
@@ -268,6 +297,7 @@ std::string g2o_text(const PoseGraph2D& g, const G2oWriteOptions& o) {
       s += '\n';
     }
   }
+  if (g.gauge_pose != 0) s += fmt::format("FIX {}\n", g.gauge_pose);
   for (const auto& e : g.edges) put_edge(s, e);
   return s;
 }
@@ -287,6 +317,7 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
       s += '\n';
     }
   }
+  if (g.gauge_pose != 0) s += fmt::format("FIX {}\n", g.gauge_pose);
   for (const auto& e : g.edges) put_edge(s, e);
   return s;
 }

@@ -368,8 +368,18 @@ TEST_CASE("malformed g2o 2D input: every rule gives a ParseError with file, line
   m = g2o2(kV2 + "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n");  // positive diagonal, indefinite
   CHECK_CONTAINS(
       m, "bad.g2o:3: EDGE_SE2 fields 6-11 (I11..I33): the information matrix is not positive definite");
-  m = g2o2(kV2 + kE01 + "FIX 1\n");
-  CHECK_CONTAINS(m, "bad.g2o:4: FIX field 1: '1': keel holds the gauge at pose 0 in every solve");
+  m = g2o2(kV2 + kE01 + "FIX 2\n");
+  CHECK_CONTAINS(m, "bad.g2o:4: FIX field 1: '2': no pose 2 in the graph (its 2 poses have ids 0 to 1)");
+  m = g2o2(kV2 + kE01 + "FIX 1\nFIX 0\n");
+  CHECK_CONTAINS(
+      m,
+      "bad.g2o:5: FIX field 1: '0': keel holds one pose fixed (the gauge), and FIX field 1 on line 4 "
+      "already fixes pose 1; this one names pose 0");
+  m = g2o2(kV2 + kE01 + "FIX 1 1 0\n");
+  CHECK_CONTAINS(
+      m,
+      "bad.g2o:4: FIX field 3: '0': keel holds one pose fixed (the gauge), and FIX field 1 on line 4 "
+      "already fixes pose 1; this one names pose 0");
   m = g2o2(kV2 + kE01 + "FIX\n");
   CHECK_CONTAINS(m, "bad.g2o:4: FIX: expected the id of the fixed vertex");
   m = g2o2(kV2 + "EDGE_SE2 0 5 1 0 0" + kInfo2 + "\n");
@@ -631,11 +641,57 @@ TEST_CASE("g2o information read for the isotropic model: only the diagonal block
   CHECK(g2.indefinite_information == 1);
 }
 
-TEST_CASE("g2o FIX 0 states the gauge every solve holds and is read; FIX decides no format") {
+TEST_CASE(
+    "g2o FIX k makes pose k the gauge (2D and 3D; repeats allowed; the writer keeps it); FIX decides no "
+    "format") {
   std::istringstream in("FIX 0\n" + kV2 + kE01 + "FIX 0\n");
   const auto g = read_g2o_2d(in, "fix.g2o");
   CHECK(g.poses.size() == 2);
   CHECK(g.edges.size() == 1);
+  CHECK(g.gauge_pose == 0);
+  // FIX before the vertex it names, repeated, on a 3-pose graph: the gauge is pose 2.
+  const std::string v3 = kV2 + "VERTEX_SE2 2 1 1 0.5\n";
+  const std::string e3 = kE01 + "EDGE_SE2 1 2 0 1 0.5" + kInfo2 + "\n";
+  std::istringstream in2("FIX 2\n" + v3 + e3 + "FIX 2 2\n");
+  PoseGraph2D g2 = read_g2o_2d(in2, "fix2.g2o");
+  CHECK(g2.gauge_pose == 2);
+  std::istringstream any("FIX 2\n" + v3 + e3);  // format detection skips the FIX line
+  CHECK(read_pose_graph_2d(any, "f.txt").gauge_pose == 2);
+  std::ostringstream out;
+  write_g2o(g2, out);
+  CHECK(out.str().find("\nFIX 2\n") != std::string::npos);
+  std::istringstream back(out.str());
+  CHECK(read_g2o_2d(back, "back.g2o").gauge_pose == 2);
+  g2.gauge_pose = 0;  // the default gauge writes no FIX line
+  std::ostringstream out0;
+  write_g2o(g2, out0);
+  CHECK(out0.str().find("FIX") == std::string::npos);
+  g2.gauge_pose = 3;
+  CHECK_THROWS_WITH_AS(write_g2o(g2, out0), "write_g2o: the gauge pose 3 is outside the graph (3 poses)",
+                       std::invalid_argument);
+  // iSAM text has no FIX record: a graph with another gauge is refused, not written without it.
+  g2.gauge_pose = 1;
+  CHECK_THROWS_WITH_AS(write_isam(g2, out0), doctest::Contains("write_isam: the graph holds pose 1 fixed"),
+                       std::invalid_argument);
+  // 3D.
+  const std::string q = " 0 0 0 1";
+  const std::string v3d = "VERTEX_SE3:QUAT 0 0 0 0" + q + "\nVERTEX_SE3:QUAT 1 1 0 0" + q +
+                          "\nVERTEX_SE3:QUAT 2 1 1 0" + q + "\n";
+  const std::string e3d =
+      "EDGE_SE3:QUAT 0 1 1 0 0" + q + kEdge3Tail + "\nEDGE_SE3:QUAT 1 2 0 1 0" + q + kEdge3Tail + "\n";
+  std::istringstream in3(v3d + "FIX 1\n" + e3d);
+  const PoseGraph3D g3 = read_g2o_3d(in3, "fix3.g2o");
+  CHECK(g3.gauge_pose == 1);
+  std::ostringstream out3;
+  write_g2o(g3, out3);
+  std::istringstream back3(out3.str());
+  CHECK(read_g2o_3d(back3, "back3.g2o").gauge_pose == 1);
+  CHECK_CONTAINS(g2o3(v3d + e3d + "FIX 7\n"),
+                 "bad.g2o:6: FIX field 1: '7': no pose 7 in the graph (its 3 poses have ids 0 to 2)");
+  CHECK_CONTAINS(
+      g2o3(v3d + "FIX 1\n" + e3d + "FIX 2\n"),
+      "bad.g2o:7: FIX field 1: '2': keel holds one pose fixed (the gauge), and FIX field 1 on line "
+      "4 already fixes pose 1; this one names pose 2");
   CHECK(detect_graph_format("FIX 0\nVERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n", "x.txt") == GraphFormat::g2o);
   CHECK(detect_graph_format("FIX 0\nEDGE2 0 1 1 0 0 1 0 0 1 0 1\n", "x.g2o") == GraphFormat::isam);
 }

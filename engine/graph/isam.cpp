@@ -132,6 +132,12 @@ void put(std::string& s, double v) {
 // must have one for every pose, and at least one record.
 template <class Graph>
 void check_chainable(const Graph& g) {
+  if (g.gauge_pose != 0) {
+    throw std::invalid_argument(fmt::format(
+        "write_isam: the graph holds pose {} fixed (the gauge, g2o's FIX line), which iSAM text cannot "
+        "record (its solves fix pose 0): write g2o, or set the gauge pose to 0",
+        g.gauge_pose));
+  }
   bool records = !g.edges.empty();
   if constexpr (requires { g.landmark_measurements; }) records = records || !g.landmark_measurements.empty();
   if (!records) {

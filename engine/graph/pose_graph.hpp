@@ -64,6 +64,7 @@ struct PoseGraph2D {
   std::string source;              // file the graph was read from
   bool has_initial_poses = false;  // true when the file itself carried vertex estimates
   int indefinite_information = 0;  // edges read under InformationCheck::diagonal_blocks whose Ω is not PD
+  int gauge_pose = 0;  // the pose every solve holds at its input value (the gauge; g2o's "FIX id" line)
 };
 
 struct PoseGraph3D {
@@ -72,6 +73,7 @@ struct PoseGraph3D {
   std::string source;
   bool has_initial_poses = false;
   int indefinite_information = 0;  // as in PoseGraph2D
+  int gauge_pose = 0;              // as in PoseGraph2D
 };
 
 // The pose-graph type of a group: PoseGraph2D for SE(2), PoseGraph3D for SE(3).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -28,68 +29,217 @@ BinomialComparison compare_rates(double ours, double n_ours, double thesis, doub
   return c;
 }
 
-double sign_test_p(int below, int above) {
-  const int n = below + above, k = std::min(below, above);
-  if (n == 0) return 1.0;
-  // Σ_{i ≤ k} C(n, i) / 2ⁿ in logs (n reaches thousands).
-  double tail = 0;
-  for (int i = 0; i <= k; ++i)
-    tail +=
-        std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) - n * std::log(2.0));
-  return std::min(1.0, 2.0 * tail);
+namespace {
+
+// log P(X = i) for X ~ Binomial(n, 1/2), in logs (n reaches thousands).
+double log_binomial_half(int n, int i) {
+  return std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) - n * std::log(2.0);
 }
 
-PairedComparison paired_comparison(const std::vector<double>& a, const std::vector<double>& b,
-                                   const std::function<double(std::vector<double>)>& statistic,
-                                   bool median_of_differences, int resamples, double confidence,
-                                   std::uint64_t seed) {
+// P(X ≤ k) for X ~ Binomial(n, 1/2).
+double binomial_half_cdf(int n, int k) {
+  double tail = 0;
+  for (int i = 0; i <= std::min(k, n); ++i) tail += std::exp(log_binomial_half(n, i));
+  return tail;
+}
+
+double median_sorted(const std::vector<double>& v) {
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return median_sorted(v);
+}
+
+bool tie(double a, double b) { return std::fabs(a - b) <= 1e-12 * std::max(std::fabs(a), std::fabs(b)); }
+
+void check_paired(const std::vector<double>& a, const std::vector<double>& b, const PairedOptions& o) {
   if (a.size() != b.size() || a.empty())
     throw std::invalid_argument(fmt::format(
-        "paired_comparison: {} and {} values: need the same, non-zero count", a.size(), b.size()));
-  if (resamples < 100)
-    throw std::invalid_argument(fmt::format("paired_comparison: resamples = {}: need >= 100", resamples));
-  if (!(confidence > 0 && confidence < 1))
-    throw std::invalid_argument(
-        fmt::format("paired_comparison: confidence = {}: must be in (0, 1)", confidence));
-  const std::size_t n = a.size();
-  PairedComparison c;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (std::fabs(a[i] - b[i]) <= 1e-12 * std::max(std::fabs(a[i]), std::fabs(b[i])))
-      ++c.ties;
-    else if (a[i] < b[i])
-      ++c.below;
-    else
-      ++c.above;
+        "paired comparison: {} and {} values: need the same, non-zero count", a.size(), b.size()));
+  if (!o.blocks.empty() && o.blocks.size() != a.size())
+    throw std::invalid_argument(fmt::format("paired comparison: {} blocks for {} trials: need one per trial",
+                                            o.blocks.size(), a.size()));
+  if (o.resamples < 100)
+    throw std::invalid_argument(fmt::format("paired comparison: resamples = {}: need >= 100", o.resamples));
+  if (!(o.alpha > 0 && o.alpha < 1))
+    throw std::invalid_argument(fmt::format("paired comparison: alpha = {}: must be in (0, 1)", o.alpha));
+}
+
+// The median of `values` (ties already set to exactly 0) with the order-statistic interval and the sign test
+// it inverts (grading.hpp).
+void order_statistic(std::vector<double> values, double alpha, PairedComparison& c) {
+  c.below = c.above = c.ties = 0;
+  for (double v : values) (v < 0 ? c.below : v > 0 ? c.above : c.ties) += 1;
+  const int n = static_cast<int>(values.size());
+  c.units = values.size();
+  c.p = sign_test_p(c.below, c.above, c.ties);
+  std::sort(values.begin(), values.end());
+  c.difference = median_sorted(values);
+  // k − 1 = the largest j with P(X ≤ j) ≤ alpha/2; none when P(X = 0) = 2^-n exceeds it.
+  int k = 0;
+  while (k < n && binomial_half_cdf(n, k) <= alpha / 2) ++k;
+  if (k == 0) {
+    c.low = -std::numeric_limits<double>::infinity(), c.high = std::numeric_limits<double>::infinity();
+  } else {
+    c.low = values[static_cast<std::size_t>(k - 1)];
+    c.high = values[static_cast<std::size_t>(n - k)];
   }
-  c.sign_p = sign_test_p(c.below, c.above);
+}
+
+// Per block, in order of first appearance: the indices of its trials.
+std::vector<std::vector<std::size_t>> group_blocks(const std::vector<std::size_t>& blocks) {
+  std::vector<std::vector<std::size_t>> groups;
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const auto it = std::find(ids.begin(), ids.end(), blocks[i]);
+    if (it == ids.end()) {
+      ids.push_back(blocks[i]), groups.push_back({i});
+    } else {
+      groups[static_cast<std::size_t>(it - ids.begin())].push_back(i);
+    }
+  }
+  return groups;
+}
+
+// The per-trial difference, with a tie set to exactly 0.
+double difference(double a, double b) { return tie(a, b) ? 0.0 : a - b; }
+
+}  // namespace
+
+double sign_test_p(int below, int above, int ties) {
+  if (below < 0 || above < 0 || ties < 0)
+    throw std::invalid_argument(
+        fmt::format("sign_test_p: counts {}, {}, {} must be >= 0", below, above, ties));
+  const int n = below + above + ties;
+  if (n == 0) return 1.0;
+  return std::min(1.0, 2.0 * binomial_half_cdf(n, std::min(below, above) + ties));
+}
+
+PairedComparison paired_median(const std::vector<double>& a, const std::vector<double>& b,
+                               const PairedOptions& o) {
+  check_paired(a, b, o);
+  PairedComparison c;
+  c.alpha = o.alpha;
+  c.difference_of_medians = median_of(a) - median_of(b);
+  std::vector<double> values;
+  if (o.blocks.empty()) {
+    for (std::size_t i = 0; i < a.size(); ++i) values.push_back(difference(a[i], b[i]));
+  } else {
+    for (const auto& g : group_blocks(o.blocks)) {
+      std::vector<double> d;
+      for (std::size_t i : g) d.push_back(difference(a[i], b[i]));
+      values.push_back(median_of(std::move(d)));
+    }
+  }
+  order_statistic(std::move(values), o.alpha, c);
+  c.adjusted_p = c.p;
+  return c;
+}
+
+PairedComparison paired_statistic(const std::vector<double>& a, const std::vector<double>& b,
+                                  const std::function<double(std::vector<double>)>& statistic,
+                                  const PairedOptions& o) {
+  check_paired(a, b, o);
+  PairedComparison c;
+  c.alpha = o.alpha;
+  c.difference_of_medians = median_of(a) - median_of(b);
+  if (!o.blocks.empty()) {
+    std::vector<double> values;
+    for (const auto& g : group_blocks(o.blocks)) {
+      std::vector<double> x, y;
+      for (std::size_t i : g) x.push_back(a[i]), y.push_back(b[i]);
+      const double sx = statistic(x), sy = statistic(y);
+      values.push_back(difference(sx, sy));
+    }
+    order_statistic(std::move(values), o.alpha, c);
+    c.adjusted_p = c.p;
+    return c;
+  }
+  const std::size_t n = a.size();
+  for (std::size_t i = 0; i < n; ++i) (tie(a[i], b[i]) ? c.ties : a[i] < b[i] ? c.below : c.above) += 1;
+  c.units = n;
   const auto value = [&](const std::vector<std::size_t>& index) {
     std::vector<double> x, y;
     x.reserve(n), y.reserve(n);
-    for (std::size_t i : index) {
-      if (median_of_differences)
-        x.push_back(a[i] - b[i]);
-      else
-        x.push_back(a[i]), y.push_back(b[i]);
-    }
-    return median_of_differences ? statistic(std::move(x))
-                                 : statistic(std::move(x)) - statistic(std::move(y));
+    for (std::size_t i : index) x.push_back(a[i]), y.push_back(b[i]);
+    return statistic(std::move(x)) - statistic(std::move(y));
   };
   std::vector<std::size_t> index(n);
   std::iota(index.begin(), index.end(), 0);
   c.difference = value(index);
-  core::Rng rng(seed);
+  core::Rng rng(o.seed);
   std::vector<double> boot;
-  boot.reserve(static_cast<std::size_t>(resamples));
-  for (int r = 0; r < resamples; ++r) {
+  boot.reserve(static_cast<std::size_t>(o.resamples));
+  for (int r = 0; r < o.resamples; ++r) {
     for (auto& i : index)
       i = std::min(n - 1, static_cast<std::size_t>(rng.uniform() * static_cast<double>(n)));
     boot.push_back(value(index));
   }
   std::sort(boot.begin(), boot.end());
-  // Percentile interval: the order statistics at (1 ∓ confidence)/2, linearly interpolated.
-  c.low = core::quantile_sorted(boot, 0.5 * (1 - confidence));
-  c.high = core::quantile_sorted(boot, 0.5 * (1 + confidence));
+  // The order statistics j and R + 1 − j of the resampled values, j = floor(alpha/2 · (R + 1)); j = 0 (alpha
+  // below 2/(R + 1)) leaves no finite interval.
+  const std::size_t R = boot.size();
+  const auto j = static_cast<std::size_t>(std::floor(o.alpha / 2 * static_cast<double>(R + 1)));
+  if (j == 0) {
+    c.low = -std::numeric_limits<double>::infinity(), c.high = std::numeric_limits<double>::infinity();
+  } else {
+    c.low = boot[j - 1], c.high = boot[R - j];
+  }
+  // p inverts that interval: high < 0 ⇔ at most j − 1 values ≥ 0 ⇔ 2 (#{≥ 0} + 1) / (R + 1) ≤ alpha.
+  const auto at_least = static_cast<double>(boot.end() - std::lower_bound(boot.begin(), boot.end(), 0.0));
+  const auto at_most = static_cast<double>(std::upper_bound(boot.begin(), boot.end(), 0.0) - boot.begin());
+  c.p = std::min(1.0, 2.0 * (std::min(at_least, at_most) + 1.0) / static_cast<double>(R + 1));
+  c.adjusted_p = c.p;
   return c;
+}
+
+std::vector<double> holm_adjust(const std::vector<double>& p) {
+  for (double x : p)
+    if (!(x >= 0 && x <= 1))
+      throw std::invalid_argument(fmt::format("holm_adjust: p = {} is not in [0, 1]", x));
+  const std::size_t m = p.size();
+  std::vector<std::size_t> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return p[x] != p[y] ? p[x] < p[y] : x < y; });
+  std::vector<double> out(m);
+  double running = 0;
+  for (std::size_t r = 0; r < m; ++r) {
+    running = std::max(running, std::min(1.0, static_cast<double>(m - r) * p[order[r]]));
+    out[order[r]] = running;
+  }
+  return out;
+}
+
+void PairedFamily::add(const std::string& key, PairedComparison c) {
+  if (adjusted_)
+    throw std::invalid_argument("PairedFamily: '" + key + "' added after the family was adjusted");
+  if (std::find(keys_.begin(), keys_.end(), key) != keys_.end())
+    throw std::invalid_argument("PairedFamily: '" + key + "' added twice");
+  keys_.push_back(key), items_.push_back(c);
+}
+
+void PairedFamily::adjust() {
+  std::vector<double> p;
+  for (const auto& c : items_) p.push_back(c.p);
+  const std::vector<double> q = holm_adjust(p);
+  for (std::size_t i = 0; i < items_.size(); ++i) items_[i].adjusted_p = q[i];
+  adjusted_ = true;
+}
+
+const PairedComparison& PairedFamily::at(const std::string& key) const {
+  if (!adjusted_) throw std::logic_error("PairedFamily: '" + key + "' read before the family was adjusted");
+  const auto it = std::find(keys_.begin(), keys_.end(), key);
+  if (it == keys_.end()) throw std::out_of_range("PairedFamily: no comparison '" + key + "'");
+  return items_[static_cast<std::size_t>(it - keys_.begin())];
+}
+
+std::size_t PairedFamily::significant() const {
+  return static_cast<std::size_t>(
+      std::count_if(items_.begin(), items_.end(), [](const auto& c) { return c.lower() || c.higher(); }));
 }
 
 namespace {

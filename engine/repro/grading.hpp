@@ -2,6 +2,7 @@
 // of [thesis.agreement] and [thesis.orderings] that go beyond an absolute or relative tolerance.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -21,30 +22,82 @@ struct BinomialComparison {
 [[nodiscard]] BinomialComparison compare_rates(double ours, double n_ours, double thesis, double n_thesis,
                                                double z = 2.0, double rounding = 0.0);
 
-// A paired comparison of two methods run on the same trials (docs/GRADING.md, "Paired orderings"): the
-// statistic of `a` minus that of `b`, a percentile bootstrap interval for it (trials resampled with
-// replacement, the same resample for both methods, so the pairing is kept), and an exact two-sided sign test
-// on the per-trial differences a_i − b_i (ties, |a_i − b_i| ≤ 1e-12 · max(|a_i|, |b_i|), dropped). An
-// ordering "a below b" holds only when the whole interval lies below 0; "no significant difference" when it
-// contains 0.
-struct PairedComparison {
-  double difference = 0;               // statistic(a) − statistic(b) on the trials as they are
-  double low = 0, high = 0;            // the bootstrap interval (level `confidence`)
-  int below = 0, above = 0, ties = 0;  // trials with a_i < b_i, a_i > b_i, a_i = b_i
-  double sign_p = 1;                   // two-sided exact binomial p of below against above
-  [[nodiscard]] bool lower() const { return high < 0; }  // a significantly below b
-  [[nodiscard]] bool higher() const { return low > 0; }  // a significantly above b
+// A paired comparison of two methods run on the same trials (docs/GRADING.md, "Paired orderings").
+//
+// Two statistics, two intervals, each the inversion of its own test, so that the interval excludes 0 exactly
+// when that test's p is at most alpha:
+// * `paired_median`: the median of the per-trial differences d_i = a_i − b_i, with the distribution-free
+//   order-statistic interval [d_(k), d_(n+1−k)], k the largest integer with P(X ≤ k − 1) ≤ alpha/2 for
+//   X ~ Binomial(n, 1/2), and the exact two-sided sign test on all n differences with each tie
+//   (|d_i| ≤ 1e-12 · max(|a_i|, |b_i|), set to 0) counted against rejection: p = min(1, 2 P(X ≤ m)), m the
+//   count on the weaker side plus the ties. Below n = 6 (alpha = 0.05) no k exists: the interval is
+//   (−inf, inf) and p > alpha. The difference of the two medians is reported beside.
+// * `paired_statistic`: statistic(a) − statistic(b) (a spread, a rate), with a bootstrap over the trials (the
+//   same resample for both methods, so the pairing is kept): the interval is [b_(j), b_(R+1−j)] of the R
+//   sorted resampled values, j = floor(alpha/2 · (R + 1)), and p = min(1, 2 (c + 1) / (R + 1)) with c the
+//   resampled values on the far side of 0 (≤ 0 for a difference above 0, ≥ 0 for one below).
+// Trials that share data (overlapping terrain windows) carry a block per trial: each block contributes one
+// value — the median of its per-trial differences, or statistic(a) − statistic(b) over its trials — and both
+// statistics become the median of the block values with the order-statistic interval and sign test over
+// blocks.
+//
+// `adjusted_p` is the p after Holm's correction over the comparison's declared family (`PairedFamily`); it
+// equals p for a comparison outside any family. An ordering "a below b" holds only when adjusted_p ≤ alpha
+// and the interval lies below 0. A comparison that is not significant is never read as "no difference": that
+// needs an equivalence margin stated before the run, and no experiment states one.
+struct PairedOptions {
+  double alpha = 0.05;              // 1 − the interval's level; the family-wise level of Holm's correction
+  int resamples = 2000;             // bootstrap resamples (paired_statistic without blocks)
+  std::uint64_t seed = 1;           // of the bootstrap
+  std::vector<std::size_t> blocks;  // per trial, the spatial block it lies in; empty: trials independent
 };
-// `statistic` maps a sample to a number (the median of the differences is the usual one: pass
-// `median_of_differences = true` and the statistic is applied to the per-trial differences a_i − b_i instead
-// of to a and b separately). Deterministic for a given seed. Throws std::invalid_argument when a and b differ
-// in size or are empty, resamples < 100, or confidence is not in (0, 1).
-[[nodiscard]] PairedComparison paired_comparison(const std::vector<double>& a, const std::vector<double>& b,
-                                                 const std::function<double(std::vector<double>)>& statistic,
-                                                 bool median_of_differences, int resamples = 2000,
-                                                 double confidence = 0.95, std::uint64_t seed = 1);
-// The exact two-sided sign test: P(X ≤ min(k, n − k)) · 2 (capped at 1) for X ~ Binomial(n, 1/2).
-[[nodiscard]] double sign_test_p(int below, int above);
+struct PairedComparison {
+  double difference = 0;               // the statistic (median of differences, or difference of statistics)
+  double difference_of_medians = 0;    // median(a) − median(b), beside the median of differences
+  double low = 0, high = 0;            // the interval (see above); ±inf where too few values for one
+  int below = 0, above = 0, ties = 0;  // trials (or blocks) with a_i < b_i, a_i > b_i, a_i = b_i
+  std::size_t units = 0;               // the values the interval rests on: trials, or blocks
+  double p = 1;                        // of the test the interval inverts
+  double adjusted_p = 1;               // Holm-adjusted within the family (p outside any family)
+  double alpha = 0.05;
+  [[nodiscard]] bool lower() const { return adjusted_p <= alpha && high < 0; }  // a significantly below b
+  [[nodiscard]] bool higher() const { return adjusted_p <= alpha && low > 0; }  // a significantly above b
+};
+// Both throw std::invalid_argument when a and b differ in size or are empty, blocks is neither empty nor of
+// their size, resamples < 100, or alpha is not in (0, 1). Deterministic for a given seed.
+[[nodiscard]] PairedComparison paired_median(const std::vector<double>& a, const std::vector<double>& b,
+                                             const PairedOptions& options = {});
+[[nodiscard]] PairedComparison paired_statistic(const std::vector<double>& a, const std::vector<double>& b,
+                                                const std::function<double(std::vector<double>)>& statistic,
+                                                const PairedOptions& options = {});
+
+// The exact two-sided sign test with `ties` counted against rejection: min(1, 2 P(X ≤ min(below, above) +
+// ties)) for X ~ Binomial(below + above + ties, 1/2).
+[[nodiscard]] double sign_test_p(int below, int above, int ties = 0);
+
+// Holm's step-down correction (Holm 1979): with p sorted ascending, p̃_(i) = max_{j ≤ i} min(1, (m − j + 1)
+// p_(j)). It holds the family-wise error rate at alpha under any dependence between the comparisons. Returned
+// in the order given.
+[[nodiscard]] std::vector<double> holm_adjust(const std::vector<double>& p);
+
+// A declared family of paired comparisons, corrected together: every comparison an experiment makes is added
+// under its results key, then `adjust` applies Holm's correction; `at` returns a comparison only after that.
+class PairedFamily {
+ public:
+  // Throws std::invalid_argument on a key already added, or after adjust().
+  void add(const std::string& key, PairedComparison c);
+  void adjust();
+  [[nodiscard]] const PairedComparison& at(
+      const std::string& key) const;  // throws before adjust() or if absent
+  [[nodiscard]] std::size_t size() const { return keys_.size(); }
+  [[nodiscard]] std::size_t significant() const;  // adjusted_p ≤ alpha and the interval off 0
+  [[nodiscard]] const std::vector<std::string>& keys() const { return keys_; }
+
+ private:
+  std::vector<std::string> keys_;
+  std::vector<PairedComparison> items_;
+  bool adjusted_ = false;
+};
 
 // Whether our values put the quantities in the thesis's order: every pair the thesis orders strictly (a < b)
 // must not be reversed in ours beyond a relative tie tolerance (ties in ours fit either order; thesis ties

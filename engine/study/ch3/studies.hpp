@@ -35,6 +35,9 @@ struct AlignmentComparison {
   struct Outcome {
     Options options;
     AlignmentStudyOutcome study;
+    // [world] its spatial block, for worlds that share data (overlapping terrain windows: the paired
+    // comparisons then take one value per block); empty when the worlds are independent draws.
+    std::vector<std::size_t> blocks;
   };
   static Outcome run(const Options& options, const repro::RunContext& context);
   static void record(repro::Results& results, const Outcome& outcome);
@@ -106,6 +109,7 @@ struct TerrainComparison {
     std::string dataset, grid_file;      // the grid: a file of datasets/manifest.toml
     std::size_t roughness_bins = 3;      // the worlds split at the roughness quantiles into this many groups
     double length_unit = 1.0;            // m: positions are aligned and scored in this unit (errors in it)
+    double block_size = 0;               // m: the side of the square tiles that group worlds into blocks
     static Options read(const core::ConfigTable& p);
   };
   struct Outcome {

@@ -30,34 +30,47 @@ Marginals query(const cov::MarginalCovariance& mc, int dimension, const Marginal
   return out;
 }
 
-void check_request(const MarginalsRequest& r, const Progress& progress) {
+void check_request(const MarginalsRequest& r, int gauge_pose, const Progress& progress) {
   if (r.pairs.empty() == r.ids.empty())
     throw std::invalid_argument("marginals: give exactly one of pairs and ids");
   if (progress)
-    progress("information matrix at the poses and its Cholesky factorization (gauge: pose 0 fixed)");
+    progress(fmt::format(
+        "information matrix at the poses and its Cholesky factorization (gauge: pose {} fixed)", gauge_pose));
+}
+
+}  // namespace
+
+namespace {
+
+// The graph's gauge: its gauge pose (g2o's FIX line; pose 0 by default) held fixed.
+template <class Graph>
+cov::GaugeOptions gauge_of(const Graph& g) {
+  cov::GaugeOptions gauge;
+  gauge.pose = g.gauge_pose;
+  return gauge;
 }
 
 }  // namespace
 
 cov::MarginalCovariance factorize(const graph::PoseGraph2D& g, const pgo::Estimate2D& at,
                                   const cov::CovarianceOptions& options) {
-  return cov::MarginalCovariance(cov::information_matrix(g, at.poses, at.landmarks), options);
+  return cov::MarginalCovariance(cov::information_matrix(g, at.poses, at.landmarks, gauge_of(g)), options);
 }
 
 cov::MarginalCovariance factorize(const graph::PoseGraph3D& g, const pgo::Estimate3D& at,
                                   const cov::CovarianceOptions& options) {
-  return cov::MarginalCovariance(cov::information_matrix(g, at.poses), options);
+  return cov::MarginalCovariance(cov::information_matrix(g, at.poses, gauge_of(g)), options);
 }
 
 Marginals marginals(const graph::PoseGraph2D& g, const pgo::Estimate2D& at, const MarginalsRequest& request,
                     const Progress& progress) {
-  check_request(request, progress);
+  check_request(request, g.gauge_pose, progress);
   return query(factorize(g, at, request.covariance), 2, request, progress);
 }
 
 Marginals marginals(const graph::PoseGraph3D& g, const pgo::Estimate3D& at, const MarginalsRequest& request,
                     const Progress& progress) {
-  check_request(request, progress);
+  check_request(request, g.gauge_pose, progress);
   return query(factorize(g, at, request.covariance), 3, request, progress);
 }
 

@@ -3,7 +3,10 @@
 // `keel marginals` and Python's keel.marginals / keel.MarginalCovariance.
 //
 // Conventions: left perturbation T = exp(ξ^) T̄ (eq. 5.14), ξ = (ρx, ρy, θ) in 2D and (ρ, φ) in 3D; gauge:
-// pose 0 fixed (its covariance and cross-covariances are zero).
+// the graph's gauge_pose k fixed (pose 0 unless a g2o FIX line names another; its covariance and
+// cross-covariances are zero). A left perturbation is in the world frame, so a common rigid motion adds one ξ
+// to every pose: the gauge-k covariance is that of ξ_v − ξ_k, Σ'_ij = Σ_ij − Σ_ik − Σ_kj + Σ_kk of the
+// gauge-0 one, and differences ξ_j − ξ_i (relative poses) have the same covariance in every gauge.
 #pragma once
 
 #include <utility>
@@ -17,8 +20,9 @@
 namespace keel::app {
 
 /// The information matrix of the graph linearized at `at` (2D: poses and landmarks), factorized once
-/// (CHOLMOD). Throws std::invalid_argument when `at` does not match the graph, std::runtime_error when the
-/// graph is not connected to pose 0 (the message names the variable where the factorization broke down).
+/// (CHOLMOD), the graph's gauge pose fixed. Throws std::invalid_argument when `at` does not match the graph,
+/// std::runtime_error when the graph is not connected to the gauge pose (the message names the variable where
+/// the factorization broke down).
 [[nodiscard]] cov::MarginalCovariance factorize(const graph::PoseGraph2D& g, const pgo::Estimate2D& at,
                                                 const cov::CovarianceOptions& options = {});
 [[nodiscard]] cov::MarginalCovariance factorize(const graph::PoseGraph3D& g, const pgo::Estimate3D& at,

@@ -21,7 +21,8 @@ namespace {
 
 template <class Graph, class Estimate>
 Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Estimate* initial) {
-  const pgo::Options o = options.pgo_options();
+  pgo::Options o = options.pgo_options();
+  o.constant_poses = {g.gauge_pose};  // the graph's gauge (g2o's FIX line; pose 0 by default)
   check_numeric_range(g);  // the cost must be computable in double before a solver starts (files.hpp)
   const auto t0 = core::Clock::now();
   auto r = pgo::optimize(g, o, initial);

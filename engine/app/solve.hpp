@@ -75,9 +75,10 @@ using CertifiedSolution3 = CertifiedSolution<graph::PoseGraph3D>;
 [[nodiscard]] CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const SolveOptions& options);
 [[nodiscard]] CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptions& options);
 
-/// Solves the graph from the initial guess of `options` (or `initial`, with init = "supplied"), pose 0 held
-/// constant. A solver failure is reported in summary.termination, not thrown; invalid options and graphs
-/// throw std::invalid_argument.
+/// Solves the graph from the initial guess of `options` (or `initial`, with init = "supplied"), the graph's
+/// gauge pose (g.gauge_pose, pose 0 unless a g2o FIX line names another) held constant at its initial value
+/// (the as-read pose: the odometry chain starts from it). A solver failure is reported in
+/// summary.termination, not thrown; invalid options and graphs throw std::invalid_argument.
 [[nodiscard]] Solution2 solve(const graph::PoseGraph2D& g, const SolveOptions& options = {},
                               const pgo::Estimate2D* initial = nullptr);
 [[nodiscard]] Solution3 solve(const graph::PoseGraph3D& g, const SolveOptions& options = {},

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/marginals.hpp"
@@ -15,6 +16,7 @@
 #include "cov/marginal_covariance.hpp"
 #include "graph/io.hpp"
 #include "kit/test_kit.hpp"
+#include "pgo/certified.hpp"
 #include "pgo/optimize.hpp"
 #include "sim/two_robot_test_graphs.hpp"
 
@@ -109,6 +111,98 @@ TEST_CASE("app::marginals are the cov queries at the given poses, 2D and 3D") {
   const auto j3 = app::marginals(g3, at3, ids);
   CHECK(j3.pairs.empty());
   CHECK(j3.joint == mc3.joint({3, 3, 70}));
+}
+
+// The gauge pose k (g2o's FIX k): every solve holds pose k at its as-read value, and the optimum is the same
+// up to a rigid motion. Relative poses and costs do not depend on k.
+template <class G>
+void check_gauge_solves(std::uint64_t seed) {
+  auto g0 = sim::testing::square_laps<G>(2, 4, seed, true, true).graph;
+  // Move the as-read poses off the truth, so that holding pose 2 is not holding it where the optimum has it.
+  for (std::size_t v = 0; v < g0.poses.size(); ++v)
+    g0.poses[v] = g0.poses[v] * G::exp(G::Tangent::Constant(0.01 * static_cast<double>(v % 5)));
+  auto gk = g0;
+  gk.gauge_pose = 2;
+  for (const char* init : {"odometry", "as-read"}) {
+    CAPTURE(init);
+    app::SolveOptions o;
+    o.init = init;
+    const auto s0 = app::solve(g0, o);
+    const auto sk = app::solve(gk, o);
+    CHECK(s0.graph.poses[0].matrix() == g0.poses[0].matrix());
+    // Held, to the rounding of Ceres's parameterization of the block ((x, y, θ) in 2D, a quaternion in 3D;
+    // the same holds for pose 0 in the default gauge).
+    CHECK((sk.graph.poses[2].matrix() - g0.poses[2].matrix()).cwiseAbs().maxCoeff() <= 1e-15);
+    CHECK_FALSE(sk.graph.poses[0].is_approx(g0.poses[0], 1e-6));
+    // The same optimum up to the solver's stopping rule (|Δcost|/cost ≤ 1e-6 per step: the two runs stop
+    // within ~1e-8 of each other here).
+    CHECK(sk.summary.final_cost == doctest::Approx(s0.summary.final_cost).epsilon(1e-7));
+    for (const auto& [i, j] : std::vector<std::pair<int, int>>{{0, 1}, {5, 60}, {79, 2}})
+      CHECK((s0.graph.poses[i].inverse() * s0.graph.poses[j])
+                .is_approx(sk.graph.poses[i].inverse() * sk.graph.poses[j], 1e-3));
+  }
+  // The certified solve: the same F and lower bound (gauge invariant), the returned estimate moved rigidly so
+  // that pose 2 keeps its as-read value.
+  app::SolveOptions c;
+  c.certify = true;
+  const auto c0 = app::solve_certified(g0, c);
+  const auto ck = app::solve_certified(gk, c);
+  REQUIRE(c0.summary.certificate.certified);
+  REQUIRE(ck.summary.certificate.certified);
+  CHECK(ck.summary.final_cost == c0.summary.final_cost);
+  CHECK(ck.summary.certificate.bound.lower == c0.summary.certificate.bound.lower);
+  CHECK(ck.summary.certificate.bound.upper == c0.summary.certificate.bound.upper);
+  CHECK(ck.graph.poses[2].matrix() == g0.poses[2].matrix());
+  CHECK(pgo::isotropic_cost(gk, ck.graph.poses) == doctest::Approx(c0.summary.final_cost).epsilon(1e-10));
+  CHECK(ck.anisotropic_cost == doctest::Approx(c0.anisotropic_cost).epsilon(1e-10));
+  for (const auto& [i, j] : std::vector<std::pair<int, int>>{{0, 1}, {5, 60}, {79, 2}})
+    CHECK((c0.graph.poses[i].inverse() * c0.graph.poses[j])
+              .is_approx(ck.graph.poses[i].inverse() * ck.graph.poses[j], 1e-9));
+}
+
+TEST_CASE("the graph's gauge pose is held by solve and the certified solve; costs and bounds do not change") {
+  check_gauge_solves<lie::SE2>(61);
+  check_gauge_solves<lie::SE3>(63);
+}
+
+// Marginals in the gauge at pose k. A left perturbation T = exp(ξ^) T̄ is in the world frame, and a common
+// motion exp(γ^) of every pose leaves every residual unchanged exactly, so the gauge-k perturbation is ξ_v −
+// ξ_k of the gauge-0 one: Σ^k_ij = Σ_ij − Σ_ik − Σ_kj + Σ_kk (exact for the linearized problem), the
+// reference here.
+template <class G, class Estimate>
+void check_gauge_marginals(std::uint64_t seed) {
+  constexpr int d = G::DoF;
+  const auto g0 = sim::testing::square_laps<G>(2, 4, seed, true, true).graph;
+  auto gk = g0;
+  gk.gauge_pose = 2;
+  Estimate at;
+  at.poses = app::solve(g0).graph.poses;
+  app::MarginalsRequest r;
+  r.ids = {2, 4, 7, 0};  // block 0 is the gauge pose k = 2
+  const auto m0 = app::marginals(g0, at, r);
+  const auto mk = app::marginals(gk, at, r);
+  const auto block = [&](const lie::MatX& S, int a, int b) { return lie::MatX(S.block(a * d, b * d, d, d)); };
+  CHECK(block(mk.joint, 0, 0).cwiseAbs().maxCoeff() == 0.0);  // pose k's own marginal
+  CHECK(block(mk.joint, 0, 2).cwiseAbs().maxCoeff() == 0.0);
+  const double scale = m0.joint.cwiseAbs().maxCoeff();
+  for (int a = 1; a < 4; ++a)
+    for (int b = 1; b < 4; ++b) {
+      const lie::MatX ref =
+          block(m0.joint, a, b) - block(m0.joint, a, 0) - block(m0.joint, 0, b) + block(m0.joint, 0, 0);
+      CHECK((block(mk.joint, a, b) - ref).cwiseAbs().maxCoeff() <= 1e-9 * scale);
+    }
+  // Pose 0 is no longer fixed; the covariance of ξ_7 − ξ_4 (the relative pose's, up to its adjoint) is the
+  // same in both gauges.
+  CHECK(block(mk.joint, 3, 3).cwiseAbs().maxCoeff() > 1e-6 * scale);
+  const auto rel = [&](const lie::MatX& S) {
+    return lie::MatX(block(S, 1, 1) + block(S, 2, 2) - block(S, 1, 2) - block(S, 2, 1));
+  };
+  CHECK((rel(mk.joint) - rel(m0.joint)).cwiseAbs().maxCoeff() <= 1e-9 * rel(m0.joint).cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("marginals are reported in the graph's gauge: pose k's block is zero, relative covariances agree") {
+  check_gauge_marginals<lie::SE2, pgo::Estimate2D>(65);
+  check_gauge_marginals<lie::SE3, pgo::Estimate3D>(67);
 }
 
 TEST_CASE("a marginals request with neither or both queries, or an unknown id, is refused") {

@@ -120,7 +120,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
   }();
   json out = {{"file", sa.file},
               {"dimension", m.dimension},
-              {"gauge", "pose 0 fixed"},
+              {"gauge", fmt::format("pose {} fixed", g.gauge_pose)},
               {"perturbation", planar ? "left, T = exp(ξ^) T̄, ξ = (ρx, ρy, θ)"
                                       : "left, T = exp(ξ^) T̄, ξ = (ρ, φ) (translation part first)"},
               {"solve", summary_json(solved.summary)}};
@@ -154,11 +154,11 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
   const auto& ids = request.ids;
   print_solve_summary(sa.file, solved.summary, g.poses.size());
   fmt::print(
-      "marginals    {} ({}), gauge pose 0 fixed, left perturbation; factorization {:.3f} s, extraction "
+      "marginals    {} ({}), gauge pose {} fixed, left perturbation; factorization {:.3f} s, extraction "
       "{:.3f} s\n",
       pairs.empty() ? fmt::format("joint of {} poses", ids.size())
                     : fmt::format("{} pair{}", pairs.size(), pairs.size() == 1 ? "" : "s"),
-      planar ? "ξ = (ρx, ρy, θ)" : "ξ = (ρ, φ)", out["factorization_time_s"].get<double>(),
+      planar ? "ξ = (ρx, ρy, θ)" : "ξ = (ρ, φ)", g.gauge_pose, out["factorization_time_s"].get<double>(),
       m.extraction_time_s);
   // The first block on screen; all of them in --out.
   const json& first = pairs.empty() ? out["covariance"] : out["pairs"][0]["covariance"];

@@ -1340,6 +1340,15 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   for (int v = 0; v < P.n; ++v)
     poses[static_cast<std::size_t>(v)] = to_pose(
         X.Q[static_cast<std::size_t>(v)], Eigen::VectorXd(X.T.col(v)), static_cast<const Pose*>(nullptr));
+  // The solution holds pose 0 at the identity (the gauge of the certificate matrix). A graph whose gauge is
+  // another pose k (g2o's FIX k) gets the rigid motion that puts pose k at its as-read value; F, Λ and the
+  // bound are invariant under it (F to rounding at the moved poses).
+  if (const auto k = static_cast<std::size_t>(graph.gauge_pose);
+      k != 0 && k < graph.poses.size() && k < poses.size()) {
+    const Pose move = graph.poses[k] * poses[k].inverse();
+    for (auto& T : poses) T = move * T;
+    poses[k] = graph.poses[k];
+  }
   S.total_time_s = core::seconds_since(t_total);
 }
 

@@ -44,14 +44,16 @@ lie::SE3 random_pose(core::Rng& rng, double extent, const lie::SE3*) {
   return lie::SE3(lie::SO3::from_matrix_unchecked(quat.normalized().toRotationMatrix()), t);
 }
 
-// Odometry chain of one robot: T_0 as read (identity if none), T_k = T_{k−1} z_{k−1,k} using the first edge
-// between k−1 and k in the file (inverted if it is stored as (k, k−1)). Where the chain has a gap (no edge
-// between k−1 and k), the poses beyond it are placed along a spanning tree, as g2o's initial guess does: a
-// 0-1 breadth-first search from pose 0 in which those odometry steps cost 0 and every other edge 1, so each
-// pose is reached through as few non-odometry edges as possible (and a graph whose chain is complete gets
-// exactly the chain). A pose that no edge path reaches from pose 0 is an error naming it.
+// Odometry chain of one robot from its root pose (the first of Options::constant_poses, pose 0 by default, so
+// that the gauge keeps its as-read value): T_root as read (identity if none), then T_k = T_{k−1} z_{k−1,k}
+// outward using the first edge between k−1 and k in the file (inverted if it is stored as (k, k−1)). Where
+// the chain has a gap (no edge between k−1 and k), the poses beyond it are placed along a spanning tree, as
+// g2o's initial guess does: a 0-1 breadth-first search from the root in which those odometry steps cost 0
+// and every other edge 1, so each pose is reached through as few non-odometry edges as possible (and a graph
+// whose chain is complete gets exactly the chain). A pose that no edge path reaches from the root is an
+// error naming it.
 template <class D>
-std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) {
+std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n, int root) {
   using Pose = typename D::Pose;
   std::vector<Pose> poses(n);
   if (n == 0) return poses;
@@ -80,9 +82,9 @@ std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) 
   std::vector<int> dist(n, -1);
   std::vector<char> done(n, 0);
   std::deque<int> queue;
-  poses[0] = g.poses.empty() ? Pose() : g.poses[0];
-  dist[0] = 0;
-  queue.push_back(0);
+  poses[root] = root < static_cast<int>(g.poses.size()) ? g.poses[root] : Pose();
+  dist[root] = 0;
+  queue.push_back(root);
   while (!queue.empty()) {
     const int v = queue.front();
     queue.pop_front();
@@ -103,10 +105,10 @@ std::vector<typename D::Pose> odometry_chain(const typename D::Graph& g, int n) 
       }
     }
   }
-  for (int k = 1; k < n; ++k)
+  for (int k = 0; k < n; ++k)
     if (!done[k])
-      fail(fmt::format("initial_guess = odometry: pose {} of {} is not connected to pose 0 by any edge", k,
-                       name_of(g.source)));
+      fail(fmt::format("initial_guess = odometry: pose {} of {} is not connected to pose {} by any edge", k,
+                       name_of(g.source), root));
   return poses;
 }
 
@@ -126,7 +128,11 @@ typename D::Estimate robot_initial(const typename D::Graph& g, int robot, const 
       est.poses = g.poses;
       break;
     case InitialGuess::odometry:
-      est.poses = odometry_chain<D>(g, n);
+      est.poses = odometry_chain<D>(
+          g, n,
+          !o.constant_poses.empty() && o.constant_poses.front() >= 0 && o.constant_poses.front() < n
+              ? o.constant_poses.front()
+              : 0);
       break;
     case InitialGuess::supplied:
       if (!supplied) fail("initial_guess = supplied but no estimate was supplied");

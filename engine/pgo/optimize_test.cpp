@@ -469,6 +469,25 @@ TEST_CASE("Options enums round-trip through their names; an unknown name is an e
   CHECK(to_string(RobustKernel::dcs) == "dcs");
 }
 
+TEST_CASE("the odometry initial guess chains from the first constant pose, which keeps its as-read value") {
+  core::Rng rng(9);
+  const auto T = circle_truth(30);
+  auto g = synthetic_2d(T, {}, rng);  // exact measurements: the optimum is T up to a rigid motion
+  for (auto& P : g.poses) P = P * lie::SE2(0.1, -0.2, 0.3);  // as read: off the chain of the measurements
+  Options o;
+  o.initial_guess = InitialGuess::odometry;
+  for (const int k : {0, 5}) {
+    CAPTURE(k);
+    o.constant_poses = {k};
+    const auto r = optimize(g, o);
+    // Held, to the rounding of its (x, y, θ) parameters.
+    CHECK((r.estimate.poses[k].matrix() - g.poses[k].matrix()).cwiseAbs().maxCoeff() <= 1e-15);
+    CHECK(r.summary.initial_cost < 1e-20);  // the chain from pose k fits every measurement
+    for (int v = 0; v < 30; v += 7)
+      CHECK((r.estimate.poses[k].inverse() * r.estimate.poses[v]).is_approx(T[k].inverse() * T[v], 1e-9));
+  }
+}
+
 TEST_CASE("input errors come back as exceptions naming the problem") {
   core::Rng rng(8);
   const auto T = circle_truth(10);

@@ -230,19 +230,31 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
              std::isfinite(anisotropic)
                  ? fmt::format("{:.10g}", anisotropic)
                  : std::string("n/a (not every information matrix is positive definite)"));
-  // Only what the proof behind the lower bound established is printed as proven, rounded outward (the lower
-  // bound down, the gap and the shift up); a failed attempt is printed as failed.
+  // Only what the proof behind the lower bound established is printed, rounded outward (the lower bound down,
+  // the gap and the shift up); a failed attempt is printed as failed. The word "proven" is kept for a
+  // certified estimate: when the estimate is not certified, a lower bound from a staircase point still holds
+  // and is printed as a bound, without a word that could be read as the estimate's optimality.
   if (c.proven) {
     const double dual_gap = core::round_up(core::round_up(c.bound.upper - c.trace_lambda) /
                                            std::fmax(1.0, std::abs(c.bound.upper)));
-    fmt::print(
-        "certificate  F* ≥ {1} proven ({0}), relative gap (F − bound) / F ≤ {2} ((F − tr Λ) / F = {3} at the "
-        "multipliers, plus the shift η·d·n / F chosen from the gap tolerance); λ_min(S) ≥ −{4} on the "
-        "rotations, proven with rounding margin {5:.3g} (S of order {6}{7})\n",
-        c.certified ? "certified" : "not certified", core::format_lower(c.bound.lower, 10),
+    const std::string figures = fmt::format(
+        "relative gap (F − bound) / F ≤ {0} ((F − tr Λ) / F = {1} at the multipliers, plus the shift η·d·n / "
+        "F "
+        "chosen from the gap tolerance); λ_min(S) ≥ −{2} on the rotations with rounding margin {3:.3g} (S of "
+        "order "
+        "{4}{5})",
         core::format_upper(c.bound.relative_gap_up(), 3), core::format_upper(dual_gap, 3),
         core::format_upper(c.shift, 3), c.rounding_margin, c.size,
         c.rank > s.dimension ? fmt::format(", multipliers of the rank-{} staircase point", c.rank) : "");
+    if (c.certified)
+      fmt::print("certificate  F* ≥ {} proven (certified), {}\n", core::format_lower(c.bound.lower, 10),
+                 figures);
+    else
+      fmt::print(
+          "certificate  not certified: the estimate's optimality is not shown; the lower bound F* ≥ {} "
+          "holds, "
+          "{}\n",
+          core::format_lower(c.bound.lower, 10), figures);
   } else {
     fmt::print("certificate  not certified: {}\n", c.message);  // "no lower bound: " and what failed
   }

@@ -83,15 +83,12 @@ class NotCertified(unittest.TestCase):
                 self.assertEqual(len(cert), 1, out)
                 self.assertIn("not certified", cert[0])
                 self.assertNotIn("termination  certified", out)
-                # A failed attempt is printed as failed, and no line that speaks of a failure says "proven".
+                # A failed attempt is printed as failed, and nothing is printed as proven: the estimate is not
+                # certified, and the lower bound that still holds is printed as a bound.
                 failed = [l for l in lines if "could not be shown" in l or "failed" in l or "no lower bound" in l]
                 self.assertTrue(failed, out)
-                for l in failed:
-                    self.assertNotIn("proven", l, l)
-                # "proven" appears only on the certificate line, which states the successful proof's figures.
-                for l in lines:
-                    if "proven" in l:
-                        self.assertTrue(l.startswith("certificate"), l)
+                self.assertNotIn("proven", out)
+                self.assertIn("holds", cert[0])
                 # The printed lower bound is rounded down and lies below the minimum (weak duality).
                 lower = float(cert[0].split("F* ≥ ")[1].split()[0])
                 self.assertLess(lower, minimum_estimate(n, angles))

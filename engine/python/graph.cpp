@@ -58,6 +58,14 @@ the frame of i; its residual is r = rho(z^-1 T_i^-1 T_j) ({1}) and `information`
 r. Arrays are copies: `poses` can be assigned as a whole ((n, {2}) array), the other properties are read-only.
 Make one with keel.read_graph or {0}(poses, edges, measurements, information=None).)doc";
 
+// A pose index for Graph*.gauge_pose: IndexError outside 0 .. n-1.
+int gauge_pose_in(std::size_t n, long long k, const char* what) {
+  if (k < 0 || static_cast<unsigned long long>(k) >= n)
+    throw py::index_error(fmt::format("{}: pose {} is not in the graph ({} poses: 0 .. {})", what, k, n,
+                                      static_cast<long long>(n) - 1));
+  return static_cast<int>(k);
+}
+
 }  // namespace
 
 void bind_graph(py::module_& m) {
@@ -109,6 +117,15 @@ void bind_graph(py::module_& m) {
                     "The file the graph was read from ('' if made in Python).")
       .def_readonly("has_initial_poses", &PoseGraph2D::has_initial_poses,
                     "True when the file carried vertex estimates (False: poses chained from the odometry).")
+      .def_property(
+          "gauge_pose", [](const PoseGraph2D& g) { return g.gauge_pose; },
+          [](PoseGraph2D& g, long long k) {
+            g.gauge_pose = gauge_pose_in(g.poses.size(), k, "Graph2D.gauge_pose");
+          },
+          "The pose every solve holds at its input value, and that keel.marginals reports fixed (the gauge; "
+          "a "
+          "g2o file's FIX line, 0 by default). Assign a pose index 0 .. n-1 (IndexError otherwise); "
+          "write_graph writes it as 'FIX k' to g2o (an iSAM .txt file cannot hold it: ValueError).")
       .def(
           "copy", [](const PoseGraph2D& g) { return g; }, "A deep copy.")
       .def("__copy__", [](const PoseGraph2D& g) { return g; })
@@ -161,6 +178,15 @@ void bind_graph(py::module_& m) {
                     "The file the graph was read from ('' if made in Python).")
       .def_readonly("has_initial_poses", &PoseGraph3D::has_initial_poses,
                     "True when the file carried vertex estimates (False: poses chained from the odometry).")
+      .def_property(
+          "gauge_pose", [](const PoseGraph3D& g) { return g.gauge_pose; },
+          [](PoseGraph3D& g, long long k) {
+            g.gauge_pose = gauge_pose_in(g.poses.size(), k, "Graph3D.gauge_pose");
+          },
+          "The pose every solve holds at its input value, and that keel.marginals reports fixed (the gauge; "
+          "a "
+          "g2o file's FIX line, 0 by default). Assign a pose index 0 .. n-1 (IndexError otherwise); "
+          "write_graph writes it as 'FIX k' to g2o (an iSAM .txt file cannot hold it: ValueError).")
       .def(
           "copy", [](const PoseGraph3D& g) { return g; }, "A deep copy.")
       .def("__copy__", [](const PoseGraph3D& g) { return g; })

@@ -251,8 +251,9 @@ py::dict factor_summary(const cov::FactorSummary& s) {
 const char* kMarginalsDoc = R"doc(
 Joint marginal covariances of poses of a graph in the Lie algebra of the LEFT perturbation T = exp(xi^) T_bar
 (thesis eq. 5.14; the joint Sigma_1:n of eq. 5.28 taken from a MAP solution, section 5.8.2), from the sparse
-information matrix H = sum A^T Omega A linearized at `poses` (default: the graph's poses), gauge = pose 0 fixed
-(its covariance and cross-covariances are zero), factorized once with CHOLMOD (default options: CHOLMOD's
+information matrix H = sum A^T Omega A linearized at `poses` (default: the graph's poses), gauge = the graph's
+gauge_pose fixed (pose 0 unless set or read from a g2o FIX line; its covariance and cross-covariances are zero),
+factorized once with CHOLMOD (default options: CHOLMOD's
 ordering, supernodal, forward extraction).
 
 Exactly one of:
@@ -465,9 +466,12 @@ each edge's information) and its certificate: a lower bound on the global minimu
       py::arg("max_iterations") = 100, py::arg("certify") = false, py::arg("gap_tolerance") = 1e-6,
       py::arg("max_rank") = 10, R"doc(
 Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
-sparse normal Cholesky (CHOLMOD), pose 0 held constant. The options are pgo's defaults with ONLY these set,
+sparse normal Cholesky (CHOLMOD), the graph's gauge_pose (0 by default) held constant at its given value
+(certify=True moves its estimate rigidly so that this pose keeps its value). The options are pgo's defaults
+with ONLY these set,
 exactly as the CLI `keel solve` does (same inputs give bit-identical results):
-  init            initial guess: 'odometry' (chain the odometry edges from pose 0), 'as_read' (or 'as-read':
+  init            initial guess: 'odometry' (chain the odometry edges from the gauge pose), 'as_read' (or
+                  'as-read':
                   the graph's poses), 'random' (uniform from `seed`), or an (n, 3) / (n, 7) array of poses
                   (InitialGuess::supplied). Unknown text raises ValueError "unknown pgo::InitialGuess ...".
   robust          kernel on the loop closures: 'none', 'huber', 'cauchy', 'dcs' (pgo::RobustKernel)
@@ -490,7 +494,8 @@ ValueError.)doc");
   py::class_<cov::MarginalCovariance>(m, "MarginalCovariance", R"doc(
 The factorized information matrix of a graph at given poses (keel::cov::MarginalCovariance), to query joint
 marginal covariances repeatedly; keel.marginals is one construction plus one query. Same conventions as
-keel.marginals (left perturbation, pose 0 fixed). Immutable; queries may run from several Python threads.)doc")
+keel.marginals (left perturbation, the graph's gauge_pose fixed). Immutable; queries may run from several Python
+threads.)doc")
       .def(py::init([](const py::object& g, const py::object& poses, const std::string& ordering,
                        const std::string& extraction) {
              return make_marginals(g, poses, covariance_options(ordering, extraction));

@@ -1,5 +1,6 @@
 """Inputs the `keel` command refuses, and the inputs it must not refuse: ids, ranges and numbers through one parser
-(engine/core/parse.hpp), survey CSV's header rule, files read once (pipes work), directories named, g2o's FIX,
+(engine/core/parse.hpp), survey CSV's header rule, files read once (pipes work), directories named, g2o's FIX
+(the gauge pose every solve holds),
 and graphs whose cost double precision cannot evaluate (check refuses what solve cannot use).
 
 Run by CTest (cli.inputs) with KEEL set to the binary; from this folder: KEEL=../../build/release/keel
@@ -15,7 +16,7 @@ import tempfile
 import threading
 import unittest
 
-from cli_fixtures import KEEL
+from cli_fixtures import KEEL, SQUARE
 
 INFO = " 1 0 0 1 0 1\n"
 # Three poses in a triangle (3 poses: valid ids 0 … 2).
@@ -157,13 +158,75 @@ class Files(unittest.TestCase):
         _, err = keel("check", os.path.join(WORK, "missing.g2o"), expect=3)
         self.assertIn("missing.g2o: cannot open file (No such file or directory)", err)
 
-    def test_g2o_fix_0_is_the_gauge_other_ids_are_refused(self):
+    def test_g2o_fix_names_the_gauge_pose(self):
         g = write("fix.g2o", "FIX 0\n" + TRIANGLE)
         out, _ = keel("solve", g, "--json", "-q")
         self.assertEqual(json.loads(out)["poses"], 3)
-        g = write("fix2.g2o", TRIANGLE + "FIX 2\n")
+        g = write("fix3.g2o", TRIANGLE + "FIX 3\n")
         _, err = keel("check", g, expect=3)
-        self.assertIn(f"{g}:7: FIX field 1: '2': keel holds the gauge at pose 0 in every solve", err)
+        self.assertIn(f"{g}:7: FIX field 1: '3': no pose 3 in the graph (its 3 poses have ids 0 to 2)", err)
+        g = write("fix12.g2o", "FIX 1\n" + TRIANGLE + "FIX 2\n")
+        _, err = keel("solve", g, expect=3)
+        self.assertIn(f"{g}:8: FIX field 1: '2': keel holds one pose fixed (the gauge), and FIX field 1 on line 1 "
+                      "already fixes pose 1; this one names pose 2", err)
+
+
+def vertices(path):
+    """{id: (x, y, theta)} of a 2D g2o file's VERTEX_SE2 lines."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if t and t[0] == "VERTEX_SE2":
+                out[int(t[1])] = tuple(float(v) for v in t[2:5])
+    return out
+
+
+class Fix(unittest.TestCase):
+    """g2o's `FIX k` was refused for k != 0; now every solve holds pose k at its value in the file, and marginals
+    are reported with pose k fixed."""
+
+    def setUp(self):
+        self.g = write("square_fix2.g2o", SQUARE + "FIX 2\n")
+        self.given = vertices(self.g)
+
+    def same_pose(self, got, want):
+        self.assertEqual(got[:2], want[:2])  # x, y to the last bit
+        self.assertAlmostEqual(math.remainder(got[2] - want[2], 2 * math.pi), 0.0, delta=1e-12)
+
+    def test_solve_holds_pose_2(self):
+        for extra in ([], ["--init", "as-read"], ["--certify"]):
+            with self.subTest(extra=extra):
+                out = os.path.join(WORK, "solved.g2o")
+                keel("solve", self.g, "--out", out, "-q", *extra)
+                got = vertices(out)
+                self.same_pose(got[2], self.given[2])
+                self.assertGreater(abs(got[0][0]) + abs(got[0][1]) + abs(got[0][2]), 1e-6)  # pose 0 moved
+                with open(out) as f:
+                    self.assertIn("FIX 2\n", f.read().splitlines(keepends=True))
+                os.remove(out)
+
+    def test_costs_do_not_depend_on_the_gauge(self):
+        g0 = write("square_fix0.g2o", SQUARE)
+        a = json.loads(keel("solve", g0, "--json", "-q")[0])["summary"]
+        b = json.loads(keel("solve", self.g, "--json", "-q")[0])["summary"]
+        # The same optimum up to the stopping rule (|cost change| / cost <= 1e-6 per step) of both runs.
+        self.assertAlmostEqual(b["final_cost"] / a["final_cost"], 1.0, delta=1e-6)
+        a = json.loads(keel("solve", g0, "--json", "-q", "--certify")[0])["certificate"]
+        b = json.loads(keel("solve", self.g, "--json", "-q", "--certify")[0])["certificate"]
+        self.assertTrue(b["certified"])
+        for key in ("final_cost", "lower_bound", "upper_bound"):
+            self.assertEqual(b[key], a[key], key)  # the certificate does not depend on the gauge
+
+    def test_marginals_in_the_gauge_at_pose_2(self):
+        out = os.path.join(WORK, "m.json")
+        keel("marginals", self.g, "--poses", "2,5", "--out", out, "-q")
+        with open(out) as f:
+            m = json.load(f)
+        self.assertEqual(m["gauge"], "pose 2 fixed")
+        cov = m["covariance"]
+        self.assertTrue(all(cov[r][c] == 0.0 for r in range(3) for c in range(6)))
+        self.assertGreater(cov[3][3], 0.0)
 
 
 class Range(unittest.TestCase):

@@ -455,6 +455,45 @@ class TestErrors(unittest.TestCase):
             keel.max_clique(np.triu(np.ones((3, 3))))
 
 
+class TestGauge(unittest.TestCase):
+    """A graph's gauge_pose (g2o's FIX k): solve holds pose k at its given value, marginals report it fixed."""
+
+    def graph(self):
+        poses = [[0.0, 0.0, 0.0], [1.0, 0.1, 1.6], [1.1, 1.0, 3.1], [0.1, 1.1, -1.5]]
+        edges = [[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]]
+        meas = [[1.0, 0.05, 1.55], [1.02, -0.03, 1.6], [0.97, 0.02, 1.54], [1.01, 0.0, 1.58], [1.4, 1.38, 3.1]]
+        return keel.Graph2D(poses, edges, meas)
+
+    def test_gauge_pose(self):
+        g = self.graph()
+        self.assertEqual(g.gauge_pose, 0)
+        with self.assertRaisesRegex(IndexError, r"Graph2D.gauge_pose: pose 4 is not in the graph \(4 poses"):
+            g.gauge_pose = 4
+        with self.assertRaises(TypeError):
+            g.gauge_pose = 1.5
+        g0 = g.copy()
+        g.gauge_pose = 2
+        self.assertEqual(g.copy().gauge_pose, 2)
+        r0, r = keel.solve(g0), keel.solve(g)
+        np.testing.assert_array_equal(r.poses[2], g.poses[2])  # held to the last bit
+        self.assertGreater(np.abs(r.poses[0] - g.poses[0]).max(), 1e-6)
+        # The same optimum up to the stopping rule (|cost change| / cost <= 1e-6 per step) of both runs.
+        self.assertAlmostEqual(r.cost / r0.cost, 1.0, delta=1e-5)
+        c0, c = keel.solve(g0, certify=True), keel.solve(g, certify=True)
+        np.testing.assert_array_equal(c.poses[2], g.poses[2])
+        self.assertEqual(c.certificate["lower_bound"], c0.certificate["lower_bound"])
+        self.assertEqual(c.cost, c0.cost)
+        cov = keel.marginals(g, r0.poses, ids=[2, 1])
+        self.assertEqual(np.abs(cov[:3, :]).max(), 0.0)
+        self.assertGreater(cov[3, 3], 0.0)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "fix.g2o")
+            keel.write_graph(g, path)
+            self.assertEqual(keel.read_graph(path).gauge_pose, 2)
+            with self.assertRaisesRegex(ValueError, "iSAM text cannot record"):
+                keel.write_graph(g, os.path.join(d, "fix.txt"))
+
+
 class TestDocs(unittest.TestCase):
     def test_every_public_name_has_a_docstring(self):
         self.assertTrue(keel.__doc__.strip())

@@ -1,5 +1,5 @@
 // keel marginals FILE — joint Lie-algebra marginal covariances at the solution (app::marginals: thesis ch. 5,
-// eq. 5.28 from a MAP solution; gauge pose 0 fixed).
+// eq. 5.28 from a MAP solution; gauge: pose 0 fixed, or the pose of a g2o FIX line).
 // <variant> before the imports: included after them, clang-19 rejects its hash helpers as a redefinition
 // (docs/DESIGN.md, toolchain notes).
 #include <variant>
@@ -197,7 +197,8 @@ void add_marginals_command(CLI::App& app) {
   auto a = std::make_shared<MarginalsArgs>();
   auto* c = app.add_subcommand(
       "marginals",
-      "joint Lie-algebra marginal covariances at the solution (thesis ch. 5; gauge: pose 0 fixed)");
+      "joint Lie-algebra marginal covariances at the solution (thesis ch. 5; gauge: pose 0 fixed, or the "
+      "pose of a g2o FIX line)");
   c->group("Your data");
   c->add_option("file", a->solve.file, "the graph file")->required();
   c->add_option("--pairs", a->pairs,

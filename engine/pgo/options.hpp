@@ -39,7 +39,8 @@ enum class SparseLibrary {
 // Where the initial estimate comes from.
 enum class InitialGuess {
   as_read,   // the poses (and landmarks) stored in the graph (PoseGraph2D::poses ...)
-  odometry,  // chain the odometry edges (k-1, k) from pose 0 (pose 0 as read, identity if the graph has none)
+  odometry,  // chain the odometry edges (k-1, k) from the first of constant_poses (pose 0 by default), which
+             // keeps its as-read value (identity if the graph has none)
   supplied,  // an estimate passed by the caller, e.g. ground truth (the `supplied` argument of optimize)
   random,    // uniformly random poses from `seed` (deterministic); gauge poses keep their as-read values
 };

@@ -36,6 +36,7 @@ function(keel_area name)
     set(vis INTERFACE)
   endif()
   target_include_directories(${impl} ${vis} ${CMAKE_SOURCE_DIR}/engine)
+  keel_unity(${impl})
   target_link_libraries(${impl} ${vis} Eigen3::Eigen ${A_DEPENDS} ${A_LINK})
 
   add_library(keel_${name} STATIC)
@@ -47,6 +48,7 @@ function(keel_area name)
     add_executable(keel_${name}_tests ${tests})
     target_link_libraries(keel_${name}_tests PRIVATE ${impl} ${A_TEST_DEPENDS} keel_doctest_main doctest::doctest)
     target_include_directories(keel_${name}_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests)  # "kit/test_kit.hpp"
+    keel_unity(keel_${name}_tests)
     # Test cases that read the benchmark data sets are in the doctest suite "datasets" and fail without the data
     # (tests/kit/dataset_files.hpp). unit.<area> runs the rest; datasets.<area>, label "datasets", runs them. Both
     # leave out the suites of KEEL_UNIT_SKIP_SUITES (Monte-Carlo agreement under the sanitizers: CMakeLists.txt).
@@ -87,6 +89,26 @@ function(keel_area name)
       set_tests_properties(datasets.${name} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} LABELS datasets)
     endif()
   endif()
+endfunction()
+
+# keel_unity(<target>): with KEEL_UNITY (CMakeLists.txt), compile the target's sources in batches of
+# KEEL_UNITY_BATCH_SIZE, one translation unit each. Only for targets whose sources import no keel module (the areas'
+# libraries and unit tests, DESIGN rule 1). A source whose file-scope names clash with another's in its batch is left
+# out with SKIP_UNITY_BUILD_INCLUSION in its area's CMakeLists.txt.
+function(keel_unity target)
+  get_target_property(type ${target} TYPE)
+  if(KEEL_UNITY AND NOT type STREQUAL "INTERFACE_LIBRARY")
+    # CMake leaves sources it scans for module imports out of unity batches; these import nothing, so no scan.
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${KEEL_UNITY_BATCH_SIZE}
+                                               CXX_SCAN_FOR_MODULES OFF)
+  endif()
+endfunction()
+
+# keel_unity_skip(<source>...): compile these sources of the current area on their own in a unity build. Two sources
+# of one batch are one translation unit, so file-scope helpers under the same name (a `fail` or `kPi` in an anonymous
+# namespace in both) are redefinitions, and a `using namespace` of one makes the other's names ambiguous.
+function(keel_unity_skip)
+  set_source_files_properties(${ARGN} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 endfunction()
 
 # The doctest main, compiled once for every unit-test executable (and the facade-API tests).

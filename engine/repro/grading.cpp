@@ -196,6 +196,72 @@ PairedComparison paired_statistic(const std::vector<double>& a, const std::vecto
   return c;
 }
 
+namespace {
+// P(X ≤ k) for X ~ Binomial(n, π), 0 < π < 1, in logs.
+double binomial_cdf(int n, int k, double pi) {
+  if (k < 0) return 0.0;
+  if (k >= n) return 1.0;
+  double sum = 0;
+  for (int i = 0; i <= k; ++i)
+    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
+                    i * std::log(pi) + (n - i) * std::log1p(-pi));
+  return std::min(1.0, sum);
+}
+// The π in (0, 1) where the decreasing function f(π) equals target, by bisection.
+template <class F>
+double solve_decreasing(F f, double target) {
+  double lo = 0, hi = 1;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) > target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+}  // namespace
+
+PairedComparison paired_rate(const std::vector<double>& a, const std::vector<double>& b,
+                             const PairedOptions& o) {
+  check_paired(a, b, o);
+  if (!o.blocks.empty()) {
+    const auto mean = [](std::vector<double> v) {
+      return 100.0 * std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+    };
+    return paired_statistic(a, b, mean, o);
+  }
+  PairedComparison c;
+  c.alpha = o.alpha;
+  const auto n = static_cast<int>(a.size());
+  int wins = 0, losses = 0;  // trials where only a succeeds, only b
+  double sa = 0, sb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const bool x = a[i] > 0.5, y = b[i] > 0.5;
+    sa += x, sb += y;
+    wins += x && !y, losses += !x && y;
+  }
+  c.units = a.size();
+  c.above = wins, c.below = losses, c.ties = n - wins - losses;
+  c.difference = 100.0 * (sa - sb) / n;
+  c.difference_of_medians = 0;
+  const int m = wins + losses;
+  c.p = sign_test_p(losses, wins);  // McNemar's exact test: the concordant trials say nothing
+  if (m == 0) {
+    c.low = c.high = 0;  // no discordant trial: the interval is the point 0
+  } else {
+    // Clopper-Pearson for π = P(a succeeds | discordant): P(X ≥ wins | π_lo) = alpha/2, P(X ≤ wins | π_hi) =
+    // alpha/2.
+    const double pi_lo =
+        wins == 0
+            ? 0.0
+            : solve_decreasing([&](double pi) { return binomial_cdf(m, wins - 1, pi); }, 1 - o.alpha / 2);
+    const double pi_hi =
+        wins == m ? 1.0 : solve_decreasing([&](double pi) { return binomial_cdf(m, wins, pi); }, o.alpha / 2);
+    const double scale = 100.0 * m / n;
+    c.low = (2 * pi_lo - 1) * scale, c.high = (2 * pi_hi - 1) * scale;
+  }
+  c.adjusted_p = c.p;
+  return c;
+}
+
 std::vector<double> holm_adjust(const std::vector<double>& p) {
   for (double x : p)
     if (!(x >= 0 && x <= 1))

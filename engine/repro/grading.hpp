@@ -63,13 +63,22 @@ struct PairedComparison {
   [[nodiscard]] bool lower() const { return adjusted_p <= alpha && high < 0; }  // a significantly below b
   [[nodiscard]] bool higher() const { return adjusted_p <= alpha && low > 0; }  // a significantly above b
 };
-// Both throw std::invalid_argument when a and b differ in size or are empty, blocks is neither empty nor of
+// * `paired_rate`: two success indicators per trial (a value > 0.5 is a success), the difference of the
+// success
+//   rates in percentage points with McNemar's exact test (the sign test on the discordant trials, concordant
+//   ones dropped) and the interval that inverts it: the Clopper-Pearson interval [π_lo, π_hi] for the share π
+//   of discordant trials where a succeeds, mapped to 100 (2π − 1) m/n (m discordant of n). Blocks: as
+//   paired_statistic with the mean. A bootstrap p can never fall below 2/(R + 1), which Holm's correction
+//   over a large family cannot use; the exact test has no such floor.
+// All throw std::invalid_argument when a and b differ in size or are empty, blocks is neither empty nor of
 // their size, resamples < 100, or alpha is not in (0, 1). Deterministic for a given seed.
 [[nodiscard]] PairedComparison paired_median(const std::vector<double>& a, const std::vector<double>& b,
                                              const PairedOptions& options = {});
 [[nodiscard]] PairedComparison paired_statistic(const std::vector<double>& a, const std::vector<double>& b,
                                                 const std::function<double(std::vector<double>)>& statistic,
                                                 const PairedOptions& options = {});
+[[nodiscard]] PairedComparison paired_rate(const std::vector<double>& a, const std::vector<double>& b,
+                                           const PairedOptions& options = {});
 
 // The exact two-sided sign test with `ties` counted against rejection: min(1, 2 P(X ≤ min(below, above) +
 // ties)) for X ~ Binomial(below + above + ties, 1/2).

@@ -219,6 +219,36 @@ TEST_CASE("paired comparison: the bootstrap interval excludes 0 exactly when its
   CHECK(kept > 5);
 }
 
+TEST_CASE("paired comparison: two rates by McNemar's exact test and the interval that inverts it") {
+  // 10 trials where only a succeeds, none where only b does, 90 concordant: p = 2 / 2^10; the Clopper-Pearson
+  // interval for π is [0.025^(1/10), 1], so the rate difference lies in [(2·0.025^0.1 − 1)·10, 10] points.
+  std::vector<double> a(100, 0.0), b(100, 0.0);
+  for (int i = 0; i < 10; ++i) a[static_cast<std::size_t>(i)] = 1;
+  for (int i = 50; i < 80; ++i) a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] = 1;
+  const PairedComparison c = paired_rate(a, b);
+  CHECK(c.difference == doctest::Approx(10.0));
+  CHECK(c.p == doctest::Approx(2.0 / 1024));
+  CHECK(c.low == doctest::Approx((2 * std::pow(0.025, 0.1) - 1) * 10).epsilon(1e-9));
+  CHECK(c.high == doctest::Approx(10.0));
+  CHECK(c.higher());
+  CHECK(c.ties == 90);
+  // Random pairs of indicators: the interval excludes 0 exactly when the exact test's p is at most 0.05.
+  std::mt19937_64 g(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int rejected = 0;
+  for (int rep = 0; rep < 300; ++rep) {
+    const double pa = 0.3 + 0.4 * u(g), pb = 0.3 + 0.4 * u(g);
+    std::vector<double> x, y;
+    for (int i = 0; i < 20 + rep % 60; ++i) x.push_back(u(g) < pa), y.push_back(u(g) < pb);
+    const PairedComparison r = paired_rate(x, y);
+    CHECK(((r.high < 0) || (r.low > 0)) == (r.p <= 0.05));
+    CHECK(r.low <= r.difference + 1e-9);
+    CHECK(r.difference <= r.high + 1e-9);
+    rejected += r.p <= 0.05;
+  }
+  CHECK(rejected > 10);
+}
+
 TEST_CASE("paired comparison: trials in blocks are compared block by block") {
   // Four blocks of 50 trials; within a block every trial shares the block's difference, so the 200 trials
   // carry four independent values: no interval exists at n = 4 and nothing is significant, though all 200

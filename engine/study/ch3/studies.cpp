@@ -932,14 +932,13 @@ void add_paired_validity(repro::PairedFamily& family, const std::string& prefix,
   if (p == SIZE_MAX) return;
   const auto valid = [&](std::size_t m) {
     std::vector<double> v;
-    for (const auto& w : st.outcomes[m]) v.push_back(w.valid ? 100.0 : 0.0);
+    for (const auto& w : st.outcomes[m]) v.push_back(w.valid ? 1.0 : 0.0);
     return v;
   };
-  const auto mean = [](std::vector<double> v) { return core::mean_std(v).mean; };
   for (std::size_t m = 0; m < st.methods.size(); ++m)
     if (m != p)
       family.add(prefix + ".valid_rate." + std::string(align::to_string(st.methods[m])),
-                 repro::paired_statistic(valid(p), valid(m), mean));
+                 repro::paired_rate(valid(p), valid(m)));
 }
 
 }  // namespace

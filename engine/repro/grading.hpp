@@ -46,9 +46,10 @@ struct BinomialComparison {
 // and the interval lies below 0. A comparison that is not significant is never read as "no difference": that
 // needs an equivalence margin stated before the run, and no experiment states one.
 struct PairedOptions {
-  double alpha = 0.05;              // 1 − the interval's level; the family-wise level of Holm's correction
-  int resamples = 2000;             // bootstrap resamples (paired_statistic without blocks)
-  std::uint64_t seed = 1;           // of the bootstrap
+  double alpha = 0.05;     // 1 − the interval's level; the family-wise level of Holm's correction
+  int resamples = 20000;   // bootstrap resamples (paired_statistic without blocks): p ≥ 2/(R + 1), which
+                           // Holm over m comparisons can use only when 2m/(R + 1) ≤ alpha
+  std::uint64_t seed = 1;  // of the bootstrap
   std::vector<std::size_t> blocks;  // per trial, the spatial block it lies in; empty: trials independent
 };
 struct PairedComparison {

@@ -191,9 +191,9 @@ struct CertifiedResult3D {
 
 // The certified solve, on one BLAS thread (core::SingleThreadedBlas: a process-wide setting, restored on
 // return). The graph must be connected (throws std::invalid_argument naming a pose that no path reaches) and
-// free of landmarks (2D). Poses that no edge touches are refused like that too. The returned poses have pose 0
-// at the identity; a graph whose gauge_pose is k ≠ 0 (g2o's FIX k) gets them moved rigidly so that pose k is
-// graph.poses[k] exactly (the cost and the certificate do not depend on the gauge).
+// free of landmarks (2D). Poses that no edge touches are refused like that too. The returned poses have pose
+// 0 at the identity; a graph whose gauge_pose is k ≠ 0 (g2o's FIX k) gets them moved rigidly so that pose k
+// is graph.poses[k] exactly (the cost and the certificate do not depend on the gauge).
 [[nodiscard]] CertifiedResult2D solve_certified(const graph::PoseGraph2D& graph,
                                                 const CertifiedOptions& options = {});
 [[nodiscard]] CertifiedResult3D solve_certified(const graph::PoseGraph3D& graph,

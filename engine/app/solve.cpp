@@ -98,6 +98,7 @@ pgo::CertifiedOptions SolveOptions::certified_options() const {
   pgo::CertifiedOptions o;
   o.gap_tolerance = gap_tolerance;
   o.max_rank = max_rank;
+  o.time_limit_s = time_limit_s;
   o.validate();
   if (max_rank < 2)
     throw std::invalid_argument(

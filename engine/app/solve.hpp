@@ -39,12 +39,13 @@ struct SolveOptions {
   bool certify = false;
   double gap_tolerance = 1e-6;  // relative duality gap that counts as certified
   int max_rank = 10;            // the staircase's last rank
+  double time_limit_s = 0.0;    // wall-time limit of the certified solve (0: none)
   /// pgo::Options with these fields set. Throws std::invalid_argument for an unknown name or an invalid
   /// value.
   [[nodiscard]] pgo::Options pgo_options() const;
-  /// pgo::CertifiedOptions with gap_tolerance and max_rank set, checked (CertifiedOptions::validate, and
-  /// max_rank >= 2, the smallest dimension; a rank below a 3D graph's d = 3 is refused once the graph is
-  /// read). Throws std::invalid_argument.
+  /// pgo::CertifiedOptions with gap_tolerance, max_rank and time_limit_s set, checked
+  /// (CertifiedOptions::validate, and max_rank >= 2, the smallest dimension; a rank below a 3D graph's d = 3
+  /// is refused once the graph is read). Throws std::invalid_argument.
   [[nodiscard]] pgo::CertifiedOptions certified_options() const;
 };
 

@@ -178,8 +178,19 @@ void add_solve_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--max-rank", a->options.max_rank, "--certify: the staircase's last rank")
       ->capture_default_str();
+  auto* time_limit = c->add_option(
+      "--time-limit", a->options.time_limit_s,
+      "--certify: stop after this many seconds (> 0; left out: no limit); the point reached and its rounding "
+      "are "
+      "tested (a run can exceed the limit by those tests), termination time_limit, exit 1 unless certified");
   add_common(c, a->common);
-  c->callback([a] {
+  c->callback([a, time_limit] {
+    check_option("--time-limit", [&] {
+      if (time_limit->count() > 0 && !(a->options.time_limit_s > 0.0))
+        throw std::invalid_argument(
+            fmt::format("{} s: give a time limit > 0 seconds, or leave the option out for no limit",
+                        a->options.time_limit_s));
+    });
     check_solve_options(*a);
     run_solve(*a);
   });

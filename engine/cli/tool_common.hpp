@@ -149,6 +149,7 @@ inline void check_solve_options(const SolveArgs& a) {
   check("--max-iterations", [&](app::SolveOptions& o) { o.max_iterations = given.max_iterations; });
   check("--gap-tolerance", [&](app::SolveOptions& o) { o.gap_tolerance = given.gap_tolerance; });
   check("--max-rank", [&](app::SolveOptions& o) { o.max_rank = given.max_rank; });
+  check("--time-limit", [&](app::SolveOptions& o) { o.time_limit_s = given.time_limit_s; });
 }
 
 // The attempts of a certificate's proof that failed, as failed: null when none did.
@@ -165,6 +166,7 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
                       {"iterations", r.iterations},
                       {"factorizations", r.factorizations},
                       {"cg_steps", r.cg_steps},
+                      {"tcg_iterations", r.tcg_iterations},
                       {"cost", r.cost},
                       {"gradient_norm", r.gradient_norm},
                       {"certified", r.certified},
@@ -210,6 +212,7 @@ inline json certificate_json(const pgo::CertifiedSummary& s) {
           {"iterations", s.iterations},
           {"factorizations", s.factorizations},
           {"cg_steps", s.cg_steps},
+          {"tcg_iterations", s.tcg_iterations},
           {"ordering", s.ordering},
           {"times_s",
            {{"initialization", s.initialization_time_s},
@@ -277,9 +280,10 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
   fmt::print("staircase    {}\n", stairs);
   fmt::print(
       "time         {:.3f} s (initialization {:.3f}, local {:.3f}, certificate {:.3f}, rounding {:.3f}); {} "
-      "Newton iterations ({} factorized, {} by CG on an earlier factor), CHOLMOD ordering {}\n",
+      "iterations ({} factorized, {} by CG on an earlier factor, {} Steihaug–Toint CG iterations in "
+      "trust-region steps), CHOLMOD ordering {}\n",
       s.total_time_s, s.initialization_time_s, s.local_time_s, s.certificate_time_s, s.rounding_time_s,
-      s.iterations, s.factorizations, s.cg_steps, s.ordering);
+      s.iterations, s.factorizations, s.cg_steps, s.tcg_iterations, s.ordering);
 }
 
 inline void check_solved(const pgo::Summary& s) {

@@ -23,7 +23,11 @@
 //     moves those columns; the translations move freely; pose 0 is the gauge. Newton steps (Gauss–Newton
 //     matrix plus the curvature of the retraction, i.e. the Riemannian Hessian) with Levenberg–Marquardt
 //     damping, factorized by CHOLMOD — or, when an earlier factor is at hand, solved inexactly by conjugate
-//     gradients preconditioned with that factor (a few triangular solves instead of a factorization).
+//     gradients preconditioned with that factor (a few triangular solves instead of a factorization). Where
+//     the damped Hessian is not positive definite, trust-region steps (Steihaug–Toint CG on the exact
+//     Hessian, preconditioned by the damped Gauss–Newton factor). Above rank d, a Riemannian trust region
+//     whose Hessian is applied without forming it, preconditioned by the factor of the data matrix (SE-Sync's
+//     local solver).
 //  3. Certificate: Λ_i = sym(Y_iᵀ (X M)_{Y_i}) from the first-order conditions, S = M − diag(0, Λ). For every
 //     feasible point (and every point of the semidefinite relaxation) F ≥ tr(Λ) − η·d·n when S + η·D ⪰ 0, D
 //     the identity on the rotation coordinates and zero on the translations (translation 0 removed: the
@@ -88,6 +92,14 @@ struct CertifiedOptions {
   // Newton steps by conjugate gradients preconditioned with the factor of an earlier step when that converges
   // (false: a numeric factorization at every step).
   bool inexact_newton = true;
+  // Above rank d: a Riemannian trust region whose Steihaug–Toint steps apply the exact Hessian without
+  // forming it, preconditioned by the factor of the data matrix (SE-Sync's local solver). false: the damped
+  // Newton steps of rank d, with factorized blocks that grow as r² (kept to compare the two in tests).
+  bool trust_region_above_d = true;
+  // Seconds of wall time (0: no limit). At the limit the local solve in progress stops; the point it reached
+  // is tested (so the bound holds whatever the point), rounded and tested again, and the result says
+  // time_limit. Those two tests run after the limit, so a run can exceed it by their time.
+  double time_limit_s = 0.0;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -130,6 +142,7 @@ struct RankRecord {
   int iterations = 0;                // Newton iterations (accepted and rejected)
   int factorizations = 0;            // numeric factorizations of the Newton system among them
   int cg_steps = 0;                  // steps solved by preconditioned CG on an earlier factor instead
+  int tcg_iterations = 0;            // Steihaug–Toint CG iterations of the trust-region steps
   double cost = 0.0;                 // F at the end of the rank's local solve
   double gradient_norm = 0.0;        // ‖Riemannian gradient‖₂ there
   bool certified = false;            // whether the certificate held at that point
@@ -141,6 +154,7 @@ enum class CertifiedTermination {
   certified,      // the returned estimate carries a certificate within the gap tolerance
   rank_limit,     // the staircase reached max_rank without a certificate
   not_certified,  // the rank-d point after rounding could not be certified (the bound is still valid)
+  time_limit,     // stopped at CertifiedOptions::time_limit_s (the bound of the points reached is valid)
 };
 std::string_view to_string(CertifiedTermination t);
 
@@ -169,6 +183,7 @@ struct CertifiedSummary {
   int factorizations =
       0;             // numeric factorizations of the Newton systems (certificate and escape not counted)
   int cg_steps = 0;  // Newton steps solved by preconditioned CG on an earlier factor
+  int tcg_iterations = 0;  // Steihaug–Toint CG iterations (trust-region steps: indefinite Hessian, ranks > d)
   double initialization_time_s = 0.0;
   double local_time_s = 0.0;
   double certificate_time_s = 0.0;

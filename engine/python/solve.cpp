@@ -389,6 +389,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
               d["iterations"] = k.iterations;
               d["factorizations"] = k.factorizations;
               d["cg_steps"] = k.cg_steps;
+              d["tcg_iterations"] = k.tcg_iterations;
               d["cost"] = k.cost;
               d["gradient_norm"] = k.gradient_norm;
               d["certified"] = k.certified;
@@ -408,6 +409,9 @@ each edge's information) and its certificate: a lower bound on the global minimu
       .def_property_readonly(
           "cg_steps", [](const CertifiedSolveResult& r) { return r.summary.cg_steps; },
           "Newton steps solved by conjugate gradients preconditioned with an earlier factor.")
+      .def_property_readonly(
+          "tcg_iterations", [](const CertifiedSolveResult& r) { return r.summary.tcg_iterations; },
+          "Steihaug-Toint CG iterations of the trust-region steps (an indefinite Hessian; ranks above d).")
       .def_property_readonly(
           "times",
           [](const CertifiedSolveResult& r) {
@@ -432,7 +436,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
       "solve",
       [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
          const py::object& seed_obj, const py::object& threads_obj, const py::object& max_iterations_obj,
-         bool certify, double gap_tolerance, const py::object& max_rank_obj) -> py::object {
+         bool certify, double gap_tolerance, const py::object& max_rank_obj,
+         const std::optional<double>& time_limit_s) -> py::object {
         // Integers named in errors (TypeError for a float or a bool, OverflowError beyond the C++ type).
         const std::uint64_t seed = uint_arg(seed_obj, "solve", "seed", UINT64_MAX);
         const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "solve", "threads", UINT_MAX));
@@ -443,6 +448,13 @@ each edge's information) and its certificate: a lower bound on the global minimu
           o.certify = true;
           o.gap_tolerance = gap_tolerance;
           o.max_rank = max_rank;
+          if (time_limit_s) {
+            if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
+              throw py::value_error(fmt::format(
+                  "solve: time_limit_s must be a finite number of seconds > 0, or None for no limit (got {})",
+                  *time_limit_s));
+            o.time_limit_s = *time_limit_s;
+          }
           if (py::isinstance<PoseGraph2D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph2D&>(), o));
           if (py::isinstance<PoseGraph3D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph3D&>(), o));
           throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");
@@ -464,7 +476,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
       py::arg("graph"), py::arg("init") = "odometry", py::arg("robust") = "none",
       py::arg("robust_param") = 5.0, py::arg("seed") = 0, py::arg("threads") = 1,
       py::arg("max_iterations") = 100, py::arg("certify") = false, py::arg("gap_tolerance") = 1e-6,
-      py::arg("max_rank") = 10, R"doc(
+      py::arg("max_rank") = 10, py::arg("time_limit_s") = py::none(), R"doc(
 Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
 sparse normal Cholesky (CHOLMOD), the graph's gauge_pose (0 by default) held constant at its given value
 (certify=True moves its estimate rigidly so that this pose keeps its value). The options are pgo's defaults
@@ -487,7 +499,9 @@ reported in SolveResult.termination / message, not raised, but a solution or cos
 certify=True solves the isotropic (chordal) model instead, as `keel solve --certify` does
 (pgo::solve_certified: chordal initialization, Newton on the Burer-Monteiro lift, the Riemannian staircase up
 to `max_rank`, a certificate with a rounding-error margin, certified when the relative gap is within
-`gap_tolerance`); init, robust, robust_param, seed, threads and max_iterations do not apply. Returns a
+`gap_tolerance`; `time_limit_s` seconds of wall time, None for no limit: at the limit the point reached and its
+rounding are tested and termination is 'time_limit'); init, robust, robust_param, seed, threads and max_iterations do
+not apply. Returns a
 CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
 ValueError.)doc");
 

@@ -125,6 +125,27 @@ class NotCertified(unittest.TestCase):
                 self.assertGreaterEqual(c["relative_gap"], gap)
                 self.assertGreater(c["relative_gap"], 1e-3)
 
+    def test_time_limit(self):
+        # A limit that passes before the first iteration: the chordal estimate is tested as it is, the run says
+        # time_limit, exits 1 (not certified), and a bound is printed only when a proof stands behind it.
+        for name, n, angles in self.CASES:
+            with self.subTest(graph=name):
+                rc, out, err = keel("solve", "--certify", "--time-limit", "1e-9", "--json", "-q", f"{name}.g2o")
+                self.assertEqual(rc, 1, out + err)
+                c = json.loads(out)["certificate"]
+                self.assertEqual(c["termination"], "time_limit")
+                self.assertIn("time limit", c["message"])
+                self.assertEqual(c["iterations"], 0)
+                self.assertFalse(c["certified"])
+                if c["proven"]:
+                    self.assertLess(c["lower_bound"], minimum_estimate(n, angles))
+                else:
+                    self.assertIsNone(c["lower_bound"])
+                rc, out, err = keel("solve", "--certify", "--time-limit", "1e-9", "-q", f"{name}.g2o")
+                self.assertEqual(rc, 1, out + err)
+                self.assertIn("termination  time_limit", out)
+                self.assertNotIn("proven", out)
+
     def test_nothing_proven_prints_no_figure(self):
         # max_rank = 2: no staircase, so nothing is proven at all; every proof figure is null and the text names
         # no bound.

@@ -284,6 +284,8 @@ class OptionValues(unittest.TestCase):
         self.usage(self.SOLVE + ("--certify", "--gap-tolerance", "-1"), "--gap-tolerance:",
                    "gap_tolerance must be in (0, 1)")
         self.usage(self.SOLVE + ("--certify", "--max-rank", "0"), "--max-rank:", "max_rank must be >= 2")
+        for t in ("0", "-1", "nan"):
+            self.usage(self.SOLVE + ("--certify", "--time-limit", t), "--time-limit:")
         self.usage(("marginals", "missing.g2o", "--poses", "1", "--robust", "bogus"), "--robust:")
 
     def test_pcm_options(self):

@@ -286,6 +286,15 @@ class TestReference(unittest.TestCase):
             self.assertIn("isotropic", r.problem)
         with self.assertRaisesRegex(ValueError, "gap_tolerance"):
             keel.solve(keel.read_graph(self.file2d), certify=True, gap_tolerance=0.0)
+        for bad in (0.0, -1.0, float("inf"), float("nan")):
+            with self.assertRaisesRegex(ValueError, "time_limit_s must be a finite number of seconds > 0"):
+                keel.solve(keel.read_graph(self.file2d), certify=True, time_limit_s=bad)
+        # A limit that passes before the first iteration: the chordal estimate, tested as it is, says so.
+        r = keel.solve(keel.read_graph(self.file3d), certify=True, time_limit_s=1e-9)
+        self.assertEqual(r.termination, "time_limit")
+        self.assertEqual(r.iterations, 0)
+        self.assertFalse(r.certified)
+        self.assertIn("tcg_iterations", r.staircase[0])
 
     def test_refuses_non_integer_ids_and_non_finite_poses(self):
         g = keel.read_graph(self.file2d)

@@ -450,48 +450,15 @@ void symmetric_product(const std::vector<int>& cs, const std::vector<int>& ri,
   }
 }
 
-// Conjugate gradients on A δ = b (A: `values` in chol's pattern), preconditioned by chol's current factor
-// (of an earlier matrix), from δ = 0 until ‖b − Aδ‖ ≤ eta·‖b‖. False when A shows non-positive curvature
-// along a search direction or kMaxCg iterations do not suffice; otherwise δ and dAd = δᵀAδ. `used`: the
-// iterations spent either way.
-//
-// The limits: one CG iteration (two triangular solves with the factor and a product with A) costs 1/10 to
-// 1/23 of a numeric factorization on the SE-Sync benchmark graphs (measured on this machine kind: sphere2500
-// 2 ms against 25–35 ms, torus3D 6 against 65–84, manhattan 0.25 against 5.9, kitti_00 0.25 against 2.6;
-// CHOLMOD's flop counts predict that ratio poorly, 1.3 … 93, since the factorization runs dense kernels and
-// the solves are bound by memory). So CG gives up after 10 iterations, and the step after one whose CG
-// needed more than 5 factorizes instead: the preconditioner has drifted too far from the Hessian.
+// The inexact Newton steps' conjugate gradients (preconditioned_cg, after steihaug_cg below). The limits: one
+// CG iteration (two triangular solves with the factor and a product with A) costs 1/10 to 1/23 of a numeric
+// factorization on the SE-Sync benchmark graphs (measured on this machine kind: sphere2500 2 ms against 25–35
+// ms, torus3D 6 against 65–84, manhattan 0.25 against 5.9, kitti_00 0.25 against 2.6; CHOLMOD's flop counts
+// predict that ratio poorly, 1.3 … 93, since the factorization runs dense kernels and the solves are bound by
+// memory). So CG gives up after 10 iterations, and the step after one whose CG needed more than 5 factorizes
+// instead: the preconditioner has drifted too far from the Hessian.
 constexpr int kMaxCg = 10;
 constexpr int kRefreshAfterCg = 5;
-bool preconditioned_cg(const detail::SparseCholesky& chol, const std::vector<double>& values,
-                       const Eigen::VectorXd& b, double eta, Eigen::VectorXd& delta, double& dAd, int& used) {
-  const Eigen::Index n = b.size();
-  delta.setZero(n);
-  Eigen::VectorXd r = b, z(n), Ap(n);
-  chol.solve(r.data(), z.data(), 1);
-  Eigen::VectorXd dir = z;
-  double rz = r.dot(z);
-  const double target = eta * b.norm();
-  for (int k = 0; k < kMaxCg; ++k) {
-    used = k + 1;
-    symmetric_product(chol.col_start(), chol.row_index(), values, dir, Ap);
-    const double curvature = dir.dot(Ap);
-    if (!(curvature > 0.0) || !(rz > 0.0)) return false;
-    const double alpha = rz / curvature;
-    delta += alpha * dir;
-    r -= alpha * Ap;
-    if (r.norm() <= target) {
-      symmetric_product(chol.col_start(), chol.row_index(), values, delta, Ap);
-      dAd = delta.dot(Ap);
-      return dAd > 0.0;
-    }
-    chol.solve(r.data(), z.data(), 1);
-    const double rz_next = r.dot(z);
-    dir = z + (rz_next / rz) * dir;
-    rz = rz_next;
-  }
-  return false;
-}
 
 // The certificate matrix is formed in double-double (double_double.hpp): the entries' own rounding then stays
 // below a few u² of their terms instead of γ_m of them, and the proof's residual is taken against the entries
@@ -687,6 +654,7 @@ TcgEnd steihaug_cg(Product&& product, Precondition&& precondition, const Eigen::
   // M-norm inner products carried by the recurrences (no products with M): ⟨δ,δ⟩_M, ⟨δ,p⟩_M, ⟨p,p⟩_M.
   double dd = 0.0, dp = 0.0, pp = rz;
   const double target = eta * g.norm(), r2 = radius * radius;
+  const bool bounded = std::isfinite(radius);
   used = 0;
   for (int k = 0; k < max_iterations && rz > 0.0; ++k) {
     used = k + 1;
@@ -694,7 +662,11 @@ TcgEnd steihaug_cg(Product&& product, Precondition&& precondition, const Eigen::
     const double curvature = dir.dot(Ap);
     const double alpha = rz / curvature;
     const double dd_next = dd + 2.0 * alpha * dp + alpha * alpha * pp;
-    if (!(curvature > 0.0) || dd_next >= r2) {
+    if (!bounded && !(curvature > 0.0)) {
+      end = TcgEnd::negative_curvature;  // no boundary to go to: δ stays where CG left it
+      break;
+    }
+    if (!(curvature > 0.0) || (bounded && dd_next >= r2)) {
       // τ ≥ 0 with ‖δ + τ p‖_M = radius.
       const double tau = (-dp + std::sqrt(std::max(0.0, dp * dp + pp * (r2 - dd)))) / pp;
       delta += tau * dir;
@@ -747,6 +719,22 @@ struct Stopping {
     return last_decrease <= 1e-10 * std::max(f, 1.0) && ++stalled >= 2;
   }
 };
+
+// Conjugate gradients on A δ = −g (A: `values` in chol's pattern), preconditioned by chol's current factor
+// (of an earlier matrix), from δ = 0 until ‖g + Aδ‖ ≤ eta·‖g‖: steihaug_cg without a trust region. False when
+// A shows non-positive curvature along a search direction or kMaxCg iterations do not suffice; otherwise δ
+// and dAd = δᵀAδ. `used`: the iterations spent either way.
+bool preconditioned_cg(const detail::SparseCholesky& chol, const std::vector<double>& values,
+                       const Eigen::VectorXd& g, double eta, Eigen::VectorXd& delta, double& dAd, int& used) {
+  double norm_m = 0.0;
+  const TcgEnd end = steihaug_cg(
+      [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+        symmetric_product(chol.col_start(), chol.row_index(), values, x, y);
+      },
+      [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { chol.solve(r.data(), z.data(), 1); }, g,
+      std::numeric_limits<double>::infinity(), eta, kMaxCg, delta, dAd, norm_m, used);
+  return end == TcgEnd::converged && dAd > 0.0;
+}
 
 // The tangent model at X (pose 0 held): each pose's basis matrices D (pose v's basis k at D[v·prot + k]), the
 // gradient g in those coordinates (pose v ≥ 1 at (v − 1)·p: rotation coordinates, then translation), and the
@@ -1039,7 +1027,7 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o,
       // kMaxCg iterations the system is factorized as before.
       if (o.inexact_newton && factor_valid && last_cg <= kRefreshAfterCg) {
         const double eta = std::min(0.1, std::sqrt(gnorm / stop.first_gradient));
-        solved = preconditioned_cg(chol, values, minus_g, eta, step, dAd, last_cg);
+        solved = preconditioned_cg(chol, values, g, eta, step, dAd, last_cg);
         if (solved) ++out.cg_steps;
       }
       if (!solved) {

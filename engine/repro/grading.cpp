@@ -31,10 +31,13 @@ BinomialComparison compare_rates(double ours, double n_ours, double thesis, doub
 
 namespace {
 
-// log P(X = i) for X ~ Binomial(n, 1/2), in logs (n reaches thousands).
-double log_binomial_half(int n, int i) {
-  return std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) - n * std::log(2.0);
+// log C(n, i), by lgamma (n reaches thousands).
+double log_choose(int n, int i) {
+  return std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0);
 }
+
+// log P(X = i) for X ~ Binomial(n, 1/2).
+double log_binomial_half(int n, int i) { return log_choose(n, i) - n * std::log(2.0); }
 
 // P(X ≤ k) for X ~ Binomial(n, 1/2).
 double binomial_half_cdf(int n, int k) {
@@ -203,8 +206,7 @@ double binomial_cdf(int n, int k, double pi) {
   if (k >= n) return 1.0;
   double sum = 0;
   for (int i = 0; i <= k; ++i)
-    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
-                    i * std::log(pi) + (n - i) * std::log1p(-pi));
+    sum += std::exp(log_choose(n, i) + i * std::log(pi) + (n - i) * std::log1p(-pi));
   return std::min(1.0, sum);
 }
 // The π in (0, 1) where the decreasing function f(π) equals target, by bisection.

@@ -10,9 +10,10 @@
 #   own      each tool's own timer: keel's times_s.total (problem set-up included, file reading not);
 #            SE-Sync's total_computation_time (its problem construction, the data matrices and two Cholesky
 #            factorizations, NOT included).
-#   process  the whole process, from start to exit: reading the file, construction, solve, output. keel's is
-#            timed here around the command; SE-Sync's is the driver's process_s (main's start to the end of
-#            the solve; it writes nothing).
+#   process  the whole process, from exec to exit: loading its libraries, reading the file, construction, solve,
+#            output. Timed here around each command, the same way for both tools (the SE-Sync driver's own
+#            process_s, from main's start to the end of the solve, leaves out the loader and static
+#            initialization and is not used).
 #
 # REPEAT (default 1) runs each tool that many times per data set and reports the median times (the costs are
 # the last run's). KEEL (default build/release/keel) is keel's command. SESYNC_MEASURE, when set, is the
@@ -21,6 +22,7 @@
 # final_rank, sesync_total_s, process_s). Without it only keel runs. SESYNC_SERIAL_OPENMP=1 (set here)
 # serializes OpenMP in the driver as keel does for CHOLMOD. DATASETS (default ../shared/datasets) holds the
 # files; FILES, when set, replaces the list: "name=path name=path ...". TIMEOUT (default 600 s) bounds each run.
+# KEEL_ARGS (default none) adds options to keel's command (bench/side_by_side/noise.sh: --time-limit).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 KEEL=${KEEL:-build/release/keel}
@@ -28,6 +30,7 @@ D=${DATASETS:-../shared/datasets}
 OUT=${1:-/dev/stdout}
 REPEAT=${REPEAT:-1}
 TIMEOUT=${TIMEOUT:-600}
+KEEL_ARGS=${KEEL_ARGS:-}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 SESYNC_SERIAL_OPENMP=1
 [[ -x $KEEL ]] || { echo "certified.sh: $KEEL not built (cmake --build build/release --target keel)" >&2; exit 2; }
 files=()
@@ -64,7 +67,7 @@ faster() {
     for ((rep = 0; rep < REPEAT; ++rep)); do
       start=$EPOCHREALTIME
       rc=0
-      timeout "$TIMEOUT" "$KEEL" solve --certify --json -q "$f" >"$k" 2>"$k.err" || rc=$?
+      timeout "$TIMEOUT" "$KEEL" solve --certify --json -q $KEEL_ARGS "$f" >"$k" 2>"$k.err" || rc=$?
       end=$EPOCHREALTIME
       ((rc <= 1)) || break  # 1: done, not certified (a relaxation that is not exact); anything else failed
       kTs+=("$(field "$k" "'%.4f' % c['times_s']['total']")")
@@ -88,8 +91,11 @@ faster() {
       sTs=() sPs=()
       get() { grep -m1 "^$1=" "$s" | cut -d= -f2-; }
       for ((rep = 0; rep < REPEAT; ++rep)); do
+        start=$EPOCHREALTIME
         timeout "$TIMEOUT" "$SESYNC_MEASURE" "$f" >"$s" 2>&1 || break
-        sTs+=("$(get sesync_total_s)") sPs+=("$(get process_s)")
+        end=$EPOCHREALTIME
+        sTs+=("$(get sesync_total_s)")
+        sPs+=("$(python3 -c "import sys; print('%.4f' % (float(sys.argv[2]) - float(sys.argv[1])))" "$start" "$end")")
       done
       if ((${#sTs[@]} == REPEAT)); then
         sF=$(get F_xhat) sV=$(get SDPval) sS=$(get status) sR=$(get final_rank)

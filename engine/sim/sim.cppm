@@ -8,6 +8,7 @@ module;
 #include "sim/alignment_world.hpp"
 #include "sim/terrain.hpp"
 #include "sim/hull_world.hpp"
+#include "sim/loop_closures.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/world1d.hpp"
@@ -64,4 +65,10 @@ using keel::sim::SurfaceCurvature;
 using keel::sim::planted_clique_graph;
 using keel::sim::PlantedClique;
 using keel::sim::random_graph;
+// corrupted loop closures (inputs for the certified solver beyond the thesis)
+using keel::sim::corrupt_loop_closures;
+using keel::sim::CorruptedGraph;
+using keel::sim::CorruptedGraph2;
+using keel::sim::CorruptedGraph3;
+using keel::sim::LoopClosureCorruption;
 }  // namespace keel::sim

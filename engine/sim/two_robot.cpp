@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/random.hpp"
+#include "sim/random_pose.hpp"
 
 namespace keel::sim {
 
@@ -39,30 +40,7 @@ bool finite_pose(const lie::SE3& T) { return T.translation().allFinite() && T.ro
 lie::SE2 from_residual(const lie::Vec3& r) { return lie::SE2(r(0), r(1), r(2)); }
 lie::SE3 from_residual(const lie::Vec6& r) { return lie::SE3(lie::SO3::exp(r.tail<3>()), r.head<3>()); }
 
-// Rotation uniform on SO(2) / SO(3) (3D: the unit quaternion of four standard normals, which is uniform on
-// S³).
-lie::SO2 random_rotation(core::Rng& rng, const lie::SE2*) {
-  return lie::SO2(rng.uniform(-lie::kPi, lie::kPi));
-}
-lie::SO3 random_rotation(core::Rng& rng, const lie::SE3*) {
-  double w, x, y, z, n;
-  do {
-    w = rng.normal();
-    x = rng.normal();
-    y = rng.normal();
-    z = rng.normal();
-    n = std::sqrt(w * w + x * x + y * y + z * z);
-  } while (n < 1e-12);
-  w /= n;
-  x /= n;
-  y /= n;
-  z /= n;
-  lie::Mat3 R;
-  R << 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),  //
-      2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),   //
-      2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y);
-  return lie::SO3::from_matrix_unchecked(R);
-}
+using detail::random_rotation;
 
 // A unit vector uniform on the circle / sphere (a normalized standard normal vector).
 template <int N>

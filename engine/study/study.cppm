@@ -9,6 +9,7 @@ module;
 #include "study/ch2/two_robot.hpp"
 #include "study/ch2/world1d.hpp"
 #include "study/ch2/world1d_studies.hpp"
+#include "study/ch4/certified_noise.hpp"
 #include "study/ch4/certified_pgo.hpp"
 #include "study/ch4/segments.hpp"
 #include "study/ch4/studies.hpp"
@@ -120,6 +121,7 @@ using keel::study::ch4::CertifiedGraphOutcome;
 // Chapter 4: certifiable planar SLAM.
 export namespace keel::study::ch4 {
 using keel::study::ch4::CertifiedBenchmark;
+using keel::study::ch4::CertifiedNoiseSweep;
 using keel::study::ch4::Exactness;
 using keel::study::ch4::FirstSegment;
 using keel::study::ch4::Segments;

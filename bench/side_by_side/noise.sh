@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# keel's certified solve and SE-Sync side by side on the graphs of ext_certified_noise (subsets of SE-Sync's
+# benchmark graphs with rotation noise or outlier closures on their loop closures), one thread each.
+#
+#   bench/side_by_side/noise.sh [OUT.tsv]
+#
+# 1. build/release/bench/keel_noise_graphs writes the experiment's graphs (its own generator, its seed, the
+#    profile PROFILE, default full) as g2o files into GRAPHS_DIR (default a new temporary folder);
+# 2. bench/side_by_side/certified.sh runs both tools on every file, with its two timing rules (each tool's own
+#    timer; the whole process, file reading and problem construction included) and its environment (REPEAT,
+#    SESYNC_MEASURE, TIMEOUT, KEEL). keel runs with the experiment's options: `keel solve --certify`'s defaults
+#    are its gap tolerance, rank limit, iterations and stationarity test, and --time-limit is its time_limit_s.
+#
+# keel reads the files back, so its costs are the experiment's (the round trip is exact); its times are a second
+# measurement of the same solves.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+PROFILE=${PROFILE:-full}
+GEN=${GEN:-build/release/bench/keel_noise_graphs}
+CONFIG=experiments/ext_certified_noise/experiment.toml
+[[ -x $GEN ]] || { echo "noise.sh: $GEN not built (cmake --build build/release --target keel_noise_graphs)" >&2; exit 2; }
+DIR=${GRAPHS_DIR:-$(mktemp -d)}
+limit=$(sed -n 's/^time_limit_s *= *\([0-9.]*\).*/\1/p' "$CONFIG")
+[[ -n $limit ]] || { echo "noise.sh: no time_limit_s in $CONFIG" >&2; exit 2; }
+files=$("$GEN" "$CONFIG" "$PROFILE" "$DIR" | tr '\n' ' ')
+echo "noise.sh: $(wc -w <<<"$files") graphs in $DIR, keel --time-limit $limit" >&2
+FILES="$files" KEEL_ARGS="--time-limit $limit" exec bench/side_by_side/certified.sh "$@"

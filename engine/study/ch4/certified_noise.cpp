@@ -248,14 +248,14 @@ void CertifiedNoiseSweep::record(Results& r, const Outcome& out) {
     r.metric(p + ".alternative_time_limit", t.alt_time_limit);
     r.metric(p + ".rank_limit", t.rank_limit);
     if (!t.gap.empty()) {  // over every graph, nothing proven counted as 1
-      r.metric(p + ".relative_gap.median", core::median(t.gap));
-      r.metric(p + ".relative_gap.max", *std::max_element(t.gap.begin(), t.gap.end()));
+      r.metric(p + ".relative_gap_median", core::median(t.gap));
+      r.metric(p + ".relative_gap_max", *std::max_element(t.gap.begin(), t.gap.end()));
     }
-    r.metric(p + ".final_rank.median", core::median(t.rank));
-    r.metric(p + ".iterations.median", core::median(t.iterations));
-    r.metric(p + ".tcg_iterations.median", core::median(t.tcg));
-    r.metric(p + ".outliers.median", core::median(t.outliers));
-    r.metric(p + ".loop_closures.median", core::median(t.loop_closures));
+    r.metric(p + ".final_rank_median", core::median(t.rank));
+    r.metric(p + ".iterations_median", core::median(t.iterations));
+    r.metric(p + ".tcg_iterations_median", core::median(t.tcg));
+    r.metric(p + ".outliers_median", core::median(t.outliers));
+    r.metric(p + ".loop_closures_median", core::median(t.loop_closures));
   };
   for (std::size_t l = 0; l < o.levels.size(); ++l) {
     put(o.levels[l].name, level[l]);

@@ -308,7 +308,6 @@ std::vector<Figure> CertifiedNoiseSweep::figures(const Outcome& out) {
     p.title = time ? "certified solve, time per graph"
                    : "proven gap (certified: ≈ tolerance/33, set by the shift rule)";
     p.yscale = "log";
-    if (noise) p.xscale = "log";
     for (std::size_t k = 0; k < o.subsets.size(); ++k) {
       std::vector<double> x, y;
       std::vector<std::string> names;

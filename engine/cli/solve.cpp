@@ -16,6 +16,7 @@ import keel.app;
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -171,9 +172,11 @@ void add_solve_command(CLI::App& app) {
                 "write the graph with the solution as its estimate (.g2o or .txt picks the format; other "
                 "names get the input's format)");
   add_solve_options(c, *a);
-  c->add_flag("--certify", a->options.certify,
-              "solve the isotropic (chordal) model with a global-optimality certificate instead (SE-Sync's "
-              "problem: chordal initialization, Riemannian staircase); --init/--robust do not apply");
+  c->add_flag(
+      "--certify", a->options.certify,
+      "solve the isotropic (chordal) model with a global-optimality certificate instead (SE-Sync's "
+      "problem: chordal initialization, Riemannian staircase); --init, --seed, --robust, --robust-param, "
+      "--threads and --max-iterations do not apply (exit 2 when given)");
   c->add_option("--gap-tolerance", a->options.gap_tolerance, "--certify: relative duality gap that certifies")
       ->capture_default_str();
   c->add_option("--max-rank", a->options.max_rank, "--certify: the staircase's last rank")
@@ -184,7 +187,21 @@ void add_solve_command(CLI::App& app) {
       "are "
       "tested (a run can exceed the limit by those tests), termination time_limit, exit 1 unless certified");
   add_common(c, a->common);
-  c->callback([a, time_limit] {
+  c->callback([a, c, time_limit] {
+    // An option of the other mode would be ignored silently: the anisotropic solve has no gap, rank or time
+    // limit, and the certified solve starts from the chordal initialization with no kernel, Ceres threads or
+    // iteration cap of its own. Given, it is a bad command line (exit 2).
+    constexpr const char* kSolveOnly[] = {"--init",         "--seed",    "--robust",
+                                          "--robust-param", "--threads", "--max-iterations"};
+    constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit"};
+    for (const char* name : a->options.certify ? std::span<const char* const>(kSolveOnly)
+                                               : std::span<const char* const>(kCertifyOnly))
+      if (c->get_option(name)->count() > 0)
+        throw CLI::ValidationError(
+            name, a->options.certify
+                      ? "does not apply with --certify (the certified solve starts from the chordal "
+                        "initialization, has no robust kernel and runs on one thread)"
+                      : "applies only with --certify (the anisotropic solve has no gap, rank or time limit)");
     check_option("--time-limit", [&] {
       if (time_limit->count() > 0 && !(a->options.time_limit_s > 0.0))
         throw std::invalid_argument(

@@ -443,6 +443,33 @@ each edge's information) and its certificate: a lower bound on the global minimu
         const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "solve", "threads", UINT_MAX));
         const int max_iterations = int_arg(max_iterations_obj, "solve", "max_iterations");
         const int max_rank = int_arg(max_rank_obj, "solve", "max_rank");
+        // An argument of the other mode would be ignored silently (as `keel solve` refuses such an option):
+        // one that differs from its default is a ValueError naming it.
+        const app::SolveOptions defaults;
+        if (certify) {
+          const bool init_default =
+              py::isinstance<py::str>(init) && init.cast<std::string>() == defaults.init;
+          for (const auto& [name, given] :
+               {std::pair{"init", !init_default}, std::pair{"robust", robust != defaults.robust},
+                std::pair{"robust_param", robust_param != defaults.robust_parameter},
+                std::pair{"seed", seed != defaults.seed}, std::pair{"threads", threads != defaults.threads},
+                std::pair{"max_iterations", max_iterations != defaults.max_iterations}})
+            if (given)
+              throw py::value_error(fmt::format(
+                  "solve: {} does not apply with certify=True (the certified solve starts from the chordal "
+                  "initialization, has no robust kernel and runs on one thread)",
+                  name));
+        } else {
+          for (const auto& [name, given] :
+               {std::pair{"gap_tolerance", gap_tolerance != defaults.gap_tolerance},
+                std::pair{"max_rank", max_rank != defaults.max_rank},
+                std::pair{"time_limit_s", time_limit_s.has_value()}})
+            if (given)
+              throw py::value_error(fmt::format(
+                  "solve: {} applies only with certify=True (the anisotropic solve has no gap, rank or time "
+                  "limit)",
+                  name));
+        }
         if (certify) {
           app::SolveOptions o;
           o.certify = true;
@@ -501,7 +528,8 @@ certify=True solves the isotropic (chordal) model instead, as `keel solve --cert
 to `max_rank`, a certificate with a rounding-error margin, certified when the relative gap is within
 `gap_tolerance`; `time_limit_s` seconds of wall time, None for no limit: at the limit the point reached and its
 rounding are tested and termination is 'time_limit'); init, robust, robust_param, seed, threads and max_iterations do
-not apply. Returns a
+not apply (ValueError when one differs from its default; likewise gap_tolerance, max_rank and time_limit_s without
+certify=True). Returns a
 CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
 ValueError.)doc");
 

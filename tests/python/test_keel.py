@@ -289,6 +289,20 @@ class TestReference(unittest.TestCase):
         for bad in (0.0, -1.0, float("inf"), float("nan")):
             with self.assertRaisesRegex(ValueError, "time_limit_s must be a finite number of seconds > 0"):
                 keel.solve(keel.read_graph(self.file2d), certify=True, time_limit_s=bad)
+        # An argument of the other mode is refused, never ignored; its default passes.
+        g2 = keel.read_graph(self.file2d)
+        for kw in ({"init": "as-read"}, {"robust": "huber"}, {"robust_param": 2.0}, {"seed": 3}, {"threads": 2},
+                   {"max_iterations": 5}):
+            with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} does not apply "
+                                                                        "with certify=True"):
+                keel.solve(g2, certify=True, **kw)
+        for kw in ({"gap_tolerance": 1e-5}, {"max_rank": 4}, {"time_limit_s": 10.0}):
+            with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} applies only "
+                                                                        "with certify=True"):
+                keel.solve(g2, **kw)
+        self.assertEqual(keel.solve(g2, certify=True, init="odometry", threads=1).cost,
+                         keel.solve(g2, certify=True).cost)
+        self.assertEqual(keel.solve(g2, gap_tolerance=1e-6, max_rank=10).cost, keel.solve(g2).cost)
         # A limit that passes before the first iteration: the chordal estimate, tested as it is, says so.
         r = keel.solve(keel.read_graph(self.file3d), certify=True, time_limit_s=1e-9)
         self.assertEqual(r.termination, "time_limit")

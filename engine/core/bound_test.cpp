@@ -2,15 +2,16 @@
 // above it, and the one-ulp steps of round_down / round_up.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <random>
 #include <stdexcept>
 #include <string>
 
 #include "core/bound.hpp"
+#include "core/random.hpp"
 
 using keel::core::Bound;
 using keel::core::format_lower;
@@ -46,9 +47,13 @@ TEST_CASE("format_lower / format_upper: the printed decimal is on the bound's si
 }
 
 TEST_CASE("format_lower / format_upper: bracket the value on random doubles and are the closest decimals") {
-  std::mt19937_64 rng(20190101);
-  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
-  std::uniform_int_distribution<int> exponent(-40, 40), digits(1, 15);
+  // keel's generator (std's distributions are implementation-defined).
+  keel::core::Rng rng(20190101);
+  const auto mantissa = [](keel::core::Rng& r) { return r.uniform(-1.0, 1.0); };
+  const auto exponent = [](keel::core::Rng& r) {
+    return std::min(40, static_cast<int>(81 * r.uniform()) - 40);
+  };
+  const auto digits = [](keel::core::Rng& r) { return std::min(15, 1 + static_cast<int>(15 * r.uniform())); };
   for (int k = 0; k < 20000; ++k) {
     double x = std::ldexp(mantissa(rng), exponent(rng));
     if (k % 7 == 0) x = std::round(x * 1e4) / 1e4;  // values near short decimals

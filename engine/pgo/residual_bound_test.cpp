@@ -9,10 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "core/random.hpp"
 #include "graph/pose_graph.hpp"
 #include "lie/se2.hpp"
 #include "pgo/certified.hpp"
@@ -81,8 +81,8 @@ struct Matrix {
 };
 
 // A dense or random sparse pattern of order n (diagonal always present).
-Matrix pattern(int n, double density, std::mt19937_64& gen) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+Matrix pattern(int n, double density, keel::core::Rng& gen) {
+  const auto u = [](keel::core::Rng& r) { return r.uniform(); };
   Matrix m;
   m.n = n;
   for (int c = 0; c < n; ++c) {
@@ -145,9 +145,10 @@ Expansion exact_residual_row_sum(const Matrix& m, const SparseCholesky& chol, bo
 using Dense = std::vector<std::vector<double>>;
 
 // The random and adversarial families: well and badly conditioned, badly scaled, near singular.
-Dense family(int kind, int n, std::mt19937_64& gen) {
-  std::normal_distribution<double> z(0.0, 1.0);
-  std::uniform_int_distribution<int> ex(-20, 20);
+// keel's generator throughout: std's distributions are implementation-defined.
+Dense family(int kind, int n, keel::core::Rng& gen) {
+  const auto z = [](keel::core::Rng& r) { return r.normal(); };
+  const auto ex = [](keel::core::Rng& r) { return std::min(20, static_cast<int>(41 * r.uniform()) - 20); };
   const auto N = static_cast<std::size_t>(n);
   Dense a(N, std::vector<double>(N, 0.0));
   Dense b(N, std::vector<double>(N, 0.0));
@@ -185,7 +186,7 @@ Dense family(int kind, int n, std::mt19937_64& gen) {
       break;
     }
     case 4: {  // a graph Laplacian plus a tiny diagonal (like the certificate's S + ηD): entries cancel
-      std::uniform_real_distribution<double> w(0.1, 10.0);
+      const auto w = [](keel::core::Rng& r) { return r.uniform(0.1, 10.0); };
       for (std::size_t i = 0; i + 1 < N; ++i) {
         for (std::size_t j = i + 1; j < N; ++j)
           if (j == i + 1 || z(gen) > 0.5) {
@@ -217,9 +218,9 @@ Dense family(int kind, int n, std::mt19937_64& gen) {
 TEST_CASE(
     "residual_bound is at least the exactly computed residual norm on small random and adversarial "
     "matrices") {
-  std::mt19937_64 gen(20190101);
-  std::uniform_int_distribution<int> order(2, 9);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  keel::core::Rng gen(20190101);
+  const auto order = [](keel::core::Rng& r) { return std::min(9, 2 + static_cast<int>(8 * r.uniform())); };
+  const auto unit = [](keel::core::Rng& r) { return r.uniform(-1.0, 1.0); };
   constexpr double u = 0x1p-53;
   int checked = 0, with_residual = 0;
   for (int trial = 0; trial < 600; ++trial) {
@@ -324,8 +325,8 @@ Expansion exact_isotropic_cost(const keel::graph::PoseGraph2D& g, const std::vec
 }  // namespace
 
 TEST_CASE("the certificate's upper end is at least F computed exactly, also where the residuals cancel") {
-  std::mt19937_64 gen(5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  keel::core::Rng gen(5);
+  const auto u = [](keel::core::Rng& r) { return r.uniform(-1.0, 1.0); };
   int below = 0;  // cases where F rounded to nearest lies below the exact F (the upper end must not)
   for (int trial = 0; trial < 40; ++trial) {
     const int n = 4 + trial % 5;

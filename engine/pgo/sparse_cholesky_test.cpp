@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <vector>
 
+#include "core/random.hpp"
 #include "pgo/sparse_cholesky.hpp"
 
 using keel::pgo::detail::FillOrdering;
@@ -32,8 +32,9 @@ Pattern banded(int n, int bandwidth) {
 
 // A = L Lᵀ for a lower-banded L with diagonal 4 and off-diagonal entries in {−1, 0, 1} (diagonally dominant,
 // so well conditioned): A's entries are small integers, exact in double.
-std::vector<double> integer_product(const Pattern& p, int n, int bandwidth, std::mt19937& gen) {
-  std::uniform_int_distribution<int> entry(-1, 1);
+std::vector<double> integer_product(const Pattern& p, int n, int bandwidth, keel::core::Rng& gen) {
+  // −1, 0 or 1, equally likely (keel's generator: std's distributions are implementation-defined).
+  const auto entry = [](keel::core::Rng& r) { return std::min(1, static_cast<int>(3 * r.uniform())) - 1; };
   std::vector<std::vector<double>> L(static_cast<std::size_t>(n),
                                      std::vector<double>(static_cast<std::size_t>(n)));
   for (int i = 0; i < n; ++i) {
@@ -55,7 +56,7 @@ std::vector<double> integer_product(const Pattern& p, int n, int bandwidth, std:
 
 TEST_CASE("residual_bound: within Higham's worst case; trailing parts δ raise it by δ") {
   const int n = 60, bw = 2;
-  std::mt19937 gen(3);
+  keel::core::Rng gen(3);
   const Pattern p = banded(n, bw);
   for (const bool supernodal : {false, true}) {
     SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, supernodal);
@@ -89,8 +90,8 @@ TEST_CASE("residual_bound: an exact factorization leaves no residual") {
 
 TEST_CASE("residual_bound: far below Higham's worst case on a generic matrix, and bounded by it") {
   const int n = 400, bw = 6;
-  std::mt19937 gen(11);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  keel::core::Rng gen(11);
+  const auto normal = [](keel::core::Rng& r) { return r.normal(); };
   const Pattern p = banded(n, bw);
   SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::automatic, true);
   // Diagonally dominant with random off-diagonal entries, unit-scale diagonal.

@@ -333,6 +333,11 @@ def _panel(raw, timings, src, path):
                                  "aspect", "legend", "colorbar")}
     P["xlim"] = _pair(raw, "xlim")
     P["ylim"] = _pair(raw, "ylim")
+    P["xticks"] = _data(raw, "xticks")
+    P["xticklabels"] = raw.get("xticklabels")
+    if P["xticklabels"] is not None and len(P["xticklabels"]) != len(P["xticks"]):
+        _fail(src, path + ["xticklabels"], "length %d != len(xticks) %d"
+              % (len(P["xticklabels"]), len(P["xticks"])))
     P["layers"] = [_layer(l, timings, src, path + ["layers", i])
                    for i, l in enumerate(raw["layers"])]
     return P

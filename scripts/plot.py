@@ -163,6 +163,11 @@ def draw_panel(fig, ax, P):
         ax.set_xlim(*P["xlim"])
     if P["ylim"] is not None:
         ax.set_ylim(*P["ylim"])
+    if P["xticks"] is not None:
+        ax.set_xticks(P["xticks"])
+        if P["xticklabels"] is not None:
+            ax.set_xticklabels(P["xticklabels"], rotation=45, ha="right", rotation_mode="anchor")
+            ax.minorticks_off()
     if P["aspect"]:
         ax.set_aspect(P["aspect"], adjustable="datalim" if P["aspect"] == "equal"
                       and (P["xlim"] is None or P["ylim"] is None) else "box")

@@ -224,6 +224,10 @@ MALFORMED = [
      ["figures[0].panels[1].xscale"]),
     ("bad_logit_limits", lambda d: d["figures"][0]["panels"][1].update(xscale="logit", xlim=[0.0, 1.0]),
      ["figures[0].panels[1].xlim", "logit"]),
+    ("bad_ticklabels", lambda d: d["figures"][0]["panels"][0].update(xticks=[1.0, 2.0], xticklabels=["a"]),
+     ["figures[0].panels[0].xticklabels", "length"]),
+    ("bad_ticklabels_alone", lambda d: d["figures"][0]["panels"][0].update(xticklabels=["a"]),
+     ["figures[0].panels[0]", "xticks"]),
     ("bad_missing_x", lambda d: L(d, 1, 0, 0).pop("x"),
      ["figures[1].panels[0].layers[0].x", "missing"]),
     ("bad_hline", lambda d: L(d, 0, 0, 2).update(y=[0.95]),
@@ -256,6 +260,7 @@ CAUGHT_BY = {
     "bad_colorbar": "schema", "bad_dup_file": "cross",
     "bad_timing_name": "cross", "bad_timing_both": "schema",
     "bad_timing_len": "cross", "bad_timing_missing": "cross",
+    "bad_ticklabels": "cross", "bad_ticklabels_alone": "schema",
 }
 
 # Rejected by figure_schema.json on its own.

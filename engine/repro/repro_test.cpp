@@ -353,6 +353,22 @@ TEST_CASE("a report of some experiments shows the others from their baselines an
   CHECK(error_of([&] { (void)write_report(o); }).find("no metric 'xx' in b") != std::string::npos);
 }
 
+TEST_CASE("a figure's x tick labels must match its ticks one to one") {
+  Scratch s("ticks");
+  Results r;
+  Figure f;
+  f.file = "ticks.png";
+  Panel p;
+  p.xticks = {0.0, 1.0};
+  p.xticklabels = {"only one"};
+  f.panels = {p};
+  r.figure(f);
+  Results::Provenance prov;
+  prov.id = "ticks";
+  CHECK(error_of([&] { r.write(s.root / "latest.json", prov); }).find("1 x tick labels for 2 ticks") !=
+        std::string::npos);
+}
+
 TEST_CASE("results round trip through baseline diff and bless") {
   Scratch s("diff");
   const auto file = s.write("experiments/demo/experiment.toml", kGood);

@@ -163,6 +163,13 @@ json figure_json(const Figure& f) {
     str("colorbar", p.colorbar);
     if (p.xlim) pj["xlim"] = {p.xlim->first, p.xlim->second};
     if (p.ylim) pj["ylim"] = {p.ylim->first, p.ylim->second};
+    if (!p.xticks.empty()) pj["xticks"] = p.xticks;
+    if (!p.xticklabels.empty()) {
+      if (p.xticklabels.size() != p.xticks.size())
+        throw std::invalid_argument(fmt::format("figure {}: {} x tick labels for {} ticks", f.file,
+                                                p.xticklabels.size(), p.xticks.size()));
+      pj["xticklabels"] = p.xticklabels;
+    }
     json layers = json::array();
     for (const auto& l : p.layers) layers.push_back(layer_json(l));
     pj["layers"] = layers;

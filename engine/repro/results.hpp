@@ -50,6 +50,9 @@ struct Panel {
   std::string title, xlabel, ylabel;
   std::string xscale, yscale, aspect, legend, colorbar;
   std::optional<std::pair<double, double>> xlim, ylim;
+  // Tick positions on x and, optionally, their labels (one per position): a categorical axis.
+  std::vector<double> xticks;
+  std::vector<std::string> xticklabels;
   std::vector<Layer> layers;
 };
 

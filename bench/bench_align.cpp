@@ -8,6 +8,8 @@ import keel.study;
 
 #include <benchmark/benchmark.h>
 
+#include "csv_union.hpp"
+
 #include <cstdint>
 
 namespace align = keel::align;
@@ -96,4 +98,4 @@ BENCHMARK(BM_Certificate)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

@@ -11,6 +11,8 @@ import keel.repro;
 import keel.study;
 
 #include <benchmark/benchmark.h>
+
+#include "csv_union.hpp"
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -505,9 +507,5 @@ int main(int argc, char** argv) {
       }
     }
   register_family();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return keel::bench::run_benchmarks(argc, argv);
 }

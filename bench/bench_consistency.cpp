@@ -8,6 +8,8 @@ import keel.pcm;
 
 #include <benchmark/benchmark.h>
 
+#include "csv_union.hpp"
+
 #include <vector>
 
 namespace core = keel::core;
@@ -76,4 +78,4 @@ BENCHMARK(BM_ConsistencyMatrix<lie::SE3>)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

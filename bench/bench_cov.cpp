@@ -22,6 +22,8 @@ import keel.graph;
 import keel.cov;
 
 #include <benchmark/benchmark.h>
+
+#include "csv_union.hpp"
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 
@@ -291,4 +293,4 @@ BENCHMARK(BM_JointSingle)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SubsetKeel)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SubsetCeres)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
 
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

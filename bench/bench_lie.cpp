@@ -9,6 +9,8 @@ import keel.study;
 
 #include <benchmark/benchmark.h>
 
+#include "csv_union.hpp"
+
 #include <cmath>
 #include <vector>
 
@@ -96,4 +98,4 @@ BENCHMARK(BM_RelativePoseJoint);
 BENCHMARK(BM_RelativePoseIndependent);
 BENCHMARK(BM_MonteCarloRelativePose)->Arg(10000);
 BENCHMARK(BM_MonteCarloComposition)->Arg(10000);
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

@@ -14,6 +14,8 @@ import keel.pgo;
 
 #include <benchmark/benchmark.h>
 
+#include "csv_union.hpp"
+
 #include <cmath>
 #include <map>
 #include <string>
@@ -152,4 +154,4 @@ BENCHMARK(BM_Manhattan3500)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseR
 BENCHMARK(BM_City10000)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Sphere2500)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

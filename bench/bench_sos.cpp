@@ -15,6 +15,8 @@ import keel.sos;
 
 #include <benchmark/benchmark.h>
 
+#include "csv_union.hpp"
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -91,4 +93,4 @@ BENCHMARK(BM_M3500_cliques_dsdp)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_CityTrees_dense_dsdp)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_CityTrees_dense_sdpa)->Unit(benchmark::kSecond)->Iterations(1);
 
-BENCHMARK_MAIN();
+KEEL_BENCHMARK_MAIN()

@@ -1,8 +1,9 @@
 // CSV output for keel's benchmarks whose header holds every user counter of the run. Google Benchmark's own
 // CSVReporter takes its header from the first benchmark it reports and aborts ("All counters must be present
-// in each run") when a later benchmark sets a counter the first did not; benchmarks of different solvers count
-// different things. This reporter keeps every run and writes them at the end, one column per counter name
-// seen anywhere (empty where a run has none). Used when --benchmark_format=csv is given (KEEL_BENCHMARK_MAIN).
+// in each run") when a later benchmark sets a counter the first did not; benchmarks of different solvers
+// count different things. This reporter keeps every run and writes them at the end, one column per counter
+// name seen anywhere (empty where a run has none). Used when --benchmark_format=csv is given
+// (KEEL_BENCHMARK_MAIN).
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -18,7 +19,9 @@ namespace keel::bench {
 class CsvUnionReporter : public benchmark::BenchmarkReporter {
  public:
   bool ReportContext(const Context&) override { return true; }
-  void ReportRuns(const std::vector<Run>& runs) override { runs_.insert(runs_.end(), runs.begin(), runs.end()); }
+  void ReportRuns(const std::vector<Run>& runs) override {
+    runs_.insert(runs_.end(), runs.begin(), runs.end());
+  }
   void Finalize() override {
     std::set<std::string> names;
     for (const Run& r : runs_)
@@ -29,8 +32,9 @@ class CsvUnionReporter : public benchmark::BenchmarkReporter {
     out << '\n';
     for (const Run& r : runs_) {
       out << quoted(r.benchmark_name()) << ',' << r.iterations << ',' << r.GetAdjustedRealTime() << ','
-          << r.GetAdjustedCPUTime() << ',' << benchmark::GetTimeUnitString(r.time_unit) << ',' << quoted(r.report_label)
-          << ',' << (r.error_occurred ? "true" : "false") << ',' << quoted(r.error_message);
+          << r.GetAdjustedCPUTime() << ',' << benchmark::GetTimeUnitString(r.time_unit) << ','
+          << quoted(r.report_label) << ',' << (r.error_occurred ? "true" : "false") << ','
+          << quoted(r.error_message);
       for (const std::string& n : names) {
         out << ',';
         if (const auto it = r.counters.find(n); it != r.counters.end()) out << it->second.value;

@@ -16,6 +16,7 @@
 #include "datasets/manifest.hpp"
 #include "graph/io.hpp"
 #include "sim/loop_closures.hpp"
+#include "study/ch4/certified_pgo.hpp"
 
 namespace keel::study::ch4 {
 
@@ -38,10 +39,7 @@ std::string key_number(double v) {
 
 CertifiedNoiseSweep::Options CertifiedNoiseSweep::Options::read(const core::ConfigTable& p) {
   Options o;
-  o.solve.gap_tolerance = p.number("gap_tolerance");
-  o.solve.max_rank = static_cast<int>(p.integer("max_rank"));
-  o.solve.max_iterations = static_cast<int>(p.integer("max_iterations"));
-  o.solve.stationarity_tolerance = p.number("stationarity_tolerance");
+  o.solve = read_certified_solve(p);
   o.solve.time_limit_s = p.number("time_limit_s");
   o.solve.chordal_initialization = true;
   p.validate(o.solve);
@@ -67,32 +65,15 @@ CertifiedNoiseSweep::Options CertifiedNoiseSweep::Options::read(const core::Conf
   if (o.levels.empty())
     throw core::ConfigError(fmt::format("{}: no level (rotation_noise and outlier_fraction are both empty)",
                                         p.where("rotation_noise")));
-  // Every entry is read (and checked), the profile's `datasets` choose among them.
-  const core::ConfigTable graphs = p.table("graphs");
-  std::map<std::string, NoiseSweepSubset> all;
-  for (const std::string& name : graphs.keys()) {
-    const core::ConfigTable g = graphs.table(name);
-    NoiseSweepSubset s;
-    s.name = name;
-    s.dataset = g.string("dataset");
-    s.file = g.string("file");
-    s.dimension = static_cast<int>(g.integer("dimension"));
-    s.poses = static_cast<int>(g.integer("poses"));
-    if (s.dimension != 2 && s.dimension != 3)
-      throw core::ConfigError(
-          fmt::format("{}: dimension must be 2 or 3, not {}", g.where("dimension"), s.dimension));
-    if (s.poses < 0)
-      throw core::ConfigError(
-          fmt::format("{}: must be >= 0 (0: every pose), not {}", g.where("poses"), s.poses));
-    all.emplace(name, std::move(s));
-  }
-  for (const std::string& name : p.strings("datasets")) {
-    const auto it = all.find(name);
-    if (it == all.end())
-      throw core::ConfigError(
-          fmt::format("{}: no graphs.{} for data set '{}'", p.where("datasets"), name, name));
-    o.subsets.push_back(it->second);
-  }
+  std::map<std::string, int> poses;
+  const auto files = read_graph_files(p, [&](const std::string& name, const core::ConfigTable& g) {
+    const int n = static_cast<int>(g.integer("poses"));
+    if (n < 0)
+      throw core::ConfigError(fmt::format("{}: must be >= 0 (0: every pose), not {}", g.where("poses"), n));
+    poses[name] = n;
+  });
+  for (const CertifiedGraphFile& f : files)
+    o.subsets.push_back({f.name, f.dataset, f.file, f.dimension, poses.at(f.name)});
   return o;
 }
 

@@ -24,14 +24,18 @@ using repro::Panel;
 using repro::Results;
 using repro::RunContext;
 
-CertifiedBenchmark::Options CertifiedBenchmark::Options::read(const core::ConfigTable& p) {
-  Options o;
-  o.solve.gap_tolerance = p.number("gap_tolerance");
-  o.solve.max_rank = static_cast<int>(p.integer("max_rank"));
-  o.solve.max_iterations = static_cast<int>(p.integer("max_iterations"));
-  o.solve.stationarity_tolerance = p.number("stationarity_tolerance");
-  o.solve.chordal_initialization = p.boolean("chordal_initialization");
-  p.validate(o.solve);
+pgo::CertifiedOptions read_certified_solve(const core::ConfigTable& p) {
+  pgo::CertifiedOptions o;
+  o.gap_tolerance = p.number("gap_tolerance");
+  o.max_rank = static_cast<int>(p.integer("max_rank"));
+  o.max_iterations = static_cast<int>(p.integer("max_iterations"));
+  o.stationarity_tolerance = p.number("stationarity_tolerance");
+  return o;
+}
+
+std::vector<CertifiedGraphFile> read_graph_files(
+    const core::ConfigTable& p,
+    const std::function<void(const std::string& name, const core::ConfigTable& entry)>& extra) {
   // Every entry is read (and checked), the profile's `datasets` choose among them.
   const core::ConfigTable graphs = p.table("graphs");
   std::map<std::string, CertifiedGraphFile> all;
@@ -45,15 +49,26 @@ CertifiedBenchmark::Options CertifiedBenchmark::Options::read(const core::Config
     if (f.dimension != 2 && f.dimension != 3)
       throw core::ConfigError(
           fmt::format("{}: dimension must be 2 or 3, not {}", g.where("dimension"), f.dimension));
+    if (extra) extra(name, g);
     all.emplace(name, std::move(f));
   }
+  std::vector<CertifiedGraphFile> chosen;
   for (const std::string& name : p.strings("datasets")) {
     const auto it = all.find(name);
     if (it == all.end())
       throw core::ConfigError(
           fmt::format("{}: no graphs.{} for data set '{}'", p.where("datasets"), name, name));
-    o.graphs.push_back(it->second);
+    chosen.push_back(it->second);
   }
+  return chosen;
+}
+
+CertifiedBenchmark::Options CertifiedBenchmark::Options::read(const core::ConfigTable& p) {
+  Options o;
+  o.solve = read_certified_solve(p);
+  o.solve.chordal_initialization = p.boolean("chordal_initialization");
+  p.validate(o.solve);
+  o.graphs = read_graph_files(p);
   return o;
 }
 

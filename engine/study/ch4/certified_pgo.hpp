@@ -4,6 +4,7 @@
 // rounding. One study, CertifiedBenchmark, in the study shape of repro/run.hpp; each data set is one solve.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,15 @@ struct CertifiedGraphFile {
   std::string file;     // relative to the data set's folder
   int dimension = 2;    // 2 (EDGE_SE2) or 3 (EDGE_SE3:QUAT)
 };
+
+// The certified solve's options that every ch4 study of whole graphs reads from its [params]: gap_tolerance,
+// max_rank, max_iterations and stationarity_tolerance (the caller sets the rest and validates).
+[[nodiscard]] pgo::CertifiedOptions read_certified_solve(const core::ConfigTable& p);
+// The entries of [params.graphs] that the profile's `datasets` names, in that order. Every entry is read and
+// checked (dataset, file, dimension 2 or 3), and `extra`, when given, reads each entry's further keys.
+[[nodiscard]] std::vector<CertifiedGraphFile> read_graph_files(
+    const core::ConfigTable& p,
+    const std::function<void(const std::string& name, const core::ConfigTable& entry)>& extra = {});
 
 // One data set's outcome.
 struct CertifiedGraphOutcome {

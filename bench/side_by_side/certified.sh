@@ -46,6 +46,8 @@ else
 fi
 # The median of the arguments (seconds).
 median() { python3 -c "import statistics,sys; print('%.4f' % statistics.median(map(float, sys.argv[1:])))" "$@"; }
+# Seconds from one $EPOCHREALTIME to another, the process rule's clock for both tools.
+elapsed() { python3 -c "import sys; print('%.4f' % (float(sys.argv[2]) - float(sys.argv[1])))" "$1" "$2"; }
 # A field of keel's --json certificate; a missing bound (null: nothing proven) prints "none".
 field() {
   python3 -c "import json,sys; j=json.load(open(sys.argv[1])); c=j['certificate']; v=$2; print('none' if v is None else v)" "$1"
@@ -71,7 +73,7 @@ faster() {
       end=$EPOCHREALTIME
       ((rc <= 1)) || break  # 1: done, not certified (a relaxation that is not exact); anything else failed
       kTs+=("$(field "$k" "'%.4f' % c['times_s']['total']")")
-      kPs+=("$(python3 -c "import sys; print('%.4f' % (float(sys.argv[2]) - float(sys.argv[1])))" "$start" "$end")")
+      kPs+=("$(elapsed "$start" "$end")")
     done
     if ((${#kTs[@]} == REPEAT)); then
       kF=$(field "$k" "'%.10g' % c['final_cost']")
@@ -95,7 +97,7 @@ faster() {
         timeout "$TIMEOUT" "$SESYNC_MEASURE" "$f" >"$s" 2>&1 || break
         end=$EPOCHREALTIME
         sTs+=("$(get sesync_total_s)")
-        sPs+=("$(python3 -c "import sys; print('%.4f' % (float(sys.argv[2]) - float(sys.argv[1])))" "$start" "$end")")
+        sPs+=("$(elapsed "$start" "$end")")
       done
       if ((${#sTs[@]} == REPEAT)); then
         sF=$(get F_xhat) sV=$(get SDPval) sS=$(get status) sR=$(get final_rank)

@@ -35,13 +35,24 @@ function(keel_area name)
     add_library(${impl} INTERFACE)
     set(vis INTERFACE)
   endif()
-  target_include_directories(${impl} ${vis} ${CMAKE_SOURCE_DIR}/engine)
+  target_include_directories(${impl} ${vis} $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/engine>
+                                             $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/keel>)
   keel_unity(${impl})
   target_link_libraries(${impl} ${vis} Eigen3::Eigen ${A_DEPENDS} ${A_LINK})
 
   add_library(keel_${name} STATIC)
   target_sources(keel_${name} PUBLIC FILE_SET CXX_MODULES BASE_DIRS ${dir} FILES ${dir}/${name}.cppm)
   target_link_libraries(keel_${name} PUBLIC ${impl})
+  # The consumer of an installed facade builds its BMI with these features and with the facade's compile options
+  # (IMPORTED_CXX_MODULES_COMPILE_OPTIONS): keel's warning flags (and the strict build's -Werror) apply in this tree
+  # only, so another compiler's new warning cannot stop a consumer's build.
+  target_compile_features(keel_${name} PUBLIC cxx_std_20)
+  get_target_property(options keel_${name} COMPILE_OPTIONS)
+  if(options)
+    list(TRANSFORM options REPLACE "^(.+)$" "$<BUILD_INTERFACE:\\1>")
+    set_target_properties(keel_${name} PROPERTIES COMPILE_OPTIONS "${options}")
+  endif()
+  keel_install_area(${name} "${A_RECURSE}")
 
   if(KEEL_BUILD_TESTS AND tests)
     keel_doctest_main()
@@ -89,6 +100,38 @@ function(keel_area name)
       set_tests_properties(datasets.${name} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR} LABELS datasets)
     endif()
   endif()
+endfunction()
+
+# keel_install_area(<name> <recurse>): the areas of the tiers in KEEL_INSTALLED_TIERS and those of
+# KEEL_INSTALLED_EXTRA (engine/CMakeLists.txt) go
+# into `cmake --install`'s tree and the exported package keel (cmake/keelConfig.cmake.in): the facade keel_<name>
+# as keel::<name> with its module interface <name>.cppm (a CMake file set: the consumer's build compiles its own BMI
+# from it, since a BMI is tied to the compiler and flags that made it), the library keel_<name>_impl as
+# keel::<name>_impl, and the area's headers under include/keel/<name>/ (the facade includes them in its global
+# module fragment, so they travel with it).
+function(keel_install_area name recurse)
+  # The installed names, also as aliases in this tree, so that engine/python links the same names either way.
+  add_library(keel::${name} ALIAS keel_${name})
+  add_library(keel::${name}_impl ALIAS keel_${name}_impl)
+  get_property(tier GLOBAL PROPERTY KEEL_TIER_OF_${name})
+  if(NOT tier IN_LIST KEEL_INSTALLED_TIERS AND NOT name IN_LIST KEEL_INSTALLED_EXTRA)
+    return()
+  endif()
+  set_target_properties(keel_${name}_impl PROPERTIES EXPORT_NAME ${name}_impl)
+  set_target_properties(keel_${name} PROPERTIES EXPORT_NAME ${name})
+  install(TARGETS keel_${name}_impl keel_${name} EXPORT keelTargets COMPONENT development
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          FILE_SET CXX_MODULES DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/keel/modules/${name})
+  set(glob GLOB)
+  if(recurse)
+    set(glob GLOB_RECURSE)
+  endif()
+  file(${glob} headers RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.hpp)
+  foreach(header ${headers})
+    get_filename_component(sub ${header} DIRECTORY)
+    install(FILES ${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/keel/${name}/${sub} COMPONENT development)
+  endforeach()
+  set_property(GLOBAL APPEND PROPERTY KEEL_INSTALLED_AREAS ${name})
 endfunction()
 
 # keel_unity(<target>): with KEEL_UNITY (CMakeLists.txt), compile the target's sources in batches of
@@ -141,11 +184,12 @@ function(keel_tiers_declare)
   set_property(GLOBAL PROPERTY KEEL_TIERS_DECLARED TRUE)
 endfunction()
 
-# The area of a target named keel_<area> or keel_<area>_impl; empty for anything else (third-party libraries).
+# The area of a target named keel_<area> or keel_<area>_impl (or keel::<area>, keel::<area>_impl, their aliases);
+# empty for anything else (third-party libraries).
 function(keel_area_of_target target out)
   set(area "")
-  if(target MATCHES "^keel_([a-z0-9]+)(_impl)?$")
-    set(area ${CMAKE_MATCH_1})
+  if(target MATCHES "^keel(_|::)([a-z0-9]+)(_impl)?$" AND NOT target STREQUAL "keel::sdpa")
+    set(area ${CMAKE_MATCH_2})
   endif()
   set(${out} ${area} PARENT_SCOPE)
 endfunction()

@@ -1,7 +1,7 @@
 // keel marginals FILE — joint Lie-algebra marginal covariances at the solution (app::marginals: thesis ch. 5,
 // eq. 5.28 from a MAP solution; gauge: pose 0 fixed, or the pose of a g2o FIX line).
 // <variant> before the imports: included after them, clang-19 rejects its hash helpers as a redefinition
-// (docs/DESIGN.md, toolchain notes).
+// (docs/TOOLCHAIN.md).
 #include <variant>
 
 import keel.core;

@@ -1,6 +1,6 @@
 // keel pcm --a A --b B --candidates C — pairwise consistency maximization of inter-robot loop closures on a
 // user's files (app::pcm: thesis §2.6 steps i–iv).
-// <variant> before the imports (docs/DESIGN.md, toolchain notes; as in marginals.cpp).
+// <variant> before the imports (docs/TOOLCHAIN.md; as in marginals.cpp).
 #include <variant>
 
 import keel.core;

@@ -1,6 +1,6 @@
 // keel solve FILE — batch maximum-likelihood solve of a pose graph (app::solve: keel.pgo, Ceres).
 // <variant> before the imports: included after them, clang-19 rejects its hash helpers as a redefinition
-// (docs/DESIGN.md, toolchain notes).
+// (docs/TOOLCHAIN.md).
 #include <variant>
 
 import keel.core;

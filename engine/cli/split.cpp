@@ -1,5 +1,5 @@
 // keel split GRAPH --ground-truth T — a two-robot split with generated outliers (the Table 2.1 set-up).
-// <variant> before the imports (docs/DESIGN.md, toolchain notes; as in marginals.cpp).
+// <variant> before the imports (docs/TOOLCHAIN.md; as in marginals.cpp).
 #include <variant>
 
 import keel.core;

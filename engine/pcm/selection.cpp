@@ -200,7 +200,7 @@ ScgpResult scgp(const ConsistencyMatrix& Q, const ScgpOptions& options) {
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   // std::sort with the index as tie-break = a stable sort of 0..n-1 (std::stable_sort trips clang-19's
-  // deprecation of libstdc++ 12's get_temporary_buffer under -Werror, docs/DESIGN.md toolchain facts).
+  // deprecation of libstdc++ 12's get_temporary_buffer under -Werror, docs/TOOLCHAIN.md).
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return v1(a) > v1(b) || (v1(a) == v1(b) && a < b); });
 

@@ -3,7 +3,7 @@
 //
 // The module includes the engine's ordinary headers and links the keel_<area>_impl libraries (like the unit
 // tests), not the named-module facades: pybind11/eigen.h instantiates Eigen broadly, which the clang-19
-// module bugs of docs/DESIGN.md do not tolerate.
+// module bugs of docs/TOOLCHAIN.md do not tolerate.
 //
 // Array conventions (all float64, C order, copies — never views into engine objects):
 //   2D poses  rows [x, y, theta]               (theta = SE2::angle() in (-pi, pi])

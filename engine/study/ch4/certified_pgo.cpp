@@ -144,7 +144,7 @@ void CertifiedBenchmark::record(Results& r, const Outcome& out) {
     if (proven) {
       r.metric(n + ".lower_bound", c.bound.lower);
       // Measured from the proven bound, rounded up; the shift rule (η*/33 of the gap tolerance) places it
-      // near gap_tolerance/33 by construction (docs/DESIGN.md "The certified solver").
+      // near gap_tolerance/33 by construction (docs/measurements/2026-11-28-certified-pgo.md).
       r.metric(n + ".relative_gap", c.bound.relative_gap_up());
       r.metric(n + ".lambda_min_bound", -c.shift);
       r.metric(n + ".rounding_margin", c.rounding_margin);

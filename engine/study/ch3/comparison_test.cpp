@@ -12,7 +12,8 @@
 
 #include "core/config.hpp"
 #include "study/ch3/comparison.hpp"
-#include "study/ch3/studies.hpp"
+#include "study/ch3/regime_grid.hpp"
+#include "study/ch3/sensitivity.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/hull_world.hpp"
 

@@ -1,6 +1,7 @@
 #include "study/ch2/table_common.hpp"
 
 #include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+
 #include "core/parallel.hpp"
 #include "core/statistics.hpp"
 #include "core/timing.hpp"

@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+
 #include "core/parallel.hpp"
 #include "core/statistics.hpp"
 #include "core/timing.hpp"

@@ -14,8 +14,8 @@
 #include "sim/alignment_world.hpp"
 #include "sim/hull_world.hpp"
 #include "sim/terrain.hpp"
-#include "study/ch3/comparison.hpp"
 #include "study/ch3/alignment_comparison.hpp"
+#include "study/ch3/comparison.hpp"
 
 namespace keel::study::ch3 {
 

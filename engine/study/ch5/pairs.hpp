@@ -1,6 +1,7 @@
-// The chapter-5 studies of pose pairs of a SLAM solution (§5.9.2, Manhattan3500): PairCorrelation (Table 5.1,
-// Figs. 5.10–5.14 a–e), PairsVsSsc (Table 5.2, Figs. 5.10–5.14 f–g) and PairSampleSize (both tables' means
-// against the Monte-Carlo sample size M). All three solve the data set, extract the joint Lie-algebra
+// What the chapter-5 studies of pose pairs of a SLAM solution share (§5.9.2, Manhattan3500): PairCorrelation
+// (pair_correlation.hpp: Table 5.1, Figs. 5.10–5.14 a–e), PairsVsSsc (pairs_vs_ssc.hpp: Table 5.2, Figs.
+// 5.10–5.14 f–g) and PairSampleSize (pair_sample_size.hpp: both tables' means against the Monte-Carlo sample
+// size M). All three solve the data set, extract the joint Lie-algebra
 // marginal of every pair (i, i + k) and run the pair Monte Carlo of pair_simulation.hpp.
 #pragma once
 
@@ -41,60 +42,7 @@ struct SolvedPairs {
 };
 [[nodiscard]] SolvedPairs solve_pairs(const PairsSetup& setup, const repro::RunContext& context);
 
-// Table 5.1 and Figs. 5.10–5.14 (a–e): ε of eq. 5.56 with and without the cross-covariance of the two poses.
-struct PairCorrelation {
-  struct Options {
-    PairsSetup pairs;
-    PairStudySetup simulation;  // samples
-    static Options read(const core::ConfigTable& p);
-  };
-  struct Outcome {
-    Options options;
-    SolvedPairs solved;
-    std::vector<PairRecord> records;  // one per pair
-    double monte_carlo_time_s = 0;
-  };
-  static Outcome run(const Options& options, const repro::RunContext& context);
-  static void record(repro::Results& results, const Outcome& outcome);
-  static std::vector<repro::Figure> figures(const Outcome& outcome);
-};
-
-// Table 5.2 and Figs. 5.10–5.14 (f–g): the normalized error of the proposed relative pose against SSC
-// tail-to-tail. The same run as PairCorrelation.
-struct PairsVsSsc {
-  using Options = PairCorrelation::Options;
-  using Outcome = PairCorrelation::Outcome;
-  static Outcome run(const Options& options, const repro::RunContext& context) {
-    return PairCorrelation::run(options, context);
-  }
-  static void record(repro::Results& results, const Outcome& outcome);
-  static std::vector<repro::Figure> figures(const Outcome& outcome);
-};
-
-// Tables 5.1–5.2 against M: the pair Monte Carlo rerun for each sample size on the same streams, and a power
-// law mean(M) = a·M^b fitted in log–log giving the M at which ours would meet the thesis's published means.
-struct PairSampleSize {
-  struct Options {
-    PairsSetup pairs;
-    std::vector<double> samples;                                     // the sample sizes M (at least two)
-    double match_cov_error_joint = 0, match_norm_cov_error_lie = 0;  // the thesis's means
-    static Options read(const core::ConfigTable& p);
-  };
-  // One row per error: its mean and std over the pairs at each M.
-  struct Row {
-    std::string key, label;
-    double PairRecord::* field = nullptr;
-    std::vector<double> mean, std;
-  };
-  struct Outcome {
-    Options options;
-    SolvedPairs solved;
-    std::vector<Row> rows;  // Table 5.1 joint, independent; Table 5.2 proposed, SSC, sampling floor
-    std::vector<double> monte_carlo_time_s;  // one per M
-  };
-  static Outcome run(const Options& options, const repro::RunContext& context);
-  static void record(repro::Results& results, const Outcome& outcome);
-  static std::vector<repro::Figure> figures(const Outcome& outcome);
-};
+// Records what every pair study reports about the solve and the pairs.
+void record_solved(repro::Results& r, const SolvedPairs& s);
 
 }  // namespace keel::study::ch5

@@ -1,7 +1,7 @@
 // The Monte-Carlo machinery of the chapter-5 studies (§5.5.2, §5.7.2, §5.9.1): correlated odometry composed
 // end to end and scored against every prediction, two correlated poses and their relative pose, and the
-// planar shadows of predicted regions that the figures draw. The studies (composition.hpp) run these on their
-// RunContext's streams: trajectory (sample) i draws from context.streams().stream(i).
+// planar shadows of predicted regions that the figures draw. The studies (composition.hpp and its siblings)
+// run these on their RunContext's streams: trajectory (sample) i draws from context.streams().stream(i).
 #pragma once
 
 #include <cstddef>

@@ -27,12 +27,13 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(dir);
     for (const auto& g :
          keel::study::ch4::CertifiedNoiseSweep::make_graphs(options, keel::core::Streams(config.seed))) {
-      const auto path = dir / (g.key + ".g2o");
+      const std::string key = g.key.name();
+      const auto path = dir / (key + ".g2o");
       if (options.subsets[g.subset].dimension == 2)
         keel::graph::write_g2o(g.g2, path);
       else
         keel::graph::write_g2o(g.g3, path);
-      std::printf("%s=%s\n", g.key.c_str(), path.c_str());
+      std::printf("%s=%s\n", key.c_str(), path.c_str());
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "keel_noise_graphs: %s\n", e.what());

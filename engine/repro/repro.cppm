@@ -41,13 +41,16 @@ using keel::repro::Figure;
 using keel::repro::git_describe;
 using keel::repro::histogram_layer;
 using keel::repro::hline_layer;
+using keel::repro::KeyPath;
 using keel::repro::Layer;
 using keel::repro::level_tag;
 using keel::repro::line_layer;
 using keel::repro::Panel;
+using keel::repro::path;
 using keel::repro::Results;
 using keel::repro::round_significant;
 using keel::repro::scatter_layer;
+using keel::repro::Scope;
 using keel::repro::write_file_atomic;
 // baselines and report
 using keel::repro::baseline_path;

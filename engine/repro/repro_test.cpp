@@ -153,6 +153,36 @@ TEST_CASE("level tags") {
   CHECK_THROWS(level_tag(1.0));
 }
 
+TEST_CASE("results keys: levels from under(), fields at the call") {
+  Results r;
+  const auto m = r.under("manhattan");
+  m.metric("cost", 1.5);
+  m.under("odometry").metric("rot_se.median", 2.0);  // a field may hold dots
+  m.series("gap", {1, 2});
+  m.timing("time_s", 0.25);
+  r.under("range1.5").metric("rate", 3.0);  // a dot inside a number is not a level
+  r.at(path("paired").under("rot_se").under("sift")).metric("p", 0.01);
+  CHECK(r.metrics().at("manhattan.cost") == 1.5);
+  CHECK(r.metrics().at("manhattan.odometry.rot_se.median") == 2.0);
+  CHECK(r.all_series().at("manhattan.gap") == std::vector<double>{1, 2});
+  CHECK(r.metrics().at("range1.5.rate") == 3.0);
+  CHECK(r.metrics().at("paired.rot_se.sift.p") == 0.01);
+  const KeyPath k = path("cov_error").under("joint");
+  CHECK(k.name() == "cov_error.joint");
+  CHECK(k.key("mean") == "cov_error.joint.mean");
+  CHECK(path("offset3").under(k).key("std") == "offset3.cov_error.joint.std");
+  CHECK(KeyPath().name().empty());
+
+  // A segment that joins two names hides a level; an empty one or an empty field is no key.
+  for (const char* bad : {"dataset.cov_extraction", ".x", "x.", "a1.b", "1.", ""})
+    CHECK_THROWS_AS(r.under(bad), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(path("a").under("no_gate.proposed"),
+                       doctest::Contains("holds a dot between names; give each level to under()"),
+                       std::invalid_argument);
+  CHECK_THROWS_AS(m.metric("", 1.0), std::invalid_argument);
+  CHECK(r.metrics().size() == 4);  // nothing written by the refused calls
+}
+
 TEST_CASE("tolerance semantics") {
   Tolerance t;
   CHECK(t.accepts(1.0, 1.0));

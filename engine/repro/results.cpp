@@ -181,6 +181,42 @@ json figure_json(const Figure& f) {
 
 }  // namespace
 
+namespace {
+
+// A segment is one level of a key: a dot in it may only sit inside a number ("range1.5", "pcm@0.001"), never
+// separate two names ("dataset.cov_extraction" is two levels, given to under() one at a time).
+std::string checked_segment(std::string_view segment) {
+  if (segment.empty()) throw std::invalid_argument("Results::under: empty key segment");
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (std::size_t i = 0; i < segment.size(); ++i)
+    if (segment[i] == '.' &&
+        (i == 0 || i + 1 == segment.size() || !digit(segment[i - 1]) || !digit(segment[i + 1])))
+      throw std::invalid_argument(fmt::format(
+          "Results::under: key segment '{}' holds a dot between names; give each level to under()", segment));
+  return std::string(segment);
+}
+
+}  // namespace
+
+KeyPath KeyPath::under(std::string_view segment) const {
+  KeyPath p;
+  p.prefix_ = prefix_ + checked_segment(segment) + ".";
+  return p;
+}
+std::string KeyPath::key(std::string_view field) const {
+  if (field.empty())
+    throw std::invalid_argument(fmt::format("Results: empty field name under '{}'", prefix_));
+  return prefix_ + std::string(field);
+}
+KeyPath path(std::string_view segment) { return KeyPath().under(segment); }
+
+void Scope::metric(std::string_view field, double value) const { r_->metric(path_.key(field), value); }
+void Scope::series(std::string_view field, std::vector<double> values) const {
+  r_->series(path_.key(field), std::move(values));
+}
+void Scope::timing(std::string_view field, double time_s) const { r_->timing(path_.key(field), time_s); }
+void Scope::note(std::string_view field, const std::string& text) const { r_->note(path_.key(field), text); }
+
 void Results::metric(const std::string& name, double value) {
   if (name.empty()) throw std::invalid_argument("Results::metric: empty name");
   metrics_[name] = value;

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "repro/machine.hpp"
@@ -72,8 +73,58 @@ struct Check {
       true;  // false: true by construction of the method or setup; shown in the report, not counted
 };
 
+class Results;
+
+// The part of a results key that comes from the data (a data set, a method, a noise level, a probability
+// tag), one segment at a time: path("planted").under("n0100").key("time_s") is "planted.n0100.time_s". Keys
+// are never joined by hand in a study (docs/DESIGN.md "Results keys"; CTest tiers.results_keys): the field is
+// the literal at the call, the data parts go through under(). A segment must be non-empty, and a dot in it
+// may only sit inside a number ("range1.5"): a segment that joins two names ("a.b") would hide a level, so it
+// is refused (std::invalid_argument) rather than written.
+class KeyPath {
+ public:
+  KeyPath() = default;
+  KeyPath under(std::string_view segment) const;
+  KeyPath under(const KeyPath& levels) const {
+    return KeyPath(prefix_ + levels.prefix_);
+  }  // each of its levels
+  // "<prefix><field>"; the field is a literal at the call and may hold dots ("rot_se.median").
+  std::string key(std::string_view field) const;
+  const std::string& prefix() const { return prefix_; }  // "a.b." (with its trailing dot), "" at the root
+  std::string name() const { return prefix_.empty() ? "" : prefix_.substr(0, prefix_.size() - 1); }  // "a.b"
+
+ private:
+  explicit KeyPath(std::string prefix) : prefix_(std::move(prefix)) {}
+  std::string prefix_;
+};
+
+// A segment of a KeyPath (above) at the root.
+KeyPath path(std::string_view segment);
+
+// A view of Results whose keys all start with one KeyPath:
+//   const auto m = r.under(dataset);  m.metric("cost", c);  m.under("odometry").metric("lower_bound", b);
+class Scope {
+ public:
+  Scope under(std::string_view segment) const { return Scope(*r_, path_.under(segment)); }
+  Scope under(const KeyPath& levels) const { return Scope(*r_, path_.under(levels)); }
+  void metric(std::string_view field, double value) const;
+  void series(std::string_view field, std::vector<double> values) const;
+  void timing(std::string_view field, double time_s) const;
+  void note(std::string_view field, const std::string& text) const;
+  const KeyPath& path() const { return path_; }
+
+ private:
+  friend class Results;
+  Scope(Results& r, KeyPath p) : r_(&r), path_(std::move(p)) {}
+  Results* r_;
+  KeyPath path_;
+};
+
 class Results {
  public:
+  // The keys under "<segment>." or under a KeyPath (Scope).
+  Scope under(std::string_view segment) { return Scope(*this, path(segment)); }
+  Scope at(const KeyPath& p) { return Scope(*this, p); }
   void metric(const std::string& name, double value);
   void series(const std::string& name, std::vector<double> values);
   // A claim checked on our numbers. `counted = false` marks a claim that holds by construction (the report

@@ -85,45 +85,45 @@ void CityTable::record(Results& r, const Outcome& out) {
   // Table 2.1: per method over the data sets.
   std::vector<MethodSummary> sum;
   for (std::size_t k = 0; k < methods.size(); ++k) {
-    const std::string& n = methods[k].method.name;
+    const auto n = r.under(methods[k].method.name);
     const auto s = sum.emplace_back(summarize_method(runs, k));
     for (const char* key : {"trans_mse", "rot_mse", "residual", "chi2"}) {
       const auto v = s.stats(key);
-      r.metric(fmt::format("{}.{}", n, key), v.mean);
-      r.metric(fmt::format("{}.{}.std", n, key), v.std);
+      n.metric(key, v.mean);
+      n.under(key).metric("std", v.std);
     }
-    r.metric(n + ".tpr", s.pooled.tpr());
-    r.metric(n + ".fpr", s.pooled.fpr());
-    r.metric(n + ".selected", s.mean("selected"));
-    r.series(n + ".trans_mse", s.column("trans_mse"));  // per data set
-    r.series(n + ".fp", s.column("fp"));
-    r.metric(n + ".accepted_aliased",
+    n.metric("tpr", s.pooled.tpr());
+    n.metric("fpr", s.pooled.fpr());
+    n.metric("selected", s.mean("selected"));
+    n.series("trans_mse", s.column("trans_mse"));  // per data set
+    n.series("fp", s.column("fp"));
+    n.metric("accepted_aliased",
              s.accepted_aliased);  // totals over the data sets (false positives by kind)
-    r.metric(n + ".accepted_random", s.accepted_random);
+    n.metric("accepted_random", s.accepted_random);
     if (methods[k].method.kind() != merge::MergeMethodKind::dcs)
-      r.metric(n + ".empty_selections", s.empty_selections);
+      n.metric("empty_selections", s.empty_selections);
     if (methods[k].method.kind() == merge::MergeMethodKind::densest) {
       // What the relaxation returned before its repair to a clique: its size and its inconsistent pairs.
       const auto& v = s.column("violations");
-      r.metric(n + ".raw_size", s.mean("raw_size"));
-      r.metric(n + ".violations", s.mean("violations"));
-      r.metric(n + ".violating_datasets",
+      n.metric("raw_size", s.mean("raw_size"));
+      n.metric("violations", s.mean("violations"));
+      n.metric("violating_datasets",
                static_cast<double>(std::count_if(v.begin(), v.end(), [](double x) { return x > 0; })));
     }
     const auto ts = s.stats("selection_time_s"), tv = s.stats("solve_time_s");
-    r.timing(n + ".time_s", ts.mean);
-    r.timing(n + ".time_s.max", ts.max);
-    r.timing(n + ".solve_s.mean", tv.mean);
-    r.timing(n + ".solve_s.max", tv.max);
+    n.timing("time_s", ts.mean);
+    n.timing("time_s.max", ts.max);
+    n.timing("solve_s.mean", tv.mean);
+    n.timing("solve_s.max", tv.max);
   }
   const std::string& exact = methods[o.exact].method.name;
   const std::string& heuristic = methods[o.heuristic].method.name;
   const std::string& reference = methods[o.reference].method.name;
   const std::size_t same = same_selections(runs, o.exact, o.heuristic);
   const double same_fraction = static_cast<double>(same) / static_cast<double>(o.datasets);
-  r.metric(heuristic + ".same_selection_as_exact", same_fraction);
-  r.metric(exact + ".proven_optimal",
-           static_cast<double>(proven_optimal(runs, o.exact)) / static_cast<double>(o.datasets));
+  r.under(heuristic).metric("same_selection_as_exact", same_fraction);
+  r.under(exact).metric("proven_optimal",
+                        static_cast<double>(proven_optimal(runs, o.exact)) / static_cast<double>(o.datasets));
 
   // Claims of §2.7.2, checked on our numbers (they may fail).
   for (std::size_t k : o.pcm) {

@@ -351,48 +351,51 @@ void CliqueScaleTally::record(repro::Results& r, int reference_max_vertices) con
                   graphs, optimal_inconsistent, below_planted));
 }
 
-void record_clique_group(repro::Results& r, const std::string& prefix,
+void record_clique_group(repro::Results& r, const repro::KeyPath& prefix,
                          const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
                          int planted_k, CliqueScaleTally& tally) {
   for (auto m : kAllCliqueScaleMethods) {
     const auto s = summarize_clique_method(outcomes, first, last, m);
-    const std::string n = fmt::format("{}.{}", prefix, to_string(m));
-    r.metric(n + ".size", s.size_mean);
-    r.metric(n + ".size_min", s.size_min);
-    r.metric(n + ".precision", s.precision);
-    r.metric(n + ".recall", s.recall);
-    r.metric(n + ".violations", static_cast<double>(s.violations_total));  // in the outputs (0: cliques)
+    const auto n = r.at(prefix.under(to_string(m)));
+    n.metric("size", s.size_mean);
+    n.metric("size_min", s.size_min);
+    n.metric("precision", s.precision);
+    n.metric("recall", s.recall);
+    n.metric("violations", static_cast<double>(s.violations_total));  // in the outputs (0: cliques)
     if (m == CliqueScaleMethod::densest) {
-      r.metric(n + ".raw_size", s.raw_size_mean);
-      r.metric(n + ".raw_violations", s.raw_violations_mean);
-      r.metric(n + ".raw_violating_graphs", static_cast<double>(s.raw_violating_graphs));
+      n.metric("raw_size", s.raw_size_mean);
+      n.metric("raw_violations", s.raw_violations_mean);
+      n.metric("raw_violating_graphs", static_cast<double>(s.raw_violating_graphs));
     }
     if (m == CliqueScaleMethod::exact) {
-      r.metric(n + ".optimal", static_cast<double>(s.optimal_graphs) / static_cast<double>(s.graphs));
-      r.metric(n + ".upper_bound", s.upper_bound_mean);
-      r.metric(n + ".gap", s.gap_mean);
-      r.metric(n + ".gap_max", s.gap_max);
-      r.metric(n + ".nodes", s.nodes_mean);
+      n.metric("optimal", static_cast<double>(s.optimal_graphs) / static_cast<double>(s.graphs));
+      n.metric("upper_bound", s.upper_bound_mean);
+      n.metric("gap", s.gap_mean);
+      n.metric("gap_max", s.gap_max);
+      n.metric("nodes", s.nodes_mean);
     }
-    r.timing(n + ".time_s", s.time_mean_s);
-    r.timing(n + ".time_s.max", s.time_max_s);
+    n.timing("time_s", s.time_mean_s);
+    n.timing("time_s.max", s.time_max_s);
   }
   tally.add(outcomes, first, last, planted_k);
 }
 
-std::string planted_cell_name(const PlantedCliqueCell& cell) {
-  return fmt::format("planted.n{:04d}.k{:04d}.p{:02d}", cell.n, cell.k,
-                     static_cast<int>(std::lround(100 * cell.p)));
+repro::KeyPath planted_cell_path(const PlantedCliqueCell& cell) {
+  return repro::path("planted")
+      .under(fmt::format("n{:04d}", cell.n))
+      .under(fmt::format("k{:04d}", cell.k))
+      .under(fmt::format("p{:02d}", static_cast<int>(std::lround(100 * cell.p))));
 }
 
 void record_planted_clique_study(repro::Results& r, const PlantedCliqueStudy& study,
                                  CliqueScaleTally& tally) {
   for (std::size_t c = 0; c < study.cells.size(); ++c) {
     const auto& cell = study.cells[c];
-    const std::string name = planted_cell_name(cell);
-    r.metric(name + ".k", cell.k);
-    r.metric(name + ".omega0", cell.omega0);
-    r.metric(name + ".planted_is_maximum", cell.planted_is_maximum() ? 1.0 : 0.0);
+    const auto name = planted_cell_path(cell);
+    const auto c_r = r.at(name);
+    c_r.metric("k", cell.k);
+    c_r.metric("omega0", cell.omega0);
+    c_r.metric("planted_is_maximum", cell.planted_is_maximum() ? 1.0 : 0.0);
     record_clique_group(r, name, study.outcomes, c * study.seeds, (c + 1) * study.seeds, cell.k, tally);
   }
   r.metric("planted.cells", static_cast<double>(study.cells.size()));
@@ -433,7 +436,7 @@ repro::Figure planted_clique_figure(const PlantedCliqueStudy& study, const Plant
         const int kk = std::max(options.clique_min, static_cast<int>(std::lround(fraction * cell.n)));
         if (cell.p != dens || cell.k != std::min(cell.n, kk)) continue;
         xs.push_back(cell.n);
-        tn.push_back(fmt::format("{}.{}.time_s", planted_cell_name(cell), to_string(meth)));
+        tn.push_back(planted_cell_path(cell).under(to_string(meth)).key("time_s"));
         rec.push_back(
             summarize_clique_method(study.outcomes, c * study.seeds, (c + 1) * study.seeds, meth).recall);
       }
@@ -532,7 +535,7 @@ void CliqueScale::record(repro::Results& r, const Outcome& out) {
   double edges = 0;
   for (const auto& w : out.worlds) edges += static_cast<double>(w.edges);
   r.metric("world1d.density", edges / static_cast<double>(out.worlds.size()) / (0.5 * m * (m - 1.0)));
-  record_clique_group(r, "world1d", out.worlds, 0, out.worlds.size(), 0, tally);
+  record_clique_group(r, repro::path("world1d"), out.worlds, 0, out.worlds.size(), 0, tally);
 
   r.timing("city", out.city_time_s);
   r.metric("city.datasets", static_cast<double>(o.city_datasets));
@@ -541,7 +544,7 @@ void CliqueScale::record(repro::Results& r, const Outcome& out) {
   for (const auto& s : out.city)
     edges += static_cast<double>(s.edges) / (0.5 * s.vertices * (s.vertices - 1.0));
   r.metric("city.density", edges / static_cast<double>(out.city.size()));
-  record_clique_group(r, "city", out.city, 0, out.city.size(), 0, tally);
+  record_clique_group(r, repro::path("city"), out.city, 0, out.city.size(), 0, tally);
 
   // Over every graph of the three families.
   tally.record(r, o.planted.methods.reference_max_vertices);

@@ -191,12 +191,12 @@ struct CliqueScaleTally {
 // Per method, under "<prefix>.<method>.": size, size_min, precision, recall, violations; for the densest
 // subgraph its raw rounding; for the exact search optimal (fraction), upper_bound, gap, gap_max, nodes;
 // timings time_s and time_s.max. Then adds the graphs to `tally`.
-void record_clique_group(repro::Results& results, const std::string& prefix,
+void record_clique_group(repro::Results& results, const repro::KeyPath& prefix,
                          const std::vector<CliqueGraphOutcome>& outcomes, std::size_t first, std::size_t last,
                          int planted_k, CliqueScaleTally& tally);
 
-// "planted.n<n:04>.k<k:04>.p<100p:02>", the metric prefix of a planted cell.
-[[nodiscard]] std::string planted_cell_name(const PlantedCliqueCell& cell);
+// planted.n<n:04>.k<k:04>.p<100p:02>, the key path of a planted cell.
+[[nodiscard]] repro::KeyPath planted_cell_path(const PlantedCliqueCell& cell);
 
 // Every cell of the study: k, omega0, planted_is_maximum and its group (record_clique_group); then
 // planted.cells and planted.seeds.

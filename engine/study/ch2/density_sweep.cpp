@@ -63,10 +63,10 @@ DensitySweep::Outcome DensitySweep::run(const Options& o, const RunContext& cont
 void DensitySweep::record(Results& r, const Outcome& out) {
   const auto& ranges = out.options.ranges;
   for (std::size_t k = 0; k < ranges.size(); ++k) {
-    const std::string tag = fmt::format("range{:g}", ranges[k]);
-    r.metric(tag + ".match_rate.pcm_heuristic", out.heuristic[k]);
-    r.metric(tag + ".match_rate.pcm_exact", out.exact[k]);
-    r.metric(tag + ".max_consistent_set.mean", out.max_size[k]);
+    const auto tag = r.under(fmt::format("range{:g}", ranges[k]));
+    tag.metric("match_rate.pcm_heuristic", out.heuristic[k]);
+    tag.metric("match_rate.pcm_exact", out.exact[k]);
+    tag.metric("max_consistent_set.mean", out.max_size[k]);
   }
   r.metric("worlds", static_cast<double>(out.options.study.worlds));
   r.series("outlier_mean_range", ranges);

@@ -136,13 +136,14 @@ NoiseRegimes::Summary summarize(const std::vector<Realization>& reals,
 
 const char* const kComposition[2] = {"joint", "independent"};
 
-// `name` as a series over the realizations plus its .mean, .min and .max.
-void record_values(Results& r, const std::string& name, const std::vector<double>& v) {
+// `field` of `row` as a series over the realizations plus its .mean, .min and .max.
+void record_values(const repro::Scope& row, std::string_view field, const std::vector<double>& v) {
   const auto st = core::mean_std(v);
-  r.series(name, v);
-  r.metric(name + ".mean", st.mean);
-  r.metric(name + ".min", st.min);
-  r.metric(name + ".max", st.max);
+  row.series(field, v);
+  const auto f = row.under(field);
+  f.metric("mean", st.mean);
+  f.metric("min", st.min);
+  f.metric("max", st.max);
 }
 
 }  // namespace
@@ -226,35 +227,35 @@ void NoiseRegimes::record(Results& r, const Outcome& out) {
 
   for (std::size_t m = 0; m < methods.size(); ++m)
     if (methods[m].method.kind() != merge::MergeMethodKind::no_outliers)
-      r.timing(methods[m].method.name + ".selection_s.mean", core::mean_std(s.selection_time[m]).mean);
+      r.under(methods[m].method.name).timing("selection_s.mean", core::mean_std(s.selection_time[m]).mean);
   for (std::size_t g = 0; g < regimes.size(); ++g) {
-    const std::string& rn = regimes[g].name;
-    r.metric(rn + ".noise_scale", regimes[g].scale);
+    const auto rn = r.under(regimes[g].name);
+    rn.metric("noise_scale", regimes[g].scale);
     for (std::size_t m = 0; m < methods.size(); ++m) {
-      const std::string base = rn + "." + methods[m].method.name;
-      record_values(r, base + ".tpr", s.tpr[g][m]);
-      record_values(r, base + ".fpr", s.fpr[g][m]);
-      record_values(r, base + ".chi2", s.chi2[g][m]);
+      const auto base = rn.under(methods[m].method.name);
+      record_values(base, "tpr", s.tpr[g][m]);
+      record_values(base, "fpr", s.fpr[g][m]);
+      record_values(base, "chi2", s.chi2[g][m]);
     }
     for (std::size_t c = 0; c < 2; ++c) {
       for (std::size_t j = 0; j < setup.gammas.size(); ++j)
-        record_values(r, fmt::format("{}.pair_fail_{}.{}", rn, setup.p_tags[j], kComposition[c]),
+        record_values(rn.under(fmt::format("pair_fail_{}", setup.p_tags[j])), kComposition[c],
                       s.fail[g][c][j]);
-      const std::string q = fmt::format("{}.pair_q_mean.{}", rn, kComposition[c]);
-      record_values(r, q, s.q_mean[g][c]);
+      record_values(rn.under("pair_q_mean"), kComposition[c], s.q_mean[g][c]);
+      const auto q = rn.under("pair_q_mean").under(kComposition[c]);
       // The calibration of Q: a consistent pair's q is χ²(3), mean 3. The standard error is over the
       // realizations; excess is the relative bias of the mean squared distance, z its distance from 3 in
       // standard errors.
       const auto st = core::mean_std(s.q_mean[g][c]);
       const double se =
           st.std / std::sqrt(static_cast<double>(std::max<std::size_t>(s.q_mean[g][c].size(), 1)));
-      r.metric(q + ".se", se);
-      r.metric(q + ".excess", st.mean / 3.0 - 1.0);
-      if (se > 0) r.metric(q + ".z", (st.mean - 3.0) / se);
+      q.metric("se", se);
+      q.metric("excess", st.mean / 3.0 - 1.0);
+      if (se > 0) q.metric("z", (st.mean - 3.0) / se);
     }
-    record_values(r, rn + ".local.a.chi2", s.local_a[g]);
-    record_values(r, rn + ".local.b.chi2", s.local_b[g]);
-    record_values(r, rn + ".pool_chi2", s.pool_chi2[g]);
+    record_values(rn.under("local").under("a"), "chi2", s.local_a[g]);
+    record_values(rn.under("local").under("b"), "chi2", s.local_b[g]);
+    record_values(rn, "pool_chi2", s.pool_chi2[g]);
   }
 
   // The two claims, checked on our numbers (they may fail).

@@ -192,43 +192,41 @@ void Substitute3D::record(Results& r, const Outcome& out) {
   // set).
   std::vector<MethodSummary> sum;
   for (std::size_t k = 0; k < methods.size(); ++k) {
-    const std::string& n = methods[k].method.name;
+    const auto n = r.under(methods[k].method.name);
     const auto& s = sum.emplace_back(summarize_method(runs, k));
     for (const char* col : {"rel_pose_trans_mse", "rel_pose_rot", "traj_trans_mse", "traj_rot", "residual",
                             "tp", "fp", "chi2"}) {
       const auto& v = s.column(col);
-      r.metric(fmt::format("{}.{}", n, col), s.stats(col).mean);
-      r.metric(fmt::format("{}.{}.std", n, col), s.stats(col).std);
-      r.metric(fmt::format("{}.dataset0.{}", n, col), v[0]);
-      r.series(fmt::format("{}.{}", n, col), v);  // per data set
+      n.metric(col, s.stats(col).mean);
+      n.under(col).metric("std", s.stats(col).std);
+      n.under("dataset0").metric(col, v[0]);
+      n.series(col, v);  // per data set
     }
-    r.metric(n + ".tpr", s.pooled.tpr());  // pooled over the data sets
-    r.metric(n + ".fpr", s.pooled.fpr());
-    r.metric(n + ".accepted_aliased",
+    n.metric("tpr", s.pooled.tpr());  // pooled over the data sets
+    n.metric("fpr", s.pooled.fpr());
+    n.metric("accepted_aliased",
              s.accepted_aliased);  // totals over the data sets (false positives by kind)
-    r.metric(n + ".accepted_random", s.accepted_random);
+    n.metric("accepted_random", s.accepted_random);
     const auto ts = s.stats("selection_time_s"), tv = s.stats("solve_time_s");
-    r.timing(n + ".time_s", ts.mean);  // Table 2.2 "Evaluation Time": the selection given Q
-    r.timing(n + ".time_s.max", ts.max);
-    r.timing(n + ".solve_s.mean", tv.mean);
-    r.timing(n + ".solve_s.max", tv.max);
+    n.timing("time_s", ts.mean);  // Table 2.2 "Evaluation Time": the selection given Q
+    n.timing("time_s.max", ts.max);
+    n.timing("solve_s.mean", tv.mean);
+    n.timing("solve_s.max", tv.max);
   }
-  r.metric(
-      methods[o.heuristic].method.name + ".same_selection_as_exact",
-      static_cast<double>(same_selections(runs, o.exact, o.heuristic)) / static_cast<double>(o.datasets));
-  r.metric(methods[o.exact].method.name + ".proven_optimal",
-           static_cast<double>(proven_optimal(runs, o.exact)) / static_cast<double>(o.datasets));
+  r.under(methods[o.heuristic].method.name)
+      .metric("same_selection_as_exact", static_cast<double>(same_selections(runs, o.exact, o.heuristic)) /
+                                             static_cast<double>(o.datasets));
+  r.under(methods[o.exact].method.name)
+      .metric("proven_optimal",
+              static_cast<double>(proven_optimal(runs, o.exact)) / static_cast<double>(o.datasets));
 
   SweepCurves sw;
   sweep_curves(out.sweep, sw);
   r.series("sweep.p", o.sweep_p);
+  constexpr const char* kSweepMethod[2] = {"ransac", "pcm_heupatt"};
+  constexpr const char* kSweepColumn[3] = {"chi2", "tp", "fp"};
   for (int m = 0; m < 2; ++m)
-    for (int c = 0; c < 3; ++c)
-      r.series(fmt::format("sweep.{}.{}", m == 0 ? "ransac" : "pcm_heupatt",
-                           c == 0   ? "chi2"
-                           : c == 1 ? "tp"
-                                    : "fp"),
-               sw[m][c]);
+    for (int c = 0; c < 3; ++c) r.under("sweep").under(kSweepMethod[m]).series(kSweepColumn[c], sw[m][c]);
   const double sweep_ref_chi2 = runs[o.figure_dataset].methods[o.reference].metrics.normalized_chi2;
 
   check_table2_2(r, o, sum);

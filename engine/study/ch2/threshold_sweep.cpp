@@ -116,22 +116,24 @@ void ThresholdSweep::record(Results& r, const Outcome& out) {
     const auto& g = o.regimes[gi];
     const RegimeOutcome& ro = out.regimes[gi];
     const auto& curves = ro.curves;
-    r.timing(g.name + ".local_solves", ro.local_time_s);
-    r.timing(g.name + ".datasets", ro.datasets_time_s);
-    r.metric(g.name + ".no_out.chi2", ro.chi2_no_out);
+    const auto regime = r.under(g.name);
+    regime.timing("local_solves", ro.local_time_s);
+    regime.timing("datasets", ro.datasets_time_s);
+    regime.metric("no_out.chi2", ro.chi2_no_out);
     for (std::size_t f = 0; f < o.families.size(); ++f) {
+      const auto n = regime.under(o.families[f].name);
+      // One selection's wall time at each p: "<regime>.<family>@<p>.time_s".
       for (std::size_t k = 0; k < p_values.size(); ++k)
-        r.timing(fmt::format("{}.{}@{:g}.time_s", g.name, o.families[f].name, p_values[k]),
-                 curves[f].selection_time_s[k]);
-      const auto n = g.name + "." + o.families[f].name;
-      r.series(n + ".tpr", curves[f].tpr);
-      r.series(n + ".fpr", curves[f].fpr);
-      r.series(n + ".chi2", curves[f].chi2);
-      r.series(n + ".selected", curves[f].selected);
+        regime.under(fmt::format("{}@{:g}", o.families[f].name, p_values[k]))
+            .timing("time_s", curves[f].selection_time_s[k]);
+      n.series("tpr", curves[f].tpr);
+      n.series("fpr", curves[f].fpr);
+      n.series("chi2", curves[f].chi2);
+      n.series("selected", curves[f].selected);
       for (std::size_t k = 0; k < p_values.size(); ++k)
         if (p_values[k] == 0.11) {
-          r.metric(n + ".tpr@0.11", curves[f].tpr[k]);
-          r.metric(n + ".fpr@0.11", curves[f].fpr[k]);
+          n.metric("tpr@0.11", curves[f].tpr[k]);
+          n.metric("fpr@0.11", curves[f].fpr[k]);
         }
     }
 

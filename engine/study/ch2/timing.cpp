@@ -34,7 +34,8 @@ const Style kStyles[] = {{"Combinatorial (all 2^m subsets)", "k", "x"},
 // The timing names of curve c, one per size it ran at.
 std::vector<std::string> timing_names(const TimingCurve& curve) {
   std::vector<std::string> names;
-  for (double m : curve.m) names.push_back(fmt::format("time.{}.m{:04d}", curve.name, static_cast<int>(m)));
+  const auto at = repro::path("time").under(curve.name);
+  for (double m : curve.m) names.push_back(at.key(fmt::format("m{:04d}", static_cast<int>(m))));
   return names;
 }
 }  // namespace
@@ -84,8 +85,8 @@ void Timing::record(Results& r, const Outcome& out) {
       r.timing(names[k], curve.median_time_s[k]);  // median wall time of one selection (s)
   }
   r.series("measurements", out.options.sizes);
-  for (std::size_t c = 0; c < 2; ++c) r.series("measurements." + sweep.curves[c].name, sweep.curves[c].m);
-  for (const auto& curve : sweep.curves) r.series("size.mean." + curve.name, curve.size_mean);
+  for (std::size_t c = 0; c < 2; ++c) r.under("measurements").series(sweep.curves[c].name, sweep.curves[c].m);
+  for (const auto& curve : sweep.curves) r.under("size").under("mean").series(curve.name, curve.size_mean);
   r.series("match_rate.pcm_heuristic", sweep.heuristic_match);
   r.metric("worlds_per_size", static_cast<double>(out.options.sweep.base.worlds));
   r.metric("gamma.pcm", out.options.sweep.base.pcm_gamma);

@@ -185,13 +185,13 @@ void record_dataset_timings(repro::Results& r, const std::vector<MergeDataset<G>
     t_q.push_back(d.matrix_time_s);
     t_qi.push_back(d.matrix_independent_time_s);
   }
-  for (const auto& [name, v] :
-       {std::pair<const char*, const std::vector<double>*>{"dataset.cov_extraction", &t_cov},
-        {"dataset.matrix", &t_q},
-        {"dataset.matrix_independent", &t_qi}}) {
+  for (const auto& [name, v] : {std::pair<const char*, const std::vector<double>*>{"cov_extraction", &t_cov},
+                                {"matrix", &t_q},
+                                {"matrix_independent", &t_qi}}) {
     const auto s = core::mean_std(*v);
-    r.timing(fmt::format("{}.mean", name), s.mean);
-    r.timing(fmt::format("{}.max", name), s.max);
+    const auto at = r.under("dataset").under(name);
+    at.timing("mean", s.mean);
+    at.timing("max", s.max);
   }
 }
 

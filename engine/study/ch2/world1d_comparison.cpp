@@ -61,14 +61,14 @@ void World1DComparison::record(Results& r, const Outcome& out) {
   r.timing("mean_time.combinatorial", comb_time / n);
   for (const auto& row : cmp.rows) {
     const std::string name(to_string(row.selector));
-    r.metric("match_rate." + name, row.match_rate);
-    r.metric("larger_rate." + name, row.larger_rate);
-    r.metric("smaller_rate." + name, row.smaller_rate);
-    r.metric("inconsistent_pairs.mean." + name, row.inconsistent_mean);
-    r.metric("inconsistent_rate." + name, row.inconsistent_rate);
-    r.series("hist.size_diff." + name, row.size_diff_hist);
-    r.series("hist.inconsistent_pairs." + name, row.inconsistent_hist);
-    r.timing("mean_time." + name, row.time_mean_s);
+    r.under("match_rate").metric(name, row.match_rate);
+    r.under("larger_rate").metric(name, row.larger_rate);
+    r.under("smaller_rate").metric(name, row.smaller_rate);
+    r.under("inconsistent_pairs").under("mean").metric(name, row.inconsistent_mean);
+    r.under("inconsistent_rate").metric(name, row.inconsistent_rate);
+    r.under("hist").under("size_diff").series(name, row.size_diff_hist);
+    r.under("hist").under("inconsistent_pairs").series(name, row.inconsistent_hist);
+    r.under("mean_time").timing(name, row.time_mean_s);
   }
   const auto &rx = cmp.rows[0], &rh = cmp.rows[1], &rs = cmp.rows[2], &rr = cmp.rows[3];
   r.check("PCM-Exact returns a set of the combinatorial maximum's size in every world (eq. 2.5)",

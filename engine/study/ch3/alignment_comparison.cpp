@@ -51,15 +51,27 @@ namespace {
 // Table 3.1's columns, compared Proposed minus each other method.
 struct TableColumn {
   const char* label;
-  const char* key;
-  bool median;  // the median of per-world differences, or the difference of the fenced std
+  const char* quantity;   // "rot_se", "trans_se"
+  const char* statistic;  // "median", "std"
+  bool median;            // the median of per-world differences, or the difference of the fenced std
   std::vector<double> Row::* values;
 };
 std::vector<TableColumn> table_columns() {
-  return {{"median rotation SE", "rot_se.median", true, &Row::rot_se},
-          {"rotation SE std (1.5·IQR fences)", "rot_se.std", false, &Row::rot_se},
-          {"median translation SE", "trans_se.median", true, &Row::trans_se},
-          {"translation SE std (1.5·IQR fences)", "trans_se.std", false, &Row::trans_se}};
+  return {{"median rotation SE", "rot_se", "median", true, &Row::rot_se},
+          {"rotation SE std (1.5·IQR fences)", "rot_se", "std", false, &Row::rot_se},
+          {"median translation SE", "trans_se", "median", true, &Row::trans_se},
+          {"translation SE std (1.5·IQR fences)", "trans_se", "std", false, &Row::trans_se}};
+}
+
+// "paired.<quantity>.<statistic>.<method>": Proposed minus `method` in one column.
+repro::KeyPath paired_path(const TableColumn& col, const std::string& method) {
+  return repro::path("paired").under(col.quantity).under(col.statistic).under(method);
+}
+
+// "round<k>.paired.<quantity>.<method>": Proposed minus `method` at round k, medians of per-world
+// differences.
+repro::KeyPath round_paired_path(std::size_t k, std::string_view quantity, std::string_view method) {
+  return repro::path(fmt::format("round{}", k)).under("paired").under(quantity).under(method);
 }
 
 }  // namespace
@@ -76,7 +88,7 @@ void add_table_comparisons(repro::PairedFamily& family, const AlignmentCompariso
   for (const TableColumn& col : table_columns())
     for (const auto& x : rows)
       if (&x != &*it)
-        family.add(fmt::format("paired.{}.{}", col.key, x.name),
+        family.add(paired_path(col, x.name).name(),
                    col.median ? repro::paired_median((*it).*col.values, x.*col.values, po)
                               : repro::paired_statistic((*it).*col.values, x.*col.values, stdev, po));
   const auto proposed = static_cast<std::size_t>(it - rows.begin());
@@ -86,7 +98,7 @@ void add_table_comparisons(repro::PairedFamily& family, const AlignmentCompariso
       const std::string name(align::to_string(out.methods[m]));
       for (const auto& [label, field] :
            {std::pair{"rot_se", &EstimateScore::rot_se}, std::pair{"trans_se", &EstimateScore::trans_se}})
-        family.add(fmt::format("round{}.paired.{}.{}", k, label, name),
+        family.add(round_paired_path(k, label, name).name(),
                    repro::paired_median(per_world(out, proposed, k, field), per_world(out, m, k, field), po));
     }
 }
@@ -103,13 +115,13 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
            core::mean_std(std::vector<double>(out.query_points.begin(), out.query_points.end())).mean);
   const std::vector<Row> rows = table_rows(out, o.worlds);
   for (const Row& row : rows) {
-    r.metric(row.name + ".rot_se.median", row.rot.median);
-    r.metric(row.name + ".rot_se.std", row.rot.std);
-    r.metric(row.name + ".trans_se.median", row.trans.median);
-    r.metric(row.name + ".trans_se.std", row.trans.std);
-    r.metric(row.name + ".valid_rate", row.valid);
-    r.timing(row.name + ".time_s", row.time_mean);
-    r.timing(row.name + ".time_s.median", row.time_median);
+    r.under(row.name).metric("rot_se.median", row.rot.median);
+    r.under(row.name).metric("rot_se.std", row.rot.std);
+    r.under(row.name).metric("trans_se.median", row.trans.median);
+    r.under(row.name).metric("trans_se.std", row.trans.std);
+    r.under(row.name).metric("valid_rate", row.valid);
+    r.under(row.name).timing("time_s", row.time_mean);
+    r.under(row.name).timing("time_s.median", row.time_median);
   }
 
   // The thesis's ordering claim, column by column, on our numbers, by the paired rule (docs/GRADING.md):
@@ -123,9 +135,9 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
       std::string detail;
       for (const auto& x : rows) {
         if (&x == &*it) continue;
-        const std::string k = fmt::format("paired.{}.{}", col.key, x.name);
-        const repro::PairedComparison& c = family.at(k);
-        record_paired(r, k, c, col.median);
+        const auto k = paired_path(col, x.name);
+        const repro::PairedComparison& c = family.at(k.name());
+        record_paired(r.at(k), c, col.median);
         best = best && c.lower();
         detail += fmt::format("{}{}", detail.empty() ? "" : "; ", paired_text(x.name, c));
       }
@@ -149,10 +161,10 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
   // Metric variants (the primary ones are rot_se and trans_se above).
   for (std::size_t m = 0; m < out.methods.size(); ++m) {
     const std::string name(align::to_string(out.methods[m]));
-    r.metric(name + ".rot_se_atan2.median",
-             median_of(per_world(out, m, SIZE_MAX, &EstimateScore::rot_se_atan2)));
-    r.metric(name + ".trans_se_origin.median",
-             median_of(per_world(out, m, SIZE_MAX, &EstimateScore::trans_se_origin)));
+    r.under(name).metric("rot_se_atan2.median",
+                         median_of(per_world(out, m, SIZE_MAX, &EstimateScore::rot_se_atan2)));
+    r.under(name).metric("trans_se_origin.median",
+                         median_of(per_world(out, m, SIZE_MAX, &EstimateScore::trans_se_origin)));
   }
 
   // Every round scored: round 0 is the global round (no shrinking), the last is the final answer.
@@ -161,21 +173,21 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
   int ordering_rounds = 0, first_ordering_round = -1;
   for (std::size_t k = 0; k < rounds; ++k) {
     const std::string rk = fmt::format("round{}", k);
-    r.metric(rk + ".half_width", out.outcomes[0][0].round_scores[k].half_width);
+    r.under(rk).metric("half_width", out.outcomes[0][0].round_scores[k].half_width);
     for (std::size_t m = 0; m < out.methods.size(); ++m) {
-      const std::string key = fmt::format("{}.{}", align::to_string(out.methods[m]), rk);
+      const auto key = r.under(align::to_string(out.methods[m])).under(rk);
       for (const auto& [label, field] :
            {std::pair{"rot_se", &EstimateScore::rot_se}, std::pair{"trans_se", &EstimateScore::trans_se}}) {
         const std::vector<double> v = per_world(out, m, k, field);
-        r.metric(fmt::format("{}.{}.median", key, label), quantile(v, 0.5));
-        r.metric(fmt::format("{}.{}.q25", key, label), quantile(v, 0.25));
-        r.metric(fmt::format("{}.{}.q75", key, label), quantile(v, 0.75));
+        key.under(label).metric("median", quantile(v, 0.5));
+        key.under(label).metric("q25", quantile(v, 0.25));
+        key.under(label).metric("q75", quantile(v, 0.75));
       }
-      r.metric(key + ".singular_min.median", median_of(per_world(out, m, k, &EstimateScore::singular_min)));
-      r.metric(key + ".singular_max.median", median_of(per_world(out, m, k, &EstimateScore::singular_max)));
+      key.metric("singular_min.median", median_of(per_world(out, m, k, &EstimateScore::singular_min)));
+      key.metric("singular_max.median", median_of(per_world(out, m, k, &EstimateScore::singular_max)));
       double valid = 0;
       for (const auto& w : out.outcomes[m]) valid += w.round_scores[k].valid;
-      r.metric(key + ".valid_rate", 100.0 * valid / static_cast<double>(out.outcomes[m].size()));
+      key.metric("valid_rate", 100.0 * valid / static_cast<double>(out.outcomes[m].size()));
     }
     // The thesis's ordering at this round: Proposed significantly below every other method (paired medians of
     // per-world differences, Holm-corrected over the family) in both rotation and translation SE.
@@ -184,11 +196,11 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
     for (std::size_t m = 0; m < out.methods.size(); ++m) {
       if (m == proposed) continue;
       const std::string name(align::to_string(out.methods[m]));
-      beats_rot += family.at(fmt::format("{}.paired.rot_se.{}", rk, name)).lower();
-      beats_trans += family.at(fmt::format("{}.paired.trans_se.{}", rk, name)).lower();
+      beats_rot += family.at(round_paired_path(k, "rot_se", name).name()).lower();
+      beats_trans += family.at(round_paired_path(k, "trans_se", name).name()).lower();
     }
-    r.metric(rk + ".proposed_significantly_below.rot_se", beats_rot);
-    r.metric(rk + ".proposed_significantly_below.trans_se", beats_trans);
+    r.under(rk).metric("proposed_significantly_below.rot_se", beats_rot);
+    r.under(rk).metric("proposed_significantly_below.trans_se", beats_trans);
     const int others = static_cast<int>(out.methods.size()) - 1;
     if (beats_rot == others && beats_trans == others) {
       ++ordering_rounds;
@@ -206,18 +218,17 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
       const std::string name(align::to_string(out.methods[m]));
       std::vector<double> offset;
       for (double th : out.world_theta) offset.push_back(sector_offset(th));
-      for (const auto& [label, r_index] :
-           {std::pair{std::string(""), SIZE_MAX}, std::pair{std::string(".round0"), std::size_t{0}}}) {
+      // The final answer under "<method>.", round 0 under "<method>.round0.".
+      for (const auto& [at, r_index] :
+           {std::pair{r.under(name), SIZE_MAX}, std::pair{r.under(name).under("round0"), std::size_t{0}}}) {
         const std::vector<double> radius = per_world(out, m, r_index, &EstimateScore::radius);
         double at_mid = 0;
         for (double x : radius) at_mid += std::abs(x - kOctagonMidpoint) <= 1e-3;
-        r.metric(name + label + ".radius.median", median_of(radius));
-        r.metric(name + label + ".radius.min", *std::min_element(radius.begin(), radius.end()));
-        r.metric(name + label + ".radius.max", *std::max_element(radius.begin(), radius.end()));
-        r.metric(name + label + ".radius.at_midpoint_rate",
-                 100.0 * at_mid / static_cast<double>(radius.size()));
-        r.metric(name + label + ".bias.slope",
-                 slope(offset, per_world(out, m, r_index, &EstimateScore::rot_error)));
+        at.metric("radius.median", median_of(radius));
+        at.metric("radius.min", *std::min_element(radius.begin(), radius.end()));
+        at.metric("radius.max", *std::max_element(radius.begin(), radius.end()));
+        at.metric("radius.at_midpoint_rate", 100.0 * at_mid / static_cast<double>(radius.size()));
+        at.metric("bias.slope", slope(offset, per_world(out, m, r_index, &EstimateScore::rot_error)));
       }
     }
 
@@ -249,8 +260,9 @@ void record_table(Results& r, const AlignmentComparison::Outcome& outcome,
     const auto g = fenced_summary(gap);
     r.metric("certificate.optimal_rate",
              100.0 * static_cast<double>(optimal) / static_cast<double>(o.worlds));
-    r.metric(fmt::format("certificate.within_{:g}_rate", near_gap),
-             100.0 * static_cast<double>(within) / static_cast<double>(o.worlds));
+    r.under("certificate")
+        .metric(fmt::format("within_{:g}_rate", near_gap),
+                100.0 * static_cast<double>(within) / static_cast<double>(o.worlds));
     r.metric("certificate.relative_gap.median", g.median);
     r.metric("certificate.relative_gap.max", *std::max_element(gap.begin(), gap.end()));
     r.metric("certificate.theta_difference.median", fenced_summary(dtheta).median);

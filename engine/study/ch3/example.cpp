@@ -72,8 +72,8 @@ void Example::record(Results& r, const Outcome& out) {
          {Named{"rot_se", mo.rot_se}, Named{"trans_se", mo.trans_se}, Named{"valid", mo.valid ? 1.0 : 0.0},
           Named{"cost", mo.cost}, Named{"singular_min", mo.singular_min},
           Named{"singular_max", mo.singular_max}})
-      r.metric(name + "." + key, v);
-    r.timing(name + ".time_s", mo.time_s);
+      r.under(name).metric(key, v);
+    r.under(name).timing("time_s", mo.time_s);
     if (out.study.methods[m] == Method::proposed)
       r.check("the proposed estimate is an approximately valid rotation", mo.valid,
               fmt::format("singular values {:.4f}, {:.4f} (valid: within {} of 1, det > 0; the octagon is "

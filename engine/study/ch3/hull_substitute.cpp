@@ -64,12 +64,13 @@ struct HullRow {
   double valid_rate = 0, relocalised_rate = 0;
   bool proposed = false;
 };
-std::vector<HullRow> hull_rows(const HullStudyOutcome& out, const std::string& prefix, double within) {
+// `ungated`: the run without the depth gate (its keys under "no_gate.", its labels "(no gate)").
+std::vector<HullRow> hull_rows(const HullStudyOutcome& out, bool ungated, double within) {
   std::vector<HullRow> rows;
   for (std::size_t m = 0; m < out.methods.size(); ++m) {
     HullRow row;
-    row.name = prefix + std::string(align::to_string(out.methods[m]));
-    row.label = row.name.substr(prefix.size()) + (prefix.empty() ? "" : " (no gate)");
+    row.name = std::string(align::to_string(out.methods[m]));
+    row.label = row.name + (ungated ? " (no gate)" : "");
     row.proposed = out.methods[m] == Method::proposed;
     double valid = 0, relocalised = 0;
     for (const auto& w : out.outcomes[m]) {
@@ -91,19 +92,20 @@ void HullSubstitute::record(Results& r, const Outcome& out) {
   r.metric("worlds", static_cast<double>(o.study.worlds));
   r.metric("depth_gate", o.study.compare.align.depth_gate);
   double proposed_median = -1;
-  auto summarise = [&](const HullStudyOutcome& st, const std::string& prefix) {
-    for (const HullRow& row : hull_rows(st, prefix, o.relocalised_within)) {
+  auto summarise = [&](const HullStudyOutcome& st, bool ungated) {
+    for (const HullRow& row : hull_rows(st, ungated, o.relocalised_within)) {
       const double tmed = fenced_summary(row.trans).median;
-      r.metric(row.name + ".rot_err.median", fenced_summary(row.rot).median);
-      r.metric(row.name + ".trans_err.median", tmed);
-      r.metric(row.name + ".valid_rate", row.valid_rate);
-      r.metric(row.name + ".relocalised_rate", row.relocalised_rate);
-      r.timing(row.name + ".time_s", core::mean_std(row.time).mean);
-      if (prefix.empty() && row.proposed) proposed_median = tmed;
+      const auto at = ungated ? r.under("no_gate").under(row.name) : r.under(row.name);
+      at.metric("rot_err.median", fenced_summary(row.rot).median);
+      at.metric("trans_err.median", tmed);
+      at.metric("valid_rate", row.valid_rate);
+      at.metric("relocalised_rate", row.relocalised_rate);
+      at.timing("time_s", core::mean_std(row.time).mean);
+      if (!ungated && row.proposed) proposed_median = tmed;
     }
   };
-  summarise(out.gated, "");
-  if (out.ungated) summarise(*out.ungated, "no_gate.");
+  summarise(out.gated, false);
+  if (out.ungated) summarise(*out.ungated, true);
   if (proposed_median >= 0)
     r.check(fmt::format("the proposed method re-localises the query: median translation error below {:g} m",
                         o.relocalised_within),
@@ -190,16 +192,16 @@ std::vector<Figure> HullSubstitute::figures(const Outcome& out) {
   Layer bound;
   bound.type = "vline", bound.value = o.relocalised_within, bound.color = "0.4", bound.linestyle = ":";
   pt.layers.push_back(bound);
-  auto curves = [&](const HullStudyOutcome& st, const std::string& prefix, const char* style) {
-    const auto rows = hull_rows(st, prefix, o.relocalised_within);
+  auto curves = [&](const HullStudyOutcome& st, bool ungated, const char* style) {
+    const auto rows = hull_rows(st, ungated, o.relocalised_within);
     for (std::size_t m = 0; m < rows.size(); ++m) {
       pr.layers.push_back(
           repro::ecdf_layer(rows[m].rot, rows[m].label, kColors[m % 4], 1e-6, style));  // log axes
       pt.layers.push_back(repro::ecdf_layer(rows[m].trans, rows[m].label, kColors[m % 4], 1e-6, style));
     }
   };
-  curves(out.gated, "", "-");
-  if (out.ungated) curves(*out.ungated, "no_gate.", "--");
+  curves(out.gated, false, "-");
+  if (out.ungated) curves(*out.ungated, true, "--");
   cdf.panels = {pr, pt};
   cdf.width = 12.0, cdf.height = 4.8;
   return {alignment_figure(out.world0, proposed), cdf};

@@ -101,7 +101,7 @@ CellSummary cell_summary(const AlignmentStudyOutcome& st, std::size_t m) {
 // Proposed against each other method on the validity indicator (0 or 100 per world): the difference of the
 // valid rates (percentage points) with its paired bootstrap interval, added under
 // "<prefix>.valid_rate.<other>".
-void add_paired_validity(repro::PairedFamily& family, const std::string& prefix,
+void add_paired_validity(repro::PairedFamily& family, const repro::KeyPath& prefix,
                          const AlignmentStudyOutcome& st) {
   const std::size_t p = proposed_index(st);
   if (p == SIZE_MAX) return;
@@ -112,7 +112,7 @@ void add_paired_validity(repro::PairedFamily& family, const std::string& prefix,
   };
   for (std::size_t m = 0; m < st.methods.size(); ++m)
     if (m != p)
-      family.add(prefix + ".valid_rate." + std::string(align::to_string(st.methods[m])),
+      family.add(prefix.under("valid_rate").under(align::to_string(st.methods[m])).name(),
                  repro::paired_rate(valid(p), valid(m)));
 }
 
@@ -147,15 +147,14 @@ void RegimeGrid::record(Results& r, const Outcome& out) {
       const CellSummary c = cell_summary(st, m);
       const char* q[] = {"q25", "median", "q75"};
       for (int k = 0; k < 3; ++k) {
-        series[fmt::format("rot_se.{}", q[k])].push_back(c.rot[k]);
-        series[fmt::format("trans_se.{}", q[k])].push_back(c.trans[k]);
+        series[repro::path("rot_se").key(q[k])].push_back(c.rot[k]);
+        series[repro::path("trans_se").key(q[k])].push_back(c.trans[k]);
       }
       series["valid_rate"].push_back(100.0 * c.valid.rate);
       series["valid_rate.ci_low"].push_back(100.0 * c.valid.low);
       series["valid_rate.ci_high"].push_back(100.0 * c.valid.high);
     }
-    for (auto& [key, v] : series)
-      r.series(fmt::format("{}.{}", align::to_string(methods[m]), key), std::move(v));
+    for (auto& [key, v] : series) r.under(align::to_string(methods[m])).series(key, std::move(v));
   }
 
   // Paired: Proposed minus each other method in every cell; per cell, the number of other methods Proposed is
@@ -163,8 +162,8 @@ void RegimeGrid::record(Results& r, const Outcome& out) {
   // cell.
   repro::PairedFamily family;
   for (std::size_t c = 0; c < out.cells.size(); ++c) {
-    add_paired_at(family, fmt::format("cell{}", c), out.cells[c]);
-    add_paired_validity(family, fmt::format("cell{}", c), out.cells[c]);
+    add_paired_at(family, repro::path(fmt::format("cell{}", c)), out.cells[c]);
+    add_paired_validity(family, repro::path(fmt::format("cell{}", c)), out.cells[c]);
   }
   family.adjust();
   record_family(r, family);
@@ -172,23 +171,24 @@ void RegimeGrid::record(Results& r, const Outcome& out) {
   ProposedTally tally;
   std::string where;  // the cells where the thesis's error ordering holds
   for (std::size_t c = 0; c < out.cells.size(); ++c) {
-    const std::string prefix = fmt::format("cell{}", c);
+    const auto prefix = repro::path(fmt::format("cell{}", c));
     const PairedAtPoint pp = paired_at(family, prefix, out.cells[c]);
     if (pp.others.empty()) continue;
     tally.add(pp);
     std::vector<repro::PairedComparison> pv;
-    for (const auto& other : pp.others) pv.push_back(family.at(prefix + ".valid_rate." + other));
+    for (const auto& other : pp.others)
+      pv.push_back(family.at(prefix.under("valid_rate").under(other).name()));
     for (std::size_t k = 0; k < pp.others.size(); ++k)
       for (const auto& [label, pc] : {std::pair{"rot_se", pp.rot[k]}, std::pair{"trans_se", pp.trans[k]},
                                       std::pair{"valid_rate", pv[k]}}) {
-        const std::string key = fmt::format("paired.{}.{}", label, pp.others[k]);
-        series[key + ".difference"].push_back(pc.difference);
+        const auto key = repro::path("paired").under(label).under(pp.others[k]);
+        series[key.key("difference")].push_back(pc.difference);
         if (std::string_view(label) != "valid_rate")
-          series[key + ".difference_of_medians"].push_back(pc.difference_of_medians);
-        series[key + ".low"].push_back(pc.low);
-        series[key + ".high"].push_back(pc.high);
-        series[key + ".p"].push_back(pc.p);
-        series[key + ".adjusted_p"].push_back(pc.adjusted_p);
+          series[key.key("difference_of_medians")].push_back(pc.difference_of_medians);
+        series[key.key("low")].push_back(pc.low);
+        series[key.key("high")].push_back(pc.high);
+        series[key.key("p")].push_back(pc.p);
+        series[key.key("adjusted_p")].push_back(pc.adjusted_p);
       }
     const int n = static_cast<int>(pp.others.size());
     const int br = count_if_paired(pp.rot, true), bt = count_if_paired(pp.trans, true);

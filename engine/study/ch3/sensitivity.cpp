@@ -151,9 +151,9 @@ void Sensitivity::record(Results& r, const Outcome& out) {
   // above every other (worst), or neither, in each error; the family is every paired comparison at every
   // point.
   repro::PairedFamily family;
-  std::map<Point, std::string> prefix;
+  std::map<Point, repro::KeyPath> prefix;
   for (const auto& [point, st] : out.points) {
-    prefix[point] = fmt::format("point{}", prefix.size());
+    prefix[point] = repro::path(fmt::format("point{}", prefix.size()));
     add_paired_at(family, prefix[point], st);
   }
   family.adjust();
@@ -167,11 +167,11 @@ void Sensitivity::record(Results& r, const Outcome& out) {
   tally.record(r);
   for (const SensitivityAxis& axis : sensitivity_axes(out.options)) {
     for (const SensitivityCurve& c : sensitivity_curves(out, axis)) {
-      r.series(c.name + "." + axis.tag + ".rot_se.median", c.rot);
-      r.series(c.name + "." + axis.tag + ".trans_se.median", c.trans);
-      r.series(c.name + "." + axis.tag + ".valid_rate", c.valid);
-      r.series(c.name + "." + axis.tag + ".valid_rate.ci_low", c.valid_low);
-      r.series(c.name + "." + axis.tag + ".valid_rate.ci_high", c.valid_high);
+      r.under(c.name).under(axis.tag).series("rot_se.median", c.rot);
+      r.under(c.name).under(axis.tag).series("trans_se.median", c.trans);
+      r.under(c.name).under(axis.tag).series("valid_rate", c.valid);
+      r.under(c.name).under(axis.tag).series("valid_rate.ci_low", c.valid_low);
+      r.under(c.name).under(axis.tag).series("valid_rate.ci_high", c.valid_high);
     }
     // Paired: Proposed minus each other method, median of per-world differences with its order-statistic
     // interval, and the Holm-adjusted p.
@@ -180,12 +180,12 @@ void Sensitivity::record(Results& r, const Outcome& out) {
       const PairedAtPoint pp = paired_at(family, prefix.at(p), out.at(p));
       for (std::size_t k = 0; k < pp.others.size(); ++k)
         for (const auto& [label, c] : {std::pair{"rot_se", pp.rot[k]}, std::pair{"trans_se", pp.trans[k]}}) {
-          const std::string key = fmt::format("paired.{}.{}.{}", axis.tag, label, pp.others[k]);
-          series[key + ".difference"].push_back(c.difference);
-          series[key + ".difference_of_medians"].push_back(c.difference_of_medians);
-          series[key + ".low"].push_back(c.low);
-          series[key + ".high"].push_back(c.high);
-          series[key + ".adjusted_p"].push_back(c.adjusted_p);
+          const auto key = repro::path("paired").under(axis.tag).under(label).under(pp.others[k]);
+          series[key.key("difference")].push_back(c.difference);
+          series[key.key("difference_of_medians")].push_back(c.difference_of_medians);
+          series[key.key("low")].push_back(c.low);
+          series[key.key("high")].push_back(c.high);
+          series[key.key("adjusted_p")].push_back(c.adjusted_p);
         }
     }
     for (auto& [key, v] : series) r.series(key, std::move(v));

@@ -99,14 +99,13 @@ std::vector<std::size_t> subset(const std::vector<std::size_t>& blocks,
   return r;
 }
 
-void record_paired(repro::Results& r, const std::string& key, const repro::PairedComparison& c,
-                   bool of_medians) {
-  r.metric(key + ".difference", c.difference);
-  if (of_medians) r.metric(key + ".difference_of_medians", c.difference_of_medians);
-  r.metric(key + ".low", c.low);
-  r.metric(key + ".high", c.high);
-  r.metric(key + ".p", c.p);
-  r.metric(key + ".adjusted_p", c.adjusted_p);
+void record_paired(const repro::Scope& key, const repro::PairedComparison& c, bool of_medians) {
+  key.metric("difference", c.difference);
+  if (of_medians) key.metric("difference_of_medians", c.difference_of_medians);
+  key.metric("low", c.low);
+  key.metric("high", c.high);
+  key.metric("p", c.p);
+  key.metric("adjusted_p", c.adjusted_p);
 }
 
 void record_family(repro::Results& r, const repro::PairedFamily& f) {

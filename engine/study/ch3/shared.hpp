@@ -58,9 +58,8 @@ repro::PairedOptions paired_options(const std::vector<std::size_t>& blocks);
 std::vector<std::size_t> subset(const std::vector<std::size_t>& blocks,
                                 const std::vector<std::size_t>& worlds);
 
-// A comparison's numbers under `key` (docs/GRADING.md "Paired orderings").
-void record_paired(repro::Results& r, const std::string& key, const repro::PairedComparison& c,
-                   bool of_medians);
+// A comparison's numbers under its key (docs/GRADING.md "Paired orderings").
+void record_paired(const repro::Scope& key, const repro::PairedComparison& c, bool of_medians);
 
 // The family's size and how many of its comparisons are significant after Holm's correction.
 void record_family(repro::Results& r, const repro::PairedFamily& f);

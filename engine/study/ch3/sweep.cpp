@@ -50,19 +50,21 @@ std::size_t proposed_index(const AlignmentStudyOutcome& st) {
   return it == st.methods.end() ? SIZE_MAX : static_cast<std::size_t>(it - st.methods.begin());
 }
 
-void add_paired_at(repro::PairedFamily& family, const std::string& prefix, const AlignmentStudyOutcome& st) {
+void add_paired_at(repro::PairedFamily& family, const repro::KeyPath& prefix,
+                   const AlignmentStudyOutcome& st) {
   const std::size_t p = proposed_index(st);
   if (p == SIZE_MAX) return;
   for (std::size_t m = 0; m < st.methods.size(); ++m) {
     if (m == p) continue;
     const std::string other(align::to_string(st.methods[m]));
-    family.add(prefix + ".rot_se." + other, repro::paired_median(errors(st, p, true), errors(st, m, true)));
-    family.add(prefix + ".trans_se." + other,
+    family.add(prefix.under("rot_se").under(other).name(),
+               repro::paired_median(errors(st, p, true), errors(st, m, true)));
+    family.add(prefix.under("trans_se").under(other).name(),
                repro::paired_median(errors(st, p, false), errors(st, m, false)));
   }
 }
 
-PairedAtPoint paired_at(const repro::PairedFamily& family, const std::string& prefix,
+PairedAtPoint paired_at(const repro::PairedFamily& family, const repro::KeyPath& prefix,
                         const AlignmentStudyOutcome& st) {
   PairedAtPoint r;
   const std::size_t p = proposed_index(st);
@@ -70,8 +72,8 @@ PairedAtPoint paired_at(const repro::PairedFamily& family, const std::string& pr
   for (std::size_t m = 0; m < st.methods.size(); ++m) {
     if (m == p) continue;
     r.others.emplace_back(align::to_string(st.methods[m]));
-    r.rot.push_back(family.at(prefix + ".rot_se." + r.others.back()));
-    r.trans.push_back(family.at(prefix + ".trans_se." + r.others.back()));
+    r.rot.push_back(family.at(prefix.under("rot_se").under(r.others.back()).name()));
+    r.trans.push_back(family.at(prefix.under("trans_se").under(r.others.back()).name()));
   }
   return r;
 }

@@ -35,9 +35,10 @@ struct PairedAtPoint {
 std::size_t proposed_index(const AlignmentStudyOutcome& st);
 
 // Adds one point's comparisons to the family under "<prefix>.<rot_se|trans_se>.<other>".
-void add_paired_at(repro::PairedFamily& family, const std::string& prefix, const AlignmentStudyOutcome& st);
+void add_paired_at(repro::PairedFamily& family, const repro::KeyPath& prefix,
+                   const AlignmentStudyOutcome& st);
 
-PairedAtPoint paired_at(const repro::PairedFamily& family, const std::string& prefix,
+PairedAtPoint paired_at(const repro::PairedFamily& family, const repro::KeyPath& prefix,
                         const AlignmentStudyOutcome& st);
 
 // How many of `v` (Proposed against each other method) are significantly below (lower) or above (!lower).

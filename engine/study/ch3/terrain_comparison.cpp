@@ -131,7 +131,7 @@ void TerrainComparison::record(Results& r, const Outcome& out) {
           a.push_back(rot ? st.outcomes[p][w].rot_se : st.outcomes[p][w].trans_se);
           b.push_back(rot ? st.outcomes[s][w].rot_se : st.outcomes[s][w].trans_se);
         }
-        family.add(fmt::format("by_roughness{}.{}", k, rot ? "rot_se" : "trans_se"),
+        family.add(repro::path(fmt::format("by_roughness{}", k)).under(rot ? "rot_se" : "trans_se").name(),
                    repro::paired_median(a, b, po));
       }
     }
@@ -170,27 +170,28 @@ void TerrainComparison::record(Results& r, const Outcome& out) {
       trans_med.push_back(trans[k].empty() ? 0.0 : median_of(trans[k]));
       valid_rate.push_back(count[k] > 0 ? 100.0 * valid[k] / count[k] : 0.0);
     }
-    r.series(name + ".by_roughness.rot_se.median", rot_med);
-    r.series(name + ".by_roughness.trans_se.median", trans_med);
-    r.series(name + ".by_roughness.valid_rate", valid_rate);
+    r.under(name).series("by_roughness.rot_se.median", rot_med);
+    r.under(name).series("by_roughness.trans_se.median", trans_med);
+    r.under(name).series("by_roughness.valid_rate", valid_rate);
     // Rank correlation of the errors with the roughness (Spearman: Pearson on ranks, ties at their mean
     // rank).
     std::vector<double> rots, transes;
     for (const auto& w : st.outcomes[m]) rots.push_back(w.rot_se), transes.push_back(w.trans_se);
-    r.metric(name + ".spearman.rot_se_roughness", core::spearman(out.roughness, rots));
-    r.metric(name + ".spearman.trans_se_roughness", core::spearman(out.roughness, transes));
+    r.under(name).metric("spearman.rot_se_roughness", core::spearman(out.roughness, rots));
+    r.under(name).metric("spearman.trans_se_roughness", core::spearman(out.roughness, transes));
   }
   // Paired by roughness group: Proposed minus SOConvHull, from the family.
   if (by_roughness) {
     std::map<std::string, std::vector<double>> series;
     for (std::size_t k = 0; k < o.roughness_bins; ++k)
       for (const char* label : {"rot_se", "trans_se"}) {
-        const repro::PairedComparison& c = family.at(fmt::format("by_roughness{}.{}", k, label));
-        const std::string key = fmt::format("paired.by_roughness.{}.so_conv_hull", label);
-        series[key + ".difference"].push_back(c.difference);
-        series[key + ".low"].push_back(c.low);
-        series[key + ".high"].push_back(c.high);
-        series[key + ".adjusted_p"].push_back(c.adjusted_p);
+        const repro::PairedComparison& c =
+            family.at(repro::path(fmt::format("by_roughness{}", k)).under(label).name());
+        const auto key = repro::path("paired").under("by_roughness").under(label).under("so_conv_hull");
+        series[key.key("difference")].push_back(c.difference);
+        series[key.key("low")].push_back(c.low);
+        series[key.key("high")].push_back(c.high);
+        series[key.key("adjusted_p")].push_back(c.adjusted_p);
       }
     for (auto& [key, v] : series) r.series(key, std::move(v));
   }

@@ -100,11 +100,11 @@ std::vector<NoiseSweepGraph> CertifiedNoiseSweep::make_graphs(const Options& o,
         const std::uint64_t index = k * static_cast<std::uint64_t>(o.draws) + static_cast<std::uint64_t>(m);
         NoiseSweepGraph g;
         g.subset = k, g.level = l, g.draw = m;
-        g.key = fmt::format("{}.{}.d{}", s.name, o.levels[l].name, m);
+        g.key = repro::path(s.name).under(o.levels[l].name).under(fmt::format("d{}", m));
         const auto fill = [&](auto corrupted) {
           g.loop_closures = static_cast<int>(corrupted.loop_closures.size());
           g.outliers = static_cast<int>(corrupted.outliers.size());
-          corrupted.graph.source = fmt::format("{} ({})", g.key, s.file);
+          corrupted.graph.source = fmt::format("{} ({})", g.key.name(), s.file);
           return std::move(corrupted.graph);
         };
         if (s.dimension == 2)
@@ -178,27 +178,28 @@ void CertifiedNoiseSweep::record(Results& r, const Outcome& out) {
   for (const NoiseSweepOutcome& g : out.graphs) {
     const pgo::CertifiedSummary& s = g.summary;
     const pgo::Certificate& c = s.certificate;
-    const std::string& n = g.key;
-    r.metric(n + ".poses", s.poses);
-    r.metric(n + ".edges", s.edges);
-    r.metric(n + ".loop_closures", g.loop_closures);
-    r.metric(n + ".outliers", g.outliers);
-    r.metric(n + ".initial_cost", s.initial_cost);
-    r.metric(n + ".cost", s.final_cost);
-    r.metric(n + ".certified", c.certified ? 1 : 0);
-    r.metric(n + ".proven", c.proven ? 1 : 0);
+    const std::string n = g.key.name();
+    const auto m = r.at(g.key);
+    m.metric("poses", s.poses);
+    m.metric("edges", s.edges);
+    m.metric("loop_closures", g.loop_closures);
+    m.metric("outliers", g.outliers);
+    m.metric("initial_cost", s.initial_cost);
+    m.metric("cost", s.final_cost);
+    m.metric("certified", c.certified ? 1 : 0);
+    m.metric("proven", c.proven ? 1 : 0);
     if (c.proven) {  // only from the proof behind the bound
-      r.metric(n + ".lower_bound", c.bound.lower);
-      r.metric(n + ".relative_gap", c.bound.relative_gap_up());
+      m.metric("lower_bound", c.bound.lower);
+      m.metric("relative_gap", c.bound.relative_gap_up());
     }
-    r.metric(n + ".final_rank", s.final_rank);
-    r.metric(n + ".iterations", s.iterations);
-    r.metric(n + ".tcg_iterations", s.tcg_iterations);
-    r.metric(n + ".alternative_cost", g.alternative.final_cost);
-    r.note(n + ".termination", std::string(pgo::to_string(s.termination)));
-    r.note(n + ".alternative_termination", std::string(pgo::to_string(g.alternative.termination)));
-    r.timing(n + ".time_s", s.total_time_s);
-    r.timing(n + ".alternative_time_s", g.alternative.total_time_s);
+    m.metric("final_rank", s.final_rank);
+    m.metric("iterations", s.iterations);
+    m.metric("tcg_iterations", s.tcg_iterations);
+    m.metric("alternative_cost", g.alternative.final_cost);
+    m.note("termination", std::string(pgo::to_string(s.termination)));
+    m.note("alternative_termination", std::string(pgo::to_string(g.alternative.termination)));
+    m.timing("time_s", s.total_time_s);
+    m.timing("alternative_time_s", g.alternative.total_time_s);
     for (Tally* t : {&level[g.level], &all}) {
       ++t->graphs;
       t->certified += c.certified ? 1 : 0;
@@ -221,33 +222,33 @@ void CertifiedNoiseSweep::record(Results& r, const Outcome& out) {
     if (s.termination == pgo::CertifiedTermination::time_limit) stalled_keys += " " + n;
   }
   const auto put = [&](const std::string& p, const Tally& t) {
-    r.metric(p + ".graphs", t.graphs);
-    r.metric(p + ".certified", t.certified);
-    r.metric(p + ".certified_rate", t.graphs > 0 ? 100.0 * t.certified / t.graphs : 0.0);
-    r.metric(p + ".proven", t.proven);
-    r.metric(p + ".time_limit", t.time_limit);
-    r.metric(p + ".alternative_time_limit", t.alt_time_limit);
-    r.metric(p + ".rank_limit", t.rank_limit);
+    r.under(p).metric("graphs", t.graphs);
+    r.under(p).metric("certified", t.certified);
+    r.under(p).metric("certified_rate", t.graphs > 0 ? 100.0 * t.certified / t.graphs : 0.0);
+    r.under(p).metric("proven", t.proven);
+    r.under(p).metric("time_limit", t.time_limit);
+    r.under(p).metric("alternative_time_limit", t.alt_time_limit);
+    r.under(p).metric("rank_limit", t.rank_limit);
     if (!t.gap.empty()) {  // over every graph, nothing proven counted as 1
-      r.metric(p + ".relative_gap_median", core::median(t.gap));
-      r.metric(p + ".relative_gap_max", *std::max_element(t.gap.begin(), t.gap.end()));
+      r.under(p).metric("relative_gap_median", core::median(t.gap));
+      r.under(p).metric("relative_gap_max", *std::max_element(t.gap.begin(), t.gap.end()));
     }
-    r.metric(p + ".final_rank_median", core::median(t.rank));
-    r.metric(p + ".iterations_median", core::median(t.iterations));
-    r.metric(p + ".tcg_iterations_median", core::median(t.tcg));
-    r.metric(p + ".outliers_median", core::median(t.outliers));
-    r.metric(p + ".loop_closures_median", core::median(t.loop_closures));
+    r.under(p).metric("final_rank_median", core::median(t.rank));
+    r.under(p).metric("iterations_median", core::median(t.iterations));
+    r.under(p).metric("tcg_iterations_median", core::median(t.tcg));
+    r.under(p).metric("outliers_median", core::median(t.outliers));
+    r.under(p).metric("loop_closures_median", core::median(t.loop_closures));
   };
   for (std::size_t l = 0; l < o.levels.size(); ++l) {
     put(o.levels[l].name, level[l]);
-    r.metric(o.levels[l].name + ".rotation_noise", o.levels[l].rotation_noise);
-    r.metric(o.levels[l].name + ".outlier_fraction", o.levels[l].outlier_fraction);
+    r.under(o.levels[l].name).metric("rotation_noise", o.levels[l].rotation_noise);
+    r.under(o.levels[l].name).metric("outlier_fraction", o.levels[l].outlier_fraction);
     std::vector<double> times;
     for (const NoiseSweepOutcome& g : out.graphs)
       if (g.level == l) times.push_back(g.summary.total_time_s);
     if (!times.empty()) {
-      r.timing(o.levels[l].name + ".time_s.median", core::median(times));
-      r.timing(o.levels[l].name + ".time_s.max", *std::max_element(times.begin(), times.end()));
+      r.under(o.levels[l].name).timing("time_s.median", core::median(times));
+      r.under(o.levels[l].name).timing("time_s.max", *std::max_element(times.begin(), times.end()));
     }
   }
   put("all", all);
@@ -298,7 +299,7 @@ std::vector<Figure> CertifiedNoiseSweep::figures(const Outcome& out) {
         x.push_back(noise ? l.rotation_noise : 100 * l.outlier_fraction);
         const auto& c = g.summary.certificate;
         y.push_back(c.proven ? std::max(c.bound.relative_gap_up(), 1e-16) : 1.0);
-        names.push_back(g.key + ".time_s");
+        names.push_back(g.key.key("time_s"));
       }
       if (x.empty()) continue;
       Layer layer = repro::scatter_layer(x, time ? std::vector<double>{} : y,

@@ -40,14 +40,14 @@ struct NoiseSweepLevel {
 struct NoiseSweepGraph {
   std::size_t subset = 0, level = 0;
   int draw = 0;
-  std::string key;  // "<subset>.<level>.d<draw>"
+  repro::KeyPath key;  // <subset>.<level>.d<draw>
   int loop_closures = 0, outliers = 0;
   graph::PoseGraph2D g2;  // the one of the subset's dimension
   graph::PoseGraph3D g3;
 };
 
 struct NoiseSweepOutcome {
-  std::string key;
+  repro::KeyPath key;
   std::size_t subset = 0, level = 0;
   int draw = 0, loop_closures = 0, outliers = 0;
   pgo::CertifiedSummary summary;      // the certified solve

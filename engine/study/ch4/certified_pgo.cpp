@@ -133,42 +133,42 @@ void CertifiedBenchmark::record(Results& r, const Outcome& out) {
     // Only the proof behind the lower bound is recorded as proven; its fields are absent when nothing was.
     const bool proven = c.proven;
     certified += c.certified ? 1 : 0;
-    r.metric(n + ".dimension", g.graph.dimension);
-    r.metric(n + ".poses", s.poses);
-    r.metric(n + ".edges", s.edges);
-    r.metric(n + ".indefinite_information", g.indefinite_information);
-    r.metric(n + ".initial_cost", s.initial_cost);
-    r.metric(n + ".cost", s.final_cost);
-    r.metric(n + ".certified", c.certified ? 1 : 0);
-    r.metric(n + ".proven", proven ? 1 : 0);
+    r.under(n).metric("dimension", g.graph.dimension);
+    r.under(n).metric("poses", s.poses);
+    r.under(n).metric("edges", s.edges);
+    r.under(n).metric("indefinite_information", g.indefinite_information);
+    r.under(n).metric("initial_cost", s.initial_cost);
+    r.under(n).metric("cost", s.final_cost);
+    r.under(n).metric("certified", c.certified ? 1 : 0);
+    r.under(n).metric("proven", proven ? 1 : 0);
     if (proven) {
-      r.metric(n + ".lower_bound", c.bound.lower);
+      r.under(n).metric("lower_bound", c.bound.lower);
       // Measured from the proven bound, rounded up; the shift rule (η*/33 of the gap tolerance) places it
       // near gap_tolerance/33 by construction (docs/measurements/2026-11-28-certified-pgo.md).
-      r.metric(n + ".relative_gap", c.bound.relative_gap_up());
-      r.metric(n + ".lambda_min_bound", -c.shift);
-      r.metric(n + ".rounding_margin", c.rounding_margin);
-      r.metric(n + ".residual", c.residual);
-      r.metric(n + ".worst_case_residual", c.worst_case_residual);
-      r.metric(n + ".formation_error", c.formation_error);
-      r.metric(n + ".extended_precision", c.extended_precision ? 1 : 0);
+      r.under(n).metric("relative_gap", c.bound.relative_gap_up());
+      r.under(n).metric("lambda_min_bound", -c.shift);
+      r.under(n).metric("rounding_margin", c.rounding_margin);
+      r.under(n).metric("residual", c.residual);
+      r.under(n).metric("worst_case_residual", c.worst_case_residual);
+      r.under(n).metric("formation_error", c.formation_error);
+      r.under(n).metric("extended_precision", c.extended_precision ? 1 : 0);
     }
-    r.metric(n + ".trace_lambda", c.trace_lambda);
-    r.metric(n + ".tolerance_shift", c.tolerance_shift);
-    r.metric(n + ".final_rank", s.final_rank);
-    r.metric(n + ".staircase_ranks", static_cast<double>(s.staircase.size()));
-    r.metric(n + ".iterations", s.iterations);
-    r.metric(n + ".factorizations", s.factorizations);
-    r.metric(n + ".cg_steps", s.cg_steps);
-    r.metric(n + ".certificate_size", c.size);
-    r.note(n + ".termination", std::string(pgo::to_string(s.termination)));
-    r.note(n + ".ordering", s.ordering);
-    r.note(n + ".certificate", c.message);
-    r.timing(n + ".time_s", s.total_time_s);
-    r.timing(n + ".initialization_time_s", s.initialization_time_s);
-    r.timing(n + ".local_time_s", s.local_time_s);
-    r.timing(n + ".certificate_time_s", s.certificate_time_s);
-    r.timing(n + ".rounding_time_s", s.rounding_time_s);
+    r.under(n).metric("trace_lambda", c.trace_lambda);
+    r.under(n).metric("tolerance_shift", c.tolerance_shift);
+    r.under(n).metric("final_rank", s.final_rank);
+    r.under(n).metric("staircase_ranks", static_cast<double>(s.staircase.size()));
+    r.under(n).metric("iterations", s.iterations);
+    r.under(n).metric("factorizations", s.factorizations);
+    r.under(n).metric("cg_steps", s.cg_steps);
+    r.under(n).metric("certificate_size", c.size);
+    r.under(n).note("termination", std::string(pgo::to_string(s.termination)));
+    r.under(n).note("ordering", s.ordering);
+    r.under(n).note("certificate", c.message);
+    r.under(n).timing("time_s", s.total_time_s);
+    r.under(n).timing("initialization_time_s", s.initialization_time_s);
+    r.under(n).timing("local_time_s", s.local_time_s);
+    r.under(n).timing("certificate_time_s", s.certificate_time_s);
+    r.under(n).timing("rounding_time_s", s.rounding_time_s);
     r.check(
         fmt::format("{}: the certified solve returns a numerically certified global optimum (gap ≤ {:g})", n,
                     tol),
@@ -200,9 +200,10 @@ std::vector<Figure> CertifiedBenchmark::figures(const Outcome& out) {
     dual.push_back(
         std::max((g.summary.final_cost - c.trace_lambda) / std::max(g.summary.final_cost, 1.0), 1e-16));
     if (!c.proven) unproven_x.push_back(static_cast<double>(k));
-    total.push_back(g.graph.name + ".time_s");
-    local.push_back(g.graph.name + ".local_time_s");
-    cert.push_back(g.graph.name + ".certificate_time_s");
+    const auto at = repro::path(g.graph.name);
+    total.push_back(at.key("time_s"));
+    local.push_back(at.key("local_time_s"));
+    cert.push_back(at.key("certificate_time_s"));
   }
   Panel p1;
   // The gap of the proven bound is set by the shift rule (η = η*/33 of the gap tolerance, else η*/2): near

@@ -102,11 +102,11 @@ std::vector<FamilyCount> family_counts(const ExactnessOutcome& out, double toler
 }
 
 // A rate in % with its 95 % Wilson interval: <key>, <key>.ci_low, <key>.ci_high.
-void record_rate(Results& r, const std::string& key, int successes, double n) {
+void record_rate(const repro::Scope& at, std::string_view key, int successes, double n) {
   const core::Proportion p = core::wilson_interval(successes, n);
-  r.metric(key, 100.0 * p.rate);
-  r.metric(key + ".ci_low", 100.0 * p.low);
-  r.metric(key + ".ci_high", 100.0 * p.high);
+  at.metric(key, 100.0 * p.rate);
+  at.under(key).metric("ci_low", 100.0 * p.low);
+  at.under(key).metric("ci_high", 100.0 * p.high);
 }
 }  // namespace
 
@@ -127,20 +127,20 @@ void Exactness::record(Results& r, const Outcome& out) {
     const FamilyCount& fc = counts[f];
     const ExactnessFamily& fam = o.families[f];
     const std::string& k = fam.name;
-    record_rate(r, "tight_rate.order1." + k, fc.tight, fc.n);
-    record_rate(r, "certified_rate.order1." + k, fc.certified_order1, fc.n);
-    record_rate(r, "dual_certified_rate." + k, fc.dual_certified, fc.n);
+    record_rate(r.under("tight_rate").under("order1"), k, fc.tight, fc.n);
+    record_rate(r.under("certified_rate").under("order1"), k, fc.certified_order1, fc.n);
+    record_rate(r.under("dual_certified_rate"), k, fc.dual_certified, fc.n);
     if (fam.escalate && o.certify.escalate) {
-      record_rate(r, "tight_rate.escalated." + k, fc.certified, fc.n);
-      r.metric("escalation_skipped_rate." + k, 100.0 * fc.skipped / fc.n);
+      record_rate(r.under("tight_rate").under("escalated"), k, fc.certified, fc.n);
+      r.under("escalation_skipped_rate").metric(k, 100.0 * fc.skipped / fc.n);
       escalatable += static_cast<int>(fc.n), certified_escalatable += fc.certified;
       skipped_escalatable += fc.skipped;
     }
-    r.metric("gap_order1.max." + k, fc.gap_max);
-    r.metric("gap_order1.median." + k, fc.gap_median);
-    r.metric("multistart.min_hits." + k, fc.min_hits);
-    r.metric("multistart.missed." + k, fc.multistart_missed);
-    r.metric("unproven_minimum." + k, fc.unproven_minimum);
+    r.under("gap_order1").under("max").metric(k, fc.gap_max);
+    r.under("gap_order1").under("median").metric(k, fc.gap_median);
+    r.under("multistart").under("min_hits").metric(k, fc.min_hits);
+    r.under("multistart").under("missed").metric(k, fc.multistart_missed);
+    r.under("unproven_minimum").metric(k, fc.unproven_minimum);
     all.n += fc.n, all.tight += fc.tight, all.bound_violations += fc.bound_violations;
     all.multistart_missed += fc.multistart_missed, all.sdp_loose += fc.sdp_loose;
     all.dual_refused_tight += fc.dual_refused_tight;

@@ -52,11 +52,11 @@ void FirstSegment::record(Results& r, const Outcome& out) {
   for (const auto& m : segment_methods()) {
     const auto& e = s.*(m.member);
     const std::string k = m.key;
-    r.metric(k + ".cost", e.cost);
-    r.metric(k + ".trans_error", e.trans_error);
-    r.metric(k + ".rot_error", e.rot_error);
-    r.metric(k + ".landmark_error", e.landmark_error);
-    r.timing(k + ".time_s", e.time_s);
+    r.under(k).metric("cost", e.cost);
+    r.under(k).metric("trans_error", e.trans_error);
+    r.under(k).metric("rot_error", e.rot_error);
+    r.under(k).metric("landmark_error", e.landmark_error);
+    r.under(k).timing("time_s", e.time_s);
   }
   r.check("SBSOS-SLAM's solution on the 430-pose segment is the global minimum (certified)",
           s.status == core::SearchStatus::optimal,

@@ -76,27 +76,27 @@ void Segments::record(Results& r, const Outcome& outcome) {
       converged += o.converged;
     }
     const std::string k = m.key;
-    r.metric(k + ".trans_error.median", core::median(te));
-    r.metric(k + ".trans_error.mean", core::mean_std(te).mean);
-    r.metric(k + ".rot_error.median", core::median(re));
-    r.metric(k + ".rot_error.mean", core::mean_std(re).mean);
-    if (outcome.landmarks) r.metric(k + ".landmark_error.median", core::median(le));
+    r.under(k).metric("trans_error.median", core::median(te));
+    r.under(k).metric("trans_error.mean", core::mean_std(te).mean);
+    r.under(k).metric("rot_error.median", core::median(re));
+    r.under(k).metric("rot_error.mean", core::mean_std(re).mean);
+    if (outcome.landmarks) r.under(k).metric("landmark_error.median", core::median(le));
     // among the segments SBSOS solved (the only ones with a certified cost to compare with)
     if (k != "sbsos") {
       // Above the certified cost: split into converged runs (local minima, to LM's tolerances) and runs that
       // stopped at the iteration cap or failed (not minima of anything).
       const double per = te.empty() ? 0.0 : 100.0 / static_cast<double>(te.size());
-      r.metric(k + ".local_minimum_rate", per * above);
-      r.metric(k + ".above_converged_rate", per * above_converged);
-      r.metric(k + ".above_unconverged_rate", per * (above - above_converged));
-      r.metric(k + ".converged_rate", per * converged);
-      r.metric(k + ".iterations.median", core::median(iterations));
+      r.under(k).metric("local_minimum_rate", per * above);
+      r.under(k).metric("above_converged_rate", per * above_converged);
+      r.under(k).metric("above_unconverged_rate", per * (above - above_converged));
+      r.under(k).metric("converged_rate", per * converged);
+      r.under(k).metric("iterations.median", core::median(iterations));
     }
-    r.series(k + ".trans_error", te);
-    r.series(k + ".rot_error", re);
-    r.series(k + ".cost", cost);
-    r.timing(k + ".time_s.median", core::median(time));
-    r.timing(k + ".time_s.mean", core::mean_std(time).mean);
+    r.under(k).series("trans_error", te);
+    r.under(k).series("rot_error", re);
+    r.under(k).series("cost", cost);
+    r.under(k).timing("time_s.median", core::median(time));
+    r.under(k).timing("time_s.mean", core::mean_std(time).mean);
   }
   r.timing("sbsos.sdp_time_s.median", core::median(sdp_time));
   r.metric("sbsos.gap.max", gap.empty() ? 0.0 : *std::max_element(gap.begin(), gap.end()));

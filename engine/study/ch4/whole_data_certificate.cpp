@@ -37,50 +37,51 @@ WholeDataCertificate::Outcome WholeDataCertificate::run(const Options& o, const 
 }
 
 namespace {
-void record_run(Results& r, const std::string& key, const GlobalCertificateRun& run) {
+void record_run(const repro::Scope& key, const GlobalCertificateRun& run) {
   if (run.failed) {
-    r.metric(key + ".failed", 1);
-    r.note(key + ".error", run.error);
+    key.metric("failed", 1);
+    key.note("error", run.error);
     return;
   }
   const GlobalCertificate& c = run.certificate;
-  r.metric(key + ".failed", 0);
-  r.metric(key + ".certified", c.certified() ? 1 : 0);
-  r.metric(key + ".stationary", c.stationary ? 1 : 0);
-  r.metric(key + ".psd", c.psd ? 1 : 0);
-  r.metric(key + ".lm_cost", run.lm_cost);
-  r.metric(key + ".cost", c.cost());
-  r.metric(key + ".multiplier_sum", c.multiplier_sum);
-  r.metric(key + ".stationarity", c.stationarity);
-  r.metric(key + ".lambda_min_bound", c.lambda_min_bound);
-  r.metric(key + ".lower_bound", c.bound.lower);
-  r.metric(key + ".relative_gap", c.relative_gap());
-  r.metric(key + ".failed_shift", c.failed_shift);
-  r.metric(key + ".eta", c.eta);
-  r.metric(key + ".rounding_margin", c.rounding_margin);
-  r.metric(key + ".residual", c.residual);
-  r.metric(key + ".extended_precision", c.extended_precision ? 1 : 0);
-  r.metric(key + ".refine_iterations", run.refine.iterations);
-  r.metric(key + ".refine_gradient", run.refine.gradient);
-  r.timing(key + ".solve_time_s", run.solve_time_s);
-  r.timing(key + ".refine_time_s", run.refine.time_s);
-  r.timing(key + ".certificate_time_s", c.time_s);
+  key.metric("failed", 0);
+  key.metric("certified", c.certified() ? 1 : 0);
+  key.metric("stationary", c.stationary ? 1 : 0);
+  key.metric("psd", c.psd ? 1 : 0);
+  key.metric("lm_cost", run.lm_cost);
+  key.metric("cost", c.cost());
+  key.metric("multiplier_sum", c.multiplier_sum);
+  key.metric("stationarity", c.stationarity);
+  key.metric("lambda_min_bound", c.lambda_min_bound);
+  key.metric("lower_bound", c.bound.lower);
+  key.metric("relative_gap", c.relative_gap());
+  key.metric("failed_shift", c.failed_shift);
+  key.metric("eta", c.eta);
+  key.metric("rounding_margin", c.rounding_margin);
+  key.metric("residual", c.residual);
+  key.metric("extended_precision", c.extended_precision ? 1 : 0);
+  key.metric("refine_iterations", run.refine.iterations);
+  key.metric("refine_gradient", run.refine.gradient);
+  key.timing("solve_time_s", run.solve_time_s);
+  key.timing("refine_time_s", run.refine.time_s);
+  key.timing("certificate_time_s", c.time_s);
 }
 }  // namespace
 
 void WholeDataCertificate::record(Results& r, const Outcome& outcome) {
   const GlobalCertificateStudyOptions& o = outcome.options.study;
   for (const GlobalCertificateOutcome& d : outcome.study.datasets) {
-    r.metric(d.name + ".refused", d.failed ? 1 : 0);
-    r.metric(d.name + ".poses", d.poses);
-    r.metric(d.name + ".edges", d.edges);
+    const auto at = r.under(d.name);
+    at.metric("refused", d.failed ? 1 : 0);
+    at.metric("poses", d.poses);
+    at.metric("edges", d.edges);
     if (d.failed) {  // planar_problem refused it (information with cross terms): reported, not a check
-      r.note(d.name + ".error", d.error);
+      at.note("error", d.error);
       continue;
     }
-    r.metric(d.name + ".unknowns", d.unknowns);
-    record_run(r, d.name + ".odometry", d.odometry);
-    record_run(r, d.name + ".random", d.random);
+    at.metric("unknowns", d.unknowns);
+    record_run(at.under("odometry"), d.odometry);
+    record_run(at.under("random"), d.random);
     const auto& od = d.odometry;
     if (!od.failed)
       r.check(

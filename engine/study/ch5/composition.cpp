@@ -40,16 +40,16 @@ void Composition::record(Results& r, const Outcome& out) {
   const CompositionSetup& s = out.options.setup;
   const CompositionOutcome& c = out.composition;
   const double level = s.levels[0];
-  const std::string tag = fmt::format("inside{}", repro::level_tag(level));
+  const auto tag = r.under(fmt::format("inside{}", repro::level_tag(level)));
   const double ssc = c.ssc.inside[0], ssc_ind = c.ssc_independent.inside[0];
   const double ind = c.lie_independent.inside[0], joint = c.lie_joint.inside[0];
-  r.metric(fmt::format("{}.ssc", tag), ssc);
-  r.metric(fmt::format("{}.ssc_independent", tag), ssc_ind);
-  r.metric(fmt::format("{}.lie_independent", tag), ind);
-  r.metric(fmt::format("{}.lie_joint", tag), joint);
-  r.metric(fmt::format("{}.lie_fourth_order", tag), c.lie_fourth_order.inside[0]);
+  tag.metric("ssc", ssc);
+  tag.metric("ssc_independent", ssc_ind);
+  tag.metric("lie_independent", ind);
+  tag.metric("lie_joint", joint);
+  tag.metric("lie_fourth_order", c.lie_fourth_order.inside[0]);
   if (c.has_joint_fourth_order) {
-    r.metric(fmt::format("{}.lie_joint_fourth_order", tag), c.lie_joint_fourth_order.inside[0]);
+    tag.metric("lie_joint_fourth_order", c.lie_joint_fourth_order.inside[0]);
   }
 
   const double pct = 100.0 * level;
@@ -57,7 +57,7 @@ void Composition::record(Results& r, const Outcome& out) {
                e_joint = std::fabs(joint - level);
   // Monte-Carlo standard error of a fraction at the nominal level.
   const double se = std::sqrt(level * (1.0 - level) / static_cast<double>(s.trajectories));
-  r.metric(fmt::format("{}.mc_3se", tag), 3 * se);
+  tag.metric("mc_3se", 3 * se);
   r.check("the joint Lie-algebra prediction is the closest of SSC / independent / joint to the nominal level",
           e_joint < e_ind && e_joint < e_ssc,
           fmt::format("|inside - {:.3g}|: joint {:.4f}, independent {:.4f}, SSC {:.4f}", level, e_joint,

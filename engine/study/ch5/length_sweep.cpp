@@ -64,15 +64,15 @@ void LengthSweep::record(Results& r, const Outcome& out) {
   const auto& ns = out.steps;
   const auto &ssc = out.ssc, &ind = out.lie_independent, &joint = out.lie_joint,
              &fourth = out.lie_fourth_order;
-  const std::string tag = fmt::format("inside{}", repro::level_tag(level));
+  const auto tag = r.under(fmt::format("inside{}", repro::level_tag(level)));
   r.series("N", ns);
-  r.series(fmt::format("{}.ssc", tag), ssc);
-  r.series(fmt::format("{}.ssc_independent", tag), out.ssc_independent);
-  r.series(fmt::format("{}.lie_independent", tag), ind);
-  r.series(fmt::format("{}.lie_joint", tag), joint);
-  r.series(fmt::format("{}.lie_fourth_order", tag), fourth);
+  tag.series("ssc", ssc);
+  tag.series("ssc_independent", out.ssc_independent);
+  tag.series("lie_independent", ind);
+  tag.series("lie_joint", joint);
+  tag.series("lie_fourth_order", fourth);
   r.series("N_joint_fourth_order", out.steps_joint_fourth_order);
-  r.series(fmt::format("{}.lie_joint_fourth_order", tag), out.lie_joint_fourth_order);
+  tag.series("lie_joint_fourth_order", out.lie_joint_fourth_order);
   // The first N from which the fourth-order (independent) compounding keeps more samples inside than the
   // first-order joint method at every longer N; absent if it never does.
   std::size_t cross = ns.size();

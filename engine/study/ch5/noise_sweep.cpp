@@ -67,14 +67,14 @@ void NoiseSweep::record(Results& r, const Outcome& out) {
   const Sweep &rot = out.rotation, &tra = out.translation;
   for (const auto& [prefix, var, w] :
        {std::tuple{"rotation", "sigma_r", &rot}, std::tuple{"translation", "sigma_t", &tra}}) {
-    const std::string pre = fmt::format("{}.inside{}", prefix, repro::level_tag(level));
-    r.series(fmt::format("{}.{}", prefix, var), sigmas);
-    r.series(fmt::format("{}.ssc", pre), w->ssc);
-    r.series(fmt::format("{}.ssc_independent", pre), w->ssc_independent);
-    r.series(fmt::format("{}.lie_independent", pre), w->lie_independent);
-    r.series(fmt::format("{}.lie_joint", pre), w->lie_joint);
-    r.series(fmt::format("{}.lie_fourth_order", pre), w->lie_fourth_order);
-    r.series(fmt::format("{}.lie_joint_fourth_order", pre), w->lie_joint_fourth_order);
+    const auto pre = r.under(prefix).under(fmt::format("inside{}", repro::level_tag(level)));
+    r.under(prefix).series(var, sigmas);
+    pre.series("ssc", w->ssc);
+    pre.series("ssc_independent", w->ssc_independent);
+    pre.series("lie_independent", w->lie_independent);
+    pre.series("lie_joint", w->lie_joint);
+    pre.series("lie_fourth_order", w->lie_fourth_order);
+    pre.series("lie_joint_fourth_order", w->lie_joint_fourth_order);
   }
 
   // Claim checks on our numbers. "Closer" allows a tie within two Monte-Carlo standard errors at the level.

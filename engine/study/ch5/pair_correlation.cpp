@@ -20,14 +20,15 @@ using repro::Results;
 using repro::RunContext;
 
 PairStatistics record_statistics(Results& r, const PairCorrelation::Outcome& s, double PairRecord::* field,
-                                 const std::string& name) {
+                                 const repro::KeyPath& name) {
   const auto all = pair_statistics(s.records, field);
-  r.metric(fmt::format("{}.mean", name), all.mean);
-  r.metric(fmt::format("{}.std", name), all.std);
+  r.at(name).metric("mean", all.mean);
+  r.at(name).metric("std", all.std);
   for (int k : s.options.pairs.offsets) {
     const auto st = pair_statistics(s.records, field, k);
-    r.metric(fmt::format("offset{}.{}.mean", k, name), st.mean);
-    r.metric(fmt::format("offset{}.{}.std", k, name), st.std);
+    const auto at = r.under(fmt::format("offset{}", k)).under(name);
+    at.metric("mean", st.mean);
+    at.metric("std", st.std);
   }
   return all;
 }
@@ -84,8 +85,10 @@ PairCorrelation::Outcome PairCorrelation::run(const Options& o, const RunContext
 void PairCorrelation::record(Results& r, const Outcome& s) {
   record_solved(r, s.solved);
   r.timing("monte_carlo", s.monte_carlo_time_s);
-  const auto joint = record_statistics(r, s, &PairRecord::error_joint, "cov_error.joint");
-  const auto ind = record_statistics(r, s, &PairRecord::error_independent, "cov_error.independent");
+  const auto joint =
+      record_statistics(r, s, &PairRecord::error_joint, repro::path("cov_error").under("joint"));
+  const auto ind =
+      record_statistics(r, s, &PairRecord::error_independent, repro::path("cov_error").under("independent"));
 
   std::size_t joint_lower = 0;
   for (const auto& rec : s.records) joint_lower += rec.error_joint < rec.error_independent ? 1 : 0;

@@ -29,7 +29,7 @@ struct PairCorrelation {
 // (`offset<k>.<name>.mean`), and one panel of Figs. 5.10–5.14 (every pair at `offset` as a segment between
 // the two positions, coloured by `field` on [0, vmax] with `cmap`).
 PairStatistics record_statistics(repro::Results& r, const PairCorrelation::Outcome& s,
-                                 double PairRecord::* field, const std::string& name);
+                                 double PairRecord::* field, const repro::KeyPath& name);
 repro::Panel pair_panel(const PairCorrelation::Outcome& s, int offset, double PairRecord::* field,
                         const std::string& title, const std::string& cmap, double vmax);
 

@@ -52,12 +52,27 @@ PairSampleSize::Options PairSampleSize::Options::read(const core::ConfigTable& p
 PairSampleSize::Outcome PairSampleSize::run(const Options& o, const RunContext& context) {
   Outcome out;
   out.options = o;
-  out.rows = {
-      {"cov_error.joint", "Table 5.1, joint", &PairRecord::error_joint, {}, {}},
-      {"cov_error.independent", "Table 5.1, correlation ignored", &PairRecord::error_independent, {}, {}},
-      {"norm_cov_error.lie", "Table 5.2, proposed", &PairRecord::normalized_error_lie, {}, {}},
-      {"norm_cov_error.ssc", "Table 5.2, SSC", &PairRecord::normalized_error_ssc, {}, {}},
-      {"norm_cov_error.mc_floor", "Table 5.2, sampling floor", &PairRecord::normalized_mc_floor, {}, {}}};
+  out.rows = {{repro::path("cov_error").under("joint"), "Table 5.1, joint", &PairRecord::error_joint, {}, {}},
+              {repro::path("cov_error").under("independent"),
+               "Table 5.1, correlation ignored",
+               &PairRecord::error_independent,
+               {},
+               {}},
+              {repro::path("norm_cov_error").under("lie"),
+               "Table 5.2, proposed",
+               &PairRecord::normalized_error_lie,
+               {},
+               {}},
+              {repro::path("norm_cov_error").under("ssc"),
+               "Table 5.2, SSC",
+               &PairRecord::normalized_error_ssc,
+               {},
+               {}},
+              {repro::path("norm_cov_error").under("mc_floor"),
+               "Table 5.2, sampling floor",
+               &PairRecord::normalized_mc_floor,
+               {},
+               {}}};
   out.solved = solve_pairs(o.pairs, context);
   core::Progress progress = context.progress(out.solved.pairs.size() * o.samples.size());
   for (double m : o.samples) {
@@ -81,27 +96,27 @@ void PairSampleSize::record(Results& r, const Outcome& out) {
   const auto& ms = out.options.samples;
   record_solved(r, out.solved);
   for (std::size_t k = 0; k < ms.size(); ++k) {
-    r.timing(fmt::format("monte_carlo.m{:g}", ms[k]), out.monte_carlo_time_s[k]);
+    r.under("monte_carlo").timing(fmt::format("m{:g}", ms[k]), out.monte_carlo_time_s[k]);
     for (const auto& row : out.rows) {
-      r.metric(fmt::format("m{:g}.{}.mean", ms[k], row.key), row.mean[k]);
-      r.metric(fmt::format("m{:g}.{}.std", ms[k], row.key), row.std[k]);
+      r.under(fmt::format("m{:g}", ms[k])).under(row.key).metric("mean", row.mean[k]);
+      r.under(fmt::format("m{:g}", ms[k])).under(row.key).metric("std", row.std[k]);
     }
   }
   r.series("M", ms);
   for (const auto& row : out.rows) {
-    r.series(row.key + ".mean", row.mean);
-    r.series(row.key + ".std", row.std);
+    r.at(row.key).series("mean", row.mean);
+    r.at(row.key).series("std", row.std);
   }
   // The power laws of the two errors the thesis's means are compared with, and the M at which each fit meets
   // the thesis's mean (extrapolated when outside the sweep).
-  auto fit = [&](const Row& row, double target, const std::string& name) {
+  auto fit = [&](const Row& row, double target) {
     const auto [log_a, b] = power_law(ms, row.mean);
-    r.metric(name + ".exponent", b);
-    r.metric(name + ".m_at_thesis", std::exp((std::log(target) - log_a) / b));
+    r.at(row.key).metric("exponent", b);
+    r.at(row.key).metric("m_at_thesis", std::exp((std::log(target) - log_a) / b));
     return std::pair{log_a, b};
   };
-  const auto fj = fit(out.rows[0], out.options.match_cov_error_joint, "cov_error.joint");
-  const auto fl = fit(out.rows[2], out.options.match_norm_cov_error_lie, "norm_cov_error.lie");
+  const auto fj = fit(out.rows[0], out.options.match_cov_error_joint);
+  const auto fl = fit(out.rows[2], out.options.match_norm_cov_error_lie);
   r.check("the joint error falls with M (a Monte-Carlo-limited metric): fitted exponent below zero",
           fj.second < 0, fmt::format("mean ε ∝ M^{:.3f}", fj.second));
   r.check("the proposed method's normalized error falls with M: fitted exponent below zero", fl.second < 0,

@@ -18,7 +18,8 @@ struct PairSampleSize {
   };
   // One row per error: its mean and std over the pairs at each M.
   struct Row {
-    std::string key, label;
+    repro::KeyPath key;  // e.g. cov_error.joint
+    std::string label;
     double PairRecord::* field = nullptr;
     std::vector<double> mean, std;
   };

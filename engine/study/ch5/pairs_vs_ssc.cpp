@@ -25,11 +25,11 @@ using repro::RunContext;
 void PairsVsSsc::record(Results& r, const Outcome& s) {
   record_solved(r, s.solved);
   r.timing("monte_carlo", s.monte_carlo_time_s);
-  const auto lie_st = record_statistics(r, s, &PairRecord::normalized_error_lie, "norm_cov_error.lie");
-  const auto ssc_st = record_statistics(r, s, &PairRecord::normalized_error_ssc, "norm_cov_error.ssc");
-  (void)record_statistics(r, s, &PairRecord::normalized_error_ssc_raw_angles,
-                          "norm_cov_error.ssc_raw_angles");
-  const auto floor = record_statistics(r, s, &PairRecord::normalized_mc_floor, "norm_cov_error.mc_floor");
+  const auto norm = repro::path("norm_cov_error");
+  const auto lie_st = record_statistics(r, s, &PairRecord::normalized_error_lie, norm.under("lie"));
+  const auto ssc_st = record_statistics(r, s, &PairRecord::normalized_error_ssc, norm.under("ssc"));
+  (void)record_statistics(r, s, &PairRecord::normalized_error_ssc_raw_angles, norm.under("ssc_raw_angles"));
+  const auto floor = record_statistics(r, s, &PairRecord::normalized_mc_floor, norm.under("mc_floor"));
   r.check(
       "the proposed relative pose is within 1.5× of the Monte-Carlo sampling floor (first order is "
       "adequate)",

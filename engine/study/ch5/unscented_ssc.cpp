@@ -34,10 +34,10 @@ UnscentedSsc::Outcome UnscentedSsc::run(const Options& o, const RunContext& cont
 void UnscentedSsc::record(Results& r, const Outcome& out) {
   const double level = out.options.setup.levels[0];
   const SscConversion& c = out.conversion;
-  const std::string tag = fmt::format("inside{}", repro::level_tag(level));
-  r.metric(tag + ".ssc", out.composition.ssc.inside[0]);
-  r.metric(tag + ".ssc_unscented", c.unscented.inside[0]);
-  r.metric(tag + ".lie_joint", out.composition.lie_joint.inside[0]);
+  const auto tag = r.under(fmt::format("inside{}", repro::level_tag(level)));
+  tag.metric("ssc", out.composition.ssc.inside[0]);
+  tag.metric("ssc_unscented", c.unscented.inside[0]);
+  tag.metric("lie_joint", out.composition.lie_joint.inside[0]);
   r.metric("volume_ratio.unscented_vs_samples", c.volume_vs_samples);
   r.metric("volume_ratio.unscented_vs_joint", c.volume_vs_joint);
   r.metric("volume_ratio.joint_vs_samples", c.joint_volume_vs_samples);

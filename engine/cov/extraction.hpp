@@ -11,14 +11,14 @@
 //   factor's order, whose paths largely coincide), and stored sparse. A block Σ_ab is then one small product
 //   over the supernodes common to both paths. On Manhattan3500 the path of a column holds 12 % of L with AMD
 //   and 4 % with METIS, so this costs a fraction of the full solves of Extraction::solve (which needs no
-//   supernodal structure: cholmod_solve2 of H X = E on dense n×k blocks for the distinct variables, keeping
-//   only the rows needed; it is the fallback for simplicial factors and the cross-check in the tests).
-//   Neither method ever forms the dense inverse, and each distinct variable is solved for once per batch,
-//   shared by every query that names it. Memory of forward: Σ over the distinct variables of dim × (rows on
-//   its path) doubles.
+//   supernodal structure: multi-column solves of H X = E on dense n×k blocks for the distinct variables,
+//   keeping only the rows needed; it is the fallback for simplicial factors and the cross-check in the
+//   tests). Neither method ever forms the dense inverse, and each distinct variable is solved for once per
+//   batch, shared by every query that names it. Memory of forward: Σ over the distinct variables of dim ×
+//   (rows on its path) doubles.
 //
 // Threads: workers take whole column blocks (then whole queries), each with its own workspace (and, for
-//   solve, its own cholmod_common and dense B/X/Y/E). Both methods only read the factor: the workers need no
+//   solve, its own linalg::SolveWorkspace). Both methods only read the factor: the workers need no
 //   locks. Measured on this 2-core machine, Manhattan3500, all 44 425 pairs (bench/bench_cov.cpp, quiet
 //   machine):
 //     forward, AMD (CHOLMOD's choice)  138 ms on 1 thread, 72 ms on 2;  forward, METIS  55 ms / 23 ms;

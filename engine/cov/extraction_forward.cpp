@@ -1,6 +1,5 @@
 // Extraction::forward (extraction.hpp): W_v = L⁻¹ P E_v by sparse forward substitutions along the supernodal
 // elimination tree, Σ_ab = W_aᵀ W_b.
-#include <cholmod.h>
 
 #include <Eigen/Core>
 #include <fmt/format.h>

@@ -1,8 +1,6 @@
-// Extraction::solve (extraction.hpp): multi-column cholmod_solve2 of H X = E for the distinct variables,
+// Extraction::solve (extraction.hpp): multi-column solves of H X = E for the distinct variables,
 // keeping the rows the queries need (simplicial factors, and the cross-check of Extraction::forward in the
 // tests).
-#include <cholmod.h>
-
 #include <Eigen/Core>
 #include <fmt/format.h>
 #include <algorithm>
@@ -16,8 +14,8 @@ namespace keel::cov::detail {
 
 namespace {
 
-// Extraction::solve — H X = E for the columns of the distinct variables (cholmod_solve2, dense multi-column
-// blocks), keeping for each column variable c the rows of the variables r ≤ c paired with it.
+// Extraction::solve — H X = E for the columns of the distinct variables (linalg::SparseCholesky, dense
+// multi-column blocks), keeping for each column variable c the rows of the variables r ≤ c paired with it.
 class SolveBlocks {
  public:
   explicit SolveBlocks(const Impl& I) : I_(I), col_of_var_(static_cast<std::size_t>(I.num_variables()), -1) {}
@@ -80,44 +78,23 @@ class SolveBlocks {
   }
 
  private:
-  // Per-thread CHOLMOD state: its own common and dense workspaces (reused across chunks by cholmod_solve2).
-  struct Workspace {
-    Common common;
-    cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;
-    Workspace() = default;
-    ~Workspace() {
-      for (cholmod_dense** d : {&B, &X, &Y, &E})
-        if (*d) cholmod_free_dense(d, &common.c);
-    }
-    Workspace(const Workspace&) = delete;
-    Workspace& operator=(const Workspace&) = delete;
-  };
+  // Per-thread solve state (CHOLMOD's common and dense workspaces, reused across chunks).
+  using Workspace = linalg::SolveWorkspace;
 
   void solve_chunk(Workspace& w, std::size_t k0, std::size_t k1) {
-    cholmod_common* c = &w.common.c;
     const std::size_t n = static_cast<std::size_t>(I_.size);
     int ncols = 0;
     for (std::size_t k = k0; k < k1; ++k) ncols += I_.dim(cols_[k]);
-    if (!w.B || w.B->ncol != static_cast<std::size_t>(ncols)) {
-      if (w.B) cholmod_free_dense(&w.B, c);
-      w.B = cholmod_zeros(n, static_cast<std::size_t>(ncols), CHOLMOD_REAL, c);
-      if (!w.B)
-        throw std::runtime_error("MarginalCovariance: CHOLMOD could not allocate the right-hand sides");
-    } else {
-      std::fill_n(static_cast<double*>(w.B->x), n * static_cast<std::size_t>(ncols), 0.0);
-    }
-    double* b = static_cast<double*>(w.B->x);
+    double* b = w.right_hand_sides(I_.size, ncols);
     int col = 0;
     for (std::size_t k = k0; k < k1; ++k) {
       const int v = cols_[k], o = I_.off(v);
       for (int d = 0; d < I_.dim(v); ++d, ++col)
         b[static_cast<std::size_t>(col) * n + static_cast<std::size_t>(o + d)] = 1.0;
     }
-    if (!cholmod_solve2(CHOLMOD_A, I_.L, w.B, nullptr, &w.X, nullptr, &w.Y, &w.E, c))
-      throw std::runtime_error(
-          fmt::format("MarginalCovariance: CHOLMOD solve failed (status {})", c->status));
-    const CMapX X(static_cast<const double*>(w.X->x), static_cast<Eigen::Index>(n), ncols,
-                  Eigen::OuterStride<>(static_cast<Eigen::Index>(w.X->d)));
+    int ld = 0;
+    const double* x = I_.factor->solve(w, &ld);
+    const CMapX X(x, static_cast<Eigen::Index>(n), ncols, Eigen::OuterStride<>(ld));
     col = 0;
     for (std::size_t k = k0; k < k1; ++k) {
       const int v = cols_[k], dc = I_.dim(v);

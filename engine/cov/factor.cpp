@@ -1,8 +1,6 @@
-// The factorization L Lᵀ = P H Pᵀ of a MarginalCovariance (CHOLMOD, supernodal by default; the ordering of
-// CovarianceOptions), the choice of extraction, and the supernodal elimination tree that Extraction::forward
-// walks.
-#include <cholmod.h>
-
+// The factorization L Lᵀ = P H Pᵀ of a MarginalCovariance (linalg::SparseCholesky, supernodal by default,
+// LDLᵀ when simplicial; the ordering of CovarianceOptions), the choice of extraction, and the supernodal
+// elimination tree that Extraction::forward walks.
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -13,26 +11,6 @@
 namespace keel::cov {
 
 namespace {
-
-const char* cholmod_ordering_name(int ordering) {
-  switch (ordering) {
-    case CHOLMOD_NATURAL:
-      return "natural";
-    case CHOLMOD_GIVEN:
-      return "given";
-    case CHOLMOD_AMD:
-      return "amd";
-    case CHOLMOD_METIS:
-      return "metis";
-    case CHOLMOD_NESDIS:
-      return "nesdis";
-    case CHOLMOD_COLAMD:
-      return "colamd";
-    case CHOLMOD_POSTORDERED:
-      return "postordered";
-  }
-  return "unknown";
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -54,78 +32,42 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
   I.size = H.size;
   I.offset = H.offset;
   I.options = options;
-  cholmod_common* c = &I.common.c;
 
-  // H as a CHOLMOD matrix (stype = +1: the upper triangle is used). The arrays are copied, H stays untouched.
-  cholmod_sparse* A =
-      cholmod_allocate_sparse(static_cast<std::size_t>(H.size), static_cast<std::size_t>(H.size),
-                              H.nonzeros(), /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, c);
-  if (!A)
-    throw std::runtime_error(
-        fmt::format("MarginalCovariance: CHOLMOD could not allocate H (status {})", c->status));
-  std::copy(H.col_start.begin(), H.col_start.end(), static_cast<int*>(A->p));
-  std::copy(H.row_index.begin(), H.row_index.end(), static_cast<int*>(A->i));
-  std::copy(H.value.begin(), H.value.end(), static_cast<double*>(A->x));
-
-  c->supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
-  switch (options.ordering) {
-    case Ordering::automatic:
-      c->nmethods = 0;
-      break;  // CHOLMOD default: AMD, METIS too if AMD fills badly
-    case Ordering::amd:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_AMD;
-      break;
-    case Ordering::metis:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_METIS;
-      break;
-    case Ordering::nesdis:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_NESDIS;
-      break;
-    case Ordering::natural:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_NATURAL;
-      c->postorder = 0;
-      break;
-  }
-
+  // H's upper triangle is copied into the factorization; H stays untouched. Simplicial factors stay CHOLMOD's
+  // LDLᵀ (Extraction::solve only solves with them).
   auto t0 = std::chrono::steady_clock::now();
-  I.L = cholmod_analyze(A, c);
+  I.factor = std::make_unique<linalg::SparseCholesky>(
+      H.size, H.col_start, H.row_index,
+      linalg::CholeskyOptions{
+          options.ordering,
+          options.supernodal ? linalg::FactorKind::supernodal : linalg::FactorKind::simplicial,
+          /*ll=*/false});
   I.summary.analyze_time_s = seconds_since(t0);
-  if (!I.L) {
-    cholmod_free_sparse(&A, c);
-    throw std::runtime_error(
-        fmt::format("MarginalCovariance: CHOLMOD analysis failed (status {})", c->status));
-  }
+  linalg::SparseCholesky& F = *I.factor;
+  std::copy(H.value.begin(), H.value.end(), F.values().begin());
   t0 = std::chrono::steady_clock::now();
-  const int ok = cholmod_factorize(A, I.L, c);
+  const bool ok = F.factorize();
   I.summary.factorize_time_s = seconds_since(t0);
-  cholmod_free_sparse(&A, c);
-  if (!ok || c->status == CHOLMOD_NOT_POSDEF || I.L->minor < I.L->n) {
+  if (!ok) {
     std::string msg = "MarginalCovariance: the information matrix is not positive definite";
-    if (I.L->minor < I.L->n) {
-      const int row = static_cast<int*>(I.L->Perm)[I.L->minor];
+    if (const int row = F.failed_row(); row >= 0)
       msg += fmt::format(
           " (the factorization broke down at row {}, {}): is every variable constrained and the graph "
           "connected to the gauge pose?",
           row, I.variable_name(I.variable_of_row(row)));
-    } else {
-      msg += fmt::format(" (CHOLMOD status {})", c->status);
-    }
     throw std::runtime_error(msg);
   }
 
   FactorSummary& s = I.summary;
-  s.ordering = cholmod_ordering_name(I.L->ordering);
-  s.supernodal = I.L->is_super != 0;
+  s.ordering = F.ordering_name();
+  s.supernodal = F.supernodal();
   s.size = H.size;
   s.nnz_h = H.nonzeros();
-  s.nnz_l = c->lnz;
-  s.factor_flops = c->fl;
-  s.num_supernodes = s.supernodal ? I.L->nsuper : 0;
-  s.l_storage = s.supernodal ? I.L->xsize : I.L->nzmax;
+  s.nnz_l = F.factor_nonzeros();
+  s.factor_flops = F.factor_flops();
+  const linalg::Supernodes nodes = s.supernodal ? F.supernodes() : linalg::Supernodes{};
+  s.num_supernodes = static_cast<std::size_t>(nodes.count);
+  s.l_storage = static_cast<std::size_t>(F.factor_storage());
 
   I.extraction = options.extraction == Extraction::automatic
                      ? (s.supernodal ? Extraction::forward : Extraction::solve)
@@ -138,15 +80,15 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
 
   const int n = H.size;
   I.iperm.assign(static_cast<std::size_t>(n), 0);
-  const int* perm = static_cast<const int*>(I.L->Perm);
+  const int* perm = F.permutation();
   for (int k = 0; k < n; ++k) I.iperm[static_cast<std::size_t>(perm[k])] = k;
   if (s.supernodal) {
-    I.nsuper = static_cast<int>(I.L->nsuper);
-    I.super = static_cast<const int*>(I.L->super);
-    I.pi = static_cast<const int*>(I.L->pi);
-    I.px = static_cast<const int*>(I.L->px);
-    I.ls = static_cast<const int*>(I.L->s);
-    I.lx = static_cast<const double*>(I.L->x);
+    I.nsuper = nodes.count;
+    I.super = nodes.super;
+    I.pi = nodes.pi;
+    I.px = nodes.px;
+    I.ls = nodes.rows;
+    I.lx = nodes.x;
     I.snode_of_col.assign(static_cast<std::size_t>(n), 0);
     I.parent.assign(static_cast<std::size_t>(I.nsuper), -1);
     for (int sn = 0; sn < I.nsuper; ++sn)

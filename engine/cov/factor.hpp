@@ -1,35 +1,23 @@
-// The CHOLMOD state behind a MarginalCovariance (private to engine/cov: includes cholmod.h, which consumers
-// of keel.cov never see). factor.cpp factorizes H; extraction_forward.cpp and extraction_solve.cpp read the
-// factor to extract blocks of Σ = H⁻¹ (extraction.hpp); marginal_covariance.cpp holds the public queries.
+// The factor behind a MarginalCovariance (private to engine/cov): factor.cpp factorizes H with keel's one
+// sparse Cholesky (linalg::SparseCholesky); extraction_forward.cpp and extraction_solve.cpp read the factor
+// to extract blocks of Σ = H⁻¹ (extraction.hpp); marginal_covariance.cpp holds the public queries.
 #pragma once
-
-#include <cholmod.h>
 
 #include <Eigen/Core>
 #include <fmt/format.h>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cov/marginal_covariance.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace keel::cov::detail {
 
 using MapX = Eigen::Map<MatX, 0, Eigen::OuterStride<>>;
 using CMapX = Eigen::Map<const MatX, 0, Eigen::OuterStride<>>;
-
-// A cholmod_common that starts silent and is finished on destruction.
-struct Common {
-  cholmod_common c;
-  Common() {
-    cholmod_start(&c);
-    c.print = 0;  // errors come back through status checks, never printed by CHOLMOD
-  }
-  ~Common() { cholmod_finish(&c); }
-  Common(const Common&) = delete;
-  Common& operator=(const Common&) = delete;
-};
 
 }  // namespace keel::cov::detail
 
@@ -45,8 +33,7 @@ struct MarginalCovariance::Impl {
   CovarianceOptions options;
   Extraction extraction = Extraction::solve;  // resolved (never automatic)
   FactorSummary summary;
-  detail::Common common;  // analysis / factorization; owns L
-  cholmod_factor* L = nullptr;
+  std::unique_ptr<linalg::SparseCholesky> factor;  // L Lᵀ = P H Pᵀ
   // Supernodal structure (Extraction::forward): the factor's arrays and the supernodal elimination tree.
   int nsuper = 0;
   const int* super = nullptr;  // columns super[s] … super[s+1]−1 of supernode s
@@ -57,10 +44,6 @@ struct MarginalCovariance::Impl {
   std::vector<int> snode_of_col;  // permuted column → supernode
   std::vector<int> parent;        // supernode → parent supernode (−1 at a root); parent[s] > s
   std::vector<int> iperm;         // row of H → permuted column (L L ᵀ = P H Pᵀ)
-
-  ~Impl() {
-    if (L) cholmod_free_factor(&L, &common.c);
-  }
 
   int num_variables() const { return num_poses + num_landmarks; }
   int dim(int v) const { return v < num_poses ? pose_dof : landmark_dof; }

@@ -17,21 +17,11 @@ namespace keel::cov {
 
 namespace {
 
-constexpr core::NameTable<Ordering, 5> kOrdering{"cov::Ordering",
-                                                 {{{Ordering::automatic, "auto"},
-                                                   {Ordering::amd, "amd"},
-                                                   {Ordering::metis, "metis"},
-                                                   {Ordering::nesdis, "nesdis"},
-                                                   {Ordering::natural, "natural"}}}};
 constexpr core::NameTable<Extraction, 3> kExtraction{
     "cov::Extraction",
     {{{Extraction::automatic, "auto"}, {Extraction::forward, "forward"}, {Extraction::solve, "solve"}}}};
 
 }  // namespace
-
-std::string_view to_string(Ordering o) { return kOrdering.name(o); }
-
-Ordering ordering_from_string(std::string_view s) { return kOrdering.parse(s); }
 
 std::string_view to_string(Extraction e) { return kExtraction.name(e); }
 

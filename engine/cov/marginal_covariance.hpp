@@ -5,12 +5,12 @@
 // H (information.hpp) is factorized once with CHOLMOD (supernodal LLᵀ, fill-reducing ordering chosen by
 // CHOLMOD); every query then asks for blocks of Σ = H⁻¹ without ever forming H⁻¹ densely: by default Σ_ab =
 // W_aᵀ W_b with W = L⁻¹ P E computed by sparse forward substitutions along the elimination tree, once per
-// distinct variable of a batch (Extraction, extraction.hpp). CHOLMOD stays inside the area's private files
-// (factor.hpp, extraction.hpp and their .cpp files).
+// distinct variable of a batch (Extraction, extraction.hpp). The factorization is keel's one sparse Cholesky
+// (linalg::SparseCholesky); CHOLMOD itself stays inside engine/linalg.
 //
 // Thread-safety: a MarginalCovariance is immutable after construction. joint(), joint_many(), marginal() and
 // the pair_marginals queries may be called concurrently from several threads on the same object: every call
-// allocates its own workspace (and, for Extraction::solve, its own cholmod_common), and the factor is only
+// allocates its own workspace (for Extraction::solve, its own linalg::SolveWorkspace), and the factor is only
 // read. joint_many(…, threads) itself spreads its column blocks and its queries over `threads` workers in the
 // same way.
 #pragma once
@@ -23,22 +23,16 @@
 #include <vector>
 
 #include "cov/information.hpp"
+#include "linalg/sparse_cholesky.hpp"
 #include "lie/types.hpp"
 
 namespace keel::cov {
 
-/// Fill-reducing ordering of the Cholesky factorization.
-enum class Ordering {
-  automatic,  // "auto": CHOLMOD's default: AMD, and METIS as well when AMD's fill is high; the better one is
-              // used
-  amd,        // approximate minimum degree
-  metis,      // METIS nested dissection
-  nesdis,     // CHOLMOD's own nested dissection (METIS-based, with constrained minimum degree)
-  natural,    // no reordering (for tests; fill can be catastrophic)
-};
-std::string_view to_string(Ordering o);  // "auto", "amd", "metis", "nesdis", "natural"
-// The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.
-[[nodiscard]] Ordering ordering_from_string(std::string_view s);
+/// Fill-reducing ordering of the Cholesky factorization: keel's one sparse Cholesky's
+/// (linalg/sparse_cholesky.hpp; "auto", "amd", "metis", "nesdis", "natural").
+using linalg::Ordering;
+using linalg::ordering_from_string;
+using linalg::to_string;
 
 /// How the blocks of Σ = H⁻¹ are computed (see marginal_covariance.cpp for the reasoning and the
 /// measurements).
@@ -46,7 +40,7 @@ enum class Extraction {
   automatic,  // "auto": forward for a supernodal factor, solve for a simplicial one
   forward,    // Σ_ab = W_aᵀ W_b, W = L⁻¹ P E: sparse forward substitutions along the elimination tree
               // (supernodal only)
-  solve,      // multi-column cholmod_solve2 of H X = E for the distinct variables, keeping the rows needed
+  solve,      // multi-column solves of H X = E for the distinct variables, keeping the rows needed
 };
 std::string_view to_string(Extraction e);  // "auto", "forward", "solve"
 // The exact names printed by to_string; anything else throws std::invalid_argument naming the valid names.

@@ -225,7 +225,7 @@ TEST_CASE("Ordering and Extraction names round-trip; an unknown name is an error
   CHECK(extraction_from_string("solve") == Extraction::solve);
   CHECK(testkit::throws_with<std::invalid_argument>(
       [] { (void)ordering_from_string("colamd"); },
-      "unknown cov::Ordering 'colamd' (valid: auto, amd, metis, nesdis, natural)"));
+      "unknown linalg::Ordering 'colamd' (valid: auto, amd, metis, nesdis, natural)"));
   CHECK(testkit::throws_with<std::invalid_argument>(
       [] { (void)extraction_from_string("automatic"); },
       "unknown cov::Extraction 'automatic' (valid: auto, forward, solve)"));

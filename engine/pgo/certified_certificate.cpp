@@ -22,9 +22,9 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
-#include "pgo/double_double.hpp"
-#include "pgo/psd_proof.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/psd_proof.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace keel::pgo::certified {
 
@@ -169,7 +169,7 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
     if (col < d) return true;
     return (col - d) % (d + 1) != 0;
   };
-  detail::DoubleDoubleSymmetric SS;
+  linalg::DoubleDoubleSymmetric SS;
   SS.n = N;
   SS.col_start = pat.col_start();
   SS.row_index = pat.row_index();
@@ -182,13 +182,13 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   std::vector<char> rotation_columns(static_cast<std::size_t>(N));
   for (int col = 0; col < N; ++col)
     rotation_columns[static_cast<std::size_t>(col)] = is_rotation(col) ? 1 : 0;
-  detail::ShiftedPsdProver prover(std::move(SS), std::move(rotation_columns));
-  detail::SparseCholesky& chol = prover.cholesky();
+  linalg::ShiftedPsdProver prover(std::move(SS), std::move(rotation_columns));
+  linalg::SparseCholesky& chol = prover.cholesky();
   C.max_row_count = chol.max_row_count();
   auto diagonal_index = [&](int col) { return prover.diagonal_index(col); };
   // The proof of S + η·D ⪰ 0 at the smallest shift it can reach (psd_proof.hpp): η*/33 or η*/2 certify;
   // otherwise up to 10⁵·gap·max(F, 1)/(dn), the tightest bound that can be proven, outside the tolerance.
-  const detail::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5);
+  const linalg::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5);
   C.attempts = search.attempts;
   C.failed_shift = search.largest_failed;
   C.proven = search.proven;

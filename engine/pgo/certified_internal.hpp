@@ -30,9 +30,9 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
-#include "pgo/double_double.hpp"
-#include "pgo/psd_proof.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/psd_proof.hpp"
+#include "linalg/sparse_cholesky.hpp"
 #include "pgo/certified.hpp"
 
 namespace keel::pgo::certified {
@@ -254,10 +254,10 @@ constexpr int kRefreshAfterCg = 5;
 // The certificate matrix is formed in double-double (double_double.hpp): the entries' own rounding then stays
 // below a few u² of their terms instead of γ_m of them, and the proof's residual is taken against the entries
 // as formed (psd_proof.hpp).
-using detail::DD;
-using detail::dd_add;
-using detail::dd_prod;
-using detail::dd_scale;
+using linalg::DD;
+using linalg::dd_add;
+using linalg::dd_prod;
+using linalg::dd_scale;
 
 // M's entries of one edge as blocks in the local coordinates of pose blocks (pose 0 has no translation
 // column), in double-double. Returns through `add(a, b, row, col, value, magnitude)` with a, b the poses,
@@ -335,7 +335,7 @@ class DataPreconditioner {
       ++cs[static_cast<std::size_t>(upper[k].col) + 1];
     }
     for (int c = 0; c < N0; ++c) cs[static_cast<std::size_t>(c) + 1] += cs[static_cast<std::size_t>(c)];
-    chol_ = std::make_unique<detail::SparseCholesky>(N0, cs, ri, detail::FillOrdering::automatic, false);
+    chol_ = std::make_unique<linalg::SparseCholesky>(N0, cs, ri, linalg::CholeskyOptions{});
     chol_->values() = values;
     cs_ = std::move(cs);
     ri_ = std::move(ri);
@@ -412,7 +412,7 @@ class DataPreconditioner {
   }
 
   int d_, n_;
-  std::unique_ptr<detail::SparseCholesky> chol_;
+  std::unique_ptr<linalg::SparseCholesky> chol_;
   std::vector<int> cs_, ri_;  // 2M₀'s upper triangle (compressed columns)
   std::vector<double> m0_;
   bool ok_ = false;
@@ -515,7 +515,7 @@ struct Stopping {
 // (of an earlier matrix), from δ = 0 until ‖g + Aδ‖ ≤ eta·‖g‖: steihaug_cg without a trust region. False when
 // A shows non-positive curvature along a search direction or kMaxCg iterations do not suffice; otherwise δ
 // and dAd = δᵀAδ. `used`: the iterations spent either way.
-bool preconditioned_cg(const detail::SparseCholesky& chol, const std::vector<double>& values,
+bool preconditioned_cg(const linalg::SparseCholesky& chol, const std::vector<double>& values,
                        const Eigen::VectorXd& g, double eta, Eigen::VectorXd& delta, double& dAd, int& used);
 
 // The tangent model at X (pose 0 held): each pose's basis matrices D (pose v's basis k at D[v·prot + k]), the

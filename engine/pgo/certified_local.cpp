@@ -22,9 +22,9 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
-#include "pgo/double_double.hpp"
-#include "pgo/psd_proof.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/psd_proof.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace keel::pgo::certified {
 
@@ -98,7 +98,7 @@ void symmetric_product(const std::vector<int>& cs, const std::vector<int>& ri,
   }
 }
 
-bool preconditioned_cg(const detail::SparseCholesky& chol, const std::vector<double>& values,
+bool preconditioned_cg(const linalg::SparseCholesky& chol, const std::vector<double>& values,
                        const Eigen::VectorXd& g, double eta, Eigen::VectorXd& delta, double& dAd, int& used) {
   double norm_m = 0.0;
   const TcgEnd end = steihaug_cg(
@@ -261,8 +261,8 @@ LocalOutcome local_solve(const Problem& P, Point& X, const CertifiedOptions& o,
     const int a = P.edges[k].i - 1, b = P.edges[k].j - 1;
     if (a >= 0 && b >= 0) pos[k] = pattern.position(std::min(a, b), std::max(a, b));
   }
-  detail::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
-                              detail::FillOrdering::automatic, false);
+  linalg::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
+                              linalg::CholeskyOptions{});
   const int N = pattern.dimension();
   std::vector<double> hessian(chol.values().size()), gauss_newton;
   double radius = 0.0;  // the trust region of the Steihaug–Toint steps (M-norm; 0: not yet set)

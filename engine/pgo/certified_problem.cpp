@@ -21,9 +21,9 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
-#include "pgo/double_double.hpp"
-#include "pgo/psd_proof.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/psd_proof.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace keel::pgo::certified {
 

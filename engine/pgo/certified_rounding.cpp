@@ -21,17 +21,16 @@
 
 #include "core/blas.hpp"
 #include "core/timing.hpp"
-#include "pgo/double_double.hpp"
-#include "pgo/psd_proof.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/psd_proof.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace keel::pgo::certified {
 
 void optimal_translations(const Problem& P, Point& X) {
   const int r = X.r, d = P.d, nb = P.n - 1;
   BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), 1), free_pairs(P));
-  detail::SparseCholesky chol(nb, pattern.col_start(), pattern.row_index(), detail::FillOrdering::automatic,
-                              false);
+  linalg::SparseCholesky chol(nb, pattern.col_start(), pattern.row_index());
   auto& L = chol.values();
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nb, r);  // right-hand sides, one column per coordinate
   Eigen::Matrix<double, 1, 1> one;
@@ -67,8 +66,8 @@ Small project_to_rotation(const Small& A) {
 Point chordal_initialization(const Problem& P) {
   const int d = P.d, nb = P.n - 1;
   BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), d), free_pairs(P));
-  detail::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
-                              detail::FillOrdering::automatic, false);
+  linalg::SparseCholesky chol(pattern.dimension(), pattern.col_start(), pattern.row_index(),
+                              linalg::CholeskyOptions{});
   auto& L = chol.values();
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(pattern.dimension(), d);  // Bᵀ stacked: column = row of R
   for (const auto& e : P.edges) {

@@ -1,4 +1,4 @@
-// detail::SparseCholesky::residual_bound (the measured residual behind every certificate of psd_proof.hpp)
+// linalg::SparseCholesky::residual_bound (the measured residual behind every certificate of psd_proof.hpp)
 // against the residual computed EXACTLY: for small random and adversarial matrices A = hi + lo (a
 // double-double A, as the prover forms it) and the computed factor L̂, every entry of P A Pᵀ − L̂L̂ᵀ is
 // summed without rounding as a floating-point expansion (Shewchuk, "Adaptive precision floating-point
@@ -16,10 +16,12 @@
 #include "graph/pose_graph.hpp"
 #include "lie/se2.hpp"
 #include "pgo/certified.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
-using keel::pgo::detail::FillOrdering;
-using keel::pgo::detail::SparseCholesky;
+using keel::linalg::CholeskyOptions;
+using keel::linalg::FactorKind;
+using keel::linalg::Ordering;
+using keel::linalg::SparseCholesky;
 
 namespace {
 
@@ -236,7 +238,9 @@ TEST_CASE(
     for (std::size_t i = 0; i < a.size(); ++i)
       for (std::size_t j = i; j < a.size(); ++j) lo[i][j] = lo[j][i] = unit(gen) * u * std::abs(a[i][j]);
     fill(m, a, lo);
-    SparseCholesky chol(n, m.col_start, m.row_index, FillOrdering::automatic, supernodal);
+    SparseCholesky chol(n, m.col_start, m.row_index,
+                        CholeskyOptions{.ordering = Ordering::automatic,
+                                        .kind = supernodal ? FactorKind::supernodal : FactorKind::automatic});
     chol.values() = m.hi;
     if (!chol.factorize()) continue;
     for (const bool with_lo : {false, true}) {
@@ -270,7 +274,7 @@ TEST_CASE(
   const Dense exact_a = {{4, 0, 0}, {0, 9, 0}, {0, 0, 16}};
   const Dense zero(3, std::vector<double>(3, 0.0));
   fill(m, exact_a, zero);
-  SparseCholesky chol(3, m.col_start, m.row_index, FillOrdering::automatic, false);
+  SparseCholesky chol(3, m.col_start, m.row_index, CholeskyOptions{.ordering = Ordering::automatic});
   chol.values() = m.hi;
   REQUIRE(chol.factorize());
   CHECK(sign(exact_residual_row_sum(m, chol, false)) == 0);

@@ -183,7 +183,7 @@ RelaxationResult relax_dense(const PlanarProblem& p, const RelaxationOptions& o)
     // Higher orders: the moment form over the rotations alone, with the reduced cost written as a sum of
     // squares (q = Lᵀ L from its eigen-decomposition, the rows of L as residuals). Every unknown is on the
     // circle, so the residual correction covers the returned matrices' infeasibility; its sums are evaluated
-    // in double without a rounding margin, so the bound is numerical, not proven (pgo/psd_proof.hpp is not
+    // in double without a rounding margin, so the bound is numerical, not proven (linalg/psd_proof.hpp is not
     // used).
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(q);
     const Eigen::MatrixXd l =

@@ -26,7 +26,7 @@
 //   (|c|, |s| ≤ 1; translations: twice the largest first-order moment, at least 1 — a box, not a proof, so
 //   this bound holds only up to that box). Every bound here is numerical: λ_min(S) from Eigen's eigensolver
 //   (order 1) and the residual sums (order 2) are evaluated in double with no rounding margin; the proof
-//   that survives rounding is sos/verify.hpp's (pgo/psd_proof.hpp).
+//   that survives rounding is sos/verify.hpp's (linalg/psd_proof.hpp).
 //   Order 2 is the next level of the hierarchy (the escalation when order 1 is not tight).
 //
 // Tightness: the relaxation is exact when every moment block has rank one; `rank_ratio` = max over blocks of

@@ -11,9 +11,9 @@
 
 #include "core/timing.hpp"
 #include "graph/io.hpp"
-#include "pgo/double_double.hpp"
+#include "linalg/double_double.hpp"
 #include "pgo/optimize.hpp"
-#include "pgo/psd_proof.hpp"
+#include "linalg/psd_proof.hpp"
 
 namespace keel::sos {
 
@@ -126,10 +126,10 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   out.stationarity = sv.cwiseAbs().maxCoeff() / (out.scale * v.cwiseAbs().maxCoeff());
   out.stationary = out.stationarity <= o.stationarity_tolerance;
 
-  // S = Q − Λ in double-double on the upper triangle of Q's pattern (pgo/psd_proof.hpp): Q = BᵀB, B = [r |
+  // S = Q − Λ in double-double on the upper triangle of Q's pattern (linalg/psd_proof.hpp): Q = BᵀB, B = [r |
   // A], accumulated row by row of B with exact products (fma). Each addition errs by at most 4u²·Σ|terms| of
   // its entry, so an entry of m terms is within 4(m + 1)u²·Σ|terms| of the exact value (the +1: −λ's term).
-  pgo::detail::DoubleDoubleSymmetric S;
+  linalg::DoubleDoubleSymmetric S;
   S.n = n + 1;
   {
     const Eigen::SparseMatrix<double, Eigen::RowMajor> b = b_cols;
@@ -158,8 +158,8 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
       const auto last = S.row_index.begin() + S.col_start[static_cast<std::size_t>(j) + 1];
       return static_cast<std::size_t>(std::lower_bound(first, last, i) - S.row_index.begin());
     };
-    auto add = [&](std::size_t at, pgo::detail::DD value) {
-      const pgo::detail::DD sum = pgo::detail::dd_add(pgo::detail::DD{S.hi[at], S.lo[at]}, value);
+    auto add = [&](std::size_t at, linalg::DD value) {
+      const linalg::DD sum = linalg::dd_add(linalg::DD{S.hi[at], S.lo[at]}, value);
       S.hi[at] = sum.hi;
       S.lo[at] = sum.lo;
       abs_terms[at] += std::abs(value.hi) + std::abs(value.lo);
@@ -170,9 +170,9 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
         for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a2(b, r); a2; ++a2)
           if (a1.col() <= a2.col())
             add(index(static_cast<int>(a1.col()), static_cast<int>(a2.col())),
-                pgo::detail::dd_prod(a1.value(), a2.value()));
+                linalg::dd_prod(a1.value(), a2.value()));
     for (int k = 0; k <= n; ++k)
-      if (lambda(k) != 0.0) add(index(k, k), pgo::detail::DD{-lambda(k), 0.0});
+      if (lambda(k) != 0.0) add(index(k, k), linalg::DD{-lambda(k), 0.0});
     S.error.resize(nnz);
     constexpr double u = std::numeric_limits<double>::epsilon() / 2;
     for (std::size_t k = 0; k < nnz; ++k) S.error[k] = 4.0 * (terms[k] + 1.0) * u * u * abs_terms[k];
@@ -186,13 +186,14 @@ GlobalCertificate certify_solution(const PlanarProblem& p, const Eigen::VectorXd
   for (int k = 0; k < n; ++k)
     if (p.is_rotation(k)) shifted[static_cast<std::size_t>(k) + 1] = 1;
   const auto tf = core::Clock::now();
-  pgo::detail::ShiftedPsdProver prover(std::move(S), std::move(shifted));
+  linalg::ShiftedPsdProver prover(std::move(S), std::move(shifted));
   const double poses = static_cast<double>(p.poses);
   const double f = out.bound.upper;
   // The decisive shift: the largest the gap tolerance allows, η* = (gap·max(f, 1) − (f − Σλ)) / poses. The
-  // proof is tried at η*/33 and η*/2 with a double factor, then with a double-double one (pgo/psd_proof.hpp).
+  // proof is tried at η*/33 and η*/2 with a double factor, then with a double-double one
+  // (linalg/psd_proof.hpp).
   out.eta = (o.gap_tolerance * std::max(f, 1.0) - (f - out.multiplier_sum)) / poses;
-  const pgo::detail::ShiftSearch search =
+  const linalg::ShiftSearch search =
       prover.shift_search(out.eta, o.gap_tolerance * std::max(f, 1.0) / poses, o.bound_factorizations);
   out.factorizations = search.attempts;
   out.failed_shift = search.largest_failed;

@@ -15,13 +15,13 @@
 //   order-1 relaxation is tight at it, its dual optimum being λ).
 //
 // Positive semidefiniteness of S + η D, D = diag(1 on v₀ and the rotations, 0 on translations and landmarks),
-// is proven by pgo/psd_proof.hpp's test (the one behind pgo::solve_certified): S formed in double-double from
-// B = [r | A] with exact products, a Cholesky factorization of W(S + ηD)W − μI with W exact powers of two,
-// and μ clearing a rigorous bound on the factor's residual (Higham's, or the residual measured in doubled
-// precision; a double-double factor when a double one cannot resolve the shift). Success proves v'ᵀ S v' ≥ −η
-// v'ᵀ D v' = −η · poses for every feasible v', hence min f ≥ Σλ − η · poses (a bound that needs no bound on
-// the translations; S's translation block AᵀA is positive definite for a connected graph). S has an exact
-// zero eigenvalue at v, so η > 0. The decisive shift is the largest the gap tolerance allows,
+// is proven by linalg/psd_proof.hpp's test (the one behind pgo::solve_certified): S formed in double-double
+// from B = [r | A] with exact products, a Cholesky factorization of W(S + ηD)W − μI with W exact powers of
+// two, and μ clearing a rigorous bound on the factor's residual (Higham's, or the residual measured in
+// doubled precision; a double-double factor when a double one cannot resolve the shift). Success proves v'ᵀ S
+// v' ≥ −η v'ᵀ D v' = −η · poses for every feasible v', hence min f ≥ Σλ − η · poses (a bound that needs no
+// bound on the translations; S's translation block AᵀA is positive definite for a connected graph). S has an
+// exact zero eigenvalue at v, so η > 0. The decisive shift is the largest the gap tolerance allows,
 //     η* = (gap_tolerance · max(f(z), 1) − (f(z) − Σλ)) / poses,
 // and the proof is tried at η*/33 and η*/2; the verdict is "numerically certified" iff the proven gap (f(z) −
 // (Σλ − η_proven · poses)) / max(f(z), 1), with Σλ's rounding, is at most gap_tolerance. When it is not,

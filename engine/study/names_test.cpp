@@ -85,7 +85,7 @@ TEST_CASE(
                    {Termination::converged, Termination::no_convergence, Termination::failure},
                    pgo::termination_from_string);
   using cov::Ordering;
-  check_name_table("cov::Ordering",
+  check_name_table("linalg::Ordering",
                    {Ordering::automatic, Ordering::amd, Ordering::metis, Ordering::nesdis, Ordering::natural},
                    cov::ordering_from_string);
   using cov::Extraction;

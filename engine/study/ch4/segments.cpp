@@ -257,7 +257,7 @@ ExactnessOutcome run_exactness_study(const ExactnessOptions& o, const repro::Run
         // The dual certificate at the best minimum. Its multipliers with the proven shift are a feasible
         // point of the order-1 SDP's dual (Q − diag(λ₀ − η, λ_i − η) ⪰ 0), so its bound Σλ − η · poses is a
         // second lower bound on order 1's value, independent of DSDP's iterates and, unlike DSDP's (λ_min(S)
-        // from Eigen, no rounding margin), proven with one (pgo/psd_proof.hpp).
+        // from Eigen, no rounding margin), proven with one (linalg/psd_proof.hpp).
         const GlobalCertificate dual = certify_solution(p, r.multistart <= r.upper ? ms.z : c.z, o.dual);
         r.dual_certified = dual.certified();
         r.dual_gap = dual.relative_gap();

@@ -1,5 +1,6 @@
-#include "pgo/sparse_cholesky.hpp"
-
+// linalg::SparseCholesky's rigorous bounds on the residual of its computed factor (Higham's worst case and
+// the residual measured in doubled precision), the factor itself for the tests, and the factorization in
+// double-double with its residual bound (sparse_cholesky.hpp).
 #include <cholmod.h>
 #include <fmt/format.h>
 
@@ -10,179 +11,10 @@
 #include <utility>
 #include <vector>
 
-#include "pgo/double_double.hpp"
+#include "linalg/double_double.hpp"
+#include "linalg/sparse_cholesky_impl.hpp"
 
-namespace keel::pgo::detail {
-
-namespace {
-
-// L̂ as a packed lower-triangular matrix in compressed columns (the permuted order of the factorization), the
-// rows of each column ascending.
-struct LowerFactor {
-  std::vector<int> p, i;
-  std::vector<double> x;
-};
-
-// The rows of a lower-triangular pattern with sorted columns: for row j, the positions q (into i / x) of its
-// entries L_jk, k ≤ j, and their columns; in column k every later position holds a row below j.
-struct RowIndex {
-  std::vector<int> p, q, col;
-};
-
-LowerFactor lower_factor(cholmod_factor* factor, cholmod_common* c) {
-  cholmod_factor* copy = cholmod_copy_factor(factor, c);
-  if (!copy)
-    throw std::runtime_error(fmt::format("pgo: CHOLMOD could not copy the factor (status {})", c->status));
-  cholmod_sparse* L = cholmod_factor_to_sparse(copy, c);  // frees copy's values
-  cholmod_free_factor(&copy, c);
-  if (!L)
-    throw std::runtime_error(fmt::format("pgo: CHOLMOD could not convert the factor (status {})", c->status));
-  const auto* p = static_cast<const int*>(L->p);
-  const auto* i = static_cast<const int*>(L->i);
-  const auto* x = static_cast<const double*>(L->x);
-  const auto* nz = L->packed ? nullptr : static_cast<const int*>(L->nz);
-  LowerFactor out;
-  const std::size_t n = L->ncol;
-  out.p.assign(n + 1, 0);
-  std::vector<std::pair<int, double>> column;
-  for (std::size_t j = 0; j < n; ++j) {
-    const int end = nz ? p[j] + nz[j] : p[j + 1];
-    column.clear();
-    for (int q = p[j]; q < end; ++q) column.emplace_back(i[q], x[q]);
-    std::sort(column.begin(), column.end());  // rows ascending: the diagonal first
-    for (const auto& [row, value] : column) {
-      out.i.push_back(row);
-      out.x.push_back(value);
-    }
-    out.p[j + 1] = static_cast<int>(out.i.size());
-  }
-  cholmod_free_sparse(&L, c);
-  return out;
-}
-
-}  // namespace
-
-struct SparseCholesky::Impl {
-  cholmod_common c;
-  cholmod_sparse* A = nullptr;  // shares nothing: the pattern and values are copied in factorize()
-  cholmod_factor* L = nullptr;
-  LowerFactor lower;  // L̂ of the last factorization, made on first use
-  bool lower_valid = false;
-  // factorize_extended(): the symbolic pattern (made once), its row index and the double-double factor.
-  std::vector<int> ext_p, ext_i;
-  RowIndex ext_rows;
-  std::vector<double> ext_x, ext_xl;
-  bool extended_valid = false;
-  const LowerFactor& lower_factor() {
-    if (!lower_valid) {
-      lower = keel::pgo::detail::lower_factor(L, &c);
-      lower_valid = true;
-    }
-    return lower;
-  }
-  Impl() {
-    cholmod_start(&c);
-    c.print = 0;  // failures come back through status checks
-  }
-  ~Impl() {
-    if (L) cholmod_free_factor(&L, &c);
-    if (A) cholmod_free_sparse(&A, &c);
-    cholmod_finish(&c);
-  }
-};
-
-SparseCholesky::SparseCholesky(int n, std::vector<int> col_start, std::vector<int> row_index,
-                               FillOrdering ordering, bool supernodal)
-    : n_(n),
-      col_start_(std::move(col_start)),
-      row_index_(std::move(row_index)),
-      impl_(std::make_unique<Impl>()) {
-  if (n <= 0 || static_cast<int>(col_start_.size()) != n + 1 ||
-      static_cast<int>(row_index_.size()) != col_start_.back())
-    throw std::invalid_argument("pgo: SparseCholesky: inconsistent pattern");
-  values_.assign(row_index_.size(), 0.0);
-  cholmod_common* c = &impl_->c;
-  impl_->A =
-      cholmod_allocate_sparse(static_cast<std::size_t>(n), static_cast<std::size_t>(n), row_index_.size(),
-                              /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, c);
-  if (!impl_->A)
-    throw std::runtime_error(fmt::format("pgo: CHOLMOD could not allocate (status {})", c->status));
-  std::copy(col_start_.begin(), col_start_.end(), static_cast<int*>(impl_->A->p));
-  std::copy(row_index_.begin(), row_index_.end(), static_cast<int*>(impl_->A->i));
-  c->supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_AUTO;
-  // A simplicial factorization is LDLᵀ by default, which runs through negative pivots: LLᵀ instead, so that
-  // factorize() fails on every matrix that is not positive definite in floating point (supernodal ones are
-  // always LLᵀ), and both error bounds, which are about L̂L̂ᵀ, apply.
-  c->final_ll = 1;
-  switch (ordering) {
-    case FillOrdering::automatic:
-      c->nmethods = 0;
-      break;
-    case FillOrdering::amd:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_AMD;
-      break;
-    case FillOrdering::metis:
-      c->nmethods = 1;
-      c->method[0].ordering = CHOLMOD_METIS;
-      break;
-  }
-  impl_->L = cholmod_analyze(impl_->A, c);
-  if (!impl_->L) throw std::runtime_error(fmt::format("pgo: CHOLMOD analysis failed (status {})", c->status));
-}
-
-SparseCholesky::~SparseCholesky() = default;
-
-bool SparseCholesky::factorize() {
-  cholmod_common* c = &impl_->c;
-  std::copy(values_.begin(), values_.end(), static_cast<double*>(impl_->A->x));
-  c->quick_return_if_not_posdef = 1;
-  impl_->lower_valid = false;
-  const int ok = cholmod_factorize(impl_->A, impl_->L, c);
-  if (!ok && c->status != CHOLMOD_NOT_POSDEF)
-    throw std::runtime_error(fmt::format("pgo: CHOLMOD factorization failed (status {})", c->status));
-  return impl_->L->minor >= impl_->L->n && c->status != CHOLMOD_NOT_POSDEF;
-}
-
-void SparseCholesky::solve(const double* b, double* x, int nrhs) const {
-  cholmod_common* c = &impl_->c;
-  cholmod_dense* B = cholmod_allocate_dense(static_cast<std::size_t>(n_), static_cast<std::size_t>(nrhs),
-                                            static_cast<std::size_t>(n_), CHOLMOD_REAL, c);
-  if (!B) throw std::runtime_error(fmt::format("pgo: CHOLMOD could not allocate (status {})", c->status));
-  std::copy(b, b + static_cast<std::size_t>(n_) * nrhs, static_cast<double*>(B->x));
-  cholmod_dense* X = cholmod_solve(CHOLMOD_A, impl_->L, B, c);
-  cholmod_free_dense(&B, c);
-  if (!X) throw std::runtime_error(fmt::format("pgo: CHOLMOD solve failed (status {})", c->status));
-  std::copy(static_cast<const double*>(X->x),
-            static_cast<const double*>(X->x) + static_cast<std::size_t>(n_) * nrhs, x);
-  cholmod_free_dense(&X, c);
-}
-
-int SparseCholesky::max_row_count() const {
-  const cholmod_factor* L = impl_->L;
-  std::vector<int> count(static_cast<std::size_t>(n_), 0);
-  if (L->is_super) {
-    // Supernode s holds columns super[s] … super[s+1]−1 and the rows ls[pi[s] … pi[s+1]) (its own columns
-    // first). Row ls[pi[s] + q] has entries in the columns of s up to itself (q < ncols) or in all of them.
-    const auto* super = static_cast<const int*>(L->super);
-    const auto* pi = static_cast<const int*>(L->pi);
-    const auto* ls = static_cast<const int*>(L->s);
-    for (std::size_t s = 0; s < L->nsuper; ++s) {
-      const int ncols = super[s + 1] - super[s];
-      for (int q = pi[s]; q < pi[s + 1]; ++q)
-        count[static_cast<std::size_t>(ls[q])] += std::min(q - pi[s] + 1, ncols);
-    }
-  } else {
-    // Simplicial: after factorize() the pattern is in p/i/nz; before it, fall back to n (always a bound).
-    if (!L->p || !L->i || !L->nz || L->xtype == CHOLMOD_PATTERN) return n_;
-    const auto* p = static_cast<const int*>(L->p);
-    const auto* i = static_cast<const int*>(L->i);
-    const auto* nz = static_cast<const int*>(L->nz);
-    for (int j = 0; j < n_; ++j)
-      for (int q = p[j]; q < p[j] + nz[j]; ++q) ++count[static_cast<std::size_t>(i[q])];
-  }
-  return *std::max_element(count.begin(), count.end());
-}
+namespace keel::linalg {
 
 namespace {
 constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
@@ -455,7 +287,7 @@ double supernodal_residual_norm_bound(int n, const cholmod_factor* F, const Perm
       }
       for (int a = b; a < nr; ++a) {
         const int t = rel[static_cast<std::size_t>(R[a])];
-        if (t < c) throw std::logic_error("pgo: SparseCholesky: a row of L̂L̂ᵀ outside the pattern of L");
+        if (t < c) throw std::logic_error("SparseCholesky: a row of L̂L̂ᵀ outside the pattern of L");
         accumulate(base[j] + static_cast<std::size_t>(t - c), thi[static_cast<std::size_t>(a)],
                    tlo[static_cast<std::size_t>(a)], tmag[static_cast<std::size_t>(a)], kmax);
         thi[static_cast<std::size_t>(a)] = tlo[static_cast<std::size_t>(a)] =
@@ -475,7 +307,7 @@ double supernodal_residual_norm_bound(int n, const cholmod_factor* F, const Perm
       const int i = A.i[static_cast<std::size_t>(q)];
       const int* at = std::lower_bound(first, last, i);
       if (at == last || *at != i)
-        throw std::logic_error("pgo: SparseCholesky: an entry of A outside the pattern of L");
+        throw std::logic_error("SparseCholesky: an entry of A outside the pattern of L");
       const std::size_t g = base[static_cast<std::size_t>(j)] + static_cast<std::size_t>(at - first);
       const double ax = A.x[static_cast<std::size_t>(q)], axl = A.xl[static_cast<std::size_t>(q)];
       accumulate(g, -ax, -axl, std::abs(ax) + std::abs(axl), 1.0);
@@ -502,7 +334,7 @@ double supernodal_residual_norm_bound(int n, const cholmod_factor* F, const Perm
 
 double SparseCholesky::residual_bound(const std::vector<double>* trailing) const {
   if (trailing && trailing->size() != values_.size())
-    throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
+    throw std::invalid_argument("SparseCholesky::residual_bound: trailing parts of the wrong size");
   if (impl_->L->is_super && impl_->L->xtype == CHOLMOD_REAL) {
     const PermutedLower A = permuted_lower(n_, col_start_, row_index_, values_, trailing,
                                            static_cast<const int*>(impl_->L->Perm));
@@ -525,7 +357,7 @@ void SparseCholesky::computed_factor(std::vector<int>& col_start, std::vector<in
 
 double SparseCholesky::residual_bound_entrywise(const std::vector<double>* trailing) const {
   if (trailing && trailing->size() != values_.size())
-    throw std::invalid_argument("pgo: SparseCholesky::residual_bound: trailing parts of the wrong size");
+    throw std::invalid_argument("SparseCholesky::residual_bound: trailing parts of the wrong size");
   const LowerFactor& L = impl_->lower_factor();
   const RowIndex rows = row_index_of(n_, L.p, L.i);
   const PermutedLower A =
@@ -535,12 +367,11 @@ double SparseCholesky::residual_bound_entrywise(const std::vector<double>* trail
 
 bool SparseCholesky::factorize_extended(const std::vector<double>& trailing) {
   if (trailing.size() != values_.size())
-    throw std::invalid_argument("pgo: SparseCholesky::factorize_extended: trailing parts of the wrong size");
+    throw std::invalid_argument("SparseCholesky::factorize_extended: trailing parts of the wrong size");
   Impl& m = *impl_;
   m.extended_valid = false;
   const cholmod_factor* F = m.L;
-  if (!F->is_super)
-    throw std::logic_error("pgo: SparseCholesky::factorize_extended needs a supernodal analysis");
+  if (!F->is_super) throw std::logic_error("SparseCholesky::factorize_extended needs a supernodal analysis");
   const auto N = static_cast<std::size_t>(n_);
   if (m.ext_p.empty()) {
     // The symbolic pattern of L from the supernodal analysis: supernode s holds columns super[s] …
@@ -578,8 +409,7 @@ bool SparseCholesky::factorize_extended(const std::vector<double>& trailing) {
     }
     for (int q = A.p[J]; q < A.p[J + 1]; ++q) {
       const auto i = static_cast<std::size_t>(A.i[static_cast<std::size_t>(q)]);
-      if (!in_column[i])
-        throw std::logic_error("pgo: SparseCholesky: an entry of A outside the pattern of L");
+      if (!in_column[i]) throw std::logic_error("SparseCholesky: an entry of A outside the pattern of L");
       acc[i] = dd_add(acc[i], DD{A.x[static_cast<std::size_t>(q)], A.xl[static_cast<std::size_t>(q)]});
     }
     for (int r = m.ext_rows.p[J]; r < m.ext_rows.p[J + 1]; ++r) {
@@ -615,30 +445,10 @@ bool SparseCholesky::factorize_extended(const std::vector<double>& trailing) {
 double SparseCholesky::extended_residual_bound(const std::vector<double>& trailing) const {
   const Impl& m = *impl_;
   if (!m.extended_valid)
-    throw std::logic_error(
-        "pgo: SparseCholesky::extended_residual_bound needs a successful factorize_extended");
+    throw std::logic_error("SparseCholesky::extended_residual_bound needs a successful factorize_extended");
   const PermutedLower A =
       permuted_lower(n_, col_start_, row_index_, values_, &trailing, static_cast<const int*>(m.L->Perm));
   return residual_norm_bound<true>(n_, m.ext_p, m.ext_i, m.ext_x.data(), m.ext_xl.data(), m.ext_rows, A);
 }
 
-std::string SparseCholesky::ordering_name() const {
-  switch (impl_->L->ordering) {
-    case CHOLMOD_NATURAL:
-      return "natural";
-    case CHOLMOD_AMD:
-      return "amd";
-    case CHOLMOD_METIS:
-      return "metis";
-    case CHOLMOD_NESDIS:
-      return "nesdis";
-    case CHOLMOD_COLAMD:
-      return "colamd";
-    default:
-      return "other";
-  }
-}
-
-double SparseCholesky::factor_nonzeros() const { return impl_->c.lnz; }
-
-}  // namespace keel::pgo::detail
+}  // namespace keel::linalg

@@ -12,9 +12,9 @@
 
 #include <vector>
 
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
-namespace keel::pgo::detail {
+namespace keel::linalg {
 
 // S on an upper-triangular pattern in compressed columns (rows ascending, the diagonal stored and last in
 // every column): S_exact = hi + lo + δ with |δ| ≤ error entrywise (the caller's bound on forming S).
@@ -70,4 +70,4 @@ class ShiftedPsdProver {
   SparseCholesky chol_;
 };
 
-}  // namespace keel::pgo::detail
+}  // namespace keel::linalg

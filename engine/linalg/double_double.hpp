@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-namespace keel::pgo::detail {
+namespace keel::linalg {
 
 struct DD {
   double hi = 0.0, lo = 0.0;
@@ -62,4 +62,4 @@ inline DD dd_sqrt(DD x) {
   return dd_fast_two_sum(s, r.hi / (2.0 * s));
 }
 
-}  // namespace keel::pgo::detail
+}  // namespace keel::linalg

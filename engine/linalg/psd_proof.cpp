@@ -1,4 +1,4 @@
-#include "pgo/psd_proof.hpp"
+#include "linalg/psd_proof.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "pgo/double_double.hpp"
+#include "linalg/double_double.hpp"
 
-namespace keel::pgo::detail {
+namespace keel::linalg {
 
 namespace {
 constexpr double kU = std::numeric_limits<double>::epsilon() / 2;  // u = 2⁻⁵³
@@ -18,11 +18,11 @@ double gamma(double k) { return k * kU / (1.0 - k * kU); }
 ShiftedPsdProver::ShiftedPsdProver(DoubleDoubleSymmetric S, std::vector<char> shifted)
     : S_(std::move(S)),
       shifted_(std::move(shifted)),
-      chol_(S_.n, S_.col_start, S_.row_index, FillOrdering::automatic, true) {
+      chol_(S_.n, S_.col_start, S_.row_index, {.kind = FactorKind::supernodal}) {
   const auto nnz = S_.row_index.size();
   if (S_.hi.size() != nnz || S_.lo.size() != nnz || S_.error.size() != nnz ||
       shifted_.size() != static_cast<std::size_t>(S_.n))
-    throw std::invalid_argument("pgo: ShiftedPsdProver: sizes do not match the pattern");
+    throw std::invalid_argument("ShiftedPsdProver: sizes do not match the pattern");
 }
 
 PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
@@ -169,4 +169,4 @@ ShiftSearch ShiftedPsdProver::shift_search(double eta_star, double reference, in
   return out;
 }
 
-}  // namespace keel::pgo::detail
+}  // namespace keel::linalg

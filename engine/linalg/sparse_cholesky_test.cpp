@@ -1,4 +1,4 @@
-// detail::SparseCholesky's two bounds on the error of a computed factor: the residual accumulated in doubled
+// linalg::SparseCholesky's two bounds on the error of a computed factor: the residual accumulated in doubled
 // precision (residual_bound) against exact cases, the double-double trailing parts of A, Higham's worst case
 // (backward_error_bound) as an upper envelope, and factorize() refusing indefinite matrices.
 #include <doctest/doctest.h>
@@ -9,10 +9,12 @@
 #include <vector>
 
 #include "core/random.hpp"
-#include "pgo/sparse_cholesky.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
-using keel::pgo::detail::FillOrdering;
-using keel::pgo::detail::SparseCholesky;
+using keel::linalg::CholeskyOptions;
+using keel::linalg::FactorKind;
+using keel::linalg::Ordering;
+using keel::linalg::SparseCholesky;
 
 namespace {
 
@@ -59,7 +61,9 @@ TEST_CASE("residual_bound: within Higham's worst case; trailing parts δ raise i
   keel::core::Rng gen(3);
   const Pattern p = banded(n, bw);
   for (const bool supernodal : {false, true}) {
-    SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, supernodal);
+    SparseCholesky chol(n, p.col_start, p.row_index,
+                        CholeskyOptions{.ordering = Ordering::amd,
+                                        .kind = supernodal ? FactorKind::supernodal : FactorKind::automatic});
     chol.values() = integer_product(p, n, bw, gen);
     REQUIRE(chol.factorize());
     // Whatever ordering CHOLMOD picks (it may not keep the factorization exact), the residual is what
@@ -82,7 +86,7 @@ TEST_CASE("residual_bound: an exact factorization leaves no residual") {
   // A diagonal matrix of perfect squares: every ordering factors it exactly.
   const int n = 25;
   Pattern p = banded(n, 0);
-  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  SparseCholesky chol(n, p.col_start, p.row_index, CholeskyOptions{.ordering = Ordering::amd});
   for (int c = 0; c < n; ++c) chol.values()[static_cast<std::size_t>(c)] = (c + 1.0) * (c + 1.0);
   REQUIRE(chol.factorize());
   CHECK(chol.residual_bound() <= 1e-25);
@@ -93,7 +97,8 @@ TEST_CASE("residual_bound: far below Higham's worst case on a generic matrix, an
   keel::core::Rng gen(11);
   const auto normal = [](keel::core::Rng& r) { return r.normal(); };
   const Pattern p = banded(n, bw);
-  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::automatic, true);
+  SparseCholesky chol(n, p.col_start, p.row_index,
+                      CholeskyOptions{.ordering = Ordering::automatic, .kind = FactorKind::supernodal});
   // Diagonally dominant with random off-diagonal entries, unit-scale diagonal.
   for (int c = 0; c < n; ++c)
     for (int q = p.col_start[c]; q < p.col_start[c + 1]; ++q)
@@ -116,7 +121,7 @@ TEST_CASE("factorize refuses an indefinite matrix; a tiny negative eigenvalue is
   // below 1e-14, so a proof at shift 2e-14 − margin holds and one at 0 cannot be made.
   const int n = 30;
   const Pattern p = banded(n, 0);
-  SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  SparseCholesky chol(n, p.col_start, p.row_index, CholeskyOptions{.ordering = Ordering::amd});
   for (int c = 0; c < n; ++c) chol.values()[static_cast<std::size_t>(c)] = c + 1 < n ? 1.0 : -1e-14;
   CHECK_FALSE(chol.factorize());
   chol.values()[static_cast<std::size_t>(n - 1)] = 1e-14;
@@ -137,7 +142,8 @@ TEST_CASE("factorize_extended: proves what a double factor cannot, and never an 
   const double delta = 1e-18;
   for (const double sign : {1.0, -1.0}) {
     CAPTURE(sign);
-    SparseCholesky chol(n, p.col_start, p.row_index, FillOrdering::amd, true);
+    SparseCholesky chol(n, p.col_start, p.row_index,
+                        CholeskyOptions{.ordering = Ordering::amd, .kind = FactorKind::supernodal});
     chol.values() = values;
     std::vector<double> trailing(values.size(), 0.0);
     trailing[0] = sign * delta;
@@ -153,10 +159,120 @@ TEST_CASE("factorize_extended: proves what a double factor cannot, and never an 
     }
   }
   // extended_residual_bound refuses to run without a factor.
-  SparseCholesky fresh(n, p.col_start, p.row_index, FillOrdering::amd, true);
+  SparseCholesky fresh(n, p.col_start, p.row_index,
+                       CholeskyOptions{.ordering = Ordering::amd, .kind = FactorKind::supernodal});
   CHECK_THROWS_AS((void)fresh.extended_residual_bound(std::vector<double>(values.size(), 0.0)),
                   std::logic_error);
-  SparseCholesky simplicial(n, p.col_start, p.row_index, FillOrdering::amd, false);
+  SparseCholesky simplicial(n, p.col_start, p.row_index, CholeskyOptions{.ordering = Ordering::amd});
   CHECK_THROWS_AS((void)simplicial.factorize_extended(std::vector<double>(values.size(), 0.0)),
                   std::logic_error);
+}
+
+namespace {
+
+// A⁻¹b densely (Gaussian elimination on the full matrix of the upper pattern): the reference of the solves.
+std::vector<double> dense_solve(const Pattern& p, const std::vector<double>& values, int n,
+                                std::vector<double> b) {
+  std::vector<std::vector<double>> A(static_cast<std::size_t>(n),
+                                     std::vector<double>(static_cast<std::size_t>(n)));
+  for (int c = 0; c < n; ++c)
+    for (int q = p.col_start[c]; q < p.col_start[c + 1]; ++q)
+      A[p.row_index[q]][c] = A[c][p.row_index[q]] = values[static_cast<std::size_t>(q)];
+  for (int k = 0; k < n; ++k)
+    for (int i = k + 1; i < n; ++i) {
+      const double f = A[i][k] / A[k][k];
+      for (int j = k; j < n; ++j) A[i][j] -= f * A[k][j];
+      b[i] -= f * b[k];
+    }
+  for (int i = n - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n; ++j) b[i] -= A[i][j] * b[j];
+    b[i] /= A[i][i];
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "orderings, kinds and solves: every ordering and factor kind solves A x = b; a workspace per thread") {
+  const int n = 50, bw = 3;
+  keel::core::Rng gen(5);
+  const Pattern p = banded(n, bw);
+  const std::vector<double> values = integer_product(p, n, bw, gen);
+  std::vector<double> b(static_cast<std::size_t>(2 * n));
+  for (double& x : b) x = gen.uniform() - 0.5;
+  const std::vector<double> x0 = dense_solve(p, values, n, {b.begin(), b.begin() + n});
+  const std::vector<double> x1 = dense_solve(p, values, n, {b.begin() + n, b.end()});
+  for (const Ordering o :
+       {Ordering::automatic, Ordering::amd, Ordering::metis, Ordering::nesdis, Ordering::natural})
+    for (const FactorKind kind : {FactorKind::automatic, FactorKind::supernodal, FactorKind::simplicial})
+      for (const bool ll : {true, false}) {
+        CAPTURE(to_string(o));
+        SparseCholesky chol(n, p.col_start, p.row_index, {.ordering = o, .kind = kind, .ll = ll});
+        chol.values() = values;
+        REQUIRE(chol.factorize());
+        CHECK(chol.failed_row() == -1);
+        if (kind == FactorKind::supernodal) CHECK(chol.supernodal());
+        if (kind == FactorKind::simplicial) CHECK_FALSE(chol.supernodal());
+        if (o == Ordering::natural) {
+          CHECK(chol.ordering_name() == "natural");
+          for (int k = 0; k < n; ++k) CHECK(chol.permutation()[k] == k);
+        }
+        // The permutation is one.
+        std::vector<int> seen(static_cast<std::size_t>(n), 0);
+        for (int k = 0; k < n; ++k) ++seen[static_cast<std::size_t>(chol.permutation()[k])];
+        CHECK(std::count(seen.begin(), seen.end(), 1) == n);
+        if (chol.supernodal()) {
+          const auto s = chol.supernodes();
+          REQUIRE(s.count > 0);
+          CHECK(s.super[0] == 0);
+          CHECK(s.super[s.count] == n);
+        } else {
+          CHECK_THROWS_AS((void)chol.supernodes(), std::logic_error);
+        }
+        std::vector<double> x(static_cast<std::size_t>(2 * n));
+        chol.solve(b.data(), x.data(), 2);
+        keel::linalg::SolveWorkspace ws;
+        for (int round = 0; round < 2; ++round) {  // the workspace is reused
+          double* rhs = ws.right_hand_sides(n, 2);
+          for (std::size_t k = 0; k < b.size(); ++k) CHECK(rhs[k] == 0.0);
+          std::copy(b.begin(), b.end(), rhs);
+          int ld = 0;
+          const double* y = chol.solve(ws, &ld);
+          REQUIRE(ld >= n);
+          for (int i = 0; i < n; ++i) {
+            CHECK(x[static_cast<std::size_t>(i)] ==
+                  doctest::Approx(x0[static_cast<std::size_t>(i)]).epsilon(1e-12));
+            CHECK(x[static_cast<std::size_t>(n + i)] ==
+                  doctest::Approx(x1[static_cast<std::size_t>(i)]).epsilon(1e-12));
+            CHECK(y[i] == doctest::Approx(x0[static_cast<std::size_t>(i)]).epsilon(1e-12));
+            CHECK(y[ld + i] == doctest::Approx(x1[static_cast<std::size_t>(i)]).epsilon(1e-12));
+          }
+        }
+      }
+}
+
+TEST_CASE(
+    "a matrix that is not positive definite: factorize() is false and names the row; names round-trip") {
+  const int n = 6;
+  Pattern p = banded(n, 0);
+  for (const FactorKind kind : {FactorKind::supernodal, FactorKind::simplicial}) {
+    SparseCholesky chol(n, p.col_start, p.row_index, {.ordering = Ordering::natural, .kind = kind});
+    for (int c = 0; c < n; ++c) chol.values()[static_cast<std::size_t>(c)] = c == 3 ? -1.0 : 2.0;
+    CHECK_FALSE(chol.factorize());
+    CHECK(chol.failed_row() == 3);
+  }
+  for (const Ordering o :
+       {Ordering::automatic, Ordering::amd, Ordering::metis, Ordering::nesdis, Ordering::natural})
+    CHECK(keel::linalg::ordering_from_string(to_string(o)) == o);
+  CHECK(to_string(Ordering::automatic) == "auto");
+  CHECK_THROWS_WITH_AS((void)keel::linalg::ordering_from_string("colamd"),
+                       "unknown linalg::Ordering 'colamd' (valid: auto, amd, metis, nesdis, natural)",
+                       std::invalid_argument);
+  CHECK_THROWS_AS(SparseCholesky(3, {0, 1, 2}, {0, 1}),
+                  std::invalid_argument);  // col_start of the wrong size
+  keel::linalg::SolveWorkspace ws;
+  SparseCholesky chol(n, p.col_start, p.row_index);
+  int ld = 0;
+  CHECK_THROWS_AS((void)chol.solve(ws, &ld), std::logic_error);  // no right-hand sides yet
 }

@@ -16,28 +16,14 @@
 #include "core/progress.hpp"
 #include "core/random.hpp"
 #include "core/statistics.hpp"
+#include "kit/scratch.hpp"
 
 using namespace keel::core;
 namespace fs = std::filesystem;
 
 namespace {
 
-// A scratch experiment folder experiments/<id>/experiment.toml under a fresh temporary root.
-struct Scratch {
-  fs::path root;
-  explicit Scratch(const std::string& tag) {
-    root = fs::temp_directory_path() / fmt::format("keel_core_test_{}_{}", tag, ::getpid());
-    fs::remove_all(root);
-    fs::create_directories(root);
-  }
-  ~Scratch() { fs::remove_all(root); }
-  fs::path write(const std::string& rel, const std::string& text) const {
-    const fs::path p = root / rel;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p;
-  }
-};
+using keel::testkit::Scratch;
 
 std::string error_of(const std::function<void()>& f) {
   try {

@@ -15,6 +15,7 @@
 #include "pcm/consistency.hpp"
 #include "sim/two_robot.hpp"
 #include "sim/two_robot_test_graphs.hpp"
+#include "kit/two_robot_pipeline.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
@@ -37,24 +38,8 @@ double rotation_error(const lie::SE3& estimate, const lie::SE3& reference) {
 }
 
 template <class G>
-struct Pipeline {
-  TwoRobotScenario<G> scenario;
-  LocalSolution<G> a, b;
-};
-
-template <class G>
-Pipeline<G> pipeline(std::uint64_t seed, int laps = 3) {
-  const auto syn = square_laps<G>(laps, 2, seed);
-  Pipeline<G> p;
-  p.scenario = split_two_robots(syn.graph, syn.truth, {0, 20 * laps, 40 * laps});
-  p.a = solve_local(p.scenario.robot_a);
-  p.b = solve_local(p.scenario.robot_b);
-  return p;
-}
-
-template <class G>
 void check_anchor_recovery() {
-  const auto p = pipeline<G>(31);
+  const auto p = testkit::two_robot_pipeline<G>(31);
   CHECK(p.a.summary.termination == pgo::Termination::converged);
   CHECK(p.a.covariance->num_poses() == 60);
   const auto c = generate_candidates(p.scenario, small_candidate_options(), 5, 0);
@@ -91,7 +76,7 @@ TEST_CASE("merge_maps with the inliers alone recovers the true anchor (3D)") {
 }
 
 TEST_CASE("local_maps: ids are the distinct poses touched, joint their marginal covariance") {
-  const auto p = pipeline<lie::SE2>(8);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(8);
   const auto c = generate_candidates(p.scenario, small_candidate_options(), 2, 1);
   const auto maps = local_maps(p.a, p.b, c.candidates);
   CHECK(std::is_sorted(maps.a.ids.begin(), maps.a.ids.end()));
@@ -110,7 +95,7 @@ TEST_CASE("local_maps: ids are the distinct poses touched, joint their marginal 
 TEST_CASE("consistency of true inlier pairs follows chi2(3)" * doctest::test_suite("monte_carlo")) {
   std::vector<double> q;
   for (std::uint64_t g = 0; g < 40; ++g) {
-    const auto p = pipeline<lie::SE2>(1000 + g);
+    const auto p = testkit::two_robot_pipeline<lie::SE2>(1000 + g);
     const auto maps = local_maps(p.a, p.b, p.scenario.pool);
     const auto Q = consistency_matrix(maps.a, maps.b, p.scenario.pool);
     REQUIRE(Q.dof == 3);
@@ -132,7 +117,7 @@ TEST_CASE("consistency of true inlier pairs follows chi2(3)" * doctest::test_sui
 }
 
 TEST_CASE("aliased groups are mutually consistent, random outliers are not") {
-  const auto p = pipeline<lie::SE2>(77);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(77);
   const double gamma = consistency_threshold(0.01, 3);
   int same_group = 0, same_group_ok = 0, random_pairs = 0, random_ok = 0, cross = 0, cross_ok = 0;
   for (std::uint64_t d = 0; d < 10; ++d) {
@@ -166,7 +151,7 @@ TEST_CASE("aliased groups are mutually consistent, random outliers are not") {
 }
 
 TEST_CASE("merge_maps: empty selection, DCS, and the accepted candidates") {
-  const auto p = pipeline<lie::SE2>(55);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(55);
   const auto c = generate_candidates(p.scenario, small_candidate_options(), 9, 0);
   // Nothing selected: b's anchor has nothing to align it and stays at the identity; both maps stay solved.
   const auto none = merge_maps(p.a, p.b, c.candidates, {});
@@ -198,7 +183,7 @@ TEST_CASE("merge_maps: empty selection, DCS, and the accepted candidates") {
 }
 
 TEST_CASE("merge: bad inputs give clear errors") {
-  const auto p = pipeline<lie::SE2>(3);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(3);
   auto c = generate_candidates(p.scenario, small_candidate_options(), 1, 0);
   CHECK(message_of([&] {
           (void)merge_maps(p.a, p.b, c.candidates, {50});
@@ -239,7 +224,7 @@ TEST_CASE("merge: bad inputs give clear errors") {
 }
 
 TEST_CASE("MergeMethod: one variant of per-kind options; select() is the selection of its kind") {
-  const auto p = pipeline<lie::SE2>(61);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(61);
   const auto c = generate_candidates(p.scenario, small_candidate_options(), 12, 4);
   const auto maps = local_maps(p.a, p.b, c.candidates);
   const auto Q = consistency_matrix(maps.a, maps.b, c.candidates);

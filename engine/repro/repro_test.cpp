@@ -22,28 +22,14 @@
 #include "repro/machine.hpp"
 #include "repro/report.hpp"
 #include "repro/results.hpp"
+#include "kit/scratch.hpp"
 
 using namespace keel::repro;
 namespace fs = std::filesystem;
 
 namespace {
 
-// A scratch experiment folder experiments/<id>/experiment.toml under a fresh temporary root.
-struct Scratch {
-  fs::path root;
-  explicit Scratch(const std::string& tag) {
-    root = fs::temp_directory_path() / fmt::format("keel_repro_test_{}_{}", tag, ::getpid());
-    fs::remove_all(root);
-    fs::create_directories(root);
-  }
-  ~Scratch() { fs::remove_all(root); }
-  fs::path write(const std::string& rel, const std::string& text) const {
-    const fs::path p = root / rel;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-    return p;
-  }
-};
+using keel::testkit::Scratch;
 
 const char* kGood = R"(id = "demo"
 title = "Demo"

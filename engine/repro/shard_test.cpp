@@ -19,6 +19,7 @@
 #include "repro/archive.hpp"
 #include "core/random.hpp"
 #include "repro/shard.hpp"
+#include "kit/scratch.hpp"
 
 using namespace keel::repro;
 namespace fs = std::filesystem;
@@ -69,15 +70,7 @@ Rich rich_trial(std::size_t i) {
   return r;
 }
 
-struct Scratch {
-  fs::path root;
-  explicit Scratch(const std::string& tag) {
-    root = fs::temp_directory_path() / fmt::format("keel_shard_test_{}_{}", tag, ::getpid());
-    fs::remove_all(root);
-    fs::create_directories(root);
-  }
-  ~Scratch() { fs::remove_all(root); }
-};
+using keel::testkit::Scratch;
 
 // A study with two trial loops whose second loop's size depends on the first loop's reduction, and a
 // reduction whose value depends on every trial (as the experiments' do).

@@ -14,6 +14,7 @@
 #include "sim/two_robot.hpp"
 #include "sim/two_robot_test_graphs.hpp"
 #include "kit/test_kit.hpp"
+#include "kit/two_robot_pipeline.hpp"
 
 using namespace keel;
 using namespace keel::pcm;
@@ -28,24 +29,8 @@ using keel::testkit::message_of;
 namespace {
 
 template <class G>
-struct Pipeline {
-  TwoRobotScenario<G> scenario;
-  LocalSolution<G> a, b;
-};
-
-template <class G>
-Pipeline<G> pipeline(std::uint64_t seed, int laps = 3) {
-  const auto syn = square_laps<G>(laps, 2, seed);
-  Pipeline<G> p;
-  p.scenario = split_two_robots(syn.graph, syn.truth, {0, 20 * laps, 40 * laps});
-  p.a = solve_local(p.scenario.robot_a);
-  p.b = solve_local(p.scenario.robot_b);
-  return p;
-}
-
-template <class G>
 void check_anchor_metrics() {
-  const auto p = pipeline<G>(31);
+  const auto p = testkit::two_robot_pipeline<G>(31);
   CHECK(p.a.summary.termination == pgo::Termination::converged);
   CHECK(p.a.covariance->num_poses() == 60);
   const auto c = generate_candidates(p.scenario, small_candidate_options(), 5, 0);
@@ -139,7 +124,7 @@ TEST_CASE("metrics: zero for identical solutions, hand-computed values on a tiny
 }
 
 TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OUT is the reference") {
-  const auto p = pipeline<lie::SE2>(61);
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(61);
   const std::vector<MergeMethod> methods = {
       MergeMethod::make("no_out", MergeMethodKind::no_outliers),
       MergeMethod::make("dcs", MergeMethodKind::dcs),

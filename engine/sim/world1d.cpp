@@ -152,7 +152,7 @@ pcm::ConsistencyMatrix world1d_consistency_matrix(const World1D& world) {
   }
   pcm::ConsistencyMatrix Q;
   Q.n = m;
-  Q.dof = 1;
+  Q.dof = kWorld1DDof;
   Q.q.assign(static_cast<std::size_t>(m) * m, 0.0);
   for (int u = 0; u < m; ++u) {
     for (int v = u + 1; v < m; ++v) {

@@ -8,7 +8,7 @@
 //                    the group is internally consistent but (usually) not with the inliers;
 //   random outliers  each from its own Gaussian N(μ_j, σ_j²) with random mean and standard deviation.
 //
-// The variances are known and used in the Mahalanobis distance of a pair (dof = 1):
+// The variances are known and used in the Mahalanobis distance of a pair (dof = kWorld1DDof = 1):
 //
 //   q_uv = (z_u − z_v)² / (σ_u² + σ_v²)                                            (the 1D case of eq. 2.4)
 //
@@ -25,6 +25,10 @@
 #include "pcm/consistency.hpp"
 
 namespace keel::sim {
+
+// Degrees of freedom of a loop error in the 1D world (a scalar): the dof of its consistency threshold,
+// pcm::consistency_threshold(p, kWorld1DDof).
+inline constexpr int kWorld1DDof = 1;
 
 enum class MeasurementLabel { inlier, aliased, random };
 std::string_view to_string(MeasurementLabel label);  // "inlier" | "aliased" | "random"

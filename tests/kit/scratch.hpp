@@ -1,5 +1,6 @@
-// A scratch folder for tests that write files: a fresh temporary root named after the test and the process, removed
-// with the fixture (engine/core/core_test.cpp, engine/repro/repro_test.cpp, engine/repro/shard_test.cpp).
+// A scratch folder for tests that write files: a fresh temporary root named after the test and the process,
+// removed with the fixture (engine/core/core_test.cpp, engine/repro/repro_test.cpp,
+// engine/repro/shard_test.cpp).
 #pragma once
 
 #include <unistd.h>

@@ -1,5 +1,6 @@
-// The two-robot fixture of the map-merging tests (engine/merge/merge_test.cpp, engine/study/ch2/merge_eval_test.cpp):
-// `laps` square laps split between two robots at 20 and 40 poses a lap, each robot's map solved once (§2.6 step i).
+// The two-robot fixture of the map-merging tests (engine/merge/merge_test.cpp,
+// engine/study/ch2/merge_eval_test.cpp): `laps` square laps split between two robots at 20 and 40 poses a
+// lap, each robot's map solved once (§2.6 step i).
 #pragma once
 
 #include <cstdint>

@@ -13,6 +13,7 @@
 #include "core/parallel.hpp"
 #include "core/statistics.hpp"
 #include "core/timing.hpp"
+#include "lie/se2.hpp"
 #include "study/ch2/table_common.hpp"
 
 namespace keel::study::ch2 {
@@ -163,9 +164,9 @@ void CityTable::record(Results& r, const Outcome& out) {
       "RANSAC depends on its threshold: the looser threshold (larger gamma) accepts more outliers",
       sum[i_loose].pooled.fpr() > sum[i_strict].pooled.fpr(),
       fmt::format("FPR {} (gamma {:.3g}) {:.4f} vs {} (gamma {:.3g}) {:.4f}", methods[i_loose].method.name,
-                  pcm::consistency_threshold(methods[i_loose].method.p().value(), 3),
+                  pcm::consistency_threshold(methods[i_loose].method.p().value(), lie::SE2::DoF),
                   sum[i_loose].pooled.fpr(), methods[i_strict].method.name,
-                  pcm::consistency_threshold(methods[i_strict].method.p().value(), 3),
+                  pcm::consistency_threshold(methods[i_strict].method.p().value(), lie::SE2::DoF),
                   sum[i_strict].pooled.fpr()));
   r.check(fmt::format(
               "PCM-HeuPatt is almost indistinguishable from PCM-Exact (same selection in >= {:g} % of the "

@@ -11,10 +11,12 @@
 #include "repro/results.hpp"
 #include "core/random.hpp"
 #include "core/timing.hpp"
+#include "lie/se2.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
 #include "sim/random_graph.hpp"
 #include "sim/two_robot.hpp"
+#include "sim/world1d.hpp"
 
 namespace keel::study::ch2 {
 
@@ -279,7 +281,7 @@ std::vector<CliqueGraphOutcome> run_two_robot_clique_study(const sim::TwoRobotSc
                                                            std::size_t count, core::Progress* progress) {
   options.validate();
   if (count < 1) throw std::invalid_argument("run_two_robot_clique_study: count must be >= 1");
-  (void)pcm::consistency_threshold(p, 3);  // validates p
+  (void)pcm::consistency_threshold(p, lie::SE2::DoF);  // validates p
   std::vector<CliqueGraphOutcome> out(count);
   context.trials(
       count,
@@ -487,7 +489,7 @@ CliqueScale::Options CliqueScale::Options::read(const core::ConfigTable& p) {
   try {
     wo.world = sim::world1d_options_with_total(world_base, o.world1d_measurements, inlier_fraction,
                                                aliased_fraction);
-    wo.gamma = pcm::consistency_threshold(w1_p, 1);
+    wo.gamma = pcm::consistency_threshold(w1_p, sim::kWorld1DDof);
     po.validate();
     wo.validate();
   } catch (const std::invalid_argument& e) {

@@ -13,6 +13,7 @@
 #include "core/parallel.hpp"
 #include "core/statistics.hpp"
 #include "core/timing.hpp"
+#include "lie/se2.hpp"
 #include "study/ch2/table_common.hpp"
 
 namespace keel::study::ch2 {
@@ -80,7 +81,7 @@ NoiseRegimes::Options NoiseRegimes::Options::read(const core::ConfigTable& p) {
   for (std::size_t j = 0; j < o.pair_p.size(); ++j) {
     if (o.pair_p[j] == o.calibration_p) o.j_cal = j;
     o.p_tags.push_back(tag_of(100.0 * o.pair_p[j]));
-    o.gammas.push_back(pcm::consistency_threshold(o.pair_p[j], 3));
+    o.gammas.push_back(pcm::consistency_threshold(o.pair_p[j], lie::SE2::DoF));
   }
   if (o.j_cal == o.pair_p.size())
     throw ConfigError(claims.where("calibration_p") + ": must be one of `pair_p_values`");

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "sim/world1d.hpp"
 #include "study/ch2/config.hpp"
 
 namespace keel::study::ch2 {
@@ -65,8 +66,8 @@ Timing::Options Timing::Options::read(const core::ConfigTable& p) {
   } catch (const std::invalid_argument& e) {
     throw core::ConfigError(fmt::format("{}: {}", p.file(), e.what()));
   }
-  s.base.pcm_gamma = pcm::consistency_threshold(pcm_p, 1);  // γ = χ²₁ quantile of 1 − p (dof 1)
-  s.base.ransac_gamma = pcm::consistency_threshold(ransac_p, 1);
+  s.base.pcm_gamma = pcm::consistency_threshold(pcm_p, sim::kWorld1DDof);  // γ = χ²₁ quantile of 1 − p
+  s.base.ransac_gamma = pcm::consistency_threshold(ransac_p, sim::kWorld1DDof);
   return o;
 }
 

@@ -14,6 +14,8 @@ import os
 import re
 import sys
 
+from study_sources import study_sources
+
 LITERAL = r'"(?:[^"\\\n]|\\.)*"'
 KEYLIKE = r'(?:[^"\\\s]|\\.)*'  # a literal without white space: a key part, not a message
 JOIN_BEFORE = re.compile(r'"' + KEYLIKE + r'\."\s*\+')  # "a." + x
@@ -74,18 +76,12 @@ def findings(text):
 
 def check(repo):
     problems = []
-    root = os.path.join(repo, "engine", "study")
-    for dirpath, _, files in sorted(os.walk(root)):
-        for name in sorted(files):
-            if not name.endswith((".hpp", ".cpp")) or name.endswith("_test.cpp"):
-                continue
-            path = os.path.join(dirpath, name)
-            with open(path, encoding="utf-8") as f:
-                text = f.read()
-            rel = os.path.relpath(path, repo)
-            problems += [f"{rel}:{line}: {what}" for line, what in findings(text)]
+    for path in study_sources(repo):
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        rel = os.path.relpath(path, repo)
+        problems += [f"{rel}:{line}: {what}" for line, what in findings(text)]
     return problems
-
 
 if __name__ == "__main__":
     problems = check(sys.argv[1] if len(sys.argv) > 1 else ".")

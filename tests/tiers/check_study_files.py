@@ -7,6 +7,8 @@ import os
 import re
 import sys
 
+from study_sources import study_sources
+
 STRUCT = re.compile(r"^struct (\w+) \{")
 RECORD_DECL = re.compile(r"^\s+static void record\(repro::Results&")
 RECORD_DEF = re.compile(r"^void (\w+)::record\((?:repro::)?Results& \w+, const Outcome&")
@@ -30,18 +32,12 @@ def studies_in(path):
 
 def check(repo):
     problems = []
-    root = os.path.join(repo, "engine", "study")
-    for dirpath, _, files in sorted(os.walk(root)):
-        for name in sorted(files):
-            if not name.endswith((".hpp", ".cpp")) or name.endswith("_test.cpp"):
-                continue
-            path = os.path.join(dirpath, name)
-            found = studies_in(path)
-            if len(found) > 1:
-                problems.append(f"{os.path.relpath(path, repo)}: {len(found)} studies ({', '.join(found)}); "
-                                "one study per file, named after its type")
+    for path in study_sources(repo):
+        found = studies_in(path)
+        if len(found) > 1:
+            problems.append(f"{os.path.relpath(path, repo)}: {len(found)} studies ({', '.join(found)}); "
+                            "one study per file, named after its type")
     return problems
-
 
 if __name__ == "__main__":
     problems = check(sys.argv[1] if len(sys.argv) > 1 else ".")

@@ -155,7 +155,7 @@ void check_numeric_range(const graph::PoseGraph3D& g) {
 }
 
 int graph_dimension(std::string_view text, const std::string& name) {
-  graph::detail::RecordScanner sc(text, name);
+  graph::RecordScanner sc(text, name);
   while (sc.next()) {
     const std::string_view tag = sc.tag();
     if (tag == "FIX") continue;  // g2o's FIX line holds no dimension
@@ -165,14 +165,14 @@ int graph_dimension(std::string_view text, const std::string& name) {
 }
 
 int graph_dimension(const std::filesystem::path& file) {
-  return graph_dimension(graph::detail::read_file_text(file), file.string());
+  return graph_dimension(graph::read_file_text(file), file.string());
 }
 
 GraphSummary summarize(const std::filesystem::path& file) {
   GraphSummary s;
   s.file = file.string();
   // The file is read once (a pipe or FIFO works) and parsed from memory.
-  const std::string text = graph::detail::read_file_text(file);
+  const std::string text = graph::read_file_text(file);
   s.dimension = graph_dimension(text, s.file);
   const auto format = graph::detect_graph_format(text, file);
   s.format = format ? std::string(graph::to_string(*format)) : "unknown";
@@ -226,19 +226,18 @@ sim::CandidateSet2 split_files(const graph::PoseGraph2D& graph, const std::vecto
     labels += fmt::format("{} {} {}\n", k, sim::to_string(set.labels[k].kind), set.labels[k].group);
   }
   graph::write_g2o_edges(edges, dir / "candidates.g2o");
-  graph::detail::write_file_atomically(dir / "labels.txt", labels);
+  graph::write_file_atomically(dir / "labels.txt", labels);
   const auto& T = scenario.true_anchor;
-  graph::detail::write_file_atomically(
-      dir / "truth.txt",
-      fmt::format("# T_ab: x y theta of robot b's frame in robot a's frame\n{} {} {}\n",
-                  graph::detail::fmt17(T.translation().x()), graph::detail::fmt17(T.translation().y()),
-                  graph::detail::fmt17(T.angle())));
+  graph::write_file_atomically(
+      dir / "truth.txt", fmt::format("# T_ab: x y theta of robot b's frame in robot a's frame\n{} {} {}\n",
+                                     graph::fmt17(T.translation().x()), graph::fmt17(T.translation().y()),
+                                     graph::fmt17(T.angle())));
   return set;
 }
 
 std::vector<bool> read_labels(const std::filesystem::path& file) {
-  const std::string text = graph::detail::read_file_text(file);
-  graph::detail::RecordScanner sc(text, file.string(), "label");
+  const std::string text = graph::read_file_text(file);
+  graph::RecordScanner sc(text, file.string(), "label");
   static constexpr std::array<const char*, 3> kNames = {"candidate", "kind", "group"};
   std::vector<bool> inlier;
   while (sc.next()) {
@@ -255,7 +254,7 @@ std::vector<bool> read_labels(const std::filesystem::path& file) {
       sc.fail_field(2, e.what());
     }
   }
-  if (inlier.empty()) graph::detail::fail_at(file.string(), 0, "no label");
+  if (inlier.empty()) graph::fail_at(file.string(), 0, "no label");
   return inlier;
 }
 

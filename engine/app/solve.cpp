@@ -71,13 +71,21 @@ CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptio
   return certified_impl(g, options);
 }
 
-AnyGraph read_graph(const std::filesystem::path& file, graph::InformationCheck information) {
+GraphInput read_graph_input(const std::filesystem::path& file, graph::InformationCheck information) {
   // Read once and parse from memory, so a pipe or FIFO (`<(cat g.g2o)`) works.
-  const std::string text = graph::detail::read_file_text(file);
+  const std::string text = graph::read_file_text(file);
   std::istringstream in(text);
+  GraphInput out;
   if (graph_dimension(text, file.string()) == 3)
-    return graph::read_pose_graph_3d(in, file.string(), information);
-  return graph::read_pose_graph_2d(in, file.string(), information);
+    out.graph = graph::read_pose_graph_3d(in, file.string(), information);
+  else
+    out.graph = graph::read_pose_graph_2d(in, file.string(), information);
+  out.format = graph::detect_graph_format(text, file.string()).value_or(graph::GraphFormat::g2o);
+  return out;
+}
+
+AnyGraph read_graph(const std::filesystem::path& file, graph::InformationCheck information) {
+  return read_graph_input(file, information).graph;
 }
 
 pgo::Options SolveOptions::pgo_options() const {

@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "graph/io.hpp"
 #include "graph/pose_graph.hpp"
 #include "pgo/certified.hpp"
 #include "pgo/optimize.hpp"
@@ -22,6 +23,15 @@ using AnyGraph = std::variant<graph::PoseGraph2D, graph::PoseGraph3D>;
 /// line and field.
 /// `information` as in graph::InformationCheck (diagonal_blocks for the certified solve's isotropic model).
 [[nodiscard]] AnyGraph read_graph(
+    const std::filesystem::path& file,
+    graph::InformationCheck information = graph::InformationCheck::positive_definite);
+/// A graph file read once: the graph and the format its records are in (graph::detect_graph_format; g2o when
+/// nothing says otherwise), so that a pipe, which cannot be read twice, needs no second look for its format.
+struct GraphInput {
+  AnyGraph graph;
+  graph::GraphFormat format = graph::GraphFormat::g2o;
+};
+[[nodiscard]] GraphInput read_graph_input(
     const std::filesystem::path& file,
     graph::InformationCheck information = graph::InformationCheck::positive_definite);
 

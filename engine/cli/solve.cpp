@@ -13,7 +13,6 @@ import keel.app;
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <memory>
 #include <span>
@@ -29,23 +28,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The format --out is written in: its extension's (.g2o, .txt), otherwise the input's, from the input's first
-// record, read before the work. An input that is not a regular file (a pipe) cannot be read again: such an
-// --out must name its format.
-graph::GraphFormat out_format(const SolveArgs& a) {
+// The format --out is written in: its extension's (.g2o, .txt), otherwise the input's (read with it, once).
+graph::GraphFormat out_format(const SolveArgs& a, graph::GraphFormat input) {
   const auto ext = fs::path(a.out).extension();
   if (ext == ".g2o") return graph::GraphFormat::g2o;
   if (ext == ".txt") return graph::GraphFormat::isam;
-  std::error_code ec;
-  if (!fs::exists(a.file, ec)) return graph::GraphFormat::g2o;  // reading the input reports the error
-  if (!fs::is_regular_file(a.file, ec))
-    throw CLI::ValidationError("--out",
-                               fmt::format("{}: name it .g2o or .txt ({} is not a regular file, so its "
-                                           "format cannot be read from it a second time)",
-                                           a.out, a.file));
-  std::ifstream in(a.file);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return graph::detect_graph_format(text, a.file).value_or(graph::GraphFormat::g2o);
+  return input;
 }
 
 // Writes the graph with the solution as its initial estimate.
@@ -120,15 +108,14 @@ void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::
 void run_solve(const SolveArgs& a) {
   const Stages stage("solve", a.common.quiet);
   app::Outputs outputs({{"file", a.file}});
-  const auto format = a.out.empty() ? graph::GraphFormat::g2o : out_format(a);
   if (!a.out.empty()) outputs.file("--out", a.out, app::OutputKind::graph());
   stage(fmt::format("reading {}", a.file));
   // The isotropic model of --certify reads only the diagonal blocks of each information matrix; the
   // anisotropic solve needs all of it and names the option that reads such a file.
   const auto read = [&] {
-    if (a.options.certify) return app::read_graph(a.file, graph::InformationCheck::diagonal_blocks);
+    if (a.options.certify) return app::read_graph_input(a.file, graph::InformationCheck::diagonal_blocks);
     try {
-      return app::read_graph(a.file);
+      return app::read_graph_input(a.file);
     } catch (const graph::ParseError& e) {
       if (std::string_view(e.what()).find("not positive definite") == std::string_view::npos) throw;
       // An input refused (exit 3), with the option that reads it.
@@ -139,7 +126,9 @@ void run_solve(const SolveArgs& a) {
                       e.what()));
     }
   };
-  const app::AnyGraph graph = read();
+  const app::GraphInput input = read();
+  const app::AnyGraph& graph = input.graph;
+  const auto format = a.out.empty() ? graph::GraphFormat::g2o : out_format(a, input.format);
   std::visit(
       [&](const auto& g) {
         if (g.indefinite_information > 0)

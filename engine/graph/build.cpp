@@ -177,31 +177,6 @@ void assemble_poses(Graph& g, const std::vector<Vertex>& vertices, const std::st
 
 }  // namespace
 
-std::string information_problem(const Mat2& W) { return information_problem_n<2>(W); }
-std::string information_problem(const Mat3& W) { return information_problem_n<3>(W); }
-std::string information_problem(const Mat6& W) { return information_problem_n<6>(W); }
-
-bool rotation_from_quaternion(const double* q, Mat3& R, std::string& why) {
-  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-3) {
-    why = fmt::format("quaternion norm {:.6g} is not 1 (tolerance 1e-3)", n);
-    return false;
-  }
-  const Eigen::Quaterniond quat(q[3] / n, q[0] / n, q[1] / n, q[2] / n);
-  R = quat.toRotationMatrix();
-  return true;
-}
-
-void quaternion_from_rotation(const Mat3& R, double* q) {
-  Eigen::Quaterniond quat(R);
-  quat.normalize();
-  if (quat.w() < 0.0) quat.coeffs() *= -1.0;
-  q[0] = quat.x();
-  q[1] = quat.y();
-  q[2] = quat.z();
-  q[3] = quat.w();
-}
-
 void assemble(PoseGraph2D& g, const std::vector<Vertex2>& vertices, const std::string& vertex_tag,
               const std::string& edge_tag) {
   assemble_poses(g, vertices, vertex_tag, edge_tag);
@@ -280,3 +255,32 @@ void check_indices(const PoseGraph3D& g, const char* writer) {
 }
 
 }  // namespace keel::graph::detail
+
+namespace keel::graph {
+
+std::string information_problem(const Mat2& W) { return detail::information_problem_n<2>(W); }
+std::string information_problem(const Mat3& W) { return detail::information_problem_n<3>(W); }
+std::string information_problem(const Mat6& W) { return detail::information_problem_n<6>(W); }
+
+bool rotation_from_quaternion(const double* q, Mat3& R, std::string& why) {
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-3) {
+    why = fmt::format("quaternion norm {:.6g} is not 1 (tolerance 1e-3)", n);
+    return false;
+  }
+  const Eigen::Quaterniond quat(q[3] / n, q[0] / n, q[1] / n, q[2] / n);
+  R = quat.toRotationMatrix();
+  return true;
+}
+
+void quaternion_from_rotation(const Mat3& R, double* q) {
+  Eigen::Quaterniond quat(R);
+  quat.normalize();
+  if (quat.w() < 0.0) quat.coeffs() *= -1.0;
+  q[0] = quat.x();
+  q[1] = quat.y();
+  q[2] = quat.z();
+  q[3] = quat.w();
+}
+
+}  // namespace keel::graph

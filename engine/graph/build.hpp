@@ -1,5 +1,6 @@
-// keel::graph (internal) — what the readers share after scanning: information matrices from upper triangles
-// and their checks, quaternions, and the assembly of poses (vertices or chained odometry) and landmarks with
+// keel::graph — what the readers share after scanning: the checks of an information matrix and the quaternion
+// conversions (public: the Python module checks and converts with them), and, internal (detail), information
+// matrices from upper triangles and the assembly of poses (vertices or chained odometry) and landmarks with
 // their checks. Not part of the keel.graph facade.
 #pragma once
 
@@ -8,6 +9,23 @@
 
 #include "graph/pose_graph.hpp"
 #include "graph/text_records.hpp"
+
+namespace keel::graph {
+
+/// Empty when the matrix is finite and numerically positive definite (every diagonal entry > 0 and the
+/// smallest eigenvalue of D^-1/2 W D^-1/2 above 1e-10, so it survives a write/read round trip); else what is
+/// wrong, in words.
+std::string information_problem(const Mat2& W);
+std::string information_problem(const Mat3& W);
+std::string information_problem(const Mat6& W);
+
+/// Rotation of a quaternion (x, y, z, w) whose norm is within 1e-3 of 1 (it is normalised); else the reason
+/// in `why`.
+bool rotation_from_quaternion(const double* xyzw, Mat3& R, std::string& why);
+/// (x, y, z, w) with w >= 0 of a rotation matrix.
+void quaternion_from_rotation(const Mat3& R, double* xyzw);
+
+}  // namespace keel::graph
 
 namespace keel::graph::detail {
 
@@ -28,19 +46,6 @@ Eigen::Matrix<double, N, N> information_from_sqrt_upper(const double* v) {
     for (int c = r; c < N; ++c) R(r, c) = *v++;
   return R.transpose() * R;
 }
-
-/// Empty when the matrix is finite and numerically positive definite (every diagonal entry > 0 and the
-/// smallest eigenvalue of D^-1/2 W D^-1/2 above 1e-10, so it survives a write/read round trip); else what is
-/// wrong, in words.
-std::string information_problem(const Mat2& W);
-std::string information_problem(const Mat3& W);
-std::string information_problem(const Mat6& W);
-
-/// Rotation of a quaternion (x, y, z, w) whose norm is within 1e-3 of 1 (it is normalised); else the reason
-/// in `why`.
-bool rotation_from_quaternion(const double* xyzw, Mat3& R, std::string& why);
-/// (x, y, z, w) with w >= 0 of a rotation matrix.
-void quaternion_from_rotation(const Mat3& R, double* xyzw);
 
 struct Vertex2 {
   int id = 0;

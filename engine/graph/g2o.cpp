@@ -42,7 +42,7 @@ struct FixRecord {
   std::string token;  // the id as written
 };
 
-void parse_fix(const detail::RecordScanner& sc, FixRecord& fix) {
+void parse_fix(const RecordScanner& sc, FixRecord& fix) {
   if (sc.size() == 0) sc.fail("FIX: expected the id of the fixed vertex (e.g. 'FIX 0')");
   for (std::size_t k = 1; k <= sc.size(); ++k) {
     const int id = sc.id(k);
@@ -52,7 +52,7 @@ void parse_fix(const detail::RecordScanner& sc, FixRecord& fix) {
       sc.fail_field(k,
                     fmt::format("{}: keel holds one pose fixed (the gauge), and {} on line {} already fixes "
                                 "pose {}; this one names pose {} (give one FIX id)",
-                                detail::quote_token(sc.field(k)), fix.field, fix.line, fix.id, id));
+                                quote_token(sc.field(k)), fix.field, fix.line, fix.id, id));
     }
   }
 }
@@ -61,15 +61,15 @@ template <class Graph>
 void check_fix(Graph& g, const FixRecord& fix) {
   if (fix.id < 0) return;
   if (static_cast<std::size_t>(fix.id) >= g.poses.size()) {
-    detail::fail_at(g.source, fix.line,
-                    fmt::format("{}: {}: no pose {} in the graph (its {} poses have ids 0 to {})", fix.field,
-                                detail::quote_token(fix.token), fix.id, g.poses.size(),
-                                static_cast<long long>(g.poses.size()) - 1));
+    fail_at(g.source, fix.line,
+            fmt::format("{}: {}: no pose {} in the graph (its {} poses have ids 0 to {})", fix.field,
+                        quote_token(fix.token), fix.id, g.poses.size(),
+                        static_cast<long long>(g.poses.size()) - 1));
   }
   g.gauge_pose = fix.id;
 }
 
-void check_edge_ids(const detail::RecordScanner& sc, int i, int j) {
+void check_edge_ids(const RecordScanner& sc, int i, int j) {
   if (i == j) sc.fail_field(2, fmt::format("the edge connects pose {} to itself", i));
 }
 
@@ -80,23 +80,23 @@ std::string block_problem(const Eigen::Matrix<double, N, N>& W, int nt, bool& in
   const int nr = N - nt;
   std::string why;
   if (nt == 2) {
-    why = detail::information_problem(Mat2(W.template topLeftCorner<2, 2>()));
+    why = information_problem(Mat2(W.template topLeftCorner<2, 2>()));
   } else {
-    why = detail::information_problem(Mat3(W.template topLeftCorner<3, 3>()));
+    why = information_problem(Mat3(W.template topLeftCorner<3, 3>()));
   }
   if (!why.empty()) return "translation block " + why;
   if (nr == 1) {
     if (!(std::isfinite(W(N - 1, N - 1)) && W(N - 1, N - 1) > 0.0))
       return fmt::format("rotation entry {:.6g} is not positive", W(N - 1, N - 1));
   } else {
-    why = detail::information_problem(Mat3(W.template bottomRightCorner<3, 3>()));
+    why = information_problem(Mat3(W.template bottomRightCorner<3, 3>()));
     if (!why.empty()) return "rotation block " + why;
   }
-  indefinite = !detail::information_problem(W).empty();
+  indefinite = !information_problem(W).empty();
   return {};
 }
 
-Edge2 parse_edge_se2(detail::RecordScanner& sc, InformationCheck check, int& indefinite) {
+Edge2 parse_edge_se2(RecordScanner& sc, InformationCheck check, int& indefinite) {
   sc.expect(kEdgeSE2);
   Edge2 e;
   e.i = sc.id(1);
@@ -106,7 +106,7 @@ Edge2 parse_edge_se2(detail::RecordScanner& sc, InformationCheck check, int& ind
   e.measurement = SE2(v[0], v[1], v[2]);
   e.information = detail::symmetric_from_upper<3>(v + 3);
   if (check == InformationCheck::positive_definite) {
-    if (auto why = detail::information_problem(e.information); !why.empty()) {
+    if (auto why = information_problem(e.information); !why.empty()) {
       sc.fail_fields(6, 11, fmt::format("the information matrix {}", why));
     }
   } else {
@@ -119,7 +119,7 @@ Edge2 parse_edge_se2(detail::RecordScanner& sc, InformationCheck check, int& ind
   return e;
 }
 
-Edge3 parse_edge_se3(detail::RecordScanner& sc, InformationCheck check, int& indefinite) {
+Edge3 parse_edge_se3(RecordScanner& sc, InformationCheck check, int& indefinite) {
   sc.expect(kEdgeSE3);
   Edge3 e;
   e.i = sc.id(1);
@@ -128,12 +128,12 @@ Edge3 parse_edge_se3(detail::RecordScanner& sc, InformationCheck check, int& ind
   sc.numbers(3, 30, v);
   Mat3 R;
   std::string why;
-  if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
+  if (!rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(6, 9, why);
   e.measurement = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
   const Mat6 w_g2o = detail::symmetric_from_upper<6>(v + 7);
   bool bad = false;
   if (check == InformationCheck::positive_definite) {
-    if (auto p = detail::information_problem(w_g2o); !p.empty())
+    if (auto p = information_problem(w_g2o); !p.empty())
       sc.fail_fields(10, 30, fmt::format("the information matrix {}", p));
   } else if (auto p = block_problem<6>(w_g2o, 3, bad); !p.empty()) {
     sc.fail_fields(10, 30, fmt::format("the information matrix's {}", p));
@@ -144,7 +144,7 @@ Edge3 parse_edge_se3(detail::RecordScanner& sc, InformationCheck check, int& ind
   W.block<3, 3>(3, 0) *= 0.5;
   W.block<3, 3>(3, 3) *= 0.25;
   if (check == InformationCheck::positive_definite) {
-    if (auto p = detail::information_problem(W); !p.empty()) {
+    if (auto p = information_problem(W); !p.empty()) {
       sc.fail_fields(10, 30, fmt::format("the information matrix in (t, φ) {}", p));
     }
   } else {
@@ -156,7 +156,7 @@ Edge3 parse_edge_se3(detail::RecordScanner& sc, InformationCheck check, int& ind
 }
 
 PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, InformationCheck check) {
-  detail::RecordScanner sc(text, name);
+  RecordScanner sc(text, name);
   PoseGraph2D g;
   g.source = name;
   std::vector<detail::Vertex2> vertices;
@@ -178,10 +178,10 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
     } else if (is_3d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
-          detail::quote_token(tag)));
+          quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2, EDGE_SE2 and FIX)",
-                          detail::quote_token(tag)));
+                          quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE2", "EDGE_SE2");
@@ -190,7 +190,7 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
 }
 
 PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, InformationCheck check) {
-  detail::RecordScanner sc(text, name);
+  RecordScanner sc(text, name);
   PoseGraph3D g;
   g.source = name;
   std::vector<detail::Vertex3> vertices;
@@ -204,7 +204,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
       double v[7];
       sc.numbers(2, 8, v);
       Mat3 R;
-      if (!detail::rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(5, 8, why);
+      if (!rotation_from_quaternion(v + 3, R, why)) sc.fail_fields(5, 8, why);
       vertices.push_back({id, SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2])), sc.line()});
     } else if (tag == "EDGE_SE3:QUAT") {
       const Edge3 e = parse_edge_se3(sc, check, g.indefinite_information);
@@ -215,10 +215,10 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
     } else if (is_2d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
-          detail::quote_token(tag)));
+          quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX)",
-                          detail::quote_token(tag)));
+                          quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE3:QUAT", "EDGE_SE3:QUAT");
@@ -228,7 +228,7 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
 
 void put(std::string& s, double v) {
   s += ' ';
-  s += detail::fmt17(v);
+  s += fmt17(v);
 }
 
 void put_edge(std::string& s, const Edge2& e) {
@@ -245,7 +245,7 @@ void put_edge(std::string& s, const Edge3& e) {
   double q[4];
   s += fmt::format("EDGE_SE3:QUAT {} {}", e.i, e.j);
   for (int a = 0; a < 3; ++a) put(s, e.measurement.translation()(a));
-  detail::quaternion_from_rotation(e.measurement.rotation(), q);
+  quaternion_from_rotation(e.measurement.rotation(), q);
   for (double x : q) put(s, x);
   // (t, φ) -> (t, q_vec): Ω_g2o = K Ω K, K = diag(I, 2I).
   Mat6 W = e.information;
@@ -261,20 +261,20 @@ void put_edge(std::string& s, const Edge3& e) {
 // each other (the two ids live in different id spaces).
 template <class Edge>
 std::vector<Edge> parse_g2o_edges(std::string_view text, const std::string& name, std::string_view edge_tag,
-                                  Edge (*parse)(detail::RecordScanner&, InformationCheck, int&)) {
-  detail::RecordScanner sc(text, name);
+                                  Edge (*parse)(RecordScanner&, InformationCheck, int&)) {
+  RecordScanner sc(text, name);
   std::vector<Edge> edges;
   while (sc.next()) {
     const std::string_view tag = sc.tag();
     if (tag != edge_tag) {
       sc.fail(
           fmt::format("unexpected tag {}: an edge file holds {} records only (no vertices, no other edges)",
-                      detail::quote_token(tag), edge_tag));
+                      quote_token(tag), edge_tag));
     }
     int unused = 0;
     edges.push_back(parse(sc, InformationCheck::positive_definite, unused));
   }
-  if (edges.empty()) detail::fail_at(name, 0, fmt::format("no {} record (an empty edge file)", edge_tag));
+  if (edges.empty()) fail_at(name, 0, fmt::format("no {} record (an empty edge file)", edge_tag));
   return edges;
 }
 
@@ -312,7 +312,7 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
       const SE3& T = g.poses[k];
       s += fmt::format("VERTEX_SE3:QUAT {}", k);
       for (int a = 0; a < 3; ++a) put(s, T.translation()(a));
-      detail::quaternion_from_rotation(T.rotation(), q);
+      quaternion_from_rotation(T.rotation(), q);
       for (double x : q) put(s, x);
       s += '\n';
     }
@@ -325,39 +325,39 @@ std::string g2o_text(const PoseGraph3D& g, const G2oWriteOptions& o) {
 }  // namespace
 
 PoseGraph2D read_g2o_2d(const std::filesystem::path& file, InformationCheck information) {
-  return parse_g2o_2d(detail::read_file_text(file), file.string(), information);
+  return parse_g2o_2d(read_file_text(file), file.string(), information);
 }
 PoseGraph2D read_g2o_2d(std::istream& in, const std::string& name, InformationCheck information) {
-  return parse_g2o_2d(detail::read_stream_text(in, name), name, information);
+  return parse_g2o_2d(read_stream_text(in, name), name, information);
 }
 PoseGraph3D read_g2o_3d(const std::filesystem::path& file, InformationCheck information) {
-  return parse_g2o_3d(detail::read_file_text(file), file.string(), information);
+  return parse_g2o_3d(read_file_text(file), file.string(), information);
 }
 PoseGraph3D read_g2o_3d(std::istream& in, const std::string& name, InformationCheck information) {
-  return parse_g2o_3d(detail::read_stream_text(in, name), name, information);
+  return parse_g2o_3d(read_stream_text(in, name), name, information);
 }
 
 std::vector<Edge2> read_g2o_edges_2d(const std::filesystem::path& file) {
-  return parse_g2o_edges<Edge2>(detail::read_file_text(file), file.string(), "EDGE_SE2", parse_edge_se2);
+  return parse_g2o_edges<Edge2>(read_file_text(file), file.string(), "EDGE_SE2", parse_edge_se2);
 }
 std::vector<Edge2> read_g2o_edges_2d(std::istream& in, const std::string& name) {
-  return parse_g2o_edges<Edge2>(detail::read_stream_text(in, name), name, "EDGE_SE2", parse_edge_se2);
+  return parse_g2o_edges<Edge2>(read_stream_text(in, name), name, "EDGE_SE2", parse_edge_se2);
 }
 std::vector<Edge3> read_g2o_edges_3d(const std::filesystem::path& file) {
-  return parse_g2o_edges<Edge3>(detail::read_file_text(file), file.string(), "EDGE_SE3:QUAT", parse_edge_se3);
+  return parse_g2o_edges<Edge3>(read_file_text(file), file.string(), "EDGE_SE3:QUAT", parse_edge_se3);
 }
 std::vector<Edge3> read_g2o_edges_3d(std::istream& in, const std::string& name) {
-  return parse_g2o_edges<Edge3>(detail::read_stream_text(in, name), name, "EDGE_SE3:QUAT", parse_edge_se3);
+  return parse_g2o_edges<Edge3>(read_stream_text(in, name), name, "EDGE_SE3:QUAT", parse_edge_se3);
 }
 void write_g2o_edges(const std::vector<Edge2>& edges, const std::filesystem::path& file) {
   std::string s;
   for (const auto& e : edges) put_edge(s, e);
-  detail::write_file_atomically(file, s);
+  write_file_atomically(file, s);
 }
 void write_g2o_edges(const std::vector<Edge3>& edges, const std::filesystem::path& file) {
   std::string s;
   for (const auto& e : edges) put_edge(s, e);
-  detail::write_file_atomically(file, s);
+  write_file_atomically(file, s);
 }
 
 void write_g2o(const PoseGraph2D& graph, std::ostream& out, const G2oWriteOptions& options) {
@@ -367,10 +367,10 @@ void write_g2o(const PoseGraph3D& graph, std::ostream& out, const G2oWriteOption
   out << g2o_text(graph, options);
 }
 void write_g2o(const PoseGraph2D& graph, const std::filesystem::path& file, const G2oWriteOptions& options) {
-  detail::write_file_atomically(file, g2o_text(graph, options));
+  write_file_atomically(file, g2o_text(graph, options));
 }
 void write_g2o(const PoseGraph3D& graph, const std::filesystem::path& file, const G2oWriteOptions& options) {
-  detail::write_file_atomically(file, g2o_text(graph, options));
+  write_file_atomically(file, g2o_text(graph, options));
 }
 
 }  // namespace keel::graph

@@ -27,7 +27,7 @@ std::string_view to_string(GraphFormat format) { return kGraphFormat.name(format
 GraphFormat graph_format_from_string(std::string_view s) { return kGraphFormat.parse(s); }
 
 std::optional<GraphFormat> detect_graph_format(std::string_view text, const std::filesystem::path& name) {
-  detail::RecordScanner sc(text, name.string());
+  RecordScanner sc(text, name.string());
   bool fix = false;  // g2o's FIX line says nothing about the dimension: the next record decides
   while (sc.next()) {
     const std::string_view t = sc.tag();
@@ -49,13 +49,13 @@ namespace {
 
 GraphFormat format_or_throw(std::string_view text, const std::string& name) {
   if (auto f = detect_graph_format(text, name)) return *f;
-  detail::RecordScanner sc(text, name);
+  RecordScanner sc(text, name);
   while (sc.next() && sc.tag() == "FIX") {
   }
   sc.fail(
       fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
                   "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",
-                  detail::quote_token(sc.tag())));
+                  quote_token(sc.tag())));
 }
 
 PoseGraph2D read_2d(const std::string& text, const std::string& name, InformationCheck information) {
@@ -115,16 +115,16 @@ std::string difference_common(const Graph& a, const Graph& b, double tol) {
 }  // namespace
 
 PoseGraph2D read_pose_graph_2d(const std::filesystem::path& file, InformationCheck information) {
-  return read_2d(detail::read_file_text(file), file.string(), information);
+  return read_2d(read_file_text(file), file.string(), information);
 }
 PoseGraph2D read_pose_graph_2d(std::istream& in, const std::string& name, InformationCheck information) {
-  return read_2d(detail::read_stream_text(in, name), name, information);
+  return read_2d(read_stream_text(in, name), name, information);
 }
 PoseGraph3D read_pose_graph_3d(const std::filesystem::path& file, InformationCheck information) {
-  return read_3d(detail::read_file_text(file), file.string(), information);
+  return read_3d(read_file_text(file), file.string(), information);
 }
 PoseGraph3D read_pose_graph_3d(std::istream& in, const std::string& name, InformationCheck information) {
-  return read_3d(detail::read_stream_text(in, name), name, information);
+  return read_3d(read_stream_text(in, name), name, information);
 }
 
 void write_pose_graph(const PoseGraph2D& graph, const std::filesystem::path& file) {

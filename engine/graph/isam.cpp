@@ -34,7 +34,7 @@ bool is_2d_edge_tag(std::string_view t) { return t == "ODOMETRY" || t == "EDGE2"
 // `check_information`: false for ground-truth files, whose noise numbers are placeholders (still parsed
 // strictly).
 PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool check_information) {
-  detail::RecordScanner sc(text, name);
+  RecordScanner sc(text, name);
   PoseGraph2D g;
   g.source = name;
   while (sc.next()) {
@@ -50,7 +50,7 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
       e.measurement = SE2(v[0], v[1], v[2]);
       e.information = detail::information_from_sqrt_upper<3>(v + 3);
       if (check_information) {
-        if (auto why = detail::information_problem(e.information); !why.empty()) {
+        if (auto why = information_problem(e.information); !why.empty()) {
           sc.fail_fields(6, 11, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
@@ -66,7 +66,7 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
       m.position = Vec2(v[0], v[1]);
       m.information = detail::information_from_sqrt_upper<2>(v + 2);
       if (check_information) {
-        if (auto why = detail::information_problem(m.information); !why.empty()) {
+        if (auto why = information_problem(m.information); !why.empty()) {
           sc.fail_fields(5, 7, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
@@ -75,11 +75,11 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
     } else if (tag == "EDGE3" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT") {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or read_pose_graph_3d)",
-          detail::quote_token(tag)));
+          quote_token(tag)));
     } else {
       sc.fail(
           fmt::format("unknown tag {} (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)",
-                      detail::quote_token(tag)));
+                      quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "edge");
@@ -87,7 +87,7 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
 }
 
 PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool check_information) {
-  detail::RecordScanner sc(text, name);
+  RecordScanner sc(text, name);
   PoseGraph3D g;
   g.source = name;
   while (sc.next()) {
@@ -105,7 +105,7 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
       // Information over (x, y, z, roll, pitch, yaw) taken as the information over (t, φ) (pose_graph.hpp).
       e.information = detail::information_from_sqrt_upper<6>(v + 6);
       if (check_information) {
-        if (auto why = detail::information_problem(e.information); !why.empty()) {
+        if (auto why = information_problem(e.information); !why.empty()) {
           sc.fail_fields(9, 29, fmt::format("the information RᵀR of the square-root numbers {}", why));
         }
       }
@@ -114,9 +114,9 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
     } else if (is_2d_edge_tag(tag) || tag == "LANDMARK" || tag == "VERTEX_SE2" || tag == "EDGE_SE2") {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or read_pose_graph_2d)",
-          detail::quote_token(tag)));
+          quote_token(tag)));
     } else {
-      sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", detail::quote_token(tag)));
+      sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "EDGE3");
@@ -125,7 +125,7 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
 
 void put(std::string& s, double v) {
   s += ' ';
-  s += detail::fmt17(v);
+  s += fmt17(v);
 }
 
 // iSAM text has no vertex records: a reader rebuilds the poses by chaining the edges (i, i+1), so the graph
@@ -269,25 +269,25 @@ lie::Vec3 rpy_for_writing(const Mat3& R) {
 }
 
 PoseGraph2D read_isam_2d(const std::filesystem::path& file) {
-  return parse_isam_2d(detail::read_file_text(file), file.string(), true);
+  return parse_isam_2d(read_file_text(file), file.string(), true);
 }
 PoseGraph2D read_isam_2d(std::istream& in, const std::string& name) {
-  return parse_isam_2d(detail::read_stream_text(in, name), name, true);
+  return parse_isam_2d(read_stream_text(in, name), name, true);
 }
 PoseGraph3D read_isam_3d(const std::filesystem::path& file) {
-  return parse_isam_3d(detail::read_file_text(file), file.string(), true);
+  return parse_isam_3d(read_file_text(file), file.string(), true);
 }
 PoseGraph3D read_isam_3d(std::istream& in, const std::string& name) {
-  return parse_isam_3d(detail::read_stream_text(in, name), name, true);
+  return parse_isam_3d(read_stream_text(in, name), name, true);
 }
 
 void write_isam(const PoseGraph2D& graph, std::ostream& out) { out << isam_text(graph); }
 void write_isam(const PoseGraph3D& graph, std::ostream& out) { out << isam_text(graph); }
 void write_isam(const PoseGraph2D& graph, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, isam_text(graph));
+  write_file_atomically(file, isam_text(graph));
 }
 void write_isam(const PoseGraph3D& graph, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, isam_text(graph));
+  write_file_atomically(file, isam_text(graph));
 }
 
 namespace {
@@ -358,19 +358,19 @@ GroundTruth3D ground_truth_3d(std::string_view text, const std::string& name, co
 
 GroundTruth2D read_isam_ground_truth_2d(const std::filesystem::path& file,
                                         const GroundTruthOptions& options) {
-  return ground_truth_2d(detail::read_file_text(file), file.string(), options);
+  return ground_truth_2d(read_file_text(file), file.string(), options);
 }
 GroundTruth2D read_isam_ground_truth_2d(std::istream& in, const std::string& name,
                                         const GroundTruthOptions& options) {
-  return ground_truth_2d(detail::read_stream_text(in, name), name, options);
+  return ground_truth_2d(read_stream_text(in, name), name, options);
 }
 GroundTruth3D read_isam_ground_truth_3d(const std::filesystem::path& file,
                                         const GroundTruthOptions& options) {
-  return ground_truth_3d(detail::read_file_text(file), file.string(), options);
+  return ground_truth_3d(read_file_text(file), file.string(), options);
 }
 GroundTruth3D read_isam_ground_truth_3d(std::istream& in, const std::string& name,
                                         const GroundTruthOptions& options) {
-  return ground_truth_3d(detail::read_stream_text(in, name), name, options);
+  return ground_truth_3d(read_stream_text(in, name), name, options);
 }
 
 }  // namespace keel::graph

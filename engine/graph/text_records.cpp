@@ -23,8 +23,6 @@ ParseError::ParseError(std::string file, int line, const std::string& message)
       file_(std::move(file)),
       line_(line) {}
 
-namespace detail {
-
 std::string read_file_text(const std::filesystem::path& file) {
   // One pass through core::read_whole_file: pipes and FIFOs work, a directory is named as one.
   std::string text;
@@ -150,5 +148,4 @@ int RecordScanner::id(std::size_t k) const {
   return static_cast<int>(v);
 }
 
-}  // namespace detail
 }  // namespace keel::graph

@@ -1,5 +1,6 @@
-// keel::graph (internal) — the line/field scanner shared by every reader, and small helpers shared by the
-// writers. Not part of the keel.graph facade.
+// keel::graph — the line/field scanner of every reader, also for the faces' own text files (a split's
+// labels), and the file helpers of every writer: reading a file whole, writing through a temporary name,
+// "%.17g". Used by headers (app, python), not exported by the keel.graph facade.
 #pragma once
 
 #include <cstddef>
@@ -10,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace keel::graph::detail {
+namespace keel::graph {
 
 /// The whole file as a string; ParseError(file, 0, "cannot open ...") when it cannot be read.
 std::string read_file_text(const std::filesystem::path& file);
@@ -74,4 +75,4 @@ class RecordScanner {
 /// "name:line: msg" as a ParseError (line 0: "name: msg").
 [[noreturn]] void fail_at(const std::string& name, int line, const std::string& msg);
 
-}  // namespace keel::graph::detail
+}  // namespace keel::graph

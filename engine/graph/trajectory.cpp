@@ -27,7 +27,7 @@ constexpr std::array<const char*, 8> kTum = {"timestamp", "tx", "ty", "tz", "qx"
 template <class T, std::size_t N, class Make>
 std::vector<T> read_id_records(std::string_view text, const std::string& name, const char* kind,
                                const std::array<const char*, N + 1>& names, Make make) {
-  detail::RecordScanner sc(text, name, kind);
+  RecordScanner sc(text, name, kind);
   struct Rec {
     int id;
     T value;
@@ -43,26 +43,24 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
     make(sc, v, value);
     recs.push_back({id, value, sc.line()});
   }
-  if (recs.empty()) detail::fail_at(name, 0, fmt::format("no {} records (empty file?)", kind));
+  if (recs.empty()) fail_at(name, 0, fmt::format("no {} records (empty file?)", kind));
   const std::size_t n = recs.size();
   std::unordered_map<int, int> seen;
   for (const auto& r : recs) {
     auto [it, fresh] = seen.emplace(r.id, r.line);
     if (!fresh) {
-      detail::fail_at(
-          name, r.line,
-          fmt::format("{} field 1 (id): duplicate id {} (first on line {})", kind, r.id, it->second));
+      fail_at(name, r.line,
+              fmt::format("{} field 1 (id): duplicate id {} (first on line {})", kind, r.id, it->second));
     }
   }
   for (const auto& r : recs) {
     if (static_cast<std::size_t>(r.id) >= n) {
       std::size_t missing = 0;
       while (seen.count(static_cast<int>(missing))) ++missing;
-      detail::fail_at(
-          name, r.line,
-          fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
-                      "this one has id {})",
-                      kind, missing, n, r.id));
+      fail_at(name, r.line,
+              fmt::format("{} field 1 (id): ids must be contiguous from 0, but id {} is missing ({} records, "
+                          "this one has id {})",
+                          kind, missing, n, r.id));
     }
   }
   std::vector<T> out(n);
@@ -70,21 +68,17 @@ std::vector<T> read_id_records(std::string_view text, const std::string& name, c
   return out;
 }
 
-void make_pose2(const detail::RecordScanner&, const std::array<double, 3>& v, SE2& T) {
-  T = SE2(v[0], v[1], v[2]);
-}
-void make_landmark2(const detail::RecordScanner&, const std::array<double, 2>& v, Vec2& p) {
-  p = Vec2(v[0], v[1]);
-}
-void make_pose3(const detail::RecordScanner& sc, const std::array<double, 7>& v, SE3& T) {
+void make_pose2(const RecordScanner&, const std::array<double, 3>& v, SE2& T) { T = SE2(v[0], v[1], v[2]); }
+void make_landmark2(const RecordScanner&, const std::array<double, 2>& v, Vec2& p) { p = Vec2(v[0], v[1]); }
+void make_pose3(const RecordScanner& sc, const std::array<double, 7>& v, SE3& T) {
   Mat3 R;
   std::string why;
-  if (!detail::rotation_from_quaternion(v.data() + 3, R, why)) sc.fail_fields(5, 8, why);
+  if (!rotation_from_quaternion(v.data() + 3, R, why)) sc.fail_fields(5, 8, why);
   T = SE3(SO3::from_matrix_unchecked(R), Vec3(v[0], v[1], v[2]));
 }
 
 std::vector<SE2> parse_pose_list_2d(std::string_view text, const std::string& name) {
-  detail::RecordScanner sc(text, name, "pose");
+  RecordScanner sc(text, name, "pose");
   std::vector<SE2> out;
   while (sc.next()) {
     sc.expect(kPose2);
@@ -92,12 +86,12 @@ std::vector<SE2> parse_pose_list_2d(std::string_view text, const std::string& na
     sc.numbers(1, 3, v);
     out.emplace_back(v[0], v[1], v[2]);
   }
-  if (out.empty()) detail::fail_at(name, 0, "no pose records (empty file?)");
+  if (out.empty()) fail_at(name, 0, "no pose records (empty file?)");
   return out;
 }
 
 std::vector<TumPose> parse_tum(std::string_view text, const std::string& name) {
-  detail::RecordScanner sc(text, name, "TUM");
+  RecordScanner sc(text, name, "TUM");
   std::vector<TumPose> out;
   while (sc.next()) {
     sc.expect(kTum);
@@ -105,16 +99,16 @@ std::vector<TumPose> parse_tum(std::string_view text, const std::string& name) {
     sc.numbers(1, 8, v);
     Mat3 R;
     std::string why;
-    if (!detail::rotation_from_quaternion(v + 4, R, why)) sc.fail_fields(5, 8, why);
+    if (!rotation_from_quaternion(v + 4, R, why)) sc.fail_fields(5, 8, why);
     out.push_back({v[0], SE3(SO3::from_matrix_unchecked(R), Vec3(v[1], v[2], v[3]))});
   }
-  if (out.empty()) detail::fail_at(name, 0, "no TUM records (empty file?)");
+  if (out.empty()) fail_at(name, 0, "no TUM records (empty file?)");
   return out;
 }
 
 void put(std::string& s, double v) {
   s += ' ';
-  s += detail::fmt17(v);
+  s += fmt17(v);
 }
 
 std::string poses_2d_text(const std::vector<SE2>& poses) {
@@ -146,7 +140,7 @@ std::string poses_3d_text(const std::vector<SE3>& poses) {
   for (std::size_t k = 0; k < poses.size(); ++k) {
     s += fmt::format("{}", k);
     for (int a = 0; a < 3; ++a) put(s, poses[k].translation()(a));
-    detail::quaternion_from_rotation(poses[k].rotation(), q);
+    quaternion_from_rotation(poses[k].rotation(), q);
     for (double x : q) put(s, x);
     s += '\n';
   }
@@ -175,59 +169,58 @@ std::string tum_text(const std::vector<SE2>& poses) {
 }  // namespace
 
 std::vector<SE2> read_poses_2d(const std::filesystem::path& file) {
-  return read_id_records<SE2, 3>(detail::read_file_text(file), file.string(), "pose", kIdPose2, make_pose2);
+  return read_id_records<SE2, 3>(read_file_text(file), file.string(), "pose", kIdPose2, make_pose2);
 }
 std::vector<SE2> read_poses_2d(std::istream& in, const std::string& name) {
-  return read_id_records<SE2, 3>(detail::read_stream_text(in, name), name, "pose", kIdPose2, make_pose2);
+  return read_id_records<SE2, 3>(read_stream_text(in, name), name, "pose", kIdPose2, make_pose2);
 }
 std::vector<Vec2> read_landmarks_2d(const std::filesystem::path& file) {
-  return read_id_records<Vec2, 2>(detail::read_file_text(file), file.string(), "landmark", kIdLandmark2,
+  return read_id_records<Vec2, 2>(read_file_text(file), file.string(), "landmark", kIdLandmark2,
                                   make_landmark2);
 }
 std::vector<Vec2> read_landmarks_2d(std::istream& in, const std::string& name) {
-  return read_id_records<Vec2, 2>(detail::read_stream_text(in, name), name, "landmark", kIdLandmark2,
-                                  make_landmark2);
+  return read_id_records<Vec2, 2>(read_stream_text(in, name), name, "landmark", kIdLandmark2, make_landmark2);
 }
 std::vector<SE3> read_poses_3d(const std::filesystem::path& file) {
-  return read_id_records<SE3, 7>(detail::read_file_text(file), file.string(), "pose", kIdPose3, make_pose3);
+  return read_id_records<SE3, 7>(read_file_text(file), file.string(), "pose", kIdPose3, make_pose3);
 }
 std::vector<SE3> read_poses_3d(std::istream& in, const std::string& name) {
-  return read_id_records<SE3, 7>(detail::read_stream_text(in, name), name, "pose", kIdPose3, make_pose3);
+  return read_id_records<SE3, 7>(read_stream_text(in, name), name, "pose", kIdPose3, make_pose3);
 }
 std::vector<SE2> read_pose_list_2d(const std::filesystem::path& file) {
-  return parse_pose_list_2d(detail::read_file_text(file), file.string());
+  return parse_pose_list_2d(read_file_text(file), file.string());
 }
 std::vector<SE2> read_pose_list_2d(std::istream& in, const std::string& name) {
-  return parse_pose_list_2d(detail::read_stream_text(in, name), name);
+  return parse_pose_list_2d(read_stream_text(in, name), name);
 }
 std::vector<TumPose> read_tum(const std::filesystem::path& file) {
-  return parse_tum(detail::read_file_text(file), file.string());
+  return parse_tum(read_file_text(file), file.string());
 }
 std::vector<TumPose> read_tum(std::istream& in, const std::string& name) {
-  return parse_tum(detail::read_stream_text(in, name), name);
+  return parse_tum(read_stream_text(in, name), name);
 }
 
 void write_poses_2d(const std::vector<SE2>& poses, std::ostream& out) { out << poses_2d_text(poses); }
 void write_poses_2d(const std::vector<SE2>& poses, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, poses_2d_text(poses));
+  write_file_atomically(file, poses_2d_text(poses));
 }
 void write_landmarks_2d(const std::vector<Vec2>& landmarks, std::ostream& out) {
   out << landmarks_2d_text(landmarks);
 }
 void write_landmarks_2d(const std::vector<Vec2>& landmarks, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, landmarks_2d_text(landmarks));
+  write_file_atomically(file, landmarks_2d_text(landmarks));
 }
 void write_poses_3d(const std::vector<SE3>& poses, std::ostream& out) { out << poses_3d_text(poses); }
 void write_poses_3d(const std::vector<SE3>& poses, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, poses_3d_text(poses));
+  write_file_atomically(file, poses_3d_text(poses));
 }
 void write_tum(const std::vector<SE2>& poses, std::ostream& out) { out << tum_text(poses); }
 void write_tum(const std::vector<SE3>& poses, std::ostream& out) { out << tum_text(poses); }
 void write_tum(const std::vector<SE2>& poses, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, tum_text(poses));
+  write_file_atomically(file, tum_text(poses));
 }
 void write_tum(const std::vector<SE3>& poses, const std::filesystem::path& file) {
-  detail::write_file_atomically(file, tum_text(poses));
+  write_file_atomically(file, tum_text(poses));
 }
 
 }  // namespace keel::graph

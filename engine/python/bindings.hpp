@@ -74,7 +74,7 @@ Array edge_information(const std::vector<graph::Edge3>& edges);   // (m, 6, 6)
 /// Edges from (m, 2) ids, (m, 3|7) measurements and (m, d, d) information (None: identity), named in errors
 /// as `who`: ids as in ids_from_object (num_poses >= 0: every id below it, and no edge from a pose to
 /// itself); every information matrix finite and positive definite as the graph readers demand
-/// (graph::detail::information_problem), else ValueError naming the edge; non-finite numbers: ValueError.
+/// (graph::information_problem), else ValueError naming the edge; non-finite numbers: ValueError.
 std::vector<graph::Edge2> edges2_from_arrays(const py::object& ids, const py::object& measurements,
                                              const py::object& information, const std::string& who,
                                              long long num_poses);

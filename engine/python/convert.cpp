@@ -201,14 +201,12 @@ void check_finite_result(const double* v, std::size_t count, const std::string& 
 lie::SE3 se3_from_quaternion(const double* t, const double* xyzw, const std::string& who) {
   lie::Mat3 R;
   std::string why;
-  if (!graph::detail::rotation_from_quaternion(xyzw, R, why))
+  if (!graph::rotation_from_quaternion(xyzw, R, why))
     throw std::invalid_argument(fmt::format("{}: {}", who, why));
   return lie::SE3(lie::SO3::from_matrix_unchecked(R), lie::Vec3(t[0], t[1], t[2]));
 }
 
-void quaternion_of(const lie::SE3& T, double* xyzw) {
-  graph::detail::quaternion_from_rotation(T.rotation(), xyzw);
-}
+void quaternion_of(const lie::SE3& T, double* xyzw) { graph::quaternion_from_rotation(T.rotation(), xyzw); }
 
 Array poses_to_array(const std::vector<lie::SE2>& poses) {
   Array out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
@@ -332,14 +330,14 @@ std::vector<Edge> edges_from_arrays(const py::object& ids_in, const std::vector<
           out[k].information(i, j) = r(k, i, j);
         }
     // Symmetric (a file holds only the upper triangle; here a matrix that is not symmetric to rounding is a
-    // mistake), then the readers' own check (graph::detail::information_problem: finite and positive
+    // mistake), then the readers' own check (graph::information_problem: finite and positive
     // definite), so that what read_graph refuses is refused here too.
     for (std::size_t k = 0; k < m; ++k) {
       const auto& W = out[k].information;
       if ((W - W.transpose()).cwiseAbs().maxCoeff() > 1e-12 * W.cwiseAbs().maxCoeff())
         throw std::invalid_argument(
             fmt::format("{}: information[{}] (edge {} -> {}) is not symmetric", who, k, out[k].i, out[k].j));
-      if (const std::string why = graph::detail::information_problem(W); !why.empty())
+      if (const std::string why = graph::information_problem(W); !why.empty())
         throw std::invalid_argument(
             fmt::format("{}: information[{}] (edge {} -> {}) {}", who, k, out[k].i, out[k].j, why));
     }

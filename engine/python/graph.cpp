@@ -250,7 +250,7 @@ information of its residual as in a graph's edges. `dim` is 2 or 3; the arrays a
         std::variant<PoseGraph2D, PoseGraph3D> g;
         {
           py::gil_scoped_release release;
-          const std::string text = graph::detail::read_file_text(path);
+          const std::string text = graph::read_file_text(path);
           const bool is3d = dim == 0 ? app::graph_dimension(text, path) == 3 : dim == 3;
           std::istringstream in(text);
           if (is3d) {
@@ -317,7 +317,7 @@ written raises OSError naming it.)doc");
         Candidates c;
         c.source = path;
         py::gil_scoped_release release;
-        const std::string text = graph::detail::read_file_text(path);
+        const std::string text = graph::read_file_text(path);
         const bool is3d = dim == 0 ? app::graph_dimension(text, path) == 3 : dim == 3;
         std::istringstream in(text);
         if (is3d) {

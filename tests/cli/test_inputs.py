@@ -129,6 +129,16 @@ class Files(unittest.TestCase):
         out, _ = keel("solve", "/dev/stdin", "--json", "-q", stdin=TRIANGLE)
         self.assertEqual(json.loads(out)["poses"], 3)
 
+    def test_solve_from_a_pipe_writes_in_the_inputs_format(self):
+        # --out without an extension takes the input's format, found in the one reading of the input.
+        isam = "EDGE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE2 1 2 1 0 0 1 0 0 1 0 1\nEDGE2 0 2 2 0 0 1 0 0 1 0 1\n"
+        for text, first in ((TRIANGLE, "VERTEX_SE2"), (isam, "EDGE2")):
+            out = os.path.join(WORK, "solution")
+            keel("solve", "/dev/stdin", "--out", out, "-q", stdin=text)
+            with open(out) as f:
+                self.assertEqual(f.read().split()[0], first)
+            os.remove(out)
+
     def test_pcm_reads_robot_a_once(self):
         b = write("b.g2o", TRIANGLE)
         cand = write("cand.g2o", "EDGE_SE2 2 0 1 0 0" + INFO + "EDGE_SE2 1 1 2 0 0" + INFO)

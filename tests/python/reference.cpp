@@ -57,7 +57,7 @@ std::string row(const lie::SE2& T) {
 
 std::string row(const lie::SE3& T) {
   double q[4];
-  graph::detail::quaternion_from_rotation(T.rotation(), q);
+  graph::quaternion_from_rotation(T.rotation(), q);
   const lie::Vec3& t = T.translation();
   return fmt::format("[{}, {}, {}, {}, {}, {}, {}]", num(t.x()), num(t.y()), num(t.z()), num(q[0]), num(q[1]),
                      num(q[2]), num(q[3]));

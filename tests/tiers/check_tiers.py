@@ -14,6 +14,8 @@ each with its areas in order and every area's declared library and unit-test dep
   4. An experiment driver (experiments/*/driver.cpp) imports keel.repro and keel.study only, and includes no engine
      header.
   5. The Python module (engine/python) uses neither the reproduction nor the studies tier.
+  6. No area names another area's internals (`<other>::detail::`): what another area uses, its owner declares
+     public.
 bench/, tests/ and tests' fixtures are free: they may use anything.
 Prints one line per violation and exits 1 when there is any, 0 otherwise (with a summary line).
 """
@@ -24,6 +26,7 @@ import sys
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([A-Za-z0-9_]+)/[^"]*"', re.M)
 IMPORT = re.compile(r'^\s*(?:export\s+)?import\s+keel\.([A-Za-z0-9_]+)\s*;', re.M)
+DETAIL = re.compile(r"\b(\w+)::detail::")
 TOML = re.compile(r'^\s*#\s*include\s*[<"](?:toml\+\+/[^>"]*|core/config\.hpp)[>"]', re.M)
 SOURCE_SUFFIXES = (".hpp", ".cpp", ".cppm", ".h")
 
@@ -118,6 +121,12 @@ def check(table_path, root):
                 if area == "python" and u["tier"] in ("reproduction", "studies"):
                     report(path, line, f"{how} of '{used}' from the Python module: it calls app and the algorithm "
                                        f"facades only")
+            # An area's `detail` namespace is its own: another area uses what the owner declares public.
+            for m in DETAIL.finditer(text):
+                if m.group(1) in areas and m.group(1) != area:
+                    report(path, text.count("\n", 0, m.start()) + 1,
+                           f"'{m.group(0)}' from area '{area}': another area's internals (detail); use what "
+                           f"'{m.group(1)}' declares public")
             if me["tier"] == "algorithms":
                 for m in TOML.finditer(text):
                     report(path, text.count("\n", 0, m.start()) + 1,

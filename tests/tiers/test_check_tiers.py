@@ -96,6 +96,15 @@ class CheckTiers(unittest.TestCase):
                         "experiments/ch2_x/driver.cpp:3", "in a driver")
         self.assert_one({"experiments/ch2_y/driver.cpp": '#include "study/ch2.hpp"\n'}, "#include of 'study'")
 
+    def test_another_areas_detail_is_refused(self):
+        self.assert_one({"engine/study/ch2.cpp": '#include "repro/results.hpp"\n#include "sim/world.hpp"\n'
+                                                 '#include "lie/so3.hpp"\nauto x = pcm::detail::bits();\n'},
+                        "engine/study/ch2.cpp:4", "'pcm::detail::' from area 'study'", "internals")
+        # Its own detail, and a library's (pybind11's py::detail), are fine.
+        self.assertEqual(self.run_tree({"engine/pcm/clique.cpp": '#include "lie/so3.hpp"\nauto y = pcm::detail::b();\n',
+                                        "engine/python/module.cpp": '#include "app/solve.hpp"\npy::detail::c();\n'})[1],
+                         [])
+
     def test_python_uses_no_reproduction(self):
         _, violations = self.run_tree({"engine/python/module.cpp": '#include "repro/results.hpp"\n'})
         self.assertTrue(any("from the Python module" in v for v in violations), violations)

@@ -9,6 +9,7 @@ module;
 #include "app/outputs.hpp"
 #include "app/pcm.hpp"
 #include "app/progress.hpp"
+#include "app/records.hpp"
 #include "app/solve.hpp"
 #include "app/solver_log.hpp"
 export module keel.app;
@@ -68,6 +69,11 @@ using keel::app::PcmRun3;
 using keel::app::Progress;
 using keel::app::score_selection;
 using keel::app::SelectionScore;
+// records
+using keel::app::FieldWriter;
+using keel::app::proven_figures;
+using keel::app::ProvenFigures;
+using keel::app::write_record;
 // outputs
 using keel::app::check_folder_writable;
 using keel::app::FolderFile;

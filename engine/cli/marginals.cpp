@@ -123,7 +123,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
               {"gauge", fmt::format("pose {} fixed", g.gauge_pose)},
               {"perturbation", planar ? "left, T = exp(ξ^) T̄, ξ = (ρx, ρy, θ)"
                                       : "left, T = exp(ξ^) T̄, ξ = (ρ, φ) (translation part first)"},
-              {"solve", summary_json(solved.summary)}};
+              {"solve", record_json(solved.summary)}};
   if (!request.pairs.empty()) {
     json list = json::array();
     for (std::size_t k = 0; k < request.pairs.size(); ++k) {
@@ -137,6 +137,7 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
     out["covariance"] = matrix_json(m.joint);
   }
   out["factorization_time_s"] = m.factor.analyze_time_s + m.factor.factorize_time_s;
+  out["factor"] = record_json(m.factor);  // what Python's Marginals.summary holds
   out["extraction_time_s"] = m.extraction_time_s;
   if (!sa.out.empty()) {
     write_json(outputs, sa.out, out);

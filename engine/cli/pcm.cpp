@@ -73,7 +73,7 @@ void report_pcm(const PcmArgs& args, const Run& run, const std::optional<std::ve
     j["fpr"] = score->fpr;
   }
   if (run.merged) {
-    j["merged"] = {{"file", args.merged}, {"summary", summary_json(run.merged->summary)}};
+    j["merged"] = {{"file", args.merged}, {"summary", record_json(run.merged->summary)}};
   }
   if (!args.out.empty()) {
     json full = j;

@@ -61,7 +61,7 @@ void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Ou
     json j = {{"file", a.file},
               {"poses", g.poses.size()},
               {"edges", g.edges.size()},
-              {"summary", summary_json(s.summary)}};
+              {"summary", record_json(s.summary)}};
     if (!a.out.empty()) j["out"] = a.out;
     fmt::print("{}\n", j.dump(1));
   } else {
@@ -92,7 +92,7 @@ void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::
         {"edges", s.summary.edges},
         {"anisotropic_cost", std::isfinite(s.anisotropic_cost) ? json(s.anisotropic_cost) : json(nullptr)},
         {"indefinite_information", g.indefinite_information},
-        {"certificate", certificate_json(s.summary)}};
+        {"certificate", record_json(s.summary)}};
     if (written) j["out"] = a.out;
     fmt::print("{}\n", j.dump(1));
   } else {

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -82,15 +84,45 @@ json matrix_json(const M& m) {
   return rows;
 }
 
-inline json summary_json(const pgo::Summary& s) {
-  return {{"termination", std::string(pgo::to_string(s.termination))},
-          {"message", s.message},
-          {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},
-          {"final_chi2", s.final_chi2},
-          {"normalized_chi2", s.normalized_chi2},
-          {"iterations", s.iterations},
-          {"total_time_s", s.total_time_s}};
+// app's records (app/records.hpp) as JSON: the field list the Python module's dicts walk too.
+class JsonWriter final : public app::FieldWriter {
+ public:
+  explicit JsonWriter(json& out) : out_(out) { out_ = json::object(); }
+  void null(std::string_view name) override { out_[std::string(name)] = nullptr; }
+  void boolean(std::string_view name, bool v) override { out_[std::string(name)] = v; }
+  void integer(std::string_view name, std::int64_t v) override { out_[std::string(name)] = v; }
+  void text(std::string_view name, std::string_view v) override { out_[std::string(name)] = std::string(v); }
+  void record(std::string_view name, const std::function<void(app::FieldWriter&)>& fill) override {
+    json r;
+    JsonWriter w(r);
+    fill(w);
+    out_[std::string(name)] = std::move(r);
+  }
+  void records(std::string_view name, std::size_t n,
+               const std::function<void(std::size_t, app::FieldWriter&)>& fill) override {
+    json list = json::array();
+    for (std::size_t k = 0; k < n; ++k) {
+      json r;
+      JsonWriter w(r);
+      fill(k, w);
+      list.push_back(std::move(r));
+    }
+    out_[std::string(name)] = std::move(list);
+  }
+
+ protected:
+  void finite_number(std::string_view name, double v) override { out_[std::string(name)] = v; }
+
+ private:
+  json& out_;
+};
+
+template <class Summary>
+json record_json(const Summary& s) {
+  json j;
+  JsonWriter w(j);
+  app::write_record(s, w);
+  return j;
 }
 
 // The arguments of `keel solve` and the solve of `keel marginals`.
@@ -152,76 +184,6 @@ inline void check_solve_options(const SolveArgs& a) {
   check("--time-limit", [&](app::SolveOptions& o) { o.time_limit_s = given.time_limit_s; });
 }
 
-// The attempts of a certificate's proof that failed, as failed: null when none did.
-inline json certificate_failures_json(const pgo::Certificate& c) {
-  if (!(c.failed_shift > 0.0)) return json(nullptr);
-  return {{"proven", false}, {"largest_failed_shift", c.failed_shift}, {"attempts", c.attempts}};
-}
-
-inline json certificate_json(const pgo::CertifiedSummary& s) {
-  const auto& c = s.certificate;
-  json stairs = json::array();
-  for (const auto& r : s.staircase)
-    stairs.push_back({{"rank", r.rank},
-                      {"iterations", r.iterations},
-                      {"factorizations", r.factorizations},
-                      {"cg_steps", r.cg_steps},
-                      {"tcg_iterations", r.tcg_iterations},
-                      {"cost", r.cost},
-                      {"gradient_norm", r.gradient_norm},
-                      {"certified", r.certified},
-                      {"lambda_min_estimate", r.lambda_min_estimate},
-                      {"time_s", r.time_s}});
-  // Every figure of a proof comes from the proof behind lower_bound and is null when nothing was proven;
-  // failed attempts are reported under "failed_attempts" only.
-  const auto proven = [&](const json& v) { return c.proven ? v : json(nullptr); };
-  return {{"termination", std::string(pgo::to_string(s.termination))},
-          {"status", std::string(core::to_string(s.status))},
-          {"message", s.message},
-          {"problem", s.problem},
-          {"initial_cost", s.initial_cost},
-          {"final_cost", s.final_cost},
-          {"certified", c.certified},
-          {"proven", c.proven},
-          {"lower_bound", proven(c.bound.lower)},  // rounded down
-          {"upper_bound", c.bound.upper},          // F at the returned point, rounded up
-          {"relative_gap", proven(c.bound.relative_gap_up())},
-          {"lambda_min_lower_bound", proven(-c.shift)},
-          {"shift", proven(c.shift)},
-          {"tolerance_shift", c.tolerance_shift},
-          {"trace_lambda", c.trace_lambda},
-          {"proof_rank", proven(c.rank)},
-          {"rounding_margin", proven(c.rounding_margin)},
-          {"residual", proven(c.residual)},
-          {"worst_case_residual", proven(c.worst_case_residual)},
-          {"formation_error", proven(c.formation_error)},
-          {"extended_precision", proven(c.extended_precision)},
-          {"failed_attempts", certificate_failures_json(c)},
-          {"bound_from_staircase", s.bound_from_staircase},
-          {"returned_point",
-           s.bound_from_staircase
-               ? json{{"proven", s.returned_point.proven},
-                      {"lower_bound",
-                       s.returned_point.proven ? json(s.returned_point.bound.lower) : json(nullptr)},
-                      {"message", s.returned_point.message},
-                      {"failed_attempts", certificate_failures_json(s.returned_point)}}
-               : json(nullptr)},
-          {"certificate_order", c.size},
-          {"final_rank", s.final_rank},
-          {"staircase", stairs},
-          {"iterations", s.iterations},
-          {"factorizations", s.factorizations},
-          {"cg_steps", s.cg_steps},
-          {"tcg_iterations", s.tcg_iterations},
-          {"ordering", s.ordering},
-          {"times_s",
-           {{"initialization", s.initialization_time_s},
-            {"local", s.local_time_s},
-            {"certificate", s.certificate_time_s},
-            {"rounding", s.rounding_time_s},
-            {"total", s.total_time_s}}}};
-}
-
 inline void print_certified_summary(const std::string& file, const pgo::CertifiedSummary& s,
                                     double anisotropic) {
   const auto& c = s.certificate;
@@ -237,27 +199,27 @@ inline void print_certified_summary(const std::string& file, const pgo::Certifie
   // the gap and the shift up); a failed attempt is printed as failed. The word "proven" is kept for a
   // certified estimate: when the estimate is not certified, a lower bound from a staircase point still holds
   // and is printed as a bound, without a word that could be read as the estimate's optimality.
-  if (c.proven) {
-    const double dual_gap = core::round_up(core::round_up(c.bound.upper - c.trace_lambda) /
-                                           std::fmax(1.0, std::abs(c.bound.upper)));
+  if (const auto p = app::proven_figures(c)) {
     const std::string figures = fmt::format(
         "relative gap (F − bound) / F ≤ {0} ((F − tr Λ) / F = {1} at the multipliers, plus the shift η·d·n / "
         "F "
         "chosen from the gap tolerance); λ_min(S) ≥ −{2} on the rotations with rounding margin {3:.3g} (S of "
         "order "
         "{4}{5})",
-        core::format_upper(c.bound.relative_gap_up(), 3), core::format_upper(dual_gap, 3),
-        core::format_upper(c.shift, 3), c.rounding_margin, c.size,
-        c.rank > s.dimension ? fmt::format(", multipliers of the rank-{} staircase point", c.rank) : "");
+        core::format_upper(p->relative_gap, 3), core::format_upper(p->dual_gap, 3),
+        core::format_upper(p->shift, 3), p->rounding_margin, c.size,
+        p->proof_rank > s.dimension
+            ? fmt::format(", multipliers of the rank-{} staircase point", p->proof_rank)
+            : "");
     if (c.certified)
-      fmt::print("certificate  F* ≥ {} proven (certified), {}\n", core::format_lower(c.bound.lower, 10),
+      fmt::print("certificate  F* ≥ {} proven (certified), {}\n", core::format_lower(p->lower_bound, 10),
                  figures);
     else
       fmt::print(
           "certificate  not certified: the estimate's optimality is not shown; the lower bound F* ≥ {} "
           "holds, "
           "{}\n",
-          core::format_lower(c.bound.lower, 10), figures);
+          core::format_lower(p->lower_bound, 10), figures);
   } else {
     fmt::print("certificate  not certified: {}\n", c.message);  // "no lower bound: " and what failed
   }

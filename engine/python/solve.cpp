@@ -4,10 +4,14 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <variant>
 
 #include "app/marginals.hpp"
+#include "app/records.hpp"
 #include "app/solve.hpp"
 #include "bindings.hpp"
 #include "cov/marginal_covariance.hpp"
@@ -102,50 +106,45 @@ py::object finite_or_none(double x) {
   return std::isfinite(x) ? py::object(py::float_(x)) : py::object(py::none());
 }
 
-py::dict certificate_dict(const pgo::CertifiedSummary& s) {
-  const auto& c = s.certificate;
-  py::dict d;
-  // The proof's figures come from the proof behind lower_bound and are None when nothing was proven; a
-  // failed attempt is reported under "failed_attempts" only.
-  const auto proven = [&](py::object v) { return c.proven ? v : py::object(py::none()); };
-  d["certified"] = c.certified;
-  d["proven"] = c.proven;
-  d["lower_bound"] = proven(finite_or_none(c.bound.lower));  // rounded down
-  d["upper_bound"] = c.bound.upper;                          // F at the estimate, rounded up
-  d["relative_gap"] = proven(finite_or_none(c.bound.relative_gap_up()));
-  d["lambda_min_lower_bound"] = proven(py::float_(-c.shift));
-  d["shift"] = proven(py::float_(c.shift));
-  d["tolerance_shift"] = c.tolerance_shift;
-  d["trace_lambda"] = c.trace_lambda;
-  d["proof_rank"] = proven(py::int_(c.rank));
-  d["rounding_margin"] = proven(py::float_(c.rounding_margin));
-  d["residual"] = proven(py::float_(c.residual));
-  d["worst_case_residual"] = proven(py::float_(c.worst_case_residual));
-  d["formation_error"] = proven(py::float_(c.formation_error));
-  d["extended_precision"] = proven(py::bool_(c.extended_precision));
-  const auto failures = [](const pgo::Certificate& x) -> py::object {
-    if (!(x.failed_shift > 0.0)) return py::none();
-    py::dict failed;
-    failed["proven"] = false;
-    failed["largest_failed_shift"] = x.failed_shift;
-    failed["attempts"] = x.attempts;
-    return failed;
-  };
-  d["failed_attempts"] = failures(c);
-  d["bound_from_staircase"] = s.bound_from_staircase;
-  if (s.bound_from_staircase) {
+// app's records (app/records.hpp) as dicts: the field list `keel solve --json` walks too.
+class DictWriter final : public app::FieldWriter {
+ public:
+  explicit DictWriter(py::dict& out) : out_(out) {}
+  void null(std::string_view name) override { out_[key(name)] = py::none(); }
+  void boolean(std::string_view name, bool v) override { out_[key(name)] = py::bool_(v); }
+  void integer(std::string_view name, std::int64_t v) override { out_[key(name)] = py::int_(v); }
+  void text(std::string_view name, std::string_view v) override { out_[key(name)] = py::str(std::string(v)); }
+  void record(std::string_view name, const std::function<void(app::FieldWriter&)>& fill) override {
     py::dict r;
-    r["proven"] = s.returned_point.proven;
-    r["lower_bound"] =
-        s.returned_point.proven ? finite_or_none(s.returned_point.bound.lower) : py::object(py::none());
-    r["message"] = s.returned_point.message;
-    r["failed_attempts"] = failures(s.returned_point);
-    d["returned_point"] = r;
-  } else {
-    d["returned_point"] = py::none();
+    DictWriter w(r);
+    fill(w);
+    out_[key(name)] = r;
   }
-  d["order"] = c.size;
-  d["message"] = c.message;
+  void records(std::string_view name, std::size_t n,
+               const std::function<void(std::size_t, app::FieldWriter&)>& fill) override {
+    py::list list;
+    for (std::size_t k = 0; k < n; ++k) {
+      py::dict r;
+      DictWriter w(r);
+      fill(k, w);
+      list.append(r);
+    }
+    out_[key(name)] = list;
+  }
+
+ protected:
+  void finite_number(std::string_view name, double v) override { out_[key(name)] = py::float_(v); }
+
+ private:
+  static py::str key(std::string_view name) { return py::str(std::string(name)); }
+  py::dict& out_;
+};
+
+template <class Summary>
+py::dict record_dict(const Summary& s) {
+  py::dict d;
+  DictWriter w(d);
+  app::write_record(s, w);
   return d;
 }
 
@@ -233,21 +232,6 @@ Array ids_query(const cov::MarginalCovariance& mc, const std::vector<int>& ids) 
   return matrix_to_array(out);
 }
 
-py::dict factor_summary(const cov::FactorSummary& s) {
-  py::dict d;
-  d["ordering"] = s.ordering;
-  d["supernodal"] = s.supernodal;
-  d["extraction"] = s.extraction;
-  d["size"] = s.size;
-  d["nnz_h"] = s.nnz_h;
-  d["nnz_l"] = s.nnz_l;
-  d["factor_flops"] = s.factor_flops;
-  d["num_supernodes"] = s.num_supernodes;
-  d["analyze_time_s"] = s.analyze_time_s;
-  d["factorize_time_s"] = s.factorize_time_s;
-  return d;
-}
-
 const char* kMarginalsDoc = R"doc(
 Joint marginal covariances of poses of a graph in the Lie algebra of the LEFT perturbation T = exp(xi^) T_bar
 (thesis eq. 5.14; the joint Sigma_1:n of eq. 5.28 taken from a MAP solution, section 5.8.2), from the sparse
@@ -310,6 +294,12 @@ convention: cost = 1/2 sum rho(chi2_e), chi2_e = r_e^T Omega_e r_e.)doc")
           "The solver's reason for stopping.")
       .def_property_readonly(
           "report", [](const SolveResult& r) { return r.summary.report; }, "The solver's one-line report.")
+      .def_property_readonly(
+          "summary", [](const SolveResult& r) { return record_dict(r.summary); },
+          "The solver's summary as a dict, the fields of `keel solve --json`'s \"summary\" "
+          "(app/records.hpp): termination, message, initial_cost, final_cost, final_chi2, normalized_chi2 "
+          "(None without degrees of freedom), residual_dimension, free_parameter_dimension, iterations, "
+          "successful_steps, total_time_s, linear_solver_time_s, jacobian_evaluation_time_s.")
       .def_readonly("solve_time_s", &SolveResult::solve_time_s,
                     "Wall time of pgo::optimize in seconds (initial estimate, problem set-up and solve).")
       .def_property_readonly(
@@ -354,19 +344,26 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "certified", [](const CertifiedSolveResult& r) { return r.summary.certificate.certified; },
           "True when the relative gap between cost and the proven lower bound is within gap_tolerance.")
       .def_property_readonly(
-          "certificate", [](const CertifiedSolveResult& r) { return certificate_dict(r.summary); },
-          "The certificate as a dict: certified, proven (a proof stands behind lower_bound), "
-          "lower_bound (rounded down), upper_bound (F, rounded up), relative_gap (rounded up; set by "
-          "the shift chosen from the gap tolerance), lambda_min_lower_bound (S + eta D >= 0 proven: "
-          "lambda_min over the rotations >= -eta), shift (eta), proof_rank (rank of the point whose "
-          "multipliers were proven), rounding_margin (mu of the scaled matrix), residual (the bound on "
-          "the factor's residual that mu cleared), worst_case_residual (Higham's bound for the same "
-          "factor), formation_error, extended_precision (the proof needed a double-double factor) -- "
-          "each of these None when nothing was proven --, tolerance_shift (eta* of the gap tolerance), "
-          "trace_lambda, failed_attempts (None, or a dict {proven: False, largest_failed_shift, "
-          "attempts}: what failed, not a bound), bound_from_staircase and returned_point (when the "
-          "bound comes from a staircase point: the returned estimate's own test, {proven, lower_bound, "
-          "message, failed_attempts}), order, message.")
+          "certificate", [](const CertifiedSolveResult& r) { return record_dict(r.summary); },
+          "The certified solve's record as a dict, the fields of `keel solve --certify --json`'s "
+          "\"certificate\" (app/records.hpp): termination, status, message (why the solve stopped), problem, "
+          "dimension, poses, edges, initial_cost, final_cost, certified, proven (a proof stands behind "
+          "lower_bound), lower_bound (rounded down), upper_bound (F, rounded up), relative_gap (rounded up; "
+          "set "
+          "by the shift chosen from the gap tolerance), dual_gap ((F - tr Lambda) / F, rounded up), "
+          "lambda_min_lower_bound (S + eta D >= 0 proven: lambda_min over the rotations >= -eta), shift "
+          "(eta), "
+          "proof_rank (rank of the point whose multipliers were proven), rounding_margin (mu of the scaled "
+          "matrix), residual (the bound on the factor's residual that mu cleared), worst_case_residual "
+          "(Higham's bound for the same factor), formation_error, extended_precision (the proof needed a "
+          "double-double factor) -- each of these None when nothing was proven --, tolerance_shift (eta* of "
+          "the "
+          "gap tolerance), trace_lambda, failed_attempts (None, or a dict {proven: False, "
+          "largest_failed_shift, attempts}: what failed, not a bound), proof_message (the proof, or what "
+          "failed), order (of S), bound_from_staircase and returned_point (when the bound comes from a "
+          "staircase point: the returned estimate's own test, {proven, lower_bound, message, "
+          "failed_attempts}), final_rank, staircase, iterations, factorizations, cg_steps, tcg_iterations, "
+          "ordering, times_s. A number that is not finite is None.")
       .def_property_readonly(
           "termination",
           [](const CertifiedSolveResult& r) { return std::string(pgo::to_string(r.summary.termination)); },
@@ -381,24 +378,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "The staircase's last rank before rounding.")
       .def_property_readonly(
           "staircase",
-          [](const CertifiedSolveResult& r) {
-            py::list l;
-            for (const auto& k : r.summary.staircase) {
-              py::dict d;
-              d["rank"] = k.rank;
-              d["iterations"] = k.iterations;
-              d["factorizations"] = k.factorizations;
-              d["cg_steps"] = k.cg_steps;
-              d["tcg_iterations"] = k.tcg_iterations;
-              d["cost"] = k.cost;
-              d["gradient_norm"] = k.gradient_norm;
-              d["certified"] = k.certified;
-              d["lambda_min_estimate"] = k.lambda_min_estimate;
-              d["time_s"] = k.time_s;
-              l.append(d);
-            }
-            return l;
-          },
+          [](const CertifiedSolveResult& r) { return py::list(record_dict(r.summary)["staircase"]); },
           "One dict per rank of the Riemannian staircase.")
       .def_property_readonly(
           "iterations", [](const CertifiedSolveResult& r) { return r.summary.iterations; },
@@ -413,16 +393,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
           "tcg_iterations", [](const CertifiedSolveResult& r) { return r.summary.tcg_iterations; },
           "Steihaug-Toint CG iterations of the trust-region steps (an indefinite Hessian; ranks above d).")
       .def_property_readonly(
-          "times",
-          [](const CertifiedSolveResult& r) {
-            py::dict d;
-            d["initialization"] = r.summary.initialization_time_s;
-            d["local"] = r.summary.local_time_s;
-            d["certificate"] = r.summary.certificate_time_s;
-            d["rounding"] = r.summary.rounding_time_s;
-            d["total"] = r.summary.total_time_s;
-            return d;
-          },
+          "times", [](const CertifiedSolveResult& r) { return py::dict(record_dict(r.summary)["times_s"]); },
           "Seconds per stage.")
       .def_readonly("solve_time_s", &CertifiedSolveResult::solve_time_s, "Wall time of the solve in seconds.")
       .def("__repr__", [](const CertifiedSolveResult& r) {
@@ -563,7 +534,7 @@ threads.)doc")
           py::arg("ids"), "The joint covariance of the variables `ids` (poses first, then 2D landmarks).")
       .def_property_readonly("num_poses", &cov::MarginalCovariance::num_poses, "Number of poses.")
       .def_property_readonly(
-          "summary", [](const cov::MarginalCovariance& mc) { return factor_summary(mc.summary()); },
+          "summary", [](const cov::MarginalCovariance& mc) { return record_dict(mc.summary()); },
           "What the factorization did (ordering, sizes, nonzeros of L, times in seconds), as a dict.");
 
   m.def(

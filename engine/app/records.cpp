@@ -1,0 +1,180 @@
+#include "app/records.hpp"
+
+#include <cmath>
+#include <string>
+#include <type_traits>
+
+#include "core/bound.hpp"
+
+namespace keel::app {
+
+void FieldWriter::number(std::string_view name, double value) {
+  if (std::isfinite(value))
+    finite_number(name, value);
+  else
+    null(name);
+}
+
+void FieldWriter::number(std::string_view name, const std::optional<double>& value) {
+  if (value)
+    number(name, *value);
+  else
+    null(name);
+}
+
+std::optional<ProvenFigures> proven_figures(const pgo::Certificate& c) {
+  if (!c.proven) return std::nullopt;
+  ProvenFigures f{};
+  f.lower_bound = c.bound.lower;
+  f.relative_gap = c.bound.relative_gap_up();
+  f.dual_gap = core::round_up(core::round_up(c.bound.upper - c.trace_lambda) /
+                              std::fmax(1.0, std::abs(c.bound.upper)));
+  f.shift = c.shift;
+  f.proof_rank = c.rank;
+  f.rounding_margin = c.rounding_margin;
+  f.residual = c.residual;
+  f.worst_case_residual = c.worst_case_residual;
+  f.formation_error = c.formation_error;
+  f.extended_precision = c.extended_precision;
+  return f;
+}
+
+namespace {
+
+// The attempts of a certificate's proof that failed, as failed (not a bound): null when none did.
+void write_failures(std::string_view name, const pgo::Certificate& c, FieldWriter& w) {
+  if (!(c.failed_shift > 0.0)) {
+    w.null(name);
+    return;
+  }
+  w.record(name, [&](FieldWriter& f) {
+    f.boolean("proven", false);
+    f.number("largest_failed_shift", c.failed_shift);
+    f.integer("attempts", c.attempts);
+  });
+}
+
+}  // namespace
+
+void write_record(const pgo::Summary& s, FieldWriter& w) {
+  w.text("termination", pgo::to_string(s.termination));
+  w.text("message", s.message);
+  w.number("initial_cost", s.initial_cost);
+  w.number("final_cost", s.final_cost);
+  w.number("final_chi2", s.final_chi2);
+  w.number("normalized_chi2", s.normalized_chi2);  // null without degrees of freedom
+  w.integer("residual_dimension", s.residual_dimension);
+  w.integer("free_parameter_dimension", s.free_parameter_dimension);
+  w.integer("iterations", s.iterations);
+  w.integer("successful_steps", s.successful_steps);
+  w.number("total_time_s", s.total_time_s);
+  w.number("linear_solver_time_s", s.linear_solver_time_s);
+  w.number("jacobian_evaluation_time_s", s.jacobian_evaluation_time_s);
+}
+
+void write_record(const pgo::RankRecord& r, FieldWriter& w) {
+  w.integer("rank", r.rank);
+  w.integer("iterations", r.iterations);
+  w.integer("factorizations", r.factorizations);
+  w.integer("cg_steps", r.cg_steps);
+  w.integer("tcg_iterations", r.tcg_iterations);
+  w.number("cost", r.cost);
+  w.number("gradient_norm", r.gradient_norm);
+  w.boolean("certified", r.certified);  // the certificate held at this point (optimal for the relaxation)
+  w.number("lambda_min_estimate", r.lambda_min_estimate);
+  w.number("time_s", r.time_s);
+}
+
+void write_record(const pgo::CertifiedSummary& s, FieldWriter& w) {
+  const auto& c = s.certificate;
+  const std::optional<ProvenFigures> p = proven_figures(c);
+  // A figure of the proof: null unless the proof behind lower_bound succeeded.
+  const auto proven = [&](std::string_view name, auto member) {
+    if (!p) {
+      w.null(name);
+      return;
+    }
+    const auto v = (*p).*member;
+    if constexpr (std::is_same_v<decltype(v), const bool>)
+      w.boolean(name, v);
+    else if constexpr (std::is_same_v<decltype(v), const int>)
+      w.integer(name, v);
+    else
+      w.number(name, v);
+  };
+  w.text("termination", pgo::to_string(s.termination));
+  w.text("status", core::to_string(s.status));
+  w.text("message", s.message);
+  w.text("problem", s.problem);
+  w.integer("dimension", s.dimension);
+  w.integer("poses", s.poses);
+  w.integer("edges", s.edges);
+  w.number("initial_cost", s.initial_cost);
+  w.number("final_cost", s.final_cost);
+  w.boolean("certified", c.certified);
+  w.boolean("proven", c.proven);
+  proven("lower_bound", &ProvenFigures::lower_bound);  // rounded down
+  w.number("upper_bound", c.bound.upper);              // F at the returned point, rounded up
+  proven("relative_gap", &ProvenFigures::relative_gap);
+  proven("dual_gap", &ProvenFigures::dual_gap);
+  if (p)
+    w.number("lambda_min_lower_bound", -p->shift);
+  else
+    w.null("lambda_min_lower_bound");
+  proven("shift", &ProvenFigures::shift);
+  w.number("tolerance_shift", c.tolerance_shift);  // η* that the gap tolerance allows: a target, not a proof
+  w.number("trace_lambda", c.trace_lambda);
+  proven("proof_rank", &ProvenFigures::proof_rank);
+  proven("rounding_margin", &ProvenFigures::rounding_margin);
+  proven("residual", &ProvenFigures::residual);
+  proven("worst_case_residual", &ProvenFigures::worst_case_residual);
+  proven("formation_error", &ProvenFigures::formation_error);
+  proven("extended_precision", &ProvenFigures::extended_precision);
+  write_failures("failed_attempts", c, w);
+  w.text("proof_message", c.message);  // the proof, or "no lower bound: " and what failed
+  w.integer("order", c.size);          // order of S (translation 0 removed)
+  w.boolean("bound_from_staircase", s.bound_from_staircase);
+  if (s.bound_from_staircase) {
+    w.record("returned_point", [&](FieldWriter& r) {
+      r.boolean("proven", s.returned_point.proven);
+      if (s.returned_point.proven)
+        r.number("lower_bound", s.returned_point.bound.lower);
+      else
+        r.null("lower_bound");
+      r.text("message", s.returned_point.message);
+      write_failures("failed_attempts", s.returned_point, r);
+    });
+  } else {
+    w.null("returned_point");
+  }
+  w.integer("final_rank", s.final_rank);
+  w.records("staircase", s.staircase.size(),
+            [&](std::size_t k, FieldWriter& r) { write_record(s.staircase[k], r); });
+  w.integer("iterations", s.iterations);
+  w.integer("factorizations", s.factorizations);
+  w.integer("cg_steps", s.cg_steps);
+  w.integer("tcg_iterations", s.tcg_iterations);
+  w.text("ordering", s.ordering);
+  w.record("times_s", [&](FieldWriter& t) {
+    t.number("initialization", s.initialization_time_s);
+    t.number("local", s.local_time_s);
+    t.number("certificate", s.certificate_time_s);
+    t.number("rounding", s.rounding_time_s);
+    t.number("total", s.total_time_s);
+  });
+}
+
+void write_record(const cov::FactorSummary& s, FieldWriter& w) {
+  w.text("ordering", s.ordering);
+  w.boolean("supernodal", s.supernodal);
+  w.text("extraction", s.extraction);
+  w.integer("size", s.size);
+  w.integer("nnz_h", static_cast<std::int64_t>(s.nnz_h));
+  w.number("nnz_l", s.nnz_l);
+  w.number("factor_flops", s.factor_flops);
+  w.integer("num_supernodes", static_cast<std::int64_t>(s.num_supernodes));
+  w.number("analyze_time_s", s.analyze_time_s);
+  w.number("factorize_time_s", s.factorize_time_s);
+}
+
+}  // namespace keel::app

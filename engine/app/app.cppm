@@ -39,10 +39,14 @@ using keel::app::SplitFilesOptions;
 using keel::app::summarize;
 // solve
 using keel::app::AnyGraph;
+using keel::app::Certified;
 using keel::app::CertifiedSolution;
 using keel::app::CertifiedSolution2;
 using keel::app::CertifiedSolution3;
 using keel::app::GraphInput;
+using keel::app::information_check;
+using keel::app::initial_guess_from_name;
+using keel::app::MaximumLikelihood;
 using keel::app::read_graph;
 using keel::app::read_graph_input;
 using keel::app::Solution;
@@ -50,7 +54,7 @@ using keel::app::Solution2;
 using keel::app::Solution3;
 using keel::app::solve;
 using keel::app::solve_certified;
-using keel::app::SolveOptions;
+using keel::app::SolveBackend;
 // marginals
 using keel::app::factorize;
 using keel::app::marginals;

@@ -20,8 +20,9 @@ namespace keel::app {
 namespace {
 
 template <class Graph, class Estimate>
-Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Estimate* initial) {
-  pgo::Options o = options.pgo_options();
+Solution<Graph> solve_impl(const Graph& g, const MaximumLikelihood& backend, const Estimate* initial) {
+  backend.validate();
+  pgo::Options o = backend.options;
   o.constant_poses = {g.gauge_pose};  // the graph's gauge (g2o's FIX line; pose 0 by default)
   check_numeric_range(g);  // the cost must be computable in double before a solver starts (files.hpp)
   const auto t0 = core::Clock::now();
@@ -37,9 +38,10 @@ Solution<Graph> solve_impl(const Graph& g, const SolveOptions& options, const Es
 }
 
 template <class Graph>
-CertifiedSolution<Graph> certified_impl(const Graph& g, const SolveOptions& options) {
+CertifiedSolution<Graph> certified_impl(const Graph& g, const Certified& backend) {
+  backend.validate();
   check_numeric_range(g);  // as solve_impl
-  const pgo::CertifiedOptions o = options.certified_options();
+  const pgo::CertifiedOptions& o = backend.options;
   const auto t0 = core::Clock::now();
   auto r = pgo::solve_certified(g, o);
   CertifiedSolution<Graph> out;
@@ -64,11 +66,11 @@ CertifiedSolution<Graph> certified_impl(const Graph& g, const SolveOptions& opti
 
 }  // namespace
 
-CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const SolveOptions& options) {
-  return certified_impl(g, options);
+CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const Certified& backend) {
+  return certified_impl(g, backend);
 }
-CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptions& options) {
-  return certified_impl(g, options);
+CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const Certified& backend) {
+  return certified_impl(g, backend);
 }
 
 GraphInput read_graph_input(const std::filesystem::path& file, graph::InformationCheck information) {
@@ -88,38 +90,39 @@ AnyGraph read_graph(const std::filesystem::path& file, graph::InformationCheck i
   return read_graph_input(file, information).graph;
 }
 
-pgo::Options SolveOptions::pgo_options() const {
-  std::string guess = init;
-  std::replace(guess.begin(), guess.end(), '-', '_');
+pgo::Options MaximumLikelihood::defaults() {
   pgo::Options o;
-  o.initial_guess = pgo::initial_guess_from_string(guess);
-  o.robust_kernel = pgo::robust_kernel_from_string(robust);
-  o.robust_parameter = robust_parameter;
-  o.seed = seed;
-  o.threads = threads;
-  o.max_iterations = max_iterations;
-  o.validate();
+  o.initial_guess = pgo::InitialGuess::odometry;
   return o;
 }
 
-pgo::CertifiedOptions SolveOptions::certified_options() const {
-  pgo::CertifiedOptions o;
-  o.gap_tolerance = gap_tolerance;
-  o.max_rank = max_rank;
-  o.time_limit_s = time_limit_s;
-  o.validate();
-  if (max_rank < 2)
-    throw std::invalid_argument(
-        fmt::format("CertifiedOptions: max_rank must be >= 2, the smallest dimension d (got {})", max_rank));
-  return o;
+void MaximumLikelihood::validate() const { options.validate(); }
+
+void Certified::validate() const {
+  options.validate();
+  if (options.max_rank < 2)
+    throw std::invalid_argument(fmt::format(
+        "CertifiedOptions: max_rank must be >= 2, the smallest dimension d (got {})", options.max_rank));
 }
 
-Solution2 solve(const graph::PoseGraph2D& g, const SolveOptions& options, const pgo::Estimate2D* initial) {
-  return solve_impl(g, options, initial);
+graph::InformationCheck information_check(const SolveBackend& backend) {
+  return std::holds_alternative<Certified>(backend) ? graph::InformationCheck::diagonal_blocks
+                                                    : graph::InformationCheck::positive_definite;
 }
 
-Solution3 solve(const graph::PoseGraph3D& g, const SolveOptions& options, const pgo::Estimate3D* initial) {
-  return solve_impl(g, options, initial);
+pgo::InitialGuess initial_guess_from_name(std::string name) {
+  std::replace(name.begin(), name.end(), '-', '_');
+  return pgo::initial_guess_from_string(name);
+}
+
+Solution2 solve(const graph::PoseGraph2D& g, const MaximumLikelihood& backend,
+                const pgo::Estimate2D* initial) {
+  return solve_impl(g, backend, initial);
+}
+
+Solution3 solve(const graph::PoseGraph3D& g, const MaximumLikelihood& backend,
+                const pgo::Estimate3D* initial) {
+  return solve_impl(g, backend, initial);
 }
 
 }  // namespace keel::app

@@ -35,29 +35,33 @@ struct GraphInput {
     const std::filesystem::path& file,
     graph::InformationCheck information = graph::InformationCheck::positive_definite);
 
-/// The options of `keel solve` and Python's keel.solve: pgo's defaults with only these fields set.
-struct SolveOptions {
-  std::string init =
-      "odometry";               // a pgo::InitialGuess name ('-' may stand for '_': "as-read"), or "supplied"
-  std::string robust = "none";  // a pgo::RobustKernel name, on the loop closures
-  double robust_parameter = 5.0;  // Huber/Cauchy a or DCS φ (> 0)
-  std::uint64_t seed = 0;         // of init = "random"
-  unsigned threads = 1;           // Ceres threads (the last bits of a result depend on it); 0 = all cores
-  int max_iterations = 100;       // trust-region iterations (≥ 0)
-  // certify = true: the certified solve of the isotropic model instead (pgo::solve_certified; init, robust,
-  // seed, threads and max_iterations do not apply).
-  bool certify = false;
-  double gap_tolerance = 1e-6;  // relative duality gap that counts as certified
-  int max_rank = 10;            // the staircase's last rank
-  double time_limit_s = 0.0;    // wall-time limit of the certified solve (0: none)
-  /// pgo::Options with these fields set. Throws std::invalid_argument for an unknown name or an invalid
-  /// value.
-  [[nodiscard]] pgo::Options pgo_options() const;
-  /// pgo::CertifiedOptions with gap_tolerance, max_rank and time_limit_s set, checked
-  /// (CertifiedOptions::validate, and max_rank >= 2, the smallest dimension; a rank below a 3D graph's d = 3
-  /// is refused once the graph is read). Throws std::invalid_argument.
-  [[nodiscard]] pgo::CertifiedOptions certified_options() const;
+/// The back ends of `keel solve` and Python's keel.solve, each holding its solver's own options.
+///
+/// The anisotropic maximum-likelihood solve of eq. 2.1 (pgo::optimize). Its defaults are pgo's with the
+/// odometry chain as the initial guess; constant_poses is not read: solve() holds the graph's gauge pose.
+struct MaximumLikelihood {
+  pgo::Options options = defaults();
+  [[nodiscard]] static pgo::Options defaults();
+  /// options.validate(). Throws std::invalid_argument naming the field.
+  void validate() const;
 };
+/// The certified solve of the isotropic model (pgo::solve_certified): chordal initialization, Riemannian
+/// staircase, certificate; pgo's defaults.
+struct Certified {
+  pgo::CertifiedOptions options;
+  /// options.validate(), and max_rank >= 2, the smallest dimension d (a rank below a 3D graph's d = 3 is
+  /// refused once the graph is read). Throws std::invalid_argument naming the field.
+  void validate() const;
+};
+using SolveBackend = std::variant<MaximumLikelihood, Certified>;
+
+/// The information matrices a back end reads: all of each (positive definite) for the anisotropic solve,
+/// the translation and rotation blocks for the certified solve's isotropic model.
+[[nodiscard]] graph::InformationCheck information_check(const SolveBackend& backend);
+
+/// An initial guess by name, '-' standing for '_' ("as-read"). Throws std::invalid_argument for an unknown
+/// name.
+[[nodiscard]] pgo::InitialGuess initial_guess_from_name(std::string name);
 
 template <class Graph>
 struct Solution {
@@ -83,16 +87,16 @@ using CertifiedSolution2 = CertifiedSolution<graph::PoseGraph2D>;
 using CertifiedSolution3 = CertifiedSolution<graph::PoseGraph3D>;
 /// Throws std::invalid_argument for invalid options, a disconnected graph, landmarks or weights that are not
 /// positive.
-[[nodiscard]] CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const SolveOptions& options);
-[[nodiscard]] CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const SolveOptions& options);
+[[nodiscard]] CertifiedSolution2 solve_certified(const graph::PoseGraph2D& g, const Certified& backend = {});
+[[nodiscard]] CertifiedSolution3 solve_certified(const graph::PoseGraph3D& g, const Certified& backend = {});
 
-/// Solves the graph from the initial guess of `options` (or `initial`, with init = "supplied"), the graph's
-/// gauge pose (g.gauge_pose, pose 0 unless a g2o FIX line names another) held constant at its initial value
-/// (the as-read pose: the odometry chain starts from it). A solver failure is reported in
+/// Solves the graph from the initial guess of `backend` (or `initial`, with InitialGuess::supplied), the
+/// graph's gauge pose (g.gauge_pose, pose 0 unless a g2o FIX line names another) held constant at its initial
+/// value (the as-read pose: the odometry chain starts from it). A solver failure is reported in
 /// summary.termination, not thrown; invalid options and graphs throw std::invalid_argument.
-[[nodiscard]] Solution2 solve(const graph::PoseGraph2D& g, const SolveOptions& options = {},
+[[nodiscard]] Solution2 solve(const graph::PoseGraph2D& g, const MaximumLikelihood& backend = {},
                               const pgo::Estimate2D* initial = nullptr);
-[[nodiscard]] Solution3 solve(const graph::PoseGraph3D& g, const SolveOptions& options = {},
+[[nodiscard]] Solution3 solve(const graph::PoseGraph3D& g, const MaximumLikelihood& backend = {},
                               const pgo::Estimate3D* initial = nullptr);
 
 }  // namespace keel::app

@@ -1,5 +1,5 @@
 // app::solve and app::marginals on small synthetic graphs, 2D and 3D: the app's solve is pgo::optimize with
-// SolveOptions' fields, bit for bit; its marginals are the cov queries at the given poses, bit for bit
+// the back end's options, bit for bit; its marginals are the cov queries at the given poses, bit for bit
 // (pairs: 6 × 6 in 2D, 12 × 12 in 3D; ids: one joint); read_graph reads a written file back in its dimension;
 // bad options and requests name what is wrong.
 #include <doctest/doctest.h>
@@ -25,16 +25,13 @@ using keel::testkit::contains;
 using keel::testkit::message_of;
 namespace fs = std::filesystem;
 
-TEST_CASE("app::solve is pgo::optimize with the options' fields, bit for bit, in 2D and 3D") {
-  app::SolveOptions o;
-  o.robust = "cauchy";
-  o.robust_parameter = 2.0;
-  o.max_iterations = 30;
-  const pgo::Options po = o.pgo_options();
-  CHECK(po.robust_kernel == pgo::RobustKernel::cauchy);
-  CHECK(po.initial_guess == pgo::InitialGuess::odometry);
-  CHECK(po.max_iterations == 30);
-
+TEST_CASE("app::solve is pgo::optimize with the back end's options, bit for bit, in 2D and 3D") {
+  app::MaximumLikelihood o;
+  CHECK(o.options.initial_guess == pgo::InitialGuess::odometry);  // keel solve's default
+  o.options.robust_kernel = pgo::RobustKernel::cauchy;
+  o.options.robust_parameter = 2.0;
+  o.options.max_iterations = 30;
+  const pgo::Options po = o.options;  // constant_poses {0}: the graphs' gauge pose
   const auto g2 = sim::testing::square_laps<lie::SE2>(2, 4, 51).graph;
   const auto s2 = app::solve(g2, o);
   const auto r2 = pgo::optimize(g2, po);
@@ -53,27 +50,33 @@ TEST_CASE("app::solve is pgo::optimize with the options' fields, bit for bit, in
   CHECK(s3.summary.final_cost == r3.summary.final_cost);
 
   // A supplied initial guess: starting at the solution, the solve stays there.
-  app::SolveOptions supplied = o;
-  supplied.init = "supplied";
+  app::MaximumLikelihood supplied = o;
+  supplied.options.initial_guess = pgo::InitialGuess::supplied;
   pgo::Estimate2D at{s2.graph.poses, {}};
   const auto again = app::solve(g2, supplied, &at);
   CHECK(again.summary.final_cost <= s2.summary.final_cost * (1 + 1e-9));
   // '-' stands for '_' in the initial guess's name.
-  app::SolveOptions as_read;
-  as_read.init = "as-read";
-  CHECK(as_read.pgo_options().initial_guess == pgo::InitialGuess::as_read);
+  CHECK(app::initial_guess_from_name("as-read") == pgo::InitialGuess::as_read);
 }
 
 TEST_CASE("bad solve options name the field and the valid values") {
-  app::SolveOptions o;
-  o.init = "chained";
-  CHECK(contains(message_of([&] { (void)o.pgo_options(); }), "chained"));
-  o.init = "odometry";
-  o.robust = "tukey";
-  CHECK(contains(message_of([&] { (void)o.pgo_options(); }), "tukey"));
-  o.robust = "huber";
-  o.robust_parameter = -1.0;
-  CHECK_THROWS_AS((void)o.pgo_options(), std::invalid_argument);
+  CHECK(contains(message_of([] { (void)app::initial_guess_from_name("chained"); }), "chained"));
+  CHECK(contains(message_of([] { (void)pgo::robust_kernel_from_string("tukey"); }), "tukey"));
+  const auto g = sim::testing::square_laps<lie::SE2>(2, 4, 51).graph;
+  app::MaximumLikelihood o;
+  o.options.robust_kernel = pgo::RobustKernel::huber;
+  o.options.robust_parameter = -1.0;
+  CHECK(contains(message_of([&] { (void)app::solve(g, o); }), "robust_parameter"));
+  app::Certified c;
+  c.options.max_rank = 1;
+  CHECK(contains(message_of([&] { (void)app::solve_certified(g, c); }), "max_rank must be >= 2"));
+  c.options.max_rank = 10;
+  c.options.gap_tolerance = 0.0;
+  CHECK(contains(message_of([&] { (void)app::solve_certified(g, c); }), "gap_tolerance"));
+  // The information a back end reads.
+  CHECK(app::information_check(app::SolveBackend{app::Certified{}}) ==
+        graph::InformationCheck::diagonal_blocks);
+  CHECK(app::information_check(app::SolveBackend{}) == graph::InformationCheck::positive_definite);
 }
 
 TEST_CASE("app::marginals are the cov queries at the given poses, 2D and 3D") {
@@ -125,8 +128,8 @@ void check_gauge_solves(std::uint64_t seed) {
   gk.gauge_pose = 2;
   for (const char* init : {"odometry", "as-read"}) {
     CAPTURE(init);
-    app::SolveOptions o;
-    o.init = init;
+    app::MaximumLikelihood o;
+    o.options.initial_guess = app::initial_guess_from_name(init);
     const auto s0 = app::solve(g0, o);
     const auto sk = app::solve(gk, o);
     CHECK(s0.graph.poses[0].matrix() == g0.poses[0].matrix());
@@ -143,10 +146,8 @@ void check_gauge_solves(std::uint64_t seed) {
   }
   // The certified solve: the same F and lower bound (gauge invariant), the returned estimate moved rigidly so
   // that pose 2 keeps its as-read value.
-  app::SolveOptions c;
-  c.certify = true;
-  const auto c0 = app::solve_certified(g0, c);
-  const auto ck = app::solve_certified(gk, c);
+  const auto c0 = app::solve_certified(g0);
+  const auto ck = app::solve_certified(gk);
   REQUIRE(c0.summary.certificate.certified);
   REQUIRE(ck.summary.certificate.certified);
   CHECK(ck.summary.final_cost == c0.summary.final_cost);

@@ -100,15 +100,14 @@ void marginals_file(const MarginalsArgs& a, const Graph& g, const Stages& stage,
   const auto& sa = a.solve;
   const bool planar = std::is_same_v<Graph, graph::PoseGraph2D>;
   app::MarginalsRequest request;
-  request.threads = sa.options.threads;
+  request.threads = sa.likelihood.options.threads;
   if (!a.pairs.empty()) {
     request.pairs = parse_pairs(a.pairs, g.poses.size());
   } else {
     request.ids = parse_ids(a.poses, g.poses.size());
   }
-  stage(
-      fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), sa.options.init));
-  const auto solved = app::solve(g, sa.options);
+  stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), sa.init));
+  const auto solved = app::solve(g, sa.likelihood);
   check_solved(solved.summary);
   const auto m = [&] {
     if constexpr (planar) {

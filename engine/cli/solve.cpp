@@ -13,7 +13,6 @@ import keel.app;
 
 #include <cmath>
 #include <filesystem>
-#include <iterator>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -47,10 +46,10 @@ void write_solution(const Graph& g, const fs::path& out, graph::GraphFormat form
 }
 
 template <class Graph>
-void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs,
-                graph::GraphFormat format) {
-  stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), a.options.init));
-  const auto s = app::solve(g, a.options);
+void solve_file(const SolveArgs& a, const Graph& g, const app::MaximumLikelihood& backend,
+                const Stages& stage, app::Outputs& outputs, graph::GraphFormat format) {
+  stage(fmt::format("solving ({} poses, {} edges, init {})", g.poses.size(), g.edges.size(), a.init));
+  const auto s = app::solve(g, backend);
   check_solved(s.summary);
   if (!a.out.empty()) {
     outputs.write(a.out, [&](const fs::path& temporary) { write_solution(s.graph, temporary, format); });
@@ -73,11 +72,11 @@ void solve_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Ou
 // Not certified, the command prints what it found and exits 1 (done, but not what was asked) without
 // writing --out: outputs are written only on exit 0.
 template <class Graph>
-void certify_file(const SolveArgs& a, const Graph& g, const Stages& stage, app::Outputs& outputs,
-                  graph::GraphFormat format) {
+void solve_file(const SolveArgs& a, const Graph& g, const app::Certified& backend, const Stages& stage,
+                app::Outputs& outputs, graph::GraphFormat format) {
   stage(fmt::format("certified solve ({} poses, {} edges, gap tolerance {:g}, ranks up to {})",
-                    g.poses.size(), g.edges.size(), a.options.gap_tolerance, a.options.max_rank));
-  const auto s = app::solve_certified(g, a.options);
+                    g.poses.size(), g.edges.size(), backend.options.gap_tolerance, backend.options.max_rank));
+  const auto s = app::solve_certified(g, backend);
   const bool certified = s.summary.certificate.certified;
   const bool written = certified && !a.out.empty();
   if (written) {
@@ -112,8 +111,11 @@ void run_solve(const SolveArgs& a) {
   stage(fmt::format("reading {}", a.file));
   // The isotropic model of --certify reads only the diagonal blocks of each information matrix; the
   // anisotropic solve needs all of it and names the option that reads such a file.
+  const app::SolveBackend backend = a.backend();
   const auto read = [&] {
-    if (a.options.certify) return app::read_graph_input(a.file, graph::InformationCheck::diagonal_blocks);
+    const auto information = app::information_check(backend);
+    if (information != graph::InformationCheck::positive_definite)
+      return app::read_graph_input(a.file, information);
     try {
       return app::read_graph_input(a.file);
     } catch (const graph::ParseError& e) {
@@ -139,15 +141,8 @@ void run_solve(const SolveArgs& a) {
               g.indefinite_information, g.edges.size());
       },
       graph);
-  std::visit(
-      [&](const auto& g) {
-        if (a.options.certify) {
-          certify_file(a, g, stage, outputs, format);
-        } else {
-          solve_file(a, g, stage, outputs, format);
-        }
-      },
-      graph);
+  std::visit([&](const auto& g, const auto& b) { solve_file(a, g, b, stage, outputs, format); }, graph,
+             backend);
 }
 
 }  // namespace
@@ -162,16 +157,17 @@ void add_solve_command(CLI::App& app) {
                 "names get the input's format)");
   add_solve_options(c, *a);
   c->add_flag(
-      "--certify", a->options.certify,
+      "--certify", a->certify,
       "solve the isotropic (chordal) model with a global-optimality certificate instead (SE-Sync's "
       "problem: chordal initialization, Riemannian staircase); --init, --seed, --robust, --robust-param, "
       "--threads and --max-iterations do not apply (exit 2 when given)");
-  c->add_option("--gap-tolerance", a->options.gap_tolerance, "--certify: relative duality gap that certifies")
+  auto& certified = a->certified.options;
+  c->add_option("--gap-tolerance", certified.gap_tolerance, "--certify: relative duality gap that certifies")
       ->capture_default_str();
-  c->add_option("--max-rank", a->options.max_rank, "--certify: the staircase's last rank")
+  c->add_option("--max-rank", certified.max_rank, "--certify: the staircase's last rank")
       ->capture_default_str();
   auto* time_limit = c->add_option(
-      "--time-limit", a->options.time_limit_s,
+      "--time-limit", certified.time_limit_s,
       "--certify: stop after this many seconds (> 0; left out: no limit); the point reached and its rounding "
       "are "
       "tested (a run can exceed the limit by those tests), termination time_limit, exit 1 unless certified");
@@ -183,19 +179,19 @@ void add_solve_command(CLI::App& app) {
     constexpr const char* kSolveOnly[] = {"--init",         "--seed",    "--robust",
                                           "--robust-param", "--threads", "--max-iterations"};
     constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit"};
-    for (const char* name : a->options.certify ? std::span<const char* const>(kSolveOnly)
-                                               : std::span<const char* const>(kCertifyOnly))
+    for (const char* name :
+         a->certify ? std::span<const char* const>(kSolveOnly) : std::span<const char* const>(kCertifyOnly))
       if (c->get_option(name)->count() > 0)
         throw CLI::ValidationError(
-            name, a->options.certify
+            name, a->certify
                       ? "does not apply with --certify (the certified solve starts from the chordal "
                         "initialization, has no robust kernel and runs on one thread)"
                       : "applies only with --certify (the anisotropic solve has no gap, rank or time limit)");
     check_option("--time-limit", [&] {
-      if (time_limit->count() > 0 && !(a->options.time_limit_s > 0.0))
+      if (time_limit->count() > 0 && !(a->certified.options.time_limit_s > 0.0))
         throw std::invalid_argument(
             fmt::format("{} s: give a time limit > 0 seconds, or leave the option out for no limit",
-                        a->options.time_limit_s));
+                        a->certified.options.time_limit_s));
     });
     check_solve_options(*a);
     run_solve(*a);

@@ -125,19 +125,27 @@ json record_json(const Summary& s) {
   return j;
 }
 
-// The arguments of `keel solve` and the solve of `keel marginals`.
+// The arguments of `keel solve` and the solve of `keel marginals`: each back end's own options
+// (app/solve.hpp), bound to the command line; --init and --robust are read as names and set by
+// check_solve_options.
 struct SolveArgs {
   Common common;
   std::string file, out;
-  app::SolveOptions options;  // pgo's defaults with only these fields set (app/solve.hpp)
+  std::string init = "odometry", robust = "none";  // names, as given
+  app::MaximumLikelihood likelihood;               // the anisotropic solve (keel solve's default back end)
+  app::Certified certified;                        // --certify
+  bool certify = false;
+  [[nodiscard]] app::SolveBackend backend() const {
+    return certify ? app::SolveBackend{certified} : app::SolveBackend{likelihood};
+  }
 };
 
 inline void add_solve_options(CLI::App* c, SolveArgs& a) {
-  auto& o = a.options;
-  c->add_option("--init", o.init, "initial estimate: odometry, as-read (the file's vertices) or random")
+  auto& o = a.likelihood.options;
+  c->add_option("--init", a.init, "initial estimate: odometry, as-read (the file's vertices) or random")
       ->capture_default_str();
   c->add_option("--seed", o.seed, "seed of --init random")->capture_default_str();
-  c->add_option("--robust", o.robust, "robust kernel on the loop closures: none, huber, cauchy or dcs")
+  c->add_option("--robust", a.robust, "robust kernel on the loop closures: none, huber, cauchy or dcs")
       ->capture_default_str();
   c->add_option("--robust-param", o.robust_parameter, "Huber/Cauchy a or DCS φ, in 1e-150 … 1e150")
       ->capture_default_str();
@@ -159,29 +167,39 @@ void check_option(const char* option, Check&& check) {
   }
 }
 
-// The solver options of `keel solve` and `keel marginals`, each checked alone by app::SolveOptions's own
-// checks (pgo::Options::validate, pgo::CertifiedOptions::validate) so that a refusal names its option.
-// --robust-param is checked as a parameter of the chosen kernel (of huber when --robust is none).
-inline void check_solve_options(const SolveArgs& a) {
-  const auto& given = a.options;
-  const auto check = [](const char* option, auto set) {
-    app::SolveOptions o;
-    set(o);
+// The solver options of `keel solve` and `keel marginals`, each checked alone by its back end's own checks
+// (app::MaximumLikelihood::validate, app::Certified::validate) so that a refusal names its option; the names
+// of --init and --robust are read into the options here. --robust-param is checked as a parameter of the
+// chosen kernel (of huber when --robust is none).
+inline void check_solve_options(SolveArgs& a) {
+  auto& given = a.likelihood.options;
+  check_option("--init", [&] { given.initial_guess = app::initial_guess_from_name(a.init); });
+  check_option("--robust", [&] { given.robust_kernel = pgo::robust_kernel_from_string(a.robust); });
+  const auto alone = [](const char* option, auto set) {
     check_option(option, [&] {
-      (void)o.pgo_options();
-      (void)o.certified_options();
+      app::MaximumLikelihood m;
+      set(m.options);
+      m.validate();
     });
   };
-  check("--init", [&](app::SolveOptions& o) { o.init = given.init; });
-  check("--robust", [&](app::SolveOptions& o) { o.robust = given.robust; });
-  check("--robust-param", [&](app::SolveOptions& o) {
-    o.robust = given.robust == "none" ? "huber" : given.robust;
+  alone("--robust-param", [&](pgo::Options& o) {
+    o.robust_kernel =
+        given.robust_kernel == pgo::RobustKernel::none ? pgo::RobustKernel::huber : given.robust_kernel;
     o.robust_parameter = given.robust_parameter;
   });
-  check("--max-iterations", [&](app::SolveOptions& o) { o.max_iterations = given.max_iterations; });
-  check("--gap-tolerance", [&](app::SolveOptions& o) { o.gap_tolerance = given.gap_tolerance; });
-  check("--max-rank", [&](app::SolveOptions& o) { o.max_rank = given.max_rank; });
-  check("--time-limit", [&](app::SolveOptions& o) { o.time_limit_s = given.time_limit_s; });
+  alone("--max-iterations", [&](pgo::Options& o) { o.max_iterations = given.max_iterations; });
+  const auto& certified = a.certified.options;
+  const auto alone_certified = [](const char* option, auto set) {
+    check_option(option, [&] {
+      app::Certified c;
+      set(c.options);
+      c.validate();
+    });
+  };
+  alone_certified("--gap-tolerance",
+                  [&](pgo::CertifiedOptions& o) { o.gap_tolerance = certified.gap_tolerance; });
+  alone_certified("--max-rank", [&](pgo::CertifiedOptions& o) { o.max_rank = certified.max_rank; });
+  alone_certified("--time-limit", [&](pgo::CertifiedOptions& o) { o.time_limit_s = certified.time_limit_s; });
 }
 
 inline void print_certified_summary(const std::string& file, const pgo::CertifiedSummary& s,

@@ -33,18 +33,21 @@ struct SolveResult {
   double solve_time_s = 0.0;
 };
 
-// The options of `keel solve` (app::SolveOptions); an array as `init` is a supplied initial guess.
-app::SolveOptions solve_options(const py::object& init, const std::string& robust, double robust_param,
-                                std::uint64_t seed, unsigned threads, int max_iterations) {
-  app::SolveOptions o;
-  o.init = py::isinstance<py::str>(init) ? init.cast<std::string>() : "supplied";
-  o.robust = robust;
+// The back end of `keel solve` (app::MaximumLikelihood); an array as `init` is a supplied initial guess.
+app::MaximumLikelihood likelihood_backend(const py::object& init, const std::string& robust,
+                                          double robust_param, std::uint64_t seed, unsigned threads,
+                                          int max_iterations) {
+  app::MaximumLikelihood b;
+  auto& o = b.options;
+  o.initial_guess = py::isinstance<py::str>(init) ? app::initial_guess_from_name(init.cast<std::string>())
+                                                  : pgo::InitialGuess::supplied;
+  o.robust_kernel = pgo::robust_kernel_from_string(robust);
   o.robust_parameter = robust_param;
   o.seed = seed;
   o.threads = threads;
   o.max_iterations = max_iterations;
-  (void)o.pgo_options();  // invalid names and values raise ValueError before any work
-  return o;
+  b.validate();  // invalid names and values raise ValueError before any work
+  return b;
 }
 
 Array edge_field(const std::vector<pgo::EdgeReport>& edges, double pgo::EdgeReport::* field) {
@@ -55,7 +58,8 @@ Array edge_field(const std::vector<pgo::EdgeReport>& edges, double pgo::EdgeRepo
 }
 
 template <class Graph, class Estimate>
-SolveResult solve_graph(const Graph& g, const app::SolveOptions& o, const std::optional<Estimate>& supplied) {
+SolveResult solve_graph(const Graph& g, const app::MaximumLikelihood& o,
+                        const std::optional<Estimate>& supplied) {
   std::optional<app::Solution<Graph>> r;
   {
     py::gil_scoped_release release;
@@ -84,7 +88,7 @@ struct CertifiedSolveResult {
 };
 
 template <class Graph>
-CertifiedSolveResult certify_graph(const Graph& g, const app::SolveOptions& o) {
+CertifiedSolveResult certify_graph(const Graph& g, const app::Certified& o) {
   std::optional<app::CertifiedSolution<Graph>> r;
   {
     py::gil_scoped_release release;
@@ -416,15 +420,15 @@ each edge's information) and its certificate: a lower bound on the global minimu
         const int max_rank = int_arg(max_rank_obj, "solve", "max_rank");
         // An argument of the other mode would be ignored silently (as `keel solve` refuses such an option):
         // one that differs from its default is a ValueError naming it.
-        const app::SolveOptions defaults;
+        const pgo::Options likely = app::MaximumLikelihood{}.options;
+        const pgo::CertifiedOptions certain = app::Certified{}.options;
         if (certify) {
-          const bool init_default =
-              py::isinstance<py::str>(init) && init.cast<std::string>() == defaults.init;
+          const bool init_default = py::isinstance<py::str>(init) && init.cast<std::string>() == "odometry";
           for (const auto& [name, given] :
-               {std::pair{"init", !init_default}, std::pair{"robust", robust != defaults.robust},
-                std::pair{"robust_param", robust_param != defaults.robust_parameter},
-                std::pair{"seed", seed != defaults.seed}, std::pair{"threads", threads != defaults.threads},
-                std::pair{"max_iterations", max_iterations != defaults.max_iterations}})
+               {std::pair{"init", !init_default}, std::pair{"robust", robust != "none"},
+                std::pair{"robust_param", robust_param != likely.robust_parameter},
+                std::pair{"seed", seed != likely.seed}, std::pair{"threads", threads != likely.threads},
+                std::pair{"max_iterations", max_iterations != likely.max_iterations}})
             if (given)
               throw py::value_error(fmt::format(
                   "solve: {} does not apply with certify=True (the certified solve starts from the chordal "
@@ -432,8 +436,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
                   name));
         } else {
           for (const auto& [name, given] :
-               {std::pair{"gap_tolerance", gap_tolerance != defaults.gap_tolerance},
-                std::pair{"max_rank", max_rank != defaults.max_rank},
+               {std::pair{"gap_tolerance", gap_tolerance != certain.gap_tolerance},
+                std::pair{"max_rank", max_rank != certain.max_rank},
                 std::pair{"time_limit_s", time_limit_s.has_value()}})
             if (given)
               throw py::value_error(fmt::format(
@@ -442,22 +446,23 @@ each edge's information) and its certificate: a lower bound on the global minimu
                   name));
         }
         if (certify) {
-          app::SolveOptions o;
-          o.certify = true;
-          o.gap_tolerance = gap_tolerance;
-          o.max_rank = max_rank;
+          app::Certified o;
+          o.options.gap_tolerance = gap_tolerance;
+          o.options.max_rank = max_rank;
           if (time_limit_s) {
             if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
               throw py::value_error(fmt::format(
                   "solve: time_limit_s must be a finite number of seconds > 0, or None for no limit (got {})",
                   *time_limit_s));
-            o.time_limit_s = *time_limit_s;
+            o.options.time_limit_s = *time_limit_s;
           }
+          o.validate();  // ValueError before any work
           if (py::isinstance<PoseGraph2D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph2D&>(), o));
           if (py::isinstance<PoseGraph3D>(g)) return py::cast(certify_graph(g.cast<const PoseGraph3D&>(), o));
           throw py::type_error("solve: graph must be a keel.Graph2D or keel.Graph3D");
         }
-        const app::SolveOptions o = solve_options(init, robust, robust_param, seed, threads, max_iterations);
+        const app::MaximumLikelihood o =
+            likelihood_backend(init, robust, robust_param, seed, threads, max_iterations);
         const bool supplied = !py::isinstance<py::str>(init);
         if (py::isinstance<PoseGraph2D>(g)) {
           std::optional<pgo::Estimate2D> est;

@@ -90,9 +90,7 @@ void solve(const Graph& g, int dim, const std::vector<std::pair<int, int>>& pair
 
 template <class Graph>
 void certify(const Graph& g, int dim) {
-  app::SolveOptions o;
-  o.certify = true;
-  const auto r = app::solve_certified(g, o);
+  const auto r = app::solve_certified(g);
   std::string poses;
   for (const auto& T : r.graph.poses) poses += (poses.empty() ? "" : ",\n  ") + row(T);
   const double lower = r.summary.certificate.bound.lower;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/records.hpp"
+#include "core/fields.hpp"
 
 using namespace keel;
 
@@ -157,4 +158,12 @@ TEST_CASE("a number that is not finite is written as null") {
   app::write_record(cov::FactorSummary{}, f);
   CHECK(f.fields.count("ordering") == 1);
   CHECK(f.fields.count("factorize_time_s") == 1);
+}
+
+TEST_CASE("the solver summary's record names its fields as pgo::Summary's members are named") {
+  Recorder w;
+  app::write_record(pgo::Summary{}, w);
+  const auto names = core::field_names<pgo::Summary>();
+  const std::set<std::string_view> members(names.begin(), names.end());
+  for (const auto& name : w.order) CHECK_MESSAGE(members.count(name) == 1, name);
 }

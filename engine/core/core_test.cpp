@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "core/fields.hpp"
 #include "core/names.hpp"
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
@@ -197,4 +198,36 @@ TEST_CASE("spearman: rank correlation against a brute-force definition, with tie
   CHECK(spearman(x, down) == doctest::Approx(-1.0));
   CHECK(spearman(x, std::vector<double>(x.size(), 2.0)) == 0.0);  // a constant sample
   CHECK(spearman({1.0}, {2.0}) == 0.0);
+}
+
+namespace {
+struct Listed {
+  int count = 0;
+  std::vector<double> values;
+  std::string label_with_underscores;
+  KEEL_FIELDS(count, values,
+              label_with_underscores)  // a list broken over lines is still one name per member
+};
+}  // namespace
+
+TEST_CASE("KEEL_FIELDS lists the members once: the tie and the names agree, in order") {
+  constexpr auto names = keel::core::field_names<Listed>();
+  static_assert(names.size() == 3);
+  CHECK(names[0] == "count");
+  CHECK(names[1] == "values");
+  CHECK(names[2] == "label_with_underscores");
+  Listed x;
+  std::get<0>(x.fields()) = 4;  // the tie refers to the members
+  CHECK(x.count == 4);
+  std::vector<std::string> seen;
+  keel::core::for_each_field(x, [&](std::string_view name, auto& member) {
+    seen.emplace_back(name);
+    if constexpr (std::is_same_v<std::decay_t<decltype(member)>, std::string>) member = "set by name";
+  });
+  CHECK(seen == std::vector<std::string>{"count", "values", "label_with_underscores"});
+  CHECK(x.label_with_underscores == "set by name");
+  const Listed& c = x;
+  int n = 0;
+  keel::core::for_each_field(c, [&](std::string_view, const auto&) { ++n; });
+  CHECK(n == 3);
 }

@@ -5,6 +5,7 @@
 
 #include "so2.hpp"
 #include "types.hpp"
+#include "core/fields.hpp"
 
 namespace keel::lie {
 
@@ -59,8 +60,7 @@ class SE2 {
   bool is_approx(const SE2& other, double tol = 1e-9) const;
 
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(rot_, t_); }
-  auto fields() const { return std::tie(rot_, t_); }
+  KEEL_FIELDS(rot_, t_)
 
  private:
   SO2 rot_;

@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "types.hpp"
+#include "core/fields.hpp"
 
 namespace keel::lie {
 
@@ -50,8 +51,7 @@ class SO2 {
   bool is_approx(const SO2& other, double tol = 1e-9) const;
 
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(c_, s_); }
-  auto fields() const { return std::tie(c_, s_); }
+  KEEL_FIELDS(c_, s_)
 
  private:
   double c_ = 1.0;

@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "types.hpp"
+#include "core/fields.hpp"
 
 namespace keel::lie {
 
@@ -58,8 +59,7 @@ class SO3 {
   bool is_approx(const SO3& other, double tol = 1e-9) const;
 
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(R_); }
-  auto fields() const { return std::tie(R_); }
+  KEEL_FIELDS(R_)
 
  private:
   explicit SO3(const Mat3& R) : R_(R) {}

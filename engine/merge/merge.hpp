@@ -46,6 +46,7 @@
 #include "pcm/selection.hpp"
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
+#include "core/fields.hpp"
 
 namespace keel::merge {
 
@@ -130,12 +131,7 @@ struct MergeResult {
   std::vector<pgo::EdgeReport> inter_robot;  // one per selected candidate (order of `selected`)
   double time_s = 0.0;                       // wall time of the merged solve
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() {
-    return std::tie(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s);
-  }
-  auto fields() const {
-    return std::tie(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s);
-  }
+  KEEL_FIELDS(selected, poses_a, poses_b, anchor_b, summary, residual, chi2, inter_robot, time_s)
 };
 using MergeResult2 = MergeResult<lie::SE2>;
 using MergeResult3 = MergeResult<lie::SE3>;

@@ -20,6 +20,7 @@
 
 #include "core/bound.hpp"
 #include "pcm/consistency_graph.hpp"
+#include "core/fields.hpp"
 
 namespace keel::pcm {
 
@@ -68,8 +69,7 @@ struct CliqueResult {
   // upper_bound.
   core::Bound bound() const { return {static_cast<double>(clique.size()), static_cast<double>(upper_bound)}; }
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
-  auto fields() const { return std::tie(clique, upper_bound, status, ties, nodes_explored, time_s); }
+  KEEL_FIELDS(clique, upper_bound, status, ties, nodes_explored, time_s)
 };
 
 [[nodiscard]] CliqueResult maximum_clique_exact(const ConsistencyGraph& g, const CliqueOptions& options = {});

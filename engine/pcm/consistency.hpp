@@ -45,6 +45,7 @@
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
 #include "lie/types.hpp"
+#include "core/fields.hpp"
 
 namespace keel::pcm {
 
@@ -65,8 +66,7 @@ struct InterRobotMeasurement {
   G z;
   typename G::Jacobian covariance = G::Jacobian::Identity();
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(pose_a, pose_b, z, covariance); }
-  auto fields() const { return std::tie(pose_a, pose_b, z, covariance); }
+  KEEL_FIELDS(pose_a, pose_b, z, covariance)
 };
 using InterRobotMeasurement2 = InterRobotMeasurement<lie::SE2>;
 using InterRobotMeasurement3 = InterRobotMeasurement<lie::SE3>;

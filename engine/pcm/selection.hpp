@@ -25,6 +25,7 @@
 #include "pcm/clique.hpp"
 #include "pcm/consistency.hpp"
 #include "pcm/densest.hpp"
+#include "core/fields.hpp"
 
 namespace keel::pcm {
 
@@ -42,8 +43,7 @@ struct Selection {
   // The clique search's gap (CliqueResult::gap; 0 without a search).
   int gap() const { return search ? search->gap() : 0; }
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(selected, time_s, search, raw_size, violations); }
-  auto fields() const { return std::tie(selected, time_s, search, raw_size, violations); }
+  KEEL_FIELDS(selected, time_s, search, raw_size, violations)
 };
 
 // Throws std::invalid_argument with a message naming the problem when Q is not usable: n <= 0, q.size() !=

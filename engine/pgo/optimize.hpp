@@ -25,6 +25,7 @@
 #include "lie/types.hpp"
 #include "pgo/multi_robot.hpp"
 #include "pgo/options.hpp"
+#include "core/fields.hpp"
 
 namespace keel::pgo {
 
@@ -107,20 +108,10 @@ struct Summary {
   std::vector<IterationRecord> trace;  // per-iteration record, iteration 0 first
   std::string report;                  // the solver's one-line report
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() {
-    return std::tie(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
-                    free_parameter_dimension, normalized_chi2, iterations, successful_steps,
-                    unsuccessful_steps, total_time_s, preprocessor_time_s, minimizer_time_s,
-                    postprocessor_time_s, linear_solver_time_s, residual_evaluation_time_s,
-                    jacobian_evaluation_time_s, trace, report);
-  }
-  auto fields() const {
-    return std::tie(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
-                    free_parameter_dimension, normalized_chi2, iterations, successful_steps,
-                    unsuccessful_steps, total_time_s, preprocessor_time_s, minimizer_time_s,
-                    postprocessor_time_s, linear_solver_time_s, residual_evaluation_time_s,
-                    jacobian_evaluation_time_s, trace, report);
-  }
+  KEEL_FIELDS(termination, message, initial_cost, final_cost, final_chi2, residual_dimension,
+              free_parameter_dimension, normalized_chi2, iterations, successful_steps, unsuccessful_steps,
+              total_time_s, preprocessor_time_s, minimizer_time_s, postprocessor_time_s, linear_solver_time_s,
+              residual_evaluation_time_s, jacobian_evaluation_time_s, trace, report)
 };
 
 struct Result2D {

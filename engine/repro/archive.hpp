@@ -6,11 +6,9 @@
 //   - std::string, std::vector, std::array, std::pair, std::tuple, std::optional, std::map;
 //   - dense matrices (Eigen, by duck typing: Scalar, rows(), cols(), data(), resize(r, c)): shape and
 //   entries;
-//   - any class with `fields()` returning a std::tie of its members (a const and a non-const overload):
-//       struct Outcome { std::vector<int> selected; double cost = 0;
-//                        auto fields() { return std::tie(selected, cost); }
-//                        auto fields() const { return std::tie(selected, cost); } };
-//     A member left out of fields() is not carried to the merge; the N-shard tests compare merged and
+//   - any class whose members are listed by KEEL_FIELDS (core/fields.hpp: fields(), a std::tie of them):
+//       struct Outcome { std::vector<int> selected; double cost = 0; KEEL_FIELDS(selected, cost) };
+//     A member left out of the list is not carried to the merge; the N-shard tests compare merged and
 //     single-machine results, so such an omission shows as a difference there.
 // The byte order is the machine's (partials are merged on the cluster that wrote them); Reader refuses to
 // read past the end of its bytes.
@@ -164,7 +162,7 @@ void save(Writer& w, const T& v) {
     w.bytes(v.data(), static_cast<std::size_t>(v.rows() * v.cols()) * sizeof(typename T::Scalar));
   } else {
     static_assert(std::is_trivially_copyable_v<T>,
-                  "repro::save: give this type a fields() member returning std::tie of its members");
+                  "repro::save: list this type's members with KEEL_FIELDS (core/fields.hpp)");
     w.bytes(&v, sizeof v);
   }
 }
@@ -226,7 +224,7 @@ void load(Reader& r, T& v) {
     r.bytes(v.data(), static_cast<std::size_t>(rows * cols) * sizeof(typename T::Scalar));
   } else {
     static_assert(std::is_trivially_copyable_v<T>,
-                  "repro::load: give this type a fields() member returning std::tie of its members");
+                  "repro::load: list this type's members with KEEL_FIELDS (core/fields.hpp)");
     r.bytes(&v, sizeof v);
   }
 }

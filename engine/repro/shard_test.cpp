@@ -20,6 +20,7 @@
 #include "core/random.hpp"
 #include "repro/shard.hpp"
 #include "kit/scratch.hpp"
+#include "core/fields.hpp"
 
 using namespace keel::repro;
 namespace fs = std::filesystem;
@@ -44,8 +45,7 @@ struct Rich {  // saved member by member through fields()
   std::array<Plain, 2> plain{};
   std::vector<std::pair<int, std::vector<double>>> nested;
   std::vector<bool> flags;
-  auto fields() { return std::tie(selected, error, bound, columns, cov, dyn, plain, nested, flags); }
-  auto fields() const { return std::tie(selected, error, bound, columns, cov, dyn, plain, nested, flags); }
+  KEEL_FIELDS(selected, error, bound, columns, cov, dyn, plain, nested, flags)
   bool operator==(const Rich& o) const {
     return selected == o.selected && error == o.error && bound == o.bound && columns == o.columns &&
            cov == o.cov && dyn.rows() == o.dyn.rows() && dyn.cols() == o.dyn.cols() && dyn == o.dyn &&

@@ -67,6 +67,7 @@
 #include "lie/types.hpp"
 #include "pcm/consistency.hpp"
 #include "sim/world1d.hpp"
+#include "core/fields.hpp"
 
 namespace keel::sim {
 
@@ -157,8 +158,7 @@ struct CandidateSet {
     return v;
   }
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(candidates, information, labels, false_anchors); }
-  auto fields() const { return std::tie(candidates, information, labels, false_anchors); }
+  KEEL_FIELDS(candidates, information, labels, false_anchors)
 };
 using CandidateSet2 = CandidateSet<lie::SE2>;
 using CandidateSet3 = CandidateSet<lie::SE3>;

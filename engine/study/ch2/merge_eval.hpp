@@ -14,6 +14,7 @@
 #include "merge/merge.hpp"
 #include "pcm/selection.hpp"
 #include "sim/two_robot.hpp"
+#include "core/fields.hpp"
 
 namespace keel::study::ch2 {
 
@@ -111,8 +112,7 @@ struct MethodOutcome {
   double solve_time_s = 0.0;  // merged solve
   MergeResult<G> merged;      // the merged solve, only with keep_solutions
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() { return std::tie(selection, metrics, solve_time_s, merged); }
-  auto fields() const { return std::tie(selection, metrics, solve_time_s, merged); }
+  KEEL_FIELDS(selection, metrics, solve_time_s, merged)
 };
 
 template <class G>
@@ -123,12 +123,7 @@ struct MergeDataset {
   double matrix_time_s = 0.0;  // consistency_matrix with Composition::joint (0 if no method uses it)
   double matrix_independent_time_s = 0.0;  // with Composition::independent (0 if no method uses it)
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() {
-    return std::tie(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s);
-  }
-  auto fields() const {
-    return std::tie(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s);
-  }
+  KEEL_FIELDS(candidates, methods, covariance_time_s, matrix_time_s, matrix_independent_time_s)
 };
 using MergeDataset2 = MergeDataset<lie::SE2>;
 using MergeDataset3 = MergeDataset<lie::SE3>;

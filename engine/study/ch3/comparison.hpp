@@ -16,6 +16,7 @@
 #include "repro/run.hpp"
 #include "sim/alignment_world.hpp"
 #include "sim/hull_world.hpp"
+#include "core/fields.hpp"
 
 namespace keel::study::ch3 {
 
@@ -67,14 +68,8 @@ struct MethodOutcome {
   double time_s = 0;  // round-0 hulls (shared by the methods, counted for each) + align()
   EstimateScore final_score;
   std::vector<EstimateScore> round_scores;  // [round]
-  auto fields() {
-    return std::tie(raw, rigid, rot_se, trans_se, singular_min, singular_max, valid, cost, sector, rounds,
-                    lp_solves, time_s, final_score, round_scores);
-  }
-  auto fields() const {
-    return std::tie(raw, rigid, rot_se, trans_se, singular_min, singular_max, valid, cost, sector, rounds,
-                    lp_solves, time_s, final_score, round_scores);
-  }
+  KEEL_FIELDS(raw, rigid, rot_se, trans_se, singular_min, singular_max, valid, cost, sector, rounds,
+              lp_solves, time_s, final_score, round_scores)
 };
 // The certificate of one world (beyond the thesis): the global optimum over SO(2) of round 0's hull
 // objective (every reference point), against the proposed method's round-0 answer.

@@ -24,6 +24,7 @@
 #include "repro/run.hpp"
 #include "sos/certify.hpp"
 #include "sos/verify.hpp"
+#include "core/fields.hpp"
 
 namespace keel::study::ch4 {
 
@@ -57,14 +58,7 @@ struct MethodOutcome {
   std::vector<lie::SE2> poses;
   std::vector<lie::Vec2> landmarks;
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() {
-    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, iterations, converged, poses,
-                    landmarks);
-  }
-  auto fields() const {
-    return std::tie(trans_error, rot_error, landmark_error, cost, time_s, iterations, converged, poses,
-                    landmarks);
-  }
+  KEEL_FIELDS(trans_error, rot_error, landmark_error, cost, time_s, iterations, converged, poses, landmarks)
 };
 
 struct SegmentOutcome {
@@ -82,18 +76,9 @@ struct SegmentOutcome {
   std::vector<lie::SE2> truth;
   std::vector<lie::Vec2> truth_landmarks;
   // The members, for repro::save/load (the per-trial records of sharded runs, core/archive.hpp).
-  auto fields() {
-    return std::tie(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
-                    lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound,
-                    primal_residual, s_min_eigenvalue, solver_claims_optimal, escalated, note, sdp_time_s,
-                    truth, truth_landmarks);
-  }
-  auto fields() const {
-    return std::tie(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
-                    lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound,
-                    primal_residual, s_min_eigenvalue, solver_claims_optimal, escalated, note, sdp_time_s,
-                    truth, truth_landmarks);
-  }
+  KEEL_FIELDS(first, poses, edges, landmarks, landmark_measurements, failed, error, sbsos, lm_random,
+              lm_odometry, status, certified_order, relative_gap, rank_ratio, lower_bound, primal_residual,
+              s_min_eigenvalue, solver_claims_optimal, escalated, note, sdp_time_s, truth, truth_landmarks)
 };
 
 struct SegmentStudyOutcome {

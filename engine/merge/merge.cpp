@@ -14,6 +14,7 @@
 #include "core/timing.hpp"
 #include "cov/information.hpp"
 #include "pgo/multi_robot.hpp"
+#include "pgo/types.hpp"
 
 namespace keel::merge {
 
@@ -30,21 +31,6 @@ template <class... A>
 [[noreturn]] void fail(fmt::format_string<A...> format, A&&... args) {
   throw std::invalid_argument(fmt::format("merge::{}", fmt::format(format, std::forward<A>(args)...)));
 }
-
-template <class G>
-struct Types;
-template <>
-struct Types<lie::SE2> {
-  using Multi = pgo::MultiRobotGraph2D;
-  using InterEdge = pgo::InterRobotEdge2;
-  using MultiEstimate = pgo::MultiRobotEstimate2D;
-};
-template <>
-struct Types<lie::SE3> {
-  using Multi = pgo::MultiRobotGraph3D;
-  using InterEdge = pgo::InterRobotEdge3;
-  using MultiEstimate = pgo::MultiRobotEstimate3D;
-};
 
 template <class G>
 LocalSolution<G> solve_local_impl(const PoseGraphOf<G>& graph, const LocalSolveOptions& o) {
@@ -106,12 +92,12 @@ template <class G>
 MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
                           const std::vector<InterRobotMeasurement<G>>& candidates,
                           const std::vector<int>& selected, const MergeOptions& o) {
-  using T = Types<G>;
+  using T = pgo::Types<G>;
   o.validate();
   const int n = static_cast<int>(candidates.size());
   const int na = static_cast<int>(a.poses.size()), nb = static_cast<int>(b.poses.size());
   std::vector<char> seen(static_cast<std::size_t>(n), 0);
-  typename T::Multi g;
+  typename T::MultiGraph g;
   g.robots = {a.graph, b.graph};
   for (int k : selected) {
     if (k < 0 || k >= n) fail("merge_maps: selected candidate {} out of range ({} candidates)", k, n);
@@ -119,7 +105,7 @@ MergeResult<G> merge_impl(const LocalSolution<G>& a, const LocalSolution<G>& b,
     seen[k] = 1;
     check_candidate(candidates, k, na, nb, "merge_maps");
     const auto& c = candidates[k];
-    typename T::InterEdge e;
+    typename T::Inter e;
     e.robot_a = 0;
     e.pose_a = c.pose_a;
     e.robot_b = 1;

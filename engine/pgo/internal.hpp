@@ -19,41 +19,13 @@
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
 #include "pgo/robust.hpp"
+#include "pgo/types.hpp"
 
 namespace keel::pgo::detail {
 
-// Dimension traits.
-struct D2 {
-  static constexpr int kPoseDof = 3;
-  static constexpr bool kLandmarks = true;
-  using Pose = lie::SE2;
-  using Graph = graph::PoseGraph2D;
-  using Edge = graph::Edge2;
-  using Inter = InterRobotEdge2;
-  using Residual = lie::Vec3;
-  using Information = lie::Mat3;
-  using Estimate = Estimate2D;
-  using MultiEstimate = MultiRobotEstimate2D;
-  using MultiGraph = MultiRobotGraph2D;
-  using Evaluation = Evaluation2D;
-  using MultiEvaluation = MultiRobotEvaluation2D;
-};
-
-struct D3 {
-  static constexpr int kPoseDof = 6;
-  static constexpr bool kLandmarks = false;
-  using Pose = lie::SE3;
-  using Graph = graph::PoseGraph3D;
-  using Edge = graph::Edge3;
-  using Inter = InterRobotEdge3;
-  using Residual = lie::Vec6;
-  using Information = lie::Mat6;
-  using Estimate = Estimate3D;
-  using MultiEstimate = MultiRobotEstimate3D;
-  using MultiGraph = MultiRobotGraph3D;
-  using Evaluation = Evaluation3D;
-  using MultiEvaluation = MultiRobotEvaluation3D;
-};
+// The types of each dimension (pgo/types.hpp).
+using D2 = Types<lie::SE2>;
+using D3 = Types<lie::SE3>;
 
 template <class D>
 struct RobotsView {

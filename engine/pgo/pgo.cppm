@@ -11,6 +11,7 @@ module;
 #include "pgo/optimize.hpp"
 #include "pgo/options.hpp"
 #include "pgo/robust.hpp"
+#include "pgo/types.hpp"
 export module keel.pgo;
 
 export namespace keel::pgo {
@@ -33,6 +34,8 @@ using keel::pgo::SparseLibrary;
 using keel::pgo::Termination;
 using keel::pgo::termination_from_string;
 using keel::pgo::to_string;
+// the types of a dimension, by group
+using keel::pgo::Types;
 // robust kernels
 using keel::pgo::dcs_scale;
 using keel::pgo::Rho;

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/parse.hpp"
 #include "graph/build.hpp"
 #include "graph/parse_error.hpp"
 #include "graph/text_records.hpp"
@@ -52,7 +53,7 @@ void parse_fix(const RecordScanner& sc, FixRecord& fix) {
       sc.fail_field(k,
                     fmt::format("{}: keel holds one pose fixed (the gauge), and {} on line {} already fixes "
                                 "pose {}; this one names pose {} (give one FIX id)",
-                                quote_token(sc.field(k)), fix.field, fix.line, fix.id, id));
+                                core::quote_token(sc.field(k)), fix.field, fix.line, fix.id, id));
     }
   }
 }
@@ -63,7 +64,7 @@ void check_fix(Graph& g, const FixRecord& fix) {
   if (static_cast<std::size_t>(fix.id) >= g.poses.size()) {
     fail_at(g.source, fix.line,
             fmt::format("{}: {}: no pose {} in the graph (its {} poses have ids 0 to {})", fix.field,
-                        quote_token(fix.token), fix.id, g.poses.size(),
+                        core::quote_token(fix.token), fix.id, g.poses.size(),
                         static_cast<long long>(g.poses.size()) - 1));
   }
   g.gauge_pose = fix.id;
@@ -178,10 +179,10 @@ PoseGraph2D parse_g2o_2d(std::string_view text, const std::string& name, Informa
     } else if (is_3d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D g2o reader (use read_g2o_3d or read_pose_graph_3d)",
-          quote_token(tag)));
+          core::quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 2D g2o reader knows VERTEX_SE2, EDGE_SE2 and FIX)",
-                          quote_token(tag)));
+                          core::quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE2", "EDGE_SE2");
@@ -215,10 +216,10 @@ PoseGraph3D parse_g2o_3d(std::string_view text, const std::string& name, Informa
     } else if (is_2d_tag(tag)) {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D g2o reader (use read_g2o_2d or read_pose_graph_2d)",
-          quote_token(tag)));
+          core::quote_token(tag)));
     } else {
       sc.fail(fmt::format("unknown tag {} (the 3D g2o reader knows VERTEX_SE3:QUAT, EDGE_SE3:QUAT and FIX)",
-                          quote_token(tag)));
+                          core::quote_token(tag)));
     }
   }
   detail::assemble(g, vertices, "VERTEX_SE3:QUAT", "EDGE_SE3:QUAT");
@@ -269,7 +270,7 @@ std::vector<Edge> parse_g2o_edges(std::string_view text, const std::string& name
     if (tag != edge_tag) {
       sc.fail(
           fmt::format("unexpected tag {}: an edge file holds {} records only (no vertices, no other edges)",
-                      quote_token(tag), edge_tag));
+                      core::quote_token(tag), edge_tag));
     }
     int unused = 0;
     edges.push_back(parse(sc, InformationCheck::positive_definite, unused));

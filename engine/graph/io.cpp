@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/parse.hpp"
 #include "core/names.hpp"
 #include "graph/g2o.hpp"
 #include "graph/isam.hpp"
@@ -55,7 +56,7 @@ GraphFormat format_or_throw(std::string_view text, const std::string& name) {
   sc.fail(
       fmt::format("unknown tag {} in the first record: neither g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
                   "EDGE_SE3:QUAT) nor iSAM text (ODOMETRY, EDGE2, Constraint2, LANDMARK, EDGE3)",
-                  quote_token(sc.tag())));
+                  core::quote_token(sc.tag())));
 }
 
 PoseGraph2D read_2d(const std::string& text, const std::string& name, InformationCheck information) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/parse.hpp"
 #include "graph/build.hpp"
 #include "graph/parse_error.hpp"
 #include "graph/text_records.hpp"
@@ -75,11 +76,11 @@ PoseGraph2D parse_isam_2d(std::string_view text, const std::string& name, bool c
     } else if (tag == "EDGE3" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT") {
       sc.fail(fmt::format(
           "{} is a 3D record, but this is the 2D iSAM reader (use read_isam_3d or read_pose_graph_3d)",
-          quote_token(tag)));
+          core::quote_token(tag)));
     } else {
       sc.fail(
           fmt::format("unknown tag {} (the 2D iSAM reader knows ODOMETRY, EDGE2, Constraint2 and LANDMARK)",
-                      quote_token(tag)));
+                      core::quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "edge");
@@ -114,9 +115,9 @@ PoseGraph3D parse_isam_3d(std::string_view text, const std::string& name, bool c
     } else if (is_2d_edge_tag(tag) || tag == "LANDMARK" || tag == "VERTEX_SE2" || tag == "EDGE_SE2") {
       sc.fail(fmt::format(
           "{} is a 2D record, but this is the 3D iSAM reader (use read_isam_2d or read_pose_graph_2d)",
-          quote_token(tag)));
+          core::quote_token(tag)));
     } else {
-      sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", quote_token(tag)));
+      sc.fail(fmt::format("unknown tag {} (the 3D iSAM reader knows EDGE3)", core::quote_token(tag)));
     }
   }
   detail::assemble(g, {}, "VERTEX", "EDGE3");

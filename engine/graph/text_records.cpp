@@ -59,8 +59,6 @@ void write_file_atomically(const std::filesystem::path& file, const std::string&
   }
 }
 
-std::string quote_token(std::string_view token) { return core::quote_token(token); }
-
 std::string fmt17(double v) { return fmt::format("{:.17g}", v); }
 
 void fail_at(const std::string& name, int line, const std::string& msg) { throw ParseError(name, line, msg); }
@@ -108,7 +106,7 @@ void RecordScanner::expect(std::span<const char* const> names) {
   }
   if (n > names.size()) {
     fail(fmt::format("{}: expected {}{}{}: field {} {} is one too many", tag(), names.size(), after, n,
-                     names.size() + 1, quote_token(fields_[names.size() + 1])));
+                     names.size() + 1, core::quote_token(fields_[names.size() + 1])));
   }
 }
 

@@ -20,8 +20,6 @@ std::string read_stream_text(std::istream& in, const std::string& name);
 /// Writes `text` to `file` through a temporary name in the same folder and a rename.
 void write_file_atomically(const std::filesystem::path& file, const std::string& text);
 
-/// A token as it should appear in a message: quoted, at most 40 characters, non-printable bytes as \xNN.
-std::string quote_token(std::string_view token);
 /// "%.17g" of v.
 std::string fmt17(double v);
 

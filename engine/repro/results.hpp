@@ -85,9 +85,8 @@ class KeyPath {
  public:
   KeyPath() = default;
   KeyPath under(std::string_view segment) const;
-  KeyPath under(const KeyPath& levels) const {
-    return KeyPath(prefix_ + levels.prefix_);
-  }  // each of its levels
+  // Each of `levels`' segments below this path's (already checked when `levels` was built).
+  KeyPath under(const KeyPath& levels) const { return KeyPath(prefix_ + levels.prefix_); }
   // "<prefix><field>"; the field is a literal at the call and may hold dots ("rot_se.median").
   std::string key(std::string_view field) const;
   const std::string& prefix() const { return prefix_; }  // "a.b." (with its trailing dot), "" at the root

@@ -420,15 +420,19 @@ each edge's information) and its certificate: a lower bound on the global minimu
         const int max_rank = int_arg(max_rank_obj, "solve", "max_rank");
         // An argument of the other mode would be ignored silently (as `keel solve` refuses such an option):
         // one that differs from its default is a ValueError naming it.
-        const pgo::Options likely = app::MaximumLikelihood{}.options;
-        const pgo::CertifiedOptions certain = app::Certified{}.options;
+        const pgo::Options ml_defaults = app::MaximumLikelihood{}.options;
+        const pgo::CertifiedOptions certified_defaults = app::Certified{}.options;
         if (certify) {
-          const bool init_default = py::isinstance<py::str>(init) && init.cast<std::string>() == "odometry";
+          // The defaults by name, from the back end's own defaults.
+          const bool init_default = py::isinstance<py::str>(init) &&
+                                    init.cast<std::string>() == pgo::to_string(ml_defaults.initial_guess);
           for (const auto& [name, given] :
-               {std::pair{"init", !init_default}, std::pair{"robust", robust != "none"},
-                std::pair{"robust_param", robust_param != likely.robust_parameter},
-                std::pair{"seed", seed != likely.seed}, std::pair{"threads", threads != likely.threads},
-                std::pair{"max_iterations", max_iterations != likely.max_iterations}})
+               {std::pair{"init", !init_default},
+                std::pair{"robust", robust != pgo::to_string(ml_defaults.robust_kernel)},
+                std::pair{"robust_param", robust_param != ml_defaults.robust_parameter},
+                std::pair{"seed", seed != ml_defaults.seed},
+                std::pair{"threads", threads != ml_defaults.threads},
+                std::pair{"max_iterations", max_iterations != ml_defaults.max_iterations}})
             if (given)
               throw py::value_error(fmt::format(
                   "solve: {} does not apply with certify=True (the certified solve starts from the chordal "
@@ -436,8 +440,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
                   name));
         } else {
           for (const auto& [name, given] :
-               {std::pair{"gap_tolerance", gap_tolerance != certain.gap_tolerance},
-                std::pair{"max_rank", max_rank != certain.max_rank},
+               {std::pair{"gap_tolerance", gap_tolerance != certified_defaults.gap_tolerance},
+                std::pair{"max_rank", max_rank != certified_defaults.max_rank},
                 std::pair{"time_limit_s", time_limit_s.has_value()}})
             if (given)
               throw py::value_error(fmt::format(

@@ -20,47 +20,6 @@ std::string where(int line) { return line > 0 ? fmt::format(" (source line {})",
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Residuals and Jacobians
-// ---------------------------------------------------------------------------------------------------------------------
-
-EdgeLinearization2 linearize_edge(const SE2& z, const SE2& T_i, const SE2& T_j) {
-  const SE2 E = z.inverse() * T_i.inverse() * T_j;
-  EdgeLinearization2 out;
-  out.residual = Vec3(E.translation().x(), E.translation().y(), E.angle());
-  Mat3 D = Mat3::Identity();  // ∂ρ(E exp(η^))/∂η at 0 = diag(R_E, 1)
-  D.topLeftCorner<2, 2>() = E.rotation();
-  out.J_r_xi_j = D * T_j.inverse().adjoint();
-  out.J_r_xi_i = -out.J_r_xi_j;
-  return out;
-}
-
-EdgeLinearization3 linearize_edge(const SE3& z, const SE3& T_i, const SE3& T_j) {
-  const SE3 E = z.inverse() * T_i.inverse() * T_j;
-  const Vec3 phi = E.so3().log();
-  EdgeLinearization3 out;
-  out.residual.head<3>() = E.translation();
-  out.residual.tail<3>() = phi;
-  Mat6 D = Mat6::Zero();  // ∂ρ(E exp(η^))/∂η at 0 = blockdiag(R_E, J_r⁻¹(Log R_E))
-  D.topLeftCorner<3, 3>() = E.rotation();
-  D.bottomRightCorner<3, 3>() = lie::SO3::right_jacobian_inverse(phi);
-  out.J_r_xi_j = D * T_j.inverse().adjoint();
-  out.J_r_xi_i = -out.J_r_xi_j;
-  return out;
-}
-
-LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec2& l) {
-  const Mat2 Rt = T.rotation().transpose();
-  LandmarkLinearization2 out;
-  out.residual = Rt * (l - T.translation()) - z;
-  Mat23 B;                // [I₂, J l], J = hat(1) = [0 −1; 1 0]
-  B << 1.0, 0.0, -l.y(),  //
-      0.0, 1.0, l.x();
-  out.J_r_xi = -Rt * B;
-  out.J_r_l = Rt;
-  return out;
-}
-
-// ---------------------------------------------------------------------------------------------------------------------
 // Gauge
 // ---------------------------------------------------------------------------------------------------------------------
 

@@ -64,27 +64,12 @@ using Mat23 = Eigen::Matrix<double, 2, 3>;
 /// The residuals themselves (graph/residuals.hpp): r = ρ(z⁻¹ T_i⁻¹ T_j), landmark r = Rᵀ (l − t) − z.
 using graph::edge_residual;
 using graph::landmark_residual;
-
-struct EdgeLinearization2 {
-  Vec3 residual = Vec3::Zero();
-  Mat3 J_r_xi_i = Mat3::Zero();  // ∂r/∂ξ_i, T_i = exp(ξ_i^) T̄_i
-  Mat3 J_r_xi_j = Mat3::Zero();  // ∂r/∂ξ_j
-};
-struct EdgeLinearization3 {
-  Vec6 residual = Vec6::Zero();
-  Mat6 J_r_xi_i = Mat6::Zero();
-  Mat6 J_r_xi_j = Mat6::Zero();
-};
-struct LandmarkLinearization2 {
-  Vec2 residual = Vec2::Zero();
-  Mat23 J_r_xi = Mat23::Zero();  // ∂r/∂ξ of the observing pose
-  Mat2 J_r_l = Mat2::Zero();     // ∂r/∂l (world-frame landmark, additive perturbation)
-};
-
-/// Residual and Jacobians of one edge: A_j = D(E) Ad(T_j⁻¹), A_i = −A_j (see the derivation above).
-[[nodiscard]] EdgeLinearization2 linearize_edge(const SE2& z, const SE2& T_i, const SE2& T_j);
-[[nodiscard]] EdgeLinearization3 linearize_edge(const SE3& z, const SE3& T_i, const SE3& T_j);
-[[nodiscard]] LandmarkLinearization2 linearize_landmark(const Vec2& z, const SE2& T, const Vec2& l);
+/// Residual and Jacobians of one edge: A_j = D(E) Ad(T_j⁻¹), A_i = −A_j (graph/residuals.hpp).
+using graph::EdgeLinearization2;
+using graph::EdgeLinearization3;
+using graph::LandmarkLinearization2;
+using graph::linearize_edge;
+using graph::linearize_landmark;
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Gauge

@@ -9,7 +9,7 @@
 //   2D landmark: double[2] = (x, y), Euclidean;
 //   3D pose:     double[7] = (q_x, q_y, q_z, q_w, t_x, t_y, t_z): Eigen's quaternion storage order, then the
 //                translation; manifold ProductManifold<EigenQuaternionManifold, EuclideanManifold<3>>.
-// Residuals are those of pose_graph.hpp, whitened by U with Ω = UᵀU (internal.hpp: sqrt_information).
+// Residuals are graph/residuals.hpp's, whitened by U with Ω = UᵀU (internal.hpp: sqrt_information).
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
@@ -27,6 +27,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "graph/residuals.hpp"
 #include "lie/euler.hpp"
 #include "lie/se2.hpp"
 #include "lie/se3.hpp"
@@ -62,23 +63,19 @@ class Se2Manifold final : public ceres::Manifold {
 using Se3Manifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
 
 // ---------------------------------------------------------------------------------------------------------------
-// 2D pose–pose edge with analytic Jacobians. With d = t_j − t_i and A = R_zᵀ R_iᵀ:
-//   r = (A d − R_zᵀ t_z,  wrap(θ_j − θ_i − θ_z)),
-//   ∂r/∂t_i = [−A; 0], ∂r/∂θ_i = [−S A d; −1], ∂r/∂t_j = [A; 0], ∂r/∂θ_j = [0; 1],  S = [0 −1; 1 0];
-// everything is multiplied by U.
+// 2D pose–pose edge with the analytic Jacobians of graph::edge_residual (graph/residuals.hpp), multiplied by
+// U.
 class PoseEdge2Cost final : public ceres::SizedCostFunction<3, 3, 3> {
  public:
-  PoseEdge2Cost(const lie::SE2& z, const lie::Mat3& sqrt_information);
+  PoseEdge2Cost(const lie::SE2& z, const lie::Mat3& sqrt_information) : z_(z), U_(sqrt_information) {}
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
  private:
-  double cz_, sz_, theta_z_;  // cos, sin, angle of z
-  lie::Vec2 rzt_tz_;          // R_zᵀ t_z
+  graph::EdgeMeasurement2 z_;
   lie::Mat3 U_;
 };
 
-// 2D landmark measurement with analytic Jacobians: r = R_iᵀ (l − t_i) − z,
-//   ∂r/∂t_i = −R_iᵀ, ∂r/∂θ_i = −S R_iᵀ (l − t_i), ∂r/∂l = R_iᵀ; multiplied by U.
+// 2D landmark measurement with the analytic Jacobians of graph::landmark_residual, multiplied by U.
 class Landmark2Cost final : public ceres::SizedCostFunction<2, 3, 2> {
  public:
   Landmark2Cost(const lie::Vec2& z, const lie::Mat2& sqrt_information) : z_(z), U_(sqrt_information) {}
@@ -90,37 +87,7 @@ class Landmark2Cost final : public ceres::SizedCostFunction<2, 3, 2> {
 };
 
 // ---------------------------------------------------------------------------------------------------------------
-// Templated residuals for automatic differentiation.
-template <class T>
-double scalar_part(const T& v) {
-  if constexpr (std::is_arithmetic_v<T>)
-    return static_cast<double>(v);
-  else
-    return v.a;
-}
-
-// a − 2πk with k chosen on the scalar part so the value lies in (−π, π]; the derivative is untouched.
-template <class T>
-T wrap_angle_t(const T& a) {
-  const double v = scalar_part(a);
-  const double w = lie::wrap_angle(v);
-  return a + T(w - v);
-}
-
-// 2D: residual of z at global poses G_i, G_j given as (x, y, θ).
-template <class T>
-void pose_edge2_residual(const double z[3], const T* gi, const T* gj, T* r) {
-  using std::cos;
-  using std::sin;
-  const T c = cos(gi[2]), s = sin(gi[2]);
-  const T dx = gj[0] - gi[0], dy = gj[1] - gi[1];
-  const T ux = c * dx + s * dy, uy = -s * dx + c * dy;  // R_iᵀ (t_j − t_i)
-  const double cz = std::cos(z[2]), sz = std::sin(z[2]);
-  const T ex = ux - T(z[0]), ey = uy - T(z[1]);
-  r[0] = cz * ex + sz * ey;
-  r[1] = -sz * ex + cz * ey;
-  r[2] = wrap_angle_t(T(gj[2] - gi[2] - T(z[2])));
-}
+// Automatic differentiation of graph::edge_residual (graph/residuals.hpp).
 
 // 2D composition Δ T of (x, y, θ) triples.
 template <class T>
@@ -135,50 +102,26 @@ void compose2(const T* a, const T* b, T* out) {
 
 // Inter-robot 2D edge: parameters Δ_a, T^a_i, Δ_b, T^b_j.
 struct InterRobot2Functor {
-  double z[3];
+  graph::EdgeMeasurement2 z;
   lie::Mat3 U;
   template <class T>
   bool operator()(const T* da, const T* ti, const T* db, const T* tj, T* out) const {
     T gi[3], gj[3], r[3];
     compose2(da, ti, gi);
     compose2(db, tj, gj);
-    pose_edge2_residual(z, gi, gj, r);
+    graph::edge_residual(z, gi, gj, r);
     for (int k = 0; k < 3; ++k) out[k] = T(U(k, 0)) * r[0] + T(U(k, 1)) * r[1] + T(U(k, 2)) * r[2];
     return true;
   }
 };
 
-// 3D: residual of z at global poses given as quaternion + translation.
-template <class T>
-void pose_edge3_residual(const Eigen::Quaterniond& qz_inv, const lie::Vec3& tz,
-                         const Eigen::Quaternion<T>& qi, const Eigen::Matrix<T, 3, 1>& ti,
-                         const Eigen::Quaternion<T>& qj, const Eigen::Matrix<T, 3, 1>& tj, T* r) {
-  const Eigen::Quaternion<T> qi_inv = qi.conjugate();
-  const Eigen::Quaternion<T> qz_inv_t = qz_inv.template cast<T>();
-  const Eigen::Matrix<T, 3, 1> t_ij = qi_inv * (tj - ti);
-  const Eigen::Quaternion<T> q_e = qz_inv_t * (qi_inv * qj);
-  const Eigen::Matrix<T, 3, 1> t_e = qz_inv_t * (t_ij - tz.template cast<T>());
-  const T q[4] = {q_e.w(), q_e.x(), q_e.y(), q_e.z()};
-  T phi[3];
-  ceres::QuaternionToAngleAxis(q, phi);  // principal: |φ| ≤ π whatever the sign of q
-  r[0] = t_e(0);
-  r[1] = t_e(1);
-  r[2] = t_e(2);
-  r[3] = phi[0];
-  r[4] = phi[1];
-  r[5] = phi[2];
-}
-
 struct PoseEdge3Functor {
-  Eigen::Quaterniond qz_inv;
-  lie::Vec3 tz;
+  graph::EdgeMeasurement3 z;
   lie::Mat6 U;
   template <class T>
   bool operator()(const T* pi, const T* pj, T* out) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> qi(pi), qj(pj);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ti(pi + 4), tj(pj + 4);
     T r[6];
-    pose_edge3_residual<T>(qz_inv, tz, qi, ti, qj, tj, r);
+    graph::edge_residual(z, pi, pj, r);
     for (int k = 0; k < 6; ++k) {
       out[k] = T(0.0);
       for (int l = 0; l < 6; ++l) out[k] += T(U(k, l)) * r[l];
@@ -189,8 +132,7 @@ struct PoseEdge3Functor {
 
 // Inter-robot 3D edge: parameters Δ_a, T^a_i, Δ_b, T^b_j.
 struct InterRobot3Functor {
-  Eigen::Quaterniond qz_inv;
-  lie::Vec3 tz;
+  graph::EdgeMeasurement3 z;
   lie::Mat6 U;
   template <class T>
   bool operator()(const T* da, const T* pi, const T* db, const T* pj, T* out) const {
@@ -199,7 +141,7 @@ struct InterRobot3Functor {
     const Eigen::Quaternion<T> gqi = qa * qi, gqj = qb * qj;
     const Eigen::Matrix<T, 3, 1> gti = ta + qa * ti, gtj = tb + qb * tj;
     T r[6];
-    pose_edge3_residual<T>(qz_inv, tz, gqi, gti, gqj, gtj, r);
+    graph::edge_residual<T>(z, gqi, gti, gqj, gtj, r);
     for (int k = 0; k < 6; ++k) {
       out[k] = T(0.0);
       for (int l = 0; l < 6; ++l) out[k] += T(U(k, l)) * r[l];

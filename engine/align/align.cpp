@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -45,22 +46,65 @@ bool gated(const AlignmentProblem& p, double gate, std::size_t i, std::size_t j)
   return gate <= 0 || p.ref_z.empty() || std::abs(p.ref_z[i] - p.query_z[j]) <= gate;
 }
 
-// Hull planes of query point j over the reference points inside `box` (and the depth gate). Throws when the
-// cloud is too small or degenerate (the caller then keeps the previous region).
-std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
-                                 const Box& box, std::size_t min_points) {
-  std::vector<double> x, y, c;
+// The reference points inside `box` that pass the depth gate for query point j, ascending.
+std::vector<std::uint32_t> points_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
+                                         const Box& box) {
+  std::vector<std::uint32_t> in;
   for (std::size_t i = 0; i < p.reference_size(); ++i) {
     if (p.ref_x[i] < box.x_lo || p.ref_x[i] > box.x_hi || p.ref_y[i] < box.y_lo || p.ref_y[i] > box.y_hi)
       continue;
     if (!gated(p, o.depth_gate, i, j)) continue;
+    in.push_back(static_cast<std::uint32_t>(i));
+  }
+  return in;
+}
+
+// Hull planes of query point j over the reference points `in`.
+std::vector<Plane> planes_of(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
+                             const std::vector<std::uint32_t>& in) {
+  std::vector<double> x, y, c;
+  x.reserve(in.size()), y.reserve(in.size()), c.reserve(in.size());
+  for (const std::uint32_t i : in) {
     x.push_back(p.ref_x[i]);
     y.push_back(p.ref_y[i]);
     c.push_back(p.c(i, j));
   }
-  if (x.size() < std::max<std::size_t>(min_points, 3))
-    throw std::runtime_error(fmt::format("query point {}: {} reference points in its region", j, x.size()));
   return lower_hull_planes(x, y, c, o.hull);
+}
+
+void require_points(std::size_t j, std::size_t count, std::size_t min_points) {
+  if (count < std::max<std::size_t>(min_points, 3))
+    throw std::runtime_error(fmt::format("query point {}: {} reference points in its region", j, count));
+}
+
+// Hull planes of query point j over the reference points inside `box` (and the depth gate). Throws when the
+// cloud is too small or degenerate (the caller then keeps the previous region).
+std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
+                                 const Box& box, std::size_t min_points) {
+  const std::vector<std::uint32_t> in = points_in_box(p, o, j, box);
+  require_points(j, in.size(), min_points);
+  return planes_of(p, o, j, in);
+}
+
+// The same through a cache: `charged_s` receives the compute time of a reused entry (0 on a miss, whose time
+// the caller's clock already counts).
+std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
+                                 const Box& box, std::size_t min_points, HullCache& cache,
+                                 double& charged_s) {
+  std::vector<std::uint32_t> in = points_in_box(p, o, j, box);
+  require_points(j, in.size(), min_points);
+  charged_s = 0;
+  if (const auto hit = cache.find(j, in)) {
+    charged_s = hit->time_s;
+    return hit->planes;
+  }
+  const auto t0 = core::Clock::now();
+  HullCache::Entry e;
+  e.planes = planes_of(p, o, j, in);
+  e.time_s = core::seconds_since(t0);
+  std::vector<Plane> planes = e.planes;
+  cache.insert(j, std::move(in), std::move(e));
+  return planes;
 }
 
 struct RoundSolution {
@@ -475,9 +519,43 @@ Regions global_regions(const AlignmentProblem& p, const AlignOptions& o) {
   return reg;
 }
 
-AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Regions* global) {
+std::size_t HullCache::KeyHash::operator()(const Key& k) const {
+  std::uint64_t h = 1469598103934665603ull ^ k.j;  // FNV-1a over j and the indices
+  for (const std::uint32_t i : k.indices) h = (h ^ i) * 1099511628211ull;
+  return static_cast<std::size_t>(h);
+}
+
+std::shared_ptr<const HullCache::Entry> HullCache::find(std::size_t j,
+                                                        const std::vector<std::uint32_t>& indices) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = entries_.find(Key{j, indices});
+  if (it == entries_.end()) return nullptr;
+  ++hits_;
+  return it->second;
+}
+
+std::shared_ptr<const HullCache::Entry> HullCache::insert(std::size_t j, std::vector<std::uint32_t> indices,
+                                                          Entry entry) {
+  auto stored = std::make_shared<const Entry>(std::move(entry));
+  const std::lock_guard lock(mutex_);
+  return entries_.try_emplace(Key{j, std::move(indices)}, std::move(stored)).first->second;
+}
+
+std::size_t HullCache::size() const {
+  const std::lock_guard lock(mutex_);
+  return entries_.size();
+}
+
+std::size_t HullCache::hits() const {
+  const std::lock_guard lock(mutex_);
+  return hits_;
+}
+
+AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Regions* global, HullCache* cache) {
   p.validate();
   o.validate();
+  if (cache && !(cache->options() == o.hull))
+    throw std::invalid_argument("align: the hull cache was made for other hull options");
   if (o.depth_gate > 0 && p.ref_z.empty())
     throw std::invalid_argument("align: depth_gate > 0 needs depths (ref_z, query_z)");
   const auto t0 = core::Clock::now();
@@ -506,6 +584,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   res.rounds.push_back(tr);
 
   const std::size_t nb = p.query_size();
+  double charged_total_s = 0;  // compute time of the cached hulls this method reused
   for (int r = 1; r <= o.region.max_rounds; ++r) {
     const double w = w0 * std::pow(o.region.shrink, r);
     if (w < o.region.min_half_width) break;
@@ -514,6 +593,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
     next.boxes.resize(nb);
     next.planes.resize(nb);
     std::vector<char> kept(nb, 0);
+    std::vector<double> charged(nb, 0.0);
     core::parallel_for(
         nb,
         [&](std::size_t j) {
@@ -521,7 +601,8 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
           const double py = T.a21 * p.query_x[j] + T.a22 * p.query_y[j] + T.ty;
           const Box box{px - w, px + w, py - w, py + w};
           try {
-            next.planes[j] = planes_in_box(p, o, j, box, o.region.min_points);
+            next.planes[j] = cache ? planes_in_box(p, o, j, box, o.region.min_points, *cache, charged[j])
+                                   : planes_in_box(p, o, j, box, o.region.min_points);
             next.boxes[j] = box;
           } catch (const std::runtime_error&) {  // too few or degenerate points: keep the previous region
             next.planes[j] = reg.planes[j];
@@ -532,9 +613,12 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
         o.threads);
     for (std::size_t j = 0; j < nb; ++j) next.kept += kept[j], next.plane_count += next.planes[j].size();
     reg = std::move(next);
+    double charged_s = 0;
+    for (const double s : charged) charged_s += s;
+    charged_total_s += charged_s;
     tr = RoundTrace{};
     tr.half_width = w;
-    tr.hull_time_s = core::seconds_since(th);
+    tr.hull_time_s = core::seconds_since(th) + charged_s;
     tr.planes = reg.plane_count;
     tr.kept_boxes = reg.kept;
     tl = core::Clock::now();
@@ -552,7 +636,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
   double cx = 0, cy = 0;
   for (std::size_t j = 0; j < nb; ++j) cx += p.query_x[j], cy += p.query_y[j];
   res.rigid = project_to_rigid(T, cx / static_cast<double>(nb), cy / static_cast<double>(nb));
-  res.time_s = core::seconds_since(t0);
+  res.time_s = core::seconds_since(t0) + charged_total_s;
   return res;
 }
 

@@ -26,6 +26,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
 #include <string_view>
 #include <vector>
 
@@ -123,10 +126,48 @@ struct AlignResult {
   double time_s = 0;
 };
 
+// The hulls of later rounds, shared by the methods that align one problem: several methods often put a query
+// point's box around the same reference points, and the hull of query point j over one set of reference
+// points is the same whichever method asked for it. An entry holds the planes and the seconds their
+// computation took; a method that reuses an entry is charged those seconds (RoundTrace::hull_time_s,
+// AlignResult::time_s), so each method's time stays what it would be alone. Safe to share between threads;
+// one cache per problem and hull options (align() refuses a cache made for other hull options).
+class HullCache {
+ public:
+  struct Entry {
+    std::vector<Plane> planes;
+    double time_s = 0;  // seconds the planes took to compute
+  };
+  explicit HullCache(const HullOptions& options) : options_(options) {}
+  [[nodiscard]] const HullOptions& options() const { return options_; }
+  // The entry of query point j over the reference points `indices` (ascending), or null.
+  [[nodiscard]] std::shared_ptr<const Entry> find(std::size_t j,
+                                                  const std::vector<std::uint32_t>& indices) const;
+  // Stores an entry (the first one stays when two threads computed the same hull) and returns the stored one.
+  std::shared_ptr<const Entry> insert(std::size_t j, std::vector<std::uint32_t> indices, Entry entry);
+  [[nodiscard]] std::size_t size() const;
+  [[nodiscard]] std::size_t hits() const;
+
+ private:
+  struct Key {
+    std::size_t j;
+    std::vector<std::uint32_t> indices;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const;
+  };
+  HullOptions options_;
+  mutable std::mutex mutex_;
+  mutable std::size_t hits_ = 0;
+  std::unordered_map<Key, std::shared_ptr<const Entry>, KeyHash> entries_;
+};
+
 // `global` (optional): round 0's regions computed beforehand by global_regions with the same hull options and
-// depth gate (several methods on one problem share them).
+// depth gate (several methods on one problem share them). `cache` (optional): the later rounds' hulls shared
+// with the other methods on this problem (HullCache); the result is the same with or without it.
 [[nodiscard]] AlignResult align(const AlignmentProblem& problem, const AlignOptions& options,
-                                const Regions* global = nullptr);
+                                const Regions* global = nullptr, HullCache* cache = nullptr);
 
 // --- pieces, exposed for tests, certificates and figures
 // ------------------------------------------------------

@@ -119,6 +119,49 @@ TEST_CASE("rounds of the shrinking region keep an exact copy exact; the result d
   }
 }
 
+TEST_CASE("a hull cache shared by the methods changes no result, and is refused for other hull options") {
+  const auto p = exact_copy(14, 2.0, 1.0, 4.0, 3);
+  AlignOptions o;
+  o.region.max_rounds = 4;
+  o.region.min_half_width = 2.0;
+  for (const unsigned threads : {1u, 2u}) {
+    o.threads = threads;
+    const Regions global = global_regions(p, o);
+    HullCache cache(o.hull);
+    for (const Method m : {Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine}) {
+      o.method = m;
+      const AlignResult alone = align(p, o, &global);
+      const AlignResult shared = align(p, o, &global, &cache);
+      CHECK(shared.raw.a11 == alone.raw.a11);
+      CHECK(shared.raw.a12 == alone.raw.a12);
+      CHECK(shared.raw.a21 == alone.raw.a21);
+      CHECK(shared.raw.a22 == alone.raw.a22);
+      CHECK(shared.raw.tx == alone.raw.tx);
+      CHECK(shared.raw.ty == alone.raw.ty);
+      CHECK(shared.cost == alone.cost);
+      CHECK(shared.sector == alone.sector);
+      REQUIRE(shared.rounds.size() == alone.rounds.size());
+      for (std::size_t r = 0; r < alone.rounds.size(); ++r) {
+        CHECK(shared.rounds[r].planes == alone.rounds[r].planes);
+        CHECK(shared.rounds[r].plane_rows == alone.rounds[r].plane_rows);
+        CHECK(shared.rounds[r].iterations == alone.rounds[r].iterations);
+        CHECK(shared.rounds[r].kept_boxes == alone.rounds[r].kept_boxes);
+        CHECK(shared.rounds[r].cost == alone.rounds[r].cost);
+      }
+    }
+    // The four methods converge on the same transform of an exact copy, so the later ones find its hulls.
+    CHECK(cache.size() > 0);
+    CHECK(cache.hits() > 0);
+  }
+  HullCache other([] {
+    HullOptions h;
+    h.max_slope = 10.0;
+    return h;
+  }());
+  o.method = Method::proposed;
+  check_message([&] { (void)align(p, o, nullptr, &other); }, "hull cache was made for other hull options");
+}
+
 TEST_CASE("bad inputs give clear errors") {
   auto p = exact_copy(5, 0.3, 0, 0);
   AlignOptions o;

@@ -32,6 +32,7 @@ struct HullOptions {
   // around them (a grid test) are dropped; the lower facets are the same. false: every point goes to qhull.
   bool prefilter = true;
   void validate() const;  // throws std::invalid_argument naming the field
+  bool operator==(const HullOptions&) const = default;
 };
 
 struct HullStats {

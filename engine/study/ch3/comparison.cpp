@@ -175,9 +175,10 @@ AlignmentStudyOutcome compare_methods(const ComparisonOptions& o, std::size_t wo
         const Regions global = global_regions(p, ao);
         const double hull_time = core::seconds_since(th);
         if (w < out.sdp_checks.size()) out.sdp_checks[w] = sdp_check(p, global, ao);
+        align::HullCache cache(ao.hull);  // later rounds' hulls shared by the methods, each charged in full
         for (std::size_t m = 0; m < nm; ++m) {
           ao.method = o.methods[m];
-          const AlignResult r = align::align(p, ao, &global);
+          const AlignResult r = align::align(p, ao, &global, &cache);
           MethodOutcome mo = score_alignment(p, r, truth.theta, truth.tx, truth.ty, o.valid_tolerance);
           mo.time_s += hull_time;
           out.outcomes[m][w] = mo;

@@ -180,3 +180,37 @@ TEST_CASE("run_merge_dataset: every method on one data set, deterministic, NO-OU
           (void)run_merge_dataset(p.scenario, p.a, p.b, small_candidate_options(), bad, 12, 4);
         }).find("MergeMethod 'ransac': p must be in (0, 1)") != std::string::npos);
 }
+
+TEST_CASE(
+    "run_merge_dataset: methods that select the same candidates share one solve, equal to a fresh one") {
+  const auto p = testkit::two_robot_pipeline<lie::SE2>(61);
+  const std::vector<MergeMethod> methods = {
+      MergeMethod::make("no_out", MergeMethodKind::no_outliers),
+      MergeMethod::make("pcm_exact", MergeMethodKind::pcm_exact, 0.11),
+      MergeMethod::make("pcm_exact_b", MergeMethodKind::pcm_exact, 0.1100001),
+      MergeMethod::make("pcm_heu", MergeMethodKind::pcm_heuristic, 0.11),
+      MergeMethod::make("ransac", MergeMethodKind::ransac, 0.01)};
+  const auto d = run_merge_dataset(p.scenario, p.a, p.b, small_candidate_options(), methods, 12, 4,
+                                   /*keep_solutions=*/true);
+  REQUIRE(d.methods.size() == methods.size());
+  const auto& cands = d.candidates.candidates;
+  int shared = 0;
+  for (std::size_t k = 1; k < methods.size(); ++k) {
+    const auto& mk = d.methods[k];
+    // The solve a method reports is the solve of its selection, bit for bit.
+    const auto fresh = merge_maps(p.a, p.b, cands, mk.selection.selected);
+    REQUIRE(fresh.poses_a.size() == mk.merged.poses_a.size());
+    for (std::size_t i = 0; i < fresh.poses_a.size(); ++i) {
+      CHECK(fresh.poses_a[i].translation() == mk.merged.poses_a[i].translation());
+      CHECK(fresh.poses_a[i].angle() == mk.merged.poses_a[i].angle());
+    }
+    CHECK(fresh.chi2 == mk.merged.chi2);
+    CHECK(fresh.residual == mk.merged.residual);
+    for (std::size_t j = 0; j < k; ++j)
+      if (d.methods[j].selection.selected == mk.selection.selected) {
+        ++shared;  // one solve: its time is reported for both
+        CHECK(d.methods[j].solve_time_s == mk.solve_time_s);
+      }
+  }
+  CHECK(shared >= 2);  // the two PCM-Exact thresholds at least, and the heuristic on this easy data set
+}

@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -234,6 +236,42 @@ TEST_CASE("features: the field at the true position plus N(0, feature_noise²); 
       }
     CHECK(std::sqrt(diff2 / 180.0) < 0.5);
   }
+}
+
+TEST_CASE("the field skips only bumps that add exactly zero: bit for bit the sum over every bump") {
+  // exp(−x) is +0 from x = 746 (1 − 4ε) on, the bound value_into relies on to skip a far bump.
+  const double from = 746.0 * (1.0 - 4.0 * 2.220446049250313e-16);
+  for (int i = 0; i <= 100000; ++i) {
+    const double x = from + 0.01 * i;
+    REQUIRE(std::exp(-x) == 0.0);
+  }
+  // A fine field (σ ∈ [0.3, 1] m, 2,000 bumps per component) at positions over the square and beyond it:
+  // value_into against the plain sum in the same order, compared by bits.
+  AlignmentWorldOptions o;
+  o.bump_sigma_min = 0.3;
+  o.bump_sigma_max = 1.0;
+  o.bumps = 2000;
+  int far_bumps = 0;
+  for (int s = 0; s < 3; ++s) {
+    const auto w = make_alignment_world(o, 17, s);
+    const FeatureField& f = w.field;
+    std::vector<double> got(3);
+    for (int i = 0; i < 400; ++i) {
+      const double x = -40.0 + 0.2 * i, y = -35.0 + 0.17 * i + 7.0 * std::sin(0.1 * i);
+      f.value_into(x, y, got.data());
+      for (int k = 0; k < f.dim; ++k) {
+        double v = f.offset;
+        for (int b = k * f.per_component; b < (k + 1) * f.per_component; ++b) {
+          const double dx = x - f.cx[b], dy = y - f.cy[b];
+          const double e = (dx * dx + dy * dy) / (2.0 * f.sigma[b] * f.sigma[b]);
+          far_bumps += e > 746.0 ? 1 : 0;
+          v += f.amplitude[b] * std::exp(-e);
+        }
+        REQUIRE(std::bit_cast<std::uint64_t>(got[k]) == std::bit_cast<std::uint64_t>(v));
+      }
+    }
+  }
+  CHECK(far_bumps > 3 * 400 * 3 * 2000 / 2);  // most bumps are skipped: the test exercises the skip
 }
 
 TEST_CASE("position noise: N(0, position_noise²) per coordinate on both trajectories") {

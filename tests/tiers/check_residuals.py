@@ -7,7 +7,8 @@ shape of z⁻¹ T_i⁻¹ T_j), or converts a quaternion to a rotation vector wit
 rotation part). Usage: check_residuals.py REPO; exit 1 and one line per finding."""
 import os
 import re
-import sys
+
+from sources import engine_sources, run
 
 HOME = {os.path.join("engine", "graph", "residuals.hpp"), os.path.join("engine", "graph", "residuals.cpp")}
 DEFINITION = re.compile(r"^(?:template\s*<[^>]*>\s*)?[A-Za-z_][\w:<>, ]*[\s&*]"
@@ -17,13 +18,6 @@ RULES = [
      "composes z⁻¹ T_i⁻¹ T_j: call graph::edge_residual"),
     (re.compile(r"QuaternionToAngleAxis"), "a quaternion's rotation vector: the 3D residual is graph::edge_residual"),
 ]
-
-
-def engine_sources(repo):
-    for root, _, files in os.walk(os.path.join(repo, "engine")):
-        for name in sorted(files):
-            if name.endswith((".cpp", ".hpp", ".cppm")) and not name.endswith("_test.cpp"):
-                yield os.path.join(root, name)
 
 
 def check(repo):
@@ -45,7 +39,4 @@ def check(repo):
 
 
 if __name__ == "__main__":
-    problems = check(sys.argv[1] if len(sys.argv) > 1 else ".")
-    for p in problems:
-        print(p)
-    sys.exit(1 if problems else 0)
+    run(check)

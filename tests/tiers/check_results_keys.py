@@ -12,9 +12,8 @@ A data part may still be formatted into one segment (`fmt::format("pair_fail_{}"
 Usage: check_results_keys.py REPO; exit 1 and one line per finding (file:line: what)."""
 import os
 import re
-import sys
 
-from study_sources import study_sources
+from sources import run, study_sources
 
 LITERAL = r'"(?:[^"\\\n]|\\.)*"'
 KEYLIKE = r'(?:[^"\\\s]|\\.)*'  # a literal without white space: a key part, not a message
@@ -84,7 +83,4 @@ def check(repo):
     return problems
 
 if __name__ == "__main__":
-    problems = check(sys.argv[1] if len(sys.argv) > 1 else ".")
-    for p in problems:
-        print(p)
-    sys.exit(1 if problems else 0)
+    run(check)

@@ -5,9 +5,8 @@ a header and by its `X::record(` definition in a source. Usage: check_study_file
 file that holds more than one, naming them."""
 import os
 import re
-import sys
 
-from study_sources import study_sources
+from sources import run, study_sources
 
 STRUCT = re.compile(r"^struct (\w+) \{")
 RECORD_DECL = re.compile(r"^\s+static void record\(repro::Results&")
@@ -40,7 +39,4 @@ def check(repo):
     return problems
 
 if __name__ == "__main__":
-    problems = check(sys.argv[1] if len(sys.argv) > 1 else ".")
-    for p in problems:
-        print(p)
-    sys.exit(1 if problems else 0)
+    run(check)

@@ -72,39 +72,27 @@ std::vector<Plane> planes_of(const AlignmentProblem& p, const AlignOptions& o, s
   return lower_hull_planes(x, y, c, o.hull);
 }
 
-void require_points(std::size_t j, std::size_t count, std::size_t min_points) {
-  if (count < std::max<std::size_t>(min_points, 3))
-    throw std::runtime_error(fmt::format("query point {}: {} reference points in its region", j, count));
-}
-
 // Hull planes of query point j over the reference points inside `box` (and the depth gate). Throws when the
-// cloud is too small or degenerate (the caller then keeps the previous region).
+// cloud is too small or degenerate (the caller then keeps the previous region). With a `cache`, a hull
+// another method already computed over the same points is reused and `*charged_s` receives its compute time
+// (0 on a miss, whose time the caller's clock already counts).
 std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
-                                 const Box& box, std::size_t min_points) {
-  const std::vector<std::uint32_t> in = points_in_box(p, o, j, box);
-  require_points(j, in.size(), min_points);
-  return planes_of(p, o, j, in);
-}
-
-// The same through a cache: `charged_s` receives the compute time of a reused entry (0 on a miss, whose time
-// the caller's clock already counts).
-std::vector<Plane> planes_in_box(const AlignmentProblem& p, const AlignOptions& o, std::size_t j,
-                                 const Box& box, std::size_t min_points, HullCache& cache,
-                                 double& charged_s) {
+                                 const Box& box, std::size_t min_points, HullCache* cache = nullptr,
+                                 double* charged_s = nullptr) {
   std::vector<std::uint32_t> in = points_in_box(p, o, j, box);
-  require_points(j, in.size(), min_points);
-  charged_s = 0;
-  if (const auto hit = cache.find(j, in)) {
-    charged_s = hit->time_s;
+  if (in.size() < std::max<std::size_t>(min_points, 3))
+    throw std::runtime_error(fmt::format("query point {}: {} reference points in its region", j, in.size()));
+  if (!cache) return planes_of(p, o, j, in);
+  if (const auto hit = cache->find(j, in)) {
+    *charged_s = hit->time_s;
     return hit->planes;
   }
+  *charged_s = 0;
   const auto t0 = core::Clock::now();
   HullCache::Entry e;
   e.planes = planes_of(p, o, j, in);
   e.time_s = core::seconds_since(t0);
-  std::vector<Plane> planes = e.planes;
-  cache.insert(j, std::move(in), std::move(e));
-  return planes;
+  return cache->insert(j, std::move(in), std::move(e))->planes;
 }
 
 struct RoundSolution {
@@ -601,8 +589,7 @@ AlignResult align(const AlignmentProblem& p, const AlignOptions& o, const Region
           const double py = T.a21 * p.query_x[j] + T.a22 * p.query_y[j] + T.ty;
           const Box box{px - w, px + w, py - w, py + w};
           try {
-            next.planes[j] = cache ? planes_in_box(p, o, j, box, o.region.min_points, *cache, charged[j])
-                                   : planes_in_box(p, o, j, box, o.region.min_points);
+            next.planes[j] = planes_in_box(p, o, j, box, o.region.min_points, cache, &charged[j]);
             next.boxes[j] = box;
           } catch (const std::runtime_error&) {  // too few or degenerate points: keep the previous region
             next.planes[j] = reg.planes[j];

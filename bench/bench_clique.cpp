@@ -13,6 +13,7 @@ import keel.study;
 #include <benchmark/benchmark.h>
 
 #include "csv_union.hpp"
+#include "study_graphs.hpp"
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -252,10 +253,7 @@ void planted_family(benchmark::internal::Benchmark* b) {
 // The two data-set groups need the data sets (scripts/fetch-datasets) and take a few seconds to build (one
 // local solve per robot); each group is built once, on first use.
 
-struct FamilyGraph {
-  std::string name, origin;
-  pcm::ConsistencyGraph graph;
-};
+using FamilyGraph = keel::bench::NamedGraph;
 
 struct FamilyGroup {
   std::vector<std::string> names;
@@ -286,33 +284,11 @@ constexpr std::uint64_t kWorldSeed = 20180522;  // ch2_fig2_3_timing's seed
 
 std::string source_path(const std::string& relative) { return std::string(KEEL_SOURCE_DIR) + "/" + relative; }
 
-// Q of data sets 0 … count−1 of a two-robot experiment (its full profile), thresholded at γ(p).
+// The data sets of a two-robot experiment (its full profile and seed), thresholded at γ(11 %).
 template <class Table, bool three_d>
 std::vector<FamilyGraph> study_graphs(const std::string& id, const std::string& prefix) {
-  const auto config =
-      keel::repro::ExperimentConfig::load(source_path("experiments/" + id + "/experiment.toml"), "full");
-  const auto o = Table::Options::read(config.params);
-  std::vector<keel::pcm::ConsistencyMatrix> qs;
-  if constexpr (three_d) {
-    const auto scenario = keel::study::ch2::load_scenario_3d(o.scenario);
-    const auto local = keel::study::ch2::solve_local_pair(scenario);
-    qs = keel::study::ch2::dataset_consistency_matrices(scenario, local, o.candidates, config.seed,
-                                                        o.datasets);
-  } else {
-    const auto scenario = keel::study::ch2::load_scenario_2d(o.scenario);
-    const auto local = keel::study::ch2::solve_local_pair(scenario);
-    qs = keel::study::ch2::dataset_consistency_matrices(scenario, local, o.candidates, config.seed,
-                                                        o.datasets);
-  }
-  std::vector<FamilyGraph> out;
-  for (std::size_t i = 0; i < qs.size(); ++i) {
-    const double gamma = pcm::consistency_threshold(0.11, qs[i].dof);
-    out.push_back(
-        {fmt::format("{}_d{:02}", prefix, i),
-         fmt::format("{} data set {} (seed {}), Q joint, gamma(0.11) = {:.6g}", id, i, config.seed, gamma),
-         pcm::ConsistencyGraph::from_threshold(qs[i].n, qs[i].q, gamma)});
-  }
-  return out;
+  return keel::bench::study_graphs<Table, three_d>(source_path("experiments/" + id + "/experiment.toml"), id,
+                                                   prefix);
 }
 
 std::vector<FamilyGroup>& family() {

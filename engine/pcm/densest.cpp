@@ -27,6 +27,8 @@ void DensestOptions::validate() const {
   if (max_inner < 1) fail(fmt::format("max_inner must be >= 1 (got {})", max_inner));
   if (max_stalled_outer < 0) fail(fmt::format("max_stalled_outer must be >= 0 (got {})", max_stalled_outer));
   if (!(beta > 0.0 && beta < 1.0)) fail(fmt::format("beta must be in (0, 1) (got {:g})", beta));
+  if (!(crawl_tolerance >= 0.0 && crawl_tolerance < 1.0))
+    fail(fmt::format("crawl_tolerance must be in [0, 1) (got {:g})", crawl_tolerance));
   if (!(tol_u > 0.0) || !(tol_f > 0.0) || !(eps > 0.0))
     fail(fmt::format("tol_u, tol_f and eps must be > 0 (got {:g}, {:g}, {:g})", tol_u, tol_f, eps));
 }
@@ -423,6 +425,42 @@ void round_and_repair(const ConsistencyGraph& g, const Vec& u, double objective,
   r.selection = std::move(s);
 }
 
+// DensestOptions::crawl_tolerance: the active vertices (in the support, with an inconsistent partner in it)
+// of the last outer iteration, each with its weight scaled by d + F. When the set is the same after the next
+// outer iteration and every scaled weight moved by less than the tolerance (relative), those vertices are set
+// to zero and u is renormalised: the limit of their 1/(d + F) decay (see the header).
+struct Crawl {
+  std::vector<int> active;
+  std::vector<double> scaled;
+  std::vector<int> next_active;
+  std::vector<double> next_scaled;
+
+  // True when it zeroed vertices of u (the caller recomputes the products).
+  bool drop(Vec& u, const Vec& Cu, double d, double F, const DensestOptions& o) {
+    next_active.clear();
+    next_scaled.clear();
+    for (Eigen::Index i = 0; i < u.size(); ++i)
+      if (Cu(i) > o.eps && u(i) > o.eps) {
+        next_active.push_back(static_cast<int>(i));
+        next_scaled.push_back(u(i) * (d + F));
+      }
+    bool settled = !next_active.empty() && next_active == active;
+    for (std::size_t k = 0; settled && k < next_active.size(); ++k)
+      settled = std::fabs(next_scaled[k] - scaled[k]) < o.crawl_tolerance * scaled[k];
+    std::swap(active, next_active);
+    std::swap(scaled, next_scaled);
+    if (!settled) return false;
+    Vec kept = u;
+    for (const int i : active) kept(i) = 0.0;
+    const double norm = kept.norm();
+    if (!(norm > 0.0)) return false;  // the whole support is active: nothing would be left
+    u = kept / norm;
+    active.clear();
+    scaled.clear();
+    return true;
+  }
+};
+
 DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOptions& o) {
   o.validate();
   const auto t0 = std::chrono::steady_clock::now();
@@ -460,6 +498,7 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
 
   double F = objective(u, Mu, Cu);
   int stalled_outer = 0;  // consecutive outer iterations that moved u by less than tol_u
+  Crawl crawl;
   Vec u_outer;
   for (r.outer_iterations = 0; r.outer_iterations < o.max_outer;) {
     ++r.outer_iterations;
@@ -503,10 +542,20 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
       u = std::move(un), Mu = std::move(Mun), Cu = std::move(Cun), F = Fn;
       if (small) break;
     }
-    const double step = penalty_step(Mu, Cu, u);
+    double step = penalty_step(Mu, Cu, u);
     if (!std::isfinite(step)) {  // no inconsistent pair left in the support
       r.converged = true;
       break;
+    }
+    if (o.crawl_tolerance > 0.0 && crawl.drop(u, Cu, d, F, o)) {
+      p.products(u, Mu, Cu);
+      ++r.products;
+      ++r.crawl_cuts;
+      step = penalty_step(Mu, Cu, u);
+      if (!std::isfinite(step)) {
+        r.converged = true;
+        break;
+      }
     }
     stalled_outer = (u - u_outer).norm() < o.tol_u ? stalled_outer + 1 : 0;
     if (o.max_stalled_outer > 0 && stalled_outer >= o.max_stalled_outer) {

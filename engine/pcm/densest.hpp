@@ -7,12 +7,13 @@
 //     max_u  uᵀ M u / uᵀ u   over u in {0, 1}ⁿ with u_i u_j = 0 whenever C̄_ij = 1
 // is relaxed to the penalised continuous problem
 //     max_u  F_d(u) = uᵀ (M − d C̄) u   subject to ‖u‖₂ = 1, u >= 0,
-// and solved by projected gradient ascent at fixed d (first step (1/β)³/‖g‖, backtracking by β; the paper's
-// long step), raising d until no two vertices of the support of u are inconsistent (the homotopy of the
-// paper). For binary M (the adjacency plus the identity) the objective of a clique S with u uniform on S is
-// |S|, so the problem is the maximum clique and the relaxation's local maxima are maximal cliques — not
-// necessarily maximum ones: the result is a heuristic, and this selector reports what it returns as it is
-// (raw support, its violations of consistency) next to a repaired clique.
+// and solved by projected gradient ascent at fixed d (CLIPPER's steps u + β^k (M − dC̄)u, or the paper's
+// long step: DensestOptions::line_search), raising d until no two vertices of the support of u are
+// inconsistent (the homotopy of the paper; vertices that only shrink as d grows are cut to their limit, zero:
+// DensestOptions::crawl_tolerance). For binary M (the adjacency plus the identity) the objective of a clique
+// S with u uniform on S is |S|, so the problem is the maximum clique and the relaxation's local maxima are
+// maximal cliques — not necessarily maximum ones: the result is a heuristic, and this selector reports what
+// it returns as it is (raw support, its violations of consistency) next to a repaired clique.
 //
 // Rounding (the paper's density heuristic): the raw selection is the round(F_d(u)) largest entries of u.
 // Repair: while the raw selection holds an inconsistent pair, drop the vertex with the most non-neighbours in
@@ -45,18 +46,31 @@ struct DensestOptions {
   enum class PenaltyStep { minimum, mean };
   PenaltyStep penalty_step = PenaltyStep::minimum;
   // The step lengths the line search tries along the projected gradient g = (M − dC̄)u − F u (F = F_d(u),
-  // ‖u‖ = 1), each shortened by β until F_d does not decrease: `long_step`, from (1/β)³/‖g‖ (the paper's long
-  // step); or `clipper`, the steps of CLIPPER's implementation, u + β^k (M − dC̄)u along the unprojected
-  // gradient from k = 0, which after the projection onto u >= 0 and the sphere are the steps β^k / (1 + β^k
-  // F) along g (a k with 1 + β^k F <= 0 is skipped). Near a maximum ‖g‖ is small, so the long step overshoots
-  // and backtracks at every iteration; CLIPPER's first try is a power step on I + M − dC̄. Measured on
-  // bench_clique's family (143 graphs, same process): `clipper` takes 3.6× fewer products on the 1D worlds
-  // and planted cliques (geometric mean; from 0.3× to 25×), about as many on the small City10000 and
-  // sphere2500 candidate sets (0.23× to 29×), and changes answers: the same repaired selection on 134 graphs,
-  // another of the same size on 8 and a larger one on 1 (planted_n1000_k20_p50: 13 against 12). The default
-  // keeps `long_step`, whose answers the benchmarks and experiments record.
+  // ‖u‖ = 1), each shortened by β until F_d does not decrease: `clipper` (the default), the steps of
+  // CLIPPER's implementation, u + β^k (M − dC̄)u along the unprojected gradient from k = 0, which after the
+  // projection onto u >= 0 and the sphere are the steps β^k / (1 + β^k F) along g (a k with 1 + β^k F <= 0 is
+  // skipped); or `long_step`, from (1/β)³/‖g‖ (the paper's long step, the default before the acceptance rule
+  // of docs/DESIGN.md "The densest selector's default" adopted `clipper`). Near a maximum ‖g‖ is small, so
+  // the long step overshoots and backtracks at every iteration; CLIPPER's first try is a power step on I + M
+  // − dC̄. Measured on bench_clique's family (143 graphs, same process, without the crawl cut below):
+  // `clipper` takes 3.6× fewer products on the 1D worlds and planted cliques (geometric mean; from 0.3× to
+  // 25×) and about as many on the small City10000 and sphere2500 candidate sets (0.23× to 29×); the same
+  // repaired selection on 134 graphs, another of the same size on 8 and a larger one on 1.
   enum class LineSearch { long_step, clipper };
-  LineSearch line_search = LineSearch::long_step;
+  LineSearch line_search = LineSearch::clipper;
+  // The crawl cut. A pair (or group) of mutually inconsistent vertices, each adjacent to the rest of the
+  // support, sits at an interior stationary point of F_d: for a symmetric pair a, b, (M − dC̄)u = F u gives
+  // u_a = u_b = (Mu)_a / (d + F). Raising d only shrinks them as 1/(d + F); they reach the support threshold
+  // eps after ~30 doublings of d (the `minimum` penalty step nearly doubles d there), at about 50 products
+  // each — 95 % of the work on City10000's candidate sets (city10000_d73: 26 outer iterations and 1,358
+  // products, of which 38 before the pair settled). When the active vertices (in the support, with an
+  // inconsistent partner in it) are the same after two consecutive outer iterations and u_i (d + F) moved by
+  // less than this fraction for each of them, they are set to their limit, zero, u is renormalised and the
+  // homotopy goes on from there (it has converged if the support is then consistent). 0 turns it off.
+  // Measured on bench_clique's family (143 graphs, `clipper` steps): the same repaired selection on all 143
+  // with the cut at 0.05, 0.1 or 0.25 (and with u_i d in place of u_i (d + F) at 0.1), 6.1× fewer products
+  // in all (118,711 → 19,538 at 0.1).
+  double crawl_tolerance = 0.1;
   // The homotopy stops when this many outer iterations in a row moved u by less than tol_u each (0: never):
   // it has stalled, with inconsistent pairs left in the support that raising d no longer removes (d grows to
   // ~1e11 over max_outer steps while the line search finds only steps at the rounding of F). The answer is
@@ -65,8 +79,16 @@ struct DensestOptions {
   // and repaired selections on every graph (world1d_m500_w2: 1.2 s → 67 ms; City10000 candidate sets
   // 14–75 ms → 0.5–1.6 ms).
   int max_stalled_outer = 3;
+  // The options of the default before the crawl cut and `clipper` steps (kept for the acceptance rule's
+  // paired comparison, bench/densest_acceptance.cpp).
+  static DensestOptions before_acceptance_rule() {
+    DensestOptions o;
+    o.line_search = LineSearch::long_step;
+    o.crawl_tolerance = 0.0;
+    return o;
+  }
   // Throws std::invalid_argument naming the violated constraint (counts >= 1, max_stalled_outer >= 0, beta in
-  // (0, 1), tolerances > 0).
+  // (0, 1), tolerances > 0, crawl_tolerance in [0, 1)).
   void validate() const;
 };
 
@@ -91,6 +113,7 @@ struct DensestResult {
   long long products = 0;  // trial points of the line search, each one product with A (and M)
   bool converged = false;  // the support of u became consistent before max_outer
   bool stalled = false;    // stopped by max_stalled_outer (not converged)
+  int crawl_cuts = 0;      // times the crawl cut zeroed vertices (DensestOptions::crawl_tolerance)
   bool sparse = false;     // the products used compressed sparse rows (DensestOptions::storage)
   double time_s = 0;
 };

@@ -202,10 +202,12 @@ TEST_CASE("densest subgraph: a stalled homotopy stops early with the answer of m
   int stalls = 0;
   for (int w = 0; w < 5; ++w) {
     const auto g = bench_world(w);
-    DensestOptions never;
+    // The options before the crawl cut, which removes this stall before it starts (see the crawl-cut case).
+    const auto before = DensestOptions::before_acceptance_rule();
+    DensestOptions never = before;
     never.max_stalled_outer = 0;
     const auto full = densest_subgraph(g, never);
-    const auto early = densest_subgraph(g);
+    const auto early = densest_subgraph(g, before);
     INFO("world " << w << ": " << full.outer_iterations << " outer iterations, " << early.outer_iterations
                   << " with the stall stop");
     CHECK_FALSE(full.stalled);
@@ -305,14 +307,16 @@ TEST_CASE("densest subgraph: the byte-column product sums exactly as Eigen's den
 }
 
 TEST_CASE("densest subgraph: CLIPPER's line search steps") {
-  DensestOptions clipper;
+  // Both without the crawl cut, so that only the steps differ.
+  const auto long_step = DensestOptions::before_acceptance_rule();
+  DensestOptions clipper = long_step;
   clipper.line_search = DensestOptions::LineSearch::clipper;
   // A planted clique well above √n: recovered exactly, in far fewer products than with the long step (the
   // first try, a power step, is accepted at almost every iteration).
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const auto [g, planted] = keel::sim::planted_clique_graph(300, 60, 0.1, seed);
     const auto fast = densest_subgraph(g, clipper);
-    const auto slow = densest_subgraph(g);
+    const auto slow = densest_subgraph(g, long_step);
     INFO("seed " << seed << ": " << fast.products << " products against " << slow.products);
     CHECK(fast.converged);
     CHECK(fast.selection == planted);
@@ -325,7 +329,7 @@ TEST_CASE("densest subgraph: CLIPPER's line search steps") {
   for (int w = 0; w < 5; ++w) {
     const auto g = bench_world(w);
     const auto fast = densest_subgraph(g, clipper);
-    const auto slow = densest_subgraph(g);
+    const auto slow = densest_subgraph(g, long_step);
     INFO("world " << w);
     CHECK(g.is_clique(fast.selection));
     CHECK(maximal(g, fast.selection));
@@ -351,7 +355,7 @@ TEST_CASE("densest subgraph: the sparse storage gives the same bits with and wit
        {Golden{1000, 100, 0.2, 7, 0x1.8fffffffffc63p+6, 0x1.899ccd65eddc2p-1, 3, 41, 216, 100},
         Golden{600, 12, 0.1, 8, 0x1.7ffffffd35024p+3, 0x1.4f8c60a97b2fbp+0, 5, 101, 441, 12},
         Golden{400, 40, 0.25, 9, 0x1.3fffffffd2c6ap+5, 0x1.f34ba057e8c98p-1, 3, 45, 223, 40}}) {
-    DensestOptions o;
+    auto o = DensestOptions::before_acceptance_rule();  // the options the golden values were recorded with
     o.storage = DensestOptions::Storage::sparse;
     const auto r = densest_subgraph(keel::sim::planted_clique_graph(c.n, c.k, c.p, c.seed).graph, o);
     INFO("G(" << c.n << ", " << c.p << ") + planted " << c.k);
@@ -363,4 +367,69 @@ TEST_CASE("densest subgraph: the sparse storage gives the same bits with and wit
     CHECK(r.products == c.products);
     CHECK(r.selection.size() == c.selection);
   }
+}
+
+TEST_CASE("densest subgraph: the crawl cut ends a symmetric pair's 1/(d + F) decay with the same answer") {
+  // A clique K of 10 vertices, and two vertices a and b adjacent to all of K and to nothing else, in a sparse
+  // G(60, 0.05): a and b sit at u_a = u_b = (Mu)_a / (d + F) for every d, so without the cut the
+  // homotopy doubles d some 25 times before they fall below eps. The cut zeroes them once u (d + F) has
+  // settled; the repair then adds one of them, as it does after the long decay.
+  const int n = 60;
+  const auto noise = random_graph(n, 0.05, 11);
+  const int a = 40, b = 41;
+  std::vector<std::pair<int, int>> edges;
+  for (int v = 0; v < n; ++v)
+    for (int w : noise.neighbors(v))
+      if (v < w && v != a && v != b && w != a && w != b) edges.emplace_back(v, w);
+  std::vector<int> K;
+  for (int v = 0; v < 10; ++v) K.push_back(3 * v + 1);
+  for (int v : K) {
+    for (int w : K)
+      if (v < w) edges.emplace_back(v, w);
+    edges.emplace_back(v, a);
+    edges.emplace_back(v, b);
+  }
+  const ConsistencyGraph g(n, edges);  // duplicate edges are idempotent
+  REQUIRE_FALSE(g.adjacent(a, b));
+  REQUIRE(g.is_clique(K));
+
+  DensestOptions off;
+  off.crawl_tolerance = 0.0;
+  const auto slow = densest_subgraph(g, off);
+  const auto fast = densest_subgraph(g);
+  INFO(slow.outer_iterations << " outer iterations and " << slow.products << " products without the cut, "
+                             << fast.outer_iterations << " and " << fast.products << " with it");
+  CHECK(slow.crawl_cuts == 0);
+  CHECK(slow.outer_iterations >= 20);
+  CHECK(fast.crawl_cuts == 1);
+  CHECK(fast.converged);
+  CHECK(fast.outer_iterations <= 8);
+  CHECK(fast.products * 5 < slow.products);
+  CHECK(fast.raw == K);
+  CHECK(fast.raw == slow.raw);
+  CHECK(fast.selection == slow.selection);
+  CHECK(fast.selection.size() == K.size() + 1);
+  CHECK(g.is_clique(fast.selection));
+
+  // bench_clique's 1D worlds of m = 100 and planted cliques: the same raw and repaired selections with and
+  // without the cut (on the family's 143 graphs: all 143).
+  for (int w = 0; w < 5; ++w) {
+    const auto world = bench_world(w);
+    INFO("world " << w);
+    const auto x = densest_subgraph(world, off), y = densest_subgraph(world);
+    CHECK(x.raw == y.raw);
+    CHECK(x.selection == y.selection);
+    CHECK(y.products <= x.products);
+  }
+  for (std::uint64_t seed : {4u, 5u, 6u}) {
+    const auto [pg, planted] = keel::sim::planted_clique_graph(200, 8, 0.2, seed);
+    INFO("planted seed " << seed);
+    const auto x = densest_subgraph(pg, off), y = densest_subgraph(pg);
+    CHECK(x.selection == y.selection);
+    CHECK(y.products <= x.products);
+  }
+  off.crawl_tolerance = -0.1;
+  CHECK(contains(message_of([&] { (void)densest_subgraph(g, off); }), "crawl_tolerance must be in [0, 1)"));
+  off.crawl_tolerance = 1.0;
+  CHECK(contains(message_of([&] { (void)densest_subgraph(g, off); }), "crawl_tolerance must be in [0, 1)"));
 }

@@ -1,29 +1,31 @@
-// The densest selector's acceptance rule (docs/DESIGN.md "The densest selector's default"): on a pre-registered
-// generator of fresh consistency graphs, the default DensestOptions against the options of the default it
-// replaced (DensestOptions::before_acceptance_rule()), paired graph by graph:
+// The densest selector's acceptance rule (docs/DESIGN.md "The densest selector's default"): on a
+// pre-registered generator of fresh consistency graphs, the default DensestOptions against the options of the
+// default it replaced (DensestOptions::before_acceptance_rule()), paired graph by graph:
 //   1. every answer (the repaired selection) of either is a clique;
-//   2. the rate of size = ω is not lower: over the graphs where ω is proven (exact search within a node budget,
-//      started from the larger of the two answers), the discordant pairs (one reaches ω, the other not) do not
-//      show the default missing more often, by a one-sided sign test at 5 %;
-//   3. the size is not lower: over all graphs, the pairs with different sizes do not show the default smaller
-//      more often, by a one-sided sign test at 5 %.
+//   2. the rate of size = ω is not lower: over the graphs where ω is proven (exact search within a node
+//      budget, started from the larger of the two answers), the discordant pairs (one reaches ω, the other
+//      not) do not show the default missing more often, by a one-sided sign test at 5 %;
+//   3. the size is not lower: over all graphs, the pairs with different sizes do not show the default
+//      smaller more often, by a one-sided sign test at 5 %.
 // Exit status: 0 when the rule holds, 1 when it does not, 2 on a usage error, 3 when a graph cannot be built
 // (a data set missing: the rule is never judged on a partial sample).
 //
-// The generator (fixed before any of its numbers existed; --seed draws another sample from the same generator):
-//   planted  180 graphs: graph i from core::Rng::stream(seed, i): n = round(100 · 20^U) (100 … 2000, uniform
-//            in log n), p = U(0.05, 0.7), k = round(3 · (min(200, n) / 3)^U') (3 … 200, uniform in log k),
-//            sim::planted_clique_graph(n, k, p, next());
-//   world1d   60 graphs: stream(seed, 1000 + i): m = round(100 · 20^U) measurements of the Fig. 2.3 generator
-//            (half inliers, a quarter aliased; sim::world1d_options_with_total), world 0 of seed next(),
-//            thresholded at γ(0.11, 1);
-//   city10000 50 graphs: the candidate sets of ch2_table2_1_city's scenario and candidate options (full profile)
-//            for data sets 0 … 49 of `seed` (not the experiment's seed), Q joint at γ(0.11, 3);
-//   sphere2500 30 graphs: those of ch2_table2_2_3d_substitute, alike, at γ(0.11, 6).
-// The pre-registered sample is the default seed, kPreRegisteredSeed; the CTest bench.densest_acceptance runs it.
+// The generator (fixed before any of its numbers existed; --seed draws another sample from it):
+//   planted     180 graphs: graph i from core::Rng::stream(seed, i): n = round(100 · 20^U) (100 … 2000,
+//               uniform in log n), p = U(0.05, 0.7), k = round(3 · (min(200, n) / 3)^U') (3 … 200, uniform
+//               in log k), sim::planted_clique_graph(n, k, p, next());
+//   world1d     60 graphs: stream(seed, 1000 + i): m = round(100 · 20^U) measurements of the Fig. 2.3
+//               generator (half inliers, a quarter aliased; sim::world1d_options_with_total), world 0 of
+//               seed next(), thresholded at γ(0.11, 1);
+//   city10000   50 graphs: the candidate sets of ch2_table2_1_city's scenario and candidate options (full
+//               profile) for data sets 0 … 49 of `seed` (not the experiment's seed), Q joint at γ(0.11, 3);
+//   sphere2500  30 graphs: those of ch2_table2_2_3d_substitute, alike, at γ(0.11, 6).
+// The pre-registered sample is the default seed, kPreRegisteredSeed; CTest bench.densest_acceptance runs it.
 //
-// Usage: densest_acceptance [--seed=N] [--node-limit=N] [--tsv=FILE] [--only=planted,world1d,city10000,sphere2500]
-// One thread; each selector runs once per graph (times are one run each, for information, not part of the rule).
+// Usage: densest_acceptance [--seed=N] [--node-limit=N] [--tsv=FILE]
+//                           [--only=planted,world1d,city10000,sphere2500]
+// One thread; each selector runs once per graph (times are one run each, for information, not part of the
+// rule).
 import keel.pcm;
 import keel.sim;
 import keel.core;
@@ -85,12 +87,14 @@ std::vector<Fresh> generate(std::uint64_t seed, const std::set<std::string>& onl
       const std::uint64_t s = rng.next();
       const auto o = sim::world1d_options_with_total(sim::World1DOptions{}, m, 0.5, 0.25);
       const auto Q = sim::world1d_consistency_matrix(sim::generate_world1d(o, s, 0));
-      out.push_back({"world1d", fmt::format("world1d_{:03}", i), fmt::format("1D world, m = {}, seed {}", m, s),
+      out.push_back({"world1d", fmt::format("world1d_{:03}", i),
+                     fmt::format("1D world, m = {}, seed {}", m, s),
                      pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, pcm::consistency_threshold(0.11, 1))});
     }
   const std::string experiments = std::string(KEEL_SOURCE_DIR) + "/experiments/";
   auto add_sets = [&](const char* family, std::vector<keel::bench::NamedGraph> graphs) {
-    for (auto& g : graphs) out.push_back({family, std::move(g.name), std::move(g.origin), std::move(g.graph)});
+    for (auto& g : graphs)
+      out.push_back({family, std::move(g.name), std::move(g.origin), std::move(g.graph)});
   };
   if (wanted("city10000"))
     add_sets("city10000", keel::bench::study_graphs<keel::study::ch2::CityTable, false>(
@@ -109,7 +113,8 @@ double sign_test(int k, int n) {
   if (k <= 0) return 1.0;
   double tail = 0.0;
   for (int j = k; j <= n; ++j)
-    tail += std::exp(std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) - n * std::log(2.0));
+    tail +=
+        std::exp(std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) - n * std::log(2.0));
   return std::min(1.0, tail);
 }
 
@@ -249,7 +254,8 @@ int main(int argc, char** argv) {
   std::printf("densest_acceptance: seed %llu%s, %d fresh graphs", static_cast<unsigned long long>(seed),
               seed == kPreRegisteredSeed ? " (pre-registered)" : "", total);
   for (const char* fam : {"planted", "world1d", "city10000", "sphere2500"}) {
-    const auto c = std::count_if(graphs.begin(), graphs.end(), [&](const Fresh& f) { return f.family == fam; });
+    const auto c =
+        std::count_if(graphs.begin(), graphs.end(), [&](const Fresh& f) { return f.family == fam; });
     if (c > 0) std::printf(", %s %ld", fam, static_cast<long>(c));
   }
   std::printf("\n  before = DensestOptions::before_acceptance_rule(), default = DensestOptions{}\n");
@@ -260,12 +266,14 @@ int main(int argc, char** argv) {
       "default %d; sign test p = %.3g   %s\n",
       proven, node_limit, hit_before, hit_now, only_before, only_now, p_omega, omega_ok ? "holds" : "FAILS");
   std::printf(
-      "  3. size: default larger on %d, smaller on %d, equal on %d; mean %.4g against %.4g; sign test p = %.3g   "
+      "  3. size: default larger on %d, smaller on %d, equal on %d; mean %.4g against %.4g; sign test p = "
+      "%.3g   "
       "%s\n",
-      larger, smaller, total - larger - smaller, total ? sum_now / total : 0.0, total ? sum_before / total : 0.0,
-      p_size, size_ok ? "holds" : "FAILS");
-  std::printf("  time (one run each, for information): before %.1f ms, default %.1f ms; products %lld against %lld\n",
-              ms_before, ms_now, products_before, products_now);
+      larger, smaller, total - larger - smaller, total ? sum_now / total : 0.0,
+      total ? sum_before / total : 0.0, p_size, size_ok ? "holds" : "FAILS");
+  std::printf(
+      "  time (one run each, for information): before %.1f ms, default %.1f ms; products %lld against %lld\n",
+      ms_before, ms_now, products_before, products_now);
   const bool accepted = cliques_ok && omega_ok && size_ok && total > 0;
   std::printf("densest_acceptance: the rule %s\n", accepted ? "holds" : "does NOT hold");
   return accepted ? 0 : 1;

@@ -1,6 +1,6 @@
-// Consistency graphs of chapter 2's two-robot data sets (Q of eq. 2.4 with the joint composition, thresholded at
-// γ(11 %)), shared by bench_clique's family and densest_acceptance's fresh graphs. Include it after importing
-// keel.pcm, keel.repro and keel.study: it uses their names.
+// Consistency graphs of chapter 2's two-robot data sets (Q of eq. 2.4 with the joint composition, thresholded
+// at γ(11 %)), shared by bench_clique's family and densest_acceptance's fresh graphs. Include it after
+// importing keel.pcm, keel.repro and keel.study: it uses their names.
 #pragma once
 
 #include <fmt/format.h>
@@ -42,10 +42,10 @@ std::vector<NamedGraph> study_graphs(const std::string& config_path, const std::
   std::vector<NamedGraph> out;
   for (std::size_t i = 0; i < qs.size(); ++i) {
     const double gamma = keel::pcm::consistency_threshold(0.11, qs[i].dof);
-    out.push_back({fmt::format("{}_d{:02}", prefix, index_base + i),
-                   fmt::format("{} data set {} (seed {}), Q joint, gamma(0.11) = {:.6g}", id, index_base + i, s,
-                               gamma),
-                   keel::pcm::ConsistencyGraph::from_threshold(qs[i].n, qs[i].q, gamma)});
+    out.push_back(
+        {fmt::format("{}_d{:02}", prefix, index_base + i),
+         fmt::format("{} data set {} (seed {}), Q joint, gamma(0.11) = {:.6g}", id, index_base + i, s, gamma),
+         keel::pcm::ConsistencyGraph::from_threshold(qs[i].n, qs[i].q, gamma)});
   }
   return out;
 }

@@ -424,7 +424,6 @@ void register_family() {
 // Writes every graph of the family (whose group builds) as DIMACS "p edge" files DIR/<name>.clq (1-based
 // vertices), the input of the side-by-side script's solvers. Returns the number written.
 int write_family(const std::filesystem::path& dir) {
-  std::filesystem::create_directories(dir);
   int written = 0;
   for (auto& group : family()) {
     const auto& graphs = group.get();
@@ -433,14 +432,7 @@ int write_family(const std::filesystem::path& dir) {
       continue;
     }
     for (const auto& f : graphs) {
-      const auto path = dir / (f.name + ".clq");
-      std::ofstream out(path);
-      out << "c keel bench_clique family graph " << f.name << "\nc " << f.origin << "\n";
-      out << "p edge " << f.graph.size() << ' ' << f.graph.num_edges() << '\n';
-      for (int v = 0; v < f.graph.size(); ++v)
-        for (int w : f.graph.neighbors(v))
-          if (w > v) out << "e " << v + 1 << ' ' << w + 1 << '\n';
-      if (!out) throw std::runtime_error("bench_clique: cannot write " + path.string());
+      keel::bench::write_dimacs(dir, {f.name, "bench_clique family graph: " + f.origin, f.graph});
       ++written;
     }
   }

@@ -22,8 +22,10 @@
 //   sphere2500  30 graphs: those of ch2_table2_2_3d_substitute, alike, at γ(0.11, 6).
 // The pre-registered sample is the default seed, kPreRegisteredSeed; CTest bench.densest_acceptance runs it.
 //
-// Usage: densest_acceptance [--seed=N] [--node-limit=N] [--tsv=FILE]
+// Usage: densest_acceptance [--seed=N] [--node-limit=N] [--tsv=FILE] [--write-graphs=DIR]
 //                           [--only=planted,world1d,city10000,sphere2500]
+// --write-graphs=DIR also writes every graph of the sample as DIR/<name>.clq (DIMACS, for the side-by-side
+// scripts: fresh hold-out graphs for bench/side_by_side/clique.sh).
 // One thread; each selector runs once per graph (times are one run each, for information, not part of the
 // rule).
 import keel.pcm;
@@ -140,7 +142,7 @@ Side run(const pcm::ConsistencyGraph& g, const pcm::DensestOptions& o, std::vect
 int usage(const std::string& why) {
   std::fprintf(stderr,
                "densest_acceptance: %s\nusage: densest_acceptance [--seed=N] [--node-limit=N] [--tsv=FILE] "
-               "[--only=planted,world1d,city10000,sphere2500]\n",
+               "[--write-graphs=DIR] [--only=planted,world1d,city10000,sphere2500]\n",
                why.c_str());
   return 2;
 }
@@ -150,7 +152,7 @@ int usage(const std::string& why) {
 int main(int argc, char** argv) {
   std::uint64_t seed = kPreRegisteredSeed;
   long long node_limit = kDefaultNodeLimit;
-  std::string tsv_path;
+  std::string tsv_path, graphs_dir;
   std::set<std::string> only;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -166,6 +168,8 @@ int main(int argc, char** argv) {
         if (node_limit < 1) return usage("--node-limit must be >= 1");
       } else if (const char* t = value("--tsv=")) {
         tsv_path = t;
+      } else if (const char* w = value("--write-graphs=")) {
+        graphs_dir = w;
       } else if (const char* o = value("--only=")) {
         std::string list = o;
         for (std::size_t start = 0; start <= list.size();) {
@@ -190,6 +194,16 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "densest_acceptance: cannot build the fresh graphs: %s\n", e.what());
     return 3;
+  }
+  if (!graphs_dir.empty()) {
+    try {
+      for (const auto& f : graphs)
+        keel::bench::write_dimacs(
+            graphs_dir, {f.name, fmt::format("densest_acceptance seed {}: {}", seed, f.origin), f.graph});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "densest_acceptance: %s\n", e.what());
+      return 2;
+    }
   }
   std::FILE* tsv = nullptr;
   if (!tsv_path.empty()) {

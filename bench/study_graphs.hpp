@@ -6,7 +6,10 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -48,6 +51,21 @@ std::vector<NamedGraph> study_graphs(const std::string& config_path, const std::
          keel::pcm::ConsistencyGraph::from_threshold(qs[i].n, qs[i].q, gamma)});
   }
   return out;
+}
+
+// Writes `g` as the DIMACS "p edge" file DIR/<name>.clq (1-based vertices; `origin` in a comment), the input
+// of the side-by-side scripts' solvers (bench/side_by_side/dimacs.hpp). Throws std::runtime_error when it
+// cannot.
+inline void write_dimacs(const std::filesystem::path& dir, const NamedGraph& g) {
+  std::filesystem::create_directories(dir);
+  const auto path = dir / (g.name + ".clq");
+  std::ofstream out(path);
+  out << "c keel graph " << g.name << "\nc " << g.origin << "\n";
+  out << "p edge " << g.graph.size() << ' ' << g.graph.num_edges() << '\n';
+  for (int v = 0; v < g.graph.size(); ++v)
+    for (int w : g.graph.neighbors(v))
+      if (w > v) out << "e " << v + 1 << ' ' << w + 1 << '\n';
+  if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
 }  // namespace keel::bench

@@ -31,6 +31,10 @@ std::vector<int> greedy_clique(const ConsistencyGraph& g, const std::vector<int>
   std::vector<int> order(n);
   for (int v = 0; v < n; ++v) order[v] = v;
   std::sort(order.begin(), order.end(), better);
+  // rank[v]: v's place in that order, so that picking the best candidate compares one int (`better` is a
+  // strict total order, so the smallest rank is the candidate `better` prefers over all others).
+  std::vector<int> rank(n);
+  for (int i = 0; i < n; ++i) rank[order[i]] = i;
 
   std::vector<int> best{order[0]};
   int lb = 1;
@@ -47,13 +51,13 @@ std::vector<int> greedy_clique(const ConsistencyGraph& g, const std::vector<int>
     int remaining = popcount(cand.data(), words);
     while (remaining > 0) {
       if (static_cast<int>(clique.size()) + remaining <= lb) break;
-      int pick = -1;
+      int pick = -1, pick_rank = n;
       for (int w = 0; w < words; ++w) {
         std::uint64_t bits = cand[w];
         while (bits) {
           const int u = w * 64 + std::countr_zero(bits);
           bits &= bits - 1;
-          if (pick < 0 || better(u, pick)) pick = u;
+          if (rank[u] < pick_rank) pick = u, pick_rank = rank[u];
         }
       }
       clique.push_back(pick);

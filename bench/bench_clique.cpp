@@ -432,7 +432,7 @@ int write_family(const std::filesystem::path& dir) {
       continue;
     }
     for (const auto& f : graphs) {
-      keel::bench::write_dimacs(dir, {f.name, "bench_clique family graph: " + f.origin, f.graph});
+      keel::bench::write_dimacs(dir, f.name, "bench_clique family graph: " + f.origin, f.graph);
       ++written;
     }
   }

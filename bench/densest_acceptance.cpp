@@ -38,13 +38,11 @@ import keel.study;
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -59,9 +57,8 @@ constexpr int kPlanted = 180, kWorlds = 60, kCity = 50, kSphere = 30;
 constexpr long long kDefaultNodeLimit = 20000;
 constexpr double kAlpha = 0.05;
 
-struct Fresh {
-  std::string family, name, origin;
-  pcm::ConsistencyGraph graph;
+struct Fresh : keel::bench::NamedGraph {
+  std::string family;
 };
 
 int log_uniform(keel::core::Rng& rng, double lo, double hi) {
@@ -78,9 +75,10 @@ std::vector<Fresh> generate(std::uint64_t seed, const std::set<std::string>& onl
       const double p = rng.uniform(0.05, 0.7);
       const int k = log_uniform(rng, 3, std::min(200, n));
       const std::uint64_t s = rng.next();
-      out.push_back({"planted", fmt::format("planted_{:03}", i),
-                     fmt::format("planted_clique_graph({}, {}, {:.4f}, {})", n, k, p, s),
-                     sim::planted_clique_graph(n, k, p, s).graph});
+      out.push_back({{fmt::format("planted_{:03}", i),
+                      fmt::format("planted_clique_graph({}, {}, {:.4f}, {})", n, k, p, s),
+                      sim::planted_clique_graph(n, k, p, s).graph},
+                     "planted"});
     }
   if (wanted("world1d"))
     for (int i = 0; i < kWorlds; ++i) {
@@ -89,14 +87,13 @@ std::vector<Fresh> generate(std::uint64_t seed, const std::set<std::string>& onl
       const std::uint64_t s = rng.next();
       const auto o = sim::world1d_options_with_total(sim::World1DOptions{}, m, 0.5, 0.25);
       const auto Q = sim::world1d_consistency_matrix(sim::generate_world1d(o, s, 0));
-      out.push_back({"world1d", fmt::format("world1d_{:03}", i),
-                     fmt::format("1D world, m = {}, seed {}", m, s),
-                     pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, pcm::consistency_threshold(0.11, 1))});
+      out.push_back({{fmt::format("world1d_{:03}", i), fmt::format("1D world, m = {}, seed {}", m, s),
+                      pcm::ConsistencyGraph::from_threshold(Q.n, Q.q, pcm::consistency_threshold(0.11, 1))},
+                     "world1d"});
     }
   const std::string experiments = std::string(KEEL_SOURCE_DIR) + "/experiments/";
   auto add_sets = [&](const char* family, std::vector<keel::bench::NamedGraph> graphs) {
-    for (auto& g : graphs)
-      out.push_back({family, std::move(g.name), std::move(g.origin), std::move(g.graph)});
+    for (auto& g : graphs) out.push_back({std::move(g), family});
   };
   if (wanted("city10000"))
     add_sets("city10000", keel::bench::study_graphs<keel::study::ch2::CityTable, false>(
@@ -121,22 +118,18 @@ double sign_test(int k, int n) {
 }
 
 struct Side {
+  std::vector<int> selection;
   std::size_t size = 0;
   bool clique = false;
   long long products = 0;
   double ms = 0;
 };
 
-Side run(const pcm::ConsistencyGraph& g, const pcm::DensestOptions& o, std::vector<int>& selection) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto r = pcm::densest_subgraph(g, o);
-  Side s;
-  s.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  s.size = r.selection.size();
-  s.clique = g.is_clique(r.selection);
-  s.products = r.products;
-  selection = r.selection;
-  return s;
+Side run(const pcm::ConsistencyGraph& g, const pcm::DensestOptions& o) {
+  auto r = pcm::densest_subgraph(g, o);
+  const bool clique = g.is_clique(r.selection);
+  const std::size_t size = r.selection.size();
+  return {std::move(r.selection), size, clique, r.products, 1e3 * r.time_s};
 }
 
 int usage(const std::string& why) {
@@ -198,8 +191,8 @@ int main(int argc, char** argv) {
   if (!graphs_dir.empty()) {
     try {
       for (const auto& f : graphs)
-        keel::bench::write_dimacs(
-            graphs_dir, {f.name, fmt::format("densest_acceptance seed {}: {}", seed, f.origin), f.graph});
+        keel::bench::write_dimacs(graphs_dir, f.name,
+                                  fmt::format("densest_acceptance seed {}: {}", seed, f.origin), f.graph);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "densest_acceptance: %s\n", e.what());
       return 2;
@@ -224,15 +217,14 @@ int main(int argc, char** argv) {
   double sum_before = 0, sum_now = 0, ms_before = 0, ms_now = 0;
   long long products_before = 0, products_now = 0;
   for (const auto& f : graphs) {
-    std::vector<int> sb, sn;
-    const Side b = run(f.graph, before, sb);
-    const Side n = run(f.graph, now, sn);
+    const Side b = run(f.graph, before);
+    const Side n = run(f.graph, now);
     not_cliques += (b.clique ? 0 : 1) + (n.clique ? 0 : 1);
     pcm::CliqueOptions co;
     co.node_limit = node_limit;
     // The larger answer that is a clique starts the search: it changes the work, never the proven ω.
-    if (b.clique) co.initial_clique = sb;
-    if (n.clique && n.size > co.initial_clique.size()) co.initial_clique = sn;
+    if (b.clique) co.initial_clique = b.selection;
+    if (n.clique && n.size > co.initial_clique.size()) co.initial_clique = n.selection;
     const auto exact = pcm::maximum_clique(f.graph, pcm::CliqueAlgorithm::exact, co);
     const bool omega_known = exact.proven_optimal();
     const auto omega = exact.clique.size();

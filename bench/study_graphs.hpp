@@ -53,17 +53,18 @@ std::vector<NamedGraph> study_graphs(const std::string& config_path, const std::
   return out;
 }
 
-// Writes `g` as the DIMACS "p edge" file DIR/<name>.clq (1-based vertices; `origin` in a comment), the input
-// of the side-by-side scripts' solvers (bench/side_by_side/dimacs.hpp). Throws std::runtime_error when it
-// cannot.
-inline void write_dimacs(const std::filesystem::path& dir, const NamedGraph& g) {
+// Writes `graph` as the DIMACS "p edge" file DIR/<name>.clq (1-based vertices; `origin` in a comment), the
+// input of the side-by-side scripts' solvers (bench/side_by_side/dimacs.hpp). Throws std::runtime_error when
+// it cannot.
+inline void write_dimacs(const std::filesystem::path& dir, const std::string& name, const std::string& origin,
+                         const keel::pcm::ConsistencyGraph& graph) {
   std::filesystem::create_directories(dir);
-  const auto path = dir / (g.name + ".clq");
+  const auto path = dir / (name + ".clq");
   std::ofstream out(path);
-  out << "c keel graph " << g.name << "\nc " << g.origin << "\n";
-  out << "p edge " << g.graph.size() << ' ' << g.graph.num_edges() << '\n';
-  for (int v = 0; v < g.graph.size(); ++v)
-    for (int w : g.graph.neighbors(v))
+  out << "c keel graph " << name << "\nc " << origin << "\n";
+  out << "p edge " << graph.size() << ' ' << graph.num_edges() << '\n';
+  for (int v = 0; v < graph.size(); ++v)
+    for (int w : graph.neighbors(v))
       if (w > v) out << "e " << v + 1 << ' ' << w + 1 << '\n';
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }

@@ -557,19 +557,15 @@ DensestResult solve(const ConsistencyGraph& g, const Problem& p, const DensestOp
       if (small) break;
     }
     double step = penalty_step(Mu, Cu, u);
-    if (!std::isfinite(step)) {  // no inconsistent pair left in the support
-      r.converged = true;
-      break;
-    }
-    if (o.crawl_tolerance > 0.0 && crawl.drop(u, Cu, d, F, o)) {
+    if (std::isfinite(step) && o.crawl_tolerance > 0.0 && crawl.drop(u, Cu, d, F, o)) {
       p.products(u, Mu, Cu);
       ++r.products;
       ++r.crawl_cuts;
       step = penalty_step(Mu, Cu, u);
-      if (!std::isfinite(step)) {
-        r.converged = true;
-        break;
-      }
+    }
+    if (!std::isfinite(step)) {  // no inconsistent pair left in the support
+      r.converged = true;
+      break;
     }
     stalled_outer = (u - u_outer).norm() < o.tol_u ? stalled_outer + 1 : 0;
     if (o.max_stalled_outer > 0 && stalled_outer >= o.max_stalled_outer) {

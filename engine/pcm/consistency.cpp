@@ -112,7 +112,8 @@ template <class G>
 static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
                                          const typename G::Jacobian& cov_ij, const G& z_v,
                                          const typename G::Jacobian& cov_v, const G& x_lk,
-                                         const typename G::Jacobian& cov_lk, bool* ok) {
+                                         const typename G::Jacobian& cov_lk, bool* ok,
+                                         const typename G::Jacobian* cross_ij_lk = nullptr) {
   using J = typename G::Jacobian;
   // L = z_u⁻¹ x_ij z_v x_lk (eq. 2.4); left perturbations of the four factors enter L as
   //   exp(−Ad(P1) δ_u), exp(Ad(P1) δ_ij), exp(Ad(P2) δ_v), exp(Ad(P3) δ_lk)
@@ -131,6 +132,10 @@ static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobia
   e.J_lk = Jinv * P3.adjoint();
   J C = e.J_u * cov_u * e.J_u.transpose() + e.J_ij * cov_ij * e.J_ij.transpose() +
         e.J_v * cov_v * e.J_v.transpose() + e.J_lk * cov_lk * e.J_lk.transpose();
+  if (cross_ij_lk != nullptr) {  // Cov(δ_ij, δ_lk) of two relative poses of one map (consistency.hpp)
+    const J K = e.J_ij * *cross_ij_lk * e.J_lk.transpose();
+    C += K + K.transpose();
+  }
   e.covariance = 0.5 * (C + C.transpose());
   const Eigen::LLT<J> llt(e.covariance);
   if (llt.info() != Eigen::Success) {
@@ -175,7 +180,8 @@ namespace {
 template <class G>
 std::vector<int> index_map(const LocalMap<G>& m, const char* name) {
   constexpr int d = G::DoF;
-  const std::string who = fmt::format("consistency_matrix: map {}", name);
+  const std::string who =
+      *name ? fmt::format("consistency_matrix: map {}", name) : "consistency_matrix: the map";
   std::vector<int> index(m.poses.size(), -1);
   for (std::size_t s = 0; s < m.ids.size(); ++s) {
     const int id = m.ids[s];
@@ -197,31 +203,35 @@ std::vector<int> index_map(const LocalMap<G>& m, const char* name) {
   return index;
 }
 
+// `same_map`: a and b are one robot's map (both ends of every candidate in it), so the two relative poses
+// of a loop are correlated and Σ_uv carries their cross-covariance (consistency.hpp, the one-map form).
 template <class G>
 ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G>& b,
                                           const std::vector<InterRobotMeasurement<G>>& candidates,
-                                          const ConsistencyOptions& options) {
+                                          const ConsistencyOptions& options, bool same_map) {
   using J = typename G::Jacobian;
   constexpr int d = G::DoF;
   if (candidates.empty()) throw std::invalid_argument("consistency_matrix: the candidate set is empty");
-  const auto ia = index_map(a, "a");
-  const auto ib = index_map(b, "b");
+  const auto ia = index_map(a, same_map ? "" : "a");
+  const auto ib = same_map ? ia : index_map(b, "b");
+  const char* robot_a = same_map ? "the map (its end i)" : "robot a";
+  const char* robot_b = same_map ? "the map (its end k)" : "robot b";
   const int n = static_cast<int>(candidates.size());
   for (int u = 0; u < n; ++u) {
     const auto& c = candidates[u];
     const std::string who = fmt::format("consistency_matrix: candidate {}", u);
     if (c.pose_a < 0 || static_cast<std::size_t>(c.pose_a) >= a.poses.size())
-      throw std::invalid_argument(
-          fmt::format("{} touches pose {} of robot a, which has {} poses", who, c.pose_a, a.poses.size()));
+      throw std::invalid_argument(fmt::format("{} touches pose {} of {}, which has {} poses", who, c.pose_a,
+                                              robot_a, a.poses.size()));
     if (c.pose_b < 0 || static_cast<std::size_t>(c.pose_b) >= b.poses.size())
-      throw std::invalid_argument(
-          fmt::format("{} touches pose {} of robot b, which has {} poses", who, c.pose_b, b.poses.size()));
+      throw std::invalid_argument(fmt::format("{} touches pose {} of {}, which has {} poses", who, c.pose_b,
+                                              robot_b, b.poses.size()));
     if (ia[c.pose_a] < 0)
-      throw std::invalid_argument(
-          fmt::format("{}: pose {} of robot a has no joint marginal (not in LocalMap::ids)", who, c.pose_a));
+      throw std::invalid_argument(fmt::format(
+          "{}: pose {} of {} has no joint marginal (not in LocalMap::ids)", who, c.pose_a, robot_a));
     if (ib[c.pose_b] < 0)
-      throw std::invalid_argument(
-          fmt::format("{}: pose {} of robot b has no joint marginal (not in LocalMap::ids)", who, c.pose_b));
+      throw std::invalid_argument(fmt::format(
+          "{}: pose {} of {} has no joint marginal (not in LocalMap::ids)", who, c.pose_b, robot_b));
     check_pose(c.z, fmt::format("{} measurement", who));
     check_covariance(c.covariance, who);
   }
@@ -254,8 +264,14 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
           const auto xlk = relative_pose(b.poses[l], b.poses[k], block(b, sl, sl), Skk, block(b, sl, sk),
                                          options.composition);
           bool ok = false;
+          J cross;
+          const bool correlated = same_map && options.composition == Composition::joint;
+          if (correlated)  // Ad(T_i⁻¹)(Σ_jk − Σ_jl − Σ_ik + Σ_il)Ad(T_l⁻¹)ᵀ
+            cross = a.poses[i].inverse().adjoint() *
+                    (block(a, sj, sk) - block(a, sj, sl) - block(a, si, sk) + block(a, si, sl)) *
+                    a.poses[l].inverse().adjoint().transpose();
           const auto e = loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance,
-                                              xlk.x, xlk.covariance, &ok);
+                                              xlk.x, xlk.covariance, &ok, correlated ? &cross : nullptr);
           const std::size_t at = static_cast<std::size_t>(u) * n + v;
           if (!ok) failed[at] = 1;
           Q.q[at] = e.q;
@@ -277,12 +293,22 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
 ConsistencyMatrix consistency_matrix(const LocalMap2& a, const LocalMap2& b,
                                      const std::vector<InterRobotMeasurement2>& candidates,
                                      const ConsistencyOptions& options) {
-  return consistency_matrix_impl(a, b, candidates, options);
+  return consistency_matrix_impl(a, b, candidates, options, false);
 }
 ConsistencyMatrix consistency_matrix(const LocalMap3& a, const LocalMap3& b,
                                      const std::vector<InterRobotMeasurement3>& candidates,
                                      const ConsistencyOptions& options) {
-  return consistency_matrix_impl(a, b, candidates, options);
+  return consistency_matrix_impl(a, b, candidates, options, false);
+}
+ConsistencyMatrix consistency_matrix(const LocalMap2& map,
+                                     const std::vector<InterRobotMeasurement2>& candidates,
+                                     const ConsistencyOptions& options) {
+  return consistency_matrix_impl(map, map, candidates, options, true);
+}
+ConsistencyMatrix consistency_matrix(const LocalMap3& map,
+                                     const std::vector<InterRobotMeasurement3>& candidates,
+                                     const ConsistencyOptions& options) {
+  return consistency_matrix_impl(map, map, candidates, options, true);
 }
 
 template LoopError<lie::SE2> loop_error(const lie::SE2&, const lie::Mat3&, const lie::SE2&, const lie::Mat3&,

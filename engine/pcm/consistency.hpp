@@ -151,4 +151,22 @@ ConsistencyMatrix consistency_matrix(const LocalMap3& a, const LocalMap3& b,
                                      const std::vector<InterRobotMeasurement3>& candidates,
                                      const ConsistencyOptions& options = {});
 
+// Q for candidate loop closures of ONE robot (Kimera-RPGO's single-robot case, issue: a robust back end):
+// each candidate's pose_a (i) and pose_b (k) both index `map`, z ≈ T_i⁻¹ T_k. The loop of eq. 2.4 is the
+// same, L_uv = z_u⁻¹ x̂_ij z_v x̂_lk, but both relative poses now come from one solved map, so they are
+// correlated:
+//
+//     Cov(δ_ij, δ_lk) = Ad(T_i⁻¹) (Σ_jk − Σ_jl − Σ_ik + Σ_il) Ad(T_l⁻¹)ᵀ =: C                (thesis
+//     eq. 5.48) Σ_uv = J_u Σ_u J_uᵀ + J_v Σ_v J_vᵀ + J_ij Σ_ij J_ijᵀ + J_lk Σ_lk J_lkᵀ + J_ij C J_lkᵀ + J_lk
+//     Cᵀ J_ijᵀ
+//
+// with Σ_ab the blocks of the map's joint marginal. Composition::independent drops C with the other
+// cross-covariances. `map.ids` must cover both ends of every candidate. Throws as the two-map form.
+ConsistencyMatrix consistency_matrix(const LocalMap2& map,
+                                     const std::vector<InterRobotMeasurement2>& candidates,
+                                     const ConsistencyOptions& options = {});
+ConsistencyMatrix consistency_matrix(const LocalMap3& map,
+                                     const std::vector<InterRobotMeasurement3>& candidates,
+                                     const ConsistencyOptions& options = {});
+
 }  // namespace keel::pcm

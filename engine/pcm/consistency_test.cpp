@@ -155,6 +155,66 @@ TEST_CASE_TEMPLATE("inlier pairs: q follows chi-square with dof degrees of freed
   CHECK(mean_ind < 0.5 * d);
 }
 
+// Monte Carlo of one robot's loop closures (the one-map form): a chain of four poses 0–3 whose estimates
+// scatter with the chain's joint covariance (ξ_{m+1} = ξ_m + w_m), two inlier closures u = (0, 3) and
+// v = (2, 1). The loop's relative poses x̂_02 and x̂_31 share the step w_1 → w_2, so they are correlated. With
+// the cross-covariance the squared distances follow χ²(dof); the two-map form on the same numbers (the
+// relative poses taken as independent) must not.
+TEST_CASE_TEMPLATE(
+    "one robot's closures: q follows chi-square only with the relative poses' cross-covariance" *
+        doctest::test_suite("monte_carlo"),
+    G, SE2, SE3) {
+  constexpr int d = G::DoF;
+  using J = typename G::Jacobian;
+  using V = typename G::Tangent;
+  Rng rng(21);
+  std::vector<G> truth;
+  for (int m = 0; m < 4; ++m) truth.push_back(random_pose<G>(rng, 3.0));
+  // Joint covariance of (ξ_0 … ξ_3): C[a][b] = Σ_{m ≤ min(a, b)} W_m, with a large middle step W_2.
+  const std::vector<MatX> W = {random_spd(rng, d, 0.02), random_spd(rng, d, 0.01), random_spd(rng, d, 0.04),
+                               random_spd(rng, d, 0.01)};
+  MatX C = MatX::Zero(4 * d, 4 * d);
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (int m = 0; m <= std::min(a, b); ++m) C.block(d * a, d * b, d, d) += W[static_cast<std::size_t>(m)];
+  const J Su = random_spd(rng, d, 0.01), Sv = random_spd(rng, d, 0.01);
+  const MatX L = lie::covariance_square_root(C), Lu = lie::covariance_square_root(Su),
+             Lv = lie::covariance_square_root(Sv);
+  const G z_u = truth[0].inverse() * truth[3], z_v = truth[2].inverse() * truth[1];
+
+  const int N = 20000;
+  std::vector<double> q_one, q_two;
+  for (int t = 0; t < N; ++t) {
+    const lie::VecX xi = sample<lie::VecX>(rng, L);
+    LocalMap<G> map;
+    for (int m = 0; m < 4; ++m) map.poses.push_back(G::exp(V(xi.segment(d * m, d))) * truth[m]);
+    map.ids = {0, 1, 2, 3};
+    map.joint = C;
+    std::vector<InterRobotMeasurement<G>> c(2);
+    c[0].pose_a = 0, c[0].pose_b = 3, c[0].z = G::exp(sample<V>(rng, Lu)) * z_u, c[0].covariance = Su;
+    c[1].pose_a = 2, c[1].pose_b = 1, c[1].z = G::exp(sample<V>(rng, Lv)) * z_v, c[1].covariance = Sv;
+    q_one.push_back(consistency_matrix(map, c).at(0, 1));
+    q_two.push_back(consistency_matrix(map, map, c).at(0, 1));
+  }
+  auto ks_and_mean = [&](std::vector<double> q) {
+    std::sort(q.begin(), q.end());
+    double ks = 0.0, mean = 0.0;
+    for (int t = 0; t < N; ++t) {
+      const double F = lie::chi2_cdf(q[static_cast<std::size_t>(t)], d);
+      ks = std::max({ks, std::abs(F - (t + 1.0) / N), std::abs(F - static_cast<double>(t) / N)});
+      mean += q[static_cast<std::size_t>(t)] / N;
+    }
+    return std::pair{ks, mean};
+  };
+  const auto [ks, mean] = ks_and_mean(q_one);
+  const auto [ks_two, mean_two] = ks_and_mean(q_two);
+  MESSAGE("one map: KS " << ks << ", mean q " << mean << "; as two maps: KS " << ks_two << ", mean q "
+                         << mean_two << " (0.1% critical value " << 1.95 / std::sqrt(N) << ")");
+  CHECK(ks < 1.95 / std::sqrt(static_cast<double>(N)));
+  CHECK(mean == doctest::Approx(d).epsilon(0.06));
+  CHECK(ks_two > 5 * 1.95 / std::sqrt(static_cast<double>(N)));
+}
+
 TEST_CASE("left_covariance_from_information matches Monte Carlo of the residual convention" *
           doctest::test_suite("monte_carlo")) {
   Rng rng(5);
@@ -268,6 +328,53 @@ TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, 
   ConsistencyOptions ind;
   ind.composition = Composition::independent;
   CHECK(consistency_matrix(f.a, f.b, f.c, ind).q != Q1.q);
+}
+
+TEST_CASE_TEMPLATE("one-map consistency: the cross term is the only difference from the two-map form", G, SE2,
+                   SE3) {
+  constexpr int d = G::DoF;
+  const auto f = make_fixture<G>(5, 9);
+  // One map holding both robots' poses, the joint block-diagonal between them: no pose of a is correlated
+  // with one of b, so the one-map form must equal the two-map form bit for bit up to the ordering of sums.
+  LocalMap<G> one;
+  one.poses = f.a.poses;
+  one.poses.insert(one.poses.end(), f.b.poses.begin(), f.b.poses.end());
+  const int na = static_cast<int>(f.a.poses.size());
+  one.ids = f.a.ids;
+  for (const int id : f.b.ids) one.ids.push_back(id + na);
+  const auto ma = static_cast<Eigen::Index>(d * f.a.ids.size()),
+             mb = static_cast<Eigen::Index>(d * f.b.ids.size());
+  one.joint = MatX::Zero(ma + mb, ma + mb);
+  one.joint.topLeftCorner(ma, ma) = f.a.joint;
+  one.joint.bottomRightCorner(mb, mb) = f.b.joint;
+  auto c = f.c;
+  for (auto& m : c) m.pose_b += na;
+  const auto Q2 = consistency_matrix(f.a, f.b, f.c);
+  const auto Q1 = consistency_matrix(one, c);
+  for (int u = 0; u < Q1.n; ++u)
+    for (int v = 0; v < Q1.n; ++v) CHECK(Q1.at(u, v) == doctest::Approx(Q2.at(u, v)).epsilon(1e-10));
+  // Correlate the two groups (+ v vᵀ): the one-map form must now differ from the two-map form given the same
+  // diagonal blocks, which sees no correlation.
+  Rng rng(8);
+  const lie::VecX w = testkit::random_vector(rng, ma + mb) * 0.1;
+  one.joint += w * w.transpose();
+  auto a = f.a;
+  auto b = f.b;
+  a.joint = one.joint.topLeftCorner(ma, ma);
+  b.joint = one.joint.bottomRightCorner(mb, mb);
+  const auto Q1c = consistency_matrix(one, c), Q2c = consistency_matrix(a, b, f.c);
+  double moved = 0.0;
+  for (std::size_t k = 0; k < Q1c.q.size(); ++k) moved = std::max(moved, std::abs(Q1c.q[k] - Q2c.q[k]));
+  CHECK(moved > 1e-3);
+  // Composition::independent drops every cross-covariance, so there the two forms agree again.
+  ConsistencyOptions ind;
+  ind.composition = Composition::independent;
+  const auto I1 = consistency_matrix(one, c, ind), I2 = consistency_matrix(a, b, f.c, ind);
+  for (std::size_t k = 0; k < I1.q.size(); ++k) CHECK(I1.q[k] == doctest::Approx(I2.q[k]).epsilon(1e-10));
+  // Bad inputs name the map's end.
+  auto bad = c;
+  bad[0].pose_b = static_cast<int>(one.poses.size());
+  CHECK(contains(message_of([&] { (void)consistency_matrix(one, bad); }), "of the map (its end k)"));
 }
 
 TEST_CASE("consistency_matrix: bad inputs give clear errors") {

@@ -1,7 +1,7 @@
 // keel.app — keel on a researcher's own files, the one door of the `keel` command and the Python module:
-// app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), app::align_surveys
-// (align.hpp), what a file holds or a two-robot split writes (files.hpp), and the output files of a command,
-// written all or nothing (outputs.hpp).
+// app::solve (solve.hpp), app::marginals (marginals.hpp), app::pcm (pcm.hpp), app::robust (robust.hpp),
+// app::align_surveys (align.hpp), what a file holds or a two-robot split writes (files.hpp), and the output
+// files of a command, written all or nothing (outputs.hpp).
 module;
 #include "app/align.hpp"
 #include "app/files.hpp"
@@ -10,6 +10,7 @@ module;
 #include "app/pcm.hpp"
 #include "app/progress.hpp"
 #include "app/records.hpp"
+#include "app/robust.hpp"
 #include "app/solve.hpp"
 #include "app/solver_log.hpp"
 export module keel.app;
@@ -73,6 +74,12 @@ using keel::app::PcmRun3;
 using keel::app::Progress;
 using keel::app::score_selection;
 using keel::app::SelectionScore;
+// robust
+using keel::app::robust;
+using keel::app::RobustOptions;
+using keel::app::RobustRun;
+using keel::app::RobustRun2;
+using keel::app::RobustRun3;
 // records
 using keel::app::FieldWriter;
 using keel::app::proven_figures;

@@ -59,6 +59,7 @@ void add_check_command(CLI::App& app);
 void add_solve_command(CLI::App& app);
 void add_marginals_command(CLI::App& app);
 void add_pcm_command(CLI::App& app);
+void add_robust_command(CLI::App& app);
 void add_split_command(CLI::App& app);
 void add_align_command(CLI::App& app);
 

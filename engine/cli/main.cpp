@@ -103,9 +103,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", version_string(),
                        "print keel's version and the commit it was built from");
   app.footer(fmt::format("Each command has --help. {} Worked examples: docs/USING.md.", kExitTable));
-  for (auto add : {add_list_command, add_diff_command, add_bless_command, add_report_command, add_eta_command,
-                   add_prose_check_command, add_same_command, add_check_command, add_solve_command,
-                   add_marginals_command, add_pcm_command, add_split_command, add_align_command})
+  for (auto add :
+       {add_list_command, add_diff_command, add_bless_command, add_report_command, add_eta_command,
+        add_prose_check_command, add_same_command, add_check_command, add_solve_command,
+        add_marginals_command, add_pcm_command, add_robust_command, add_split_command, add_align_command})
     add(app);
   for (auto* sub : app.get_subcommands({})) sub->footer(kExitTable);
   check_numbers(app);

@@ -1,8 +1,10 @@
 #include "app/records.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "core/bound.hpp"
 
@@ -176,5 +178,62 @@ void write_record(const cov::FactorSummary& s, FieldWriter& w) {
   w.number("analyze_time_s", s.analyze_time_s);
   w.number("factorize_time_s", s.factorize_time_s);
 }
+
+}  // namespace keel::app
+
+namespace keel::app {
+
+namespace {
+
+template <class G>
+void write_robust(const RobustRun<G>& r, FieldWriter& w) {
+  const auto& o = r.options;
+  w.integer("poses", static_cast<std::int64_t>(r.odometry.poses.size()));
+  w.integer("odometry_edges", static_cast<std::int64_t>(r.odometry.edges.size()));
+  w.integer("candidates", static_cast<std::int64_t>(r.candidates.size()));
+  w.integer("kept", static_cast<std::int64_t>(r.selection.selected.size()));
+  w.number("p", o.p);
+  w.number("gamma", r.gamma);
+  w.integer("dof", G::DoF);
+  w.text("composition", pcm::to_string(o.composition));
+  w.text("algorithm", pcm::to_string(o.algorithm));
+  if (const auto& search = r.selection.search) {
+    w.record("clique", [&](FieldWriter& c) {
+      c.text("status", core::to_string(search->status));
+      c.integer("size", static_cast<std::int64_t>(search->clique.size()));
+      c.integer("upper_bound", search->upper_bound);
+      c.integer("nodes_explored", static_cast<std::int64_t>(search->nodes_explored));
+    });
+  } else {
+    w.null("clique");  // no candidate: nothing searched
+  }
+  w.record("times_s", [&](FieldWriter& t) {
+    t.number("odometry", r.odometry_time_s);
+    t.number("marginals", r.marginals_time_s);
+    t.number("consistency", r.consistency_time_s);
+    t.number("selection", r.selection.time_s);
+    t.number("certified_solve", r.solved.summary.total_time_s);
+  });
+  w.number("anisotropic_cost", r.solved.anisotropic_cost);
+  w.record("certificate", [&](FieldWriter& c) { write_record(r.solved.summary, c); });
+  std::vector<char> kept(r.candidates.size(), 0);
+  for (const int k : r.selection.selected) kept[static_cast<std::size_t>(k)] = 1;
+  w.records("candidate_list", r.candidates.size(), [&](std::size_t k, FieldWriter& c) {
+    int against = 0;
+    for (const int s : r.selection.selected)
+      if (r.q.at(static_cast<int>(k), s) > r.gamma || r.q.at(s, static_cast<int>(k)) > r.gamma) ++against;
+    c.integer("candidate", static_cast<std::int64_t>(k));
+    c.integer("edge", r.candidate_edges[k]);
+    c.integer("i", r.candidates[k].pose_a);
+    c.integer("j", r.candidates[k].pose_b);
+    c.boolean("kept", kept[k] != 0);
+    c.integer("inconsistent_with_kept", against);
+  });
+}
+
+}  // namespace
+
+void write_record(const RobustRun2& r, FieldWriter& w) { write_robust(r, w); }
+void write_record(const RobustRun3& r, FieldWriter& w) { write_robust(r, w); }
 
 }  // namespace keel::app

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string_view>
 
+#include "app/robust.hpp"
 #include "cov/marginal_covariance.hpp"
 #include "pgo/certified.hpp"
 #include "pgo/optimize.hpp"
@@ -65,6 +66,11 @@ void write_record(const pgo::Summary& s, FieldWriter& w);
 void write_record(const pgo::CertifiedSummary& s, FieldWriter& w);
 /// One rank of the staircase.
 void write_record(const pgo::RankRecord& r, FieldWriter& w);
+/// keel robust's report: sizes, threshold, the clique search, times per stage, the certified solve's record
+/// ("certificate") and every candidate (candidate_list: its input edge, poses i and j, kept, and how many
+/// kept closures it contradicts, q above γ either way).
+void write_record(const RobustRun2& r, FieldWriter& w);
+void write_record(const RobustRun3& r, FieldWriter& w);
 /// What the covariance factorization did (ordering, sizes, nonzeros of L, times).
 void write_record(const cov::FactorSummary& s, FieldWriter& w);
 

@@ -21,6 +21,7 @@ RobustRun<G> robust_impl(const Graph& input, const RobustOptions& o, const Progr
   };
   constexpr int dof = G::DoF;
   RobustRun<G> run;
+  run.options = o;
   const int n = static_cast<int>(input.poses.size());
   // The odometry: every edge between consecutive poses (either direction). Every pose k > 0 must be reached
   // from k − 1, or the odometry map is not one connected chain.
@@ -51,9 +52,9 @@ RobustRun<G> robust_impl(const Graph& input, const RobustOptions& o, const Progr
     try {
       m.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
     } catch (const std::invalid_argument& ex) {
-      throw std::invalid_argument(
-          fmt::format("robust: loop closure {} → {}{}: {}", e.i, e.j,
-                      e.line > 0 ? fmt::format(" (line {})", e.line) : std::string(), ex.what()));
+      throw std::invalid_argument(fmt::format("robust: loop closure {} → {}{}: {}", e.i, e.j,
+                                              e.line > 0 ? fmt::format(" (line {})", e.line) : std::string(),
+                                              ex.what()));
     }
     run.candidates.push_back(m);
   }
@@ -72,9 +73,10 @@ RobustRun<G> robust_impl(const Graph& input, const RobustOptions& o, const Progr
     map.ids.erase(std::unique(map.ids.begin(), map.ids.end()), map.ids.end());
     const double bytes = 8.0 * std::pow(static_cast<double>(dof) * static_cast<double>(map.ids.size()), 2);
     if (bytes > 2.0 * 1024 * 1024 * 1024)
-      throw std::invalid_argument(fmt::format(
-          "robust: the {} candidates touch {} poses, whose dense joint marginal would take {:.1f} GiB (limit 2)",
-          run.candidates.size(), map.ids.size(), bytes / (1024.0 * 1024 * 1024)));
+      throw std::invalid_argument(
+          fmt::format("robust: the {} candidates touch {} poses, whose dense joint marginal would take "
+                      "{:.1f} GiB (limit 2)",
+                      run.candidates.size(), map.ids.size(), bytes / (1024.0 * 1024 * 1024)));
     say(fmt::format("joint marginals of the {} poses the candidates touch", map.ids.size()));
     const auto t_m = core::Clock::now();
     map.joint = local.covariance->joint(map.ids);
@@ -99,8 +101,10 @@ RobustRun<G> robust_impl(const Graph& input, const RobustOptions& o, const Progr
 
   run.selected = run.odometry;
   for (const int k : run.selection.selected)
-    run.selected.edges.push_back(input.edges[static_cast<std::size_t>(run.candidate_edges[static_cast<std::size_t>(k)])]);
-  say(fmt::format("certified solve of the odometry and {} selected loop closures", run.selection.selected.size()));
+    run.selected.edges.push_back(
+        input.edges[static_cast<std::size_t>(run.candidate_edges[static_cast<std::size_t>(k)])]);
+  say(fmt::format("certified solve of the odometry and {} selected loop closures",
+                  run.selection.selected.size()));
   run.solved = solve_certified(run.selected, Certified{o.solve});
   return run;
 }

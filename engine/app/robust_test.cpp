@@ -1,6 +1,6 @@
 // app::robust on a synthetic single-robot graph (three square laps, every closure i → i + 40 an inlier) with
-// wrong loop closures added: no wrong closure kept, most true ones kept, the answer certified and equal to the
-// certified solve of the odometry with the kept closures; a broken odometry chain and bad options give
+// wrong loop closures added: no wrong closure kept, most true ones kept, the answer certified and equal to
+// the certified solve of the odometry with the kept closures; a broken odometry chain and bad options give
 // located errors; a graph without loop closures is solved as its odometry.
 #include <doctest/doctest.h>
 
@@ -35,7 +35,8 @@ graph::PoseGraph2D laps_with_outliers(int outliers, std::uint64_t seed, int* tru
       i = static_cast<int>(rng.uniform() * n) % n;
       j = static_cast<int>(rng.uniform() * n) % n;
     }
-    const lie::SE2 z(10.0 * rng.uniform() - 5.0, 10.0 * rng.uniform() - 5.0, M_PI * (2.0 * rng.uniform() - 1.0));
+    const lie::SE2 z(10.0 * rng.uniform() - 5.0, 10.0 * rng.uniform() - 5.0,
+                     M_PI * (2.0 * rng.uniform() - 1.0));
     g.edges.push_back({i, j, z, info, 0});
   }
   return g;
@@ -69,7 +70,8 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
         const auto& e = g.edges[static_cast<std::size_t>(run.candidate_edges[static_cast<std::size_t>(k)])];
         CHECK(run.candidates[static_cast<std::size_t>(k)].pose_a == e.i);
         CHECK(run.candidates[static_cast<std::size_t>(k)].pose_b == e.j);
-        (run.candidate_edges[static_cast<std::size_t>(k)] < n - 1 + true_closures ? kept_true : kept_wrong) += 1;
+        (run.candidate_edges[static_cast<std::size_t>(k)] < n - 1 + true_closures ? kept_true : kept_wrong) +=
+            1;
       }
       MESSAGE("seed " << seed << ", p " << p << ": true pairs above γ " << above << " of " << pairs
                       << ", mean q " << mean << "; kept " << kept_true << " of " << true_closures

@@ -12,6 +12,7 @@
 
 #include "app/marginals.hpp"
 #include "app/records.hpp"
+#include "app/robust.hpp"
 #include "app/solve.hpp"
 #include "bindings.hpp"
 #include "cov/marginal_covariance.hpp"
@@ -512,6 +513,56 @@ not apply (ValueError when one differs from its default; likewise gap_tolerance,
 certify=True). Returns a
 CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
 ValueError.)doc");
+
+  m.def(
+      "robust",
+      [](const py::object& g, double p, const std::string& composition, const std::string& algorithm,
+         const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
+        app::RobustOptions o;
+        o.p = p;
+        o.composition = pcm::composition_from_string(composition);
+        o.algorithm = pcm::clique_algorithm_from_string(algorithm);
+        if (time_limit_s) {
+          if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
+            throw py::value_error(fmt::format(
+                "robust: time_limit_s must be a finite number of seconds > 0, or None for no limit (got {})",
+                *time_limit_s));
+          o.time_limit_s = *time_limit_s;
+        }
+        o.threads = threads;
+        o.validate();  // ValueError before any work
+        auto run_on = [&](const auto& graph) {
+          std::optional<std::decay_t<decltype(app::robust(graph, o))>> run;
+          {
+            py::gil_scoped_release release;
+            run = app::robust(graph, o);
+          }
+          py::dict d = record_dict(*run);
+          d["solution"] = poses_to_array(run->solved.graph.poses);
+          d["graph"] = py::cast(run->solved.graph);
+          return d;
+        };
+        if (py::isinstance<PoseGraph2D>(g)) return run_on(g.cast<const PoseGraph2D&>());
+        if (py::isinstance<PoseGraph3D>(g)) return run_on(g.cast<const PoseGraph3D&>());
+        throw py::type_error("robust: graph must be a keel.Graph2D or keel.Graph3D");
+      },
+      py::arg("graph"), py::arg("p") = 0.11, py::arg("composition") = "joint", py::arg("algorithm") = "exact",
+      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
+One robot's graph with wrong loop closures, as `keel robust FILE` (app::robust; same inputs give the same
+numbers): the edges between consecutive poses are trusted odometry, every other edge a candidate loop closure;
+the candidates' pairwise consistency in the odometry map (thesis eq. 2.4 with the joint marginals), the largest
+consistent set (exact maximum clique, or 'heuristic'), then the certified solve of the odometry and the kept
+closures.
+  p             chi-square tail probability of the threshold gamma, in (0, 1) (thesis PCM-Exact-11 %)
+  composition   'joint' or 'independent' (the relative poses' cross-covariances dropped)
+  algorithm     'exact' or 'heuristic'
+  time_limit_s  exact clique search limit in seconds (> 0), None for none
+  threads       threads for the consistency matrix (the result does not depend on it)
+Returns a dict with the fields of `keel robust --json` but 'file' (poses, odometry_edges, candidates, kept, p,
+gamma, dof, composition, algorithm, clique, times_s, anisotropic_cost, certificate, candidate_list) and, beside
+them, 'solution' (the (n, 3) or (n, 7) estimate) and 'graph' (the solved graph: the odometry and the kept
+closures). Unlike the command, nothing is refused when the answer is not certified: read
+d['certificate']['certified']. An odometry that does not chain every pose raises ValueError naming the pose.)doc");
 
   py::class_<cov::MarginalCovariance>(m, "MarginalCovariance", R"doc(
 The factorized information matrix of a graph at given poses (keel::cov::MarginalCovariance), to query joint

@@ -92,7 +92,8 @@ class RobustCommand(unittest.TestCase):
                 self.assertEqual(c["inconsistent_with_kept"], 0)
             else:  # the clique is maximum, so a closure left out conflicts with a kept one
                 self.assertGreaterEqual(c["inconsistent_with_kept"], 1)
-        self.assertEqual(j["clique_status"], "optimal")
+        self.assertEqual(j["clique"]["status"], "optimal")
+        self.assertEqual(j["clique"]["size"], kept_true)
         self.assertTrue(j["certificate"]["certified"])
         # The solved graph: the odometry and exactly the kept closures.
         with open(out) as f:

@@ -67,6 +67,15 @@ def subgraph(g, lo, hi):
     return cls(g.poses[lo:hi], e[keep] - lo, g.measurements[keep], g.information[keep])
 
 
+def strip_times(x):
+    """A record without its wall times (fields named *time_s or times_s), which differ between runs."""
+    if isinstance(x, dict):
+        return {k: strip_times(v) for k, v in x.items() if not k.endswith("time_s") and k != "times_s"}
+    if isinstance(x, list):
+        return [strip_times(v) for v in x]
+    return x
+
+
 def reference(*args):
     exe = os.environ.get("KEEL_REFERENCE")
     if not exe:
@@ -316,14 +325,6 @@ class TestReference(unittest.TestCase):
         exe = os.environ.get("KEEL")
         if not exe:
             self.skipTest("KEEL (the keel command) not set")
-
-        def strip_times(x):
-            if isinstance(x, dict):
-                return {k: strip_times(v) for k, v in x.items() if not k.endswith("time_s") and k != "times_s"}
-            if isinstance(x, list):
-                return [strip_times(v) for v in x]
-            return x
-
         for path in (self.file2d, self.file3d):
             with self.subTest(path=path):
                 g = keel.read_graph(path)
@@ -339,6 +340,44 @@ class TestReference(unittest.TestCase):
                 self.assertEqual(sorted(s), sorted(cli["summary"]))
                 self.assertEqual(strip_times(s), strip_times(cli["summary"]))
                 self.assertIn("normalized_chi2", s)
+
+    def test_robust_matches_the_command(self):
+        """keel.robust and `keel robust --json` write one record (app/records.hpp): the same fields and the same
+        values, wall times aside. Ten wrong closures (random pose pairs, measurements anywhere within 3 m and any
+        heading) are added to Manhattan's first 200 poses."""
+        exe = os.environ.get("KEEL")
+        if not exe:
+            self.skipTest("KEEL (the keel command) not set")
+        g = keel.read_graph(self.file2d)
+        rng = np.random.default_rng(3)
+        n, extra = len(g.poses), 10
+        pairs = []
+        while len(pairs) < extra:
+            i, j = (int(v) for v in rng.integers(0, n, 2))
+            if abs(i - j) > 1:
+                pairs.append((i, j))
+        meas = np.column_stack([rng.uniform(-3, 3, extra), rng.uniform(-3, 3, extra),
+                                rng.uniform(-np.pi, np.pi, extra)])
+        wrong = keel.Graph2D(g.poses, np.vstack([g.edges, pairs]), np.vstack([g.measurements, meas]),
+                             np.concatenate([g.information, np.repeat(g.information[-1:], extra, axis=0)]))
+        path = os.path.join(self.tmp.name, "manhattan200_wrong.g2o")
+        keel.write_graph(wrong, path)
+        r = subprocess.run([exe, "robust", path, "--json", "-q"], capture_output=True, text=True)
+        cli = json.loads(r.stdout)
+        py = keel.robust(keel.read_graph(path))
+        self.assertEqual(r.returncode, 0 if py["certificate"]["certified"] else 1, r.stderr)
+        self.assertEqual(cli.pop("file"), path)
+        self.assertEqual(py.pop("solution").shape, (n, 3))
+        self.assertIsInstance(py.pop("graph"), keel.Graph2D)
+        self.assertEqual(sorted(py), sorted(cli))
+        self.assertEqual(strip_times(py), strip_times(cli))
+        self.assertEqual(py["candidates"], len(g.edges) - (n - 1) + extra)
+        kept_wrong = [c for c in py["candidate_list"] if c["edge"] >= len(g.edges) and c["kept"]]
+        self.assertEqual(kept_wrong, [])
+        with self.assertRaisesRegex(ValueError, "p must be in"):
+            keel.robust(g, p=1.5)
+        with self.assertRaisesRegex(ValueError, "unknown pcm::CliqueAlgorithm"):
+            keel.robust(g, algorithm="best")
 
     def test_refuses_non_integer_ids_and_non_finite_poses(self):
         g = keel.read_graph(self.file2d)

@@ -188,46 +188,56 @@ namespace {
 template <class G>
 void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   const auto& o = r.options;
-  w.integer("poses", static_cast<std::int64_t>(r.odometry.poses.size()));
-  w.integer("odometry_edges", static_cast<std::int64_t>(r.odometry.edges.size()));
+  std::size_t odometry_edges = 0;
+  for (const auto& g : r.odometry) odometry_edges += g.edges.size();
+  w.integer("robots", static_cast<std::int64_t>(r.odometry.size()));
+  w.integer("poses", static_cast<std::int64_t>(r.selected.poses.size()));
+  w.integer("odometry_edges", static_cast<std::int64_t>(odometry_edges));
   w.integer("candidates", static_cast<std::int64_t>(r.candidates.size()));
-  w.integer("kept", static_cast<std::int64_t>(r.selection.selected.size()));
+  w.integer("kept", r.kept);
   w.number("p", o.p);
   w.number("gamma", r.gamma);
   w.integer("dof", G::DoF);
   w.text("composition", pcm::to_string(o.composition));
   w.text("algorithm", pcm::to_string(o.algorithm));
-  if (const auto& search = r.selection.search) {
-    w.record("clique", [&](FieldWriter& c) {
-      c.text("status", core::to_string(search->status));
-      c.integer("size", static_cast<std::int64_t>(search->clique.size()));
-      c.integer("upper_bound", search->upper_bound);
-      c.integer("nodes_explored", static_cast<std::int64_t>(search->nodes_explored));
+  w.records("groups", r.groups.size(), [&](std::size_t k, FieldWriter& g) {
+    const RobustGroup& grp = r.groups[k];
+    g.integer("robot_a", grp.robot_a);
+    g.integer("robot_b", grp.robot_b);
+    g.integer("candidates", static_cast<std::int64_t>(grp.members.size()));
+    g.integer("kept", static_cast<std::int64_t>(grp.selection.selected.size()));
+    const auto& search = *grp.selection.search;
+    g.record("clique", [&](FieldWriter& c) {
+      c.text("status", core::to_string(search.status));
+      c.integer("size", static_cast<std::int64_t>(search.clique.size()));
+      c.integer("upper_bound", search.upper_bound);
+      c.integer("nodes_explored", static_cast<std::int64_t>(search.nodes_explored));
     });
-  } else {
-    w.null("clique");  // no candidate: nothing searched
-  }
+    g.number("consistency_time_s", grp.consistency_time_s);
+    g.number("selection_time_s", grp.selection.time_s);
+  });
   w.record("times_s", [&](FieldWriter& t) {
     t.number("odometry", r.odometry_time_s);
     t.number("marginals", r.marginals_time_s);
     t.number("consistency", r.consistency_time_s);
-    t.number("selection", r.selection.time_s);
+    t.number("selection", r.selection_time_s);
     t.number("certified_solve", r.solved.summary.total_time_s);
   });
   w.number("anisotropic_cost", r.solved.anisotropic_cost);
   w.record("certificate", [&](FieldWriter& c) { write_record(r.solved.summary, c); });
-  std::vector<char> kept(r.candidates.size(), 0);
-  for (const int k : r.selection.selected) kept[static_cast<std::size_t>(k)] = 1;
   w.records("candidate_list", r.candidates.size(), [&](std::size_t k, FieldWriter& c) {
-    int against = 0;
-    for (const int s : r.selection.selected)
-      if (r.q.at(static_cast<int>(k), s) > r.gamma || r.q.at(s, static_cast<int>(k)) > r.gamma) ++against;
+    const auto& cand = r.candidates[k];
     c.integer("candidate", static_cast<std::int64_t>(k));
-    c.integer("edge", r.candidate_edges[k]);
-    c.integer("i", r.candidates[k].pose_a);
-    c.integer("j", r.candidates[k].pose_b);
-    c.boolean("kept", kept[k] != 0);
-    c.integer("inconsistent_with_kept", against);
+    c.integer("robot_a", cand.robot_a);
+    c.integer("i", cand.pose_a);
+    c.integer("robot_b", cand.robot_b);
+    c.integer("j", cand.pose_b);
+    c.integer("source", cand.source);
+    c.integer("edge", cand.edge);
+    c.integer("line", cand.line);
+    c.integer("group", cand.group);
+    c.boolean("kept", cand.kept);
+    c.integer("inconsistent_with_kept", cand.inconsistent_with_kept);
   });
 }
 

@@ -4,8 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "core/timing.hpp"
 
@@ -13,98 +17,253 @@ namespace keel::app {
 
 namespace {
 
-template <class G, class Graph>
-RobustRun<G> robust_impl(const Graph& input, const RobustOptions& o, const Progress& progress) {
+std::string at_line(int line) { return line > 0 ? fmt::format(" (line {})", line) : std::string(); }
+
+template <class G, class Graph, class Edge>
+RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edge>& inter,
+                         const RobustOptions& o, const Progress& progress) {
   o.validate();
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
+  using J = typename G::Jacobian;
   constexpr int dof = G::DoF;
+  if (robots.empty()) throw std::invalid_argument("robust: no robot's graph given");
+  const int R = static_cast<int>(robots.size());
   RobustRun<G> run;
   run.options = o;
-  const int n = static_cast<int>(input.poses.size());
-  // The odometry: every edge between consecutive poses (either direction). Every pose k > 0 must be reached
-  // from k − 1, or the odometry map is not one connected chain.
-  run.odometry.poses = input.poses;
-  run.odometry.has_initial_poses = input.has_initial_poses;
-  std::vector<char> chained(static_cast<std::size_t>(std::max(n, 1)), 0);
-  for (std::size_t k = 0; k < input.edges.size(); ++k) {
-    const auto& e = input.edges[k];
-    if (std::abs(e.j - e.i) == 1) {
-      run.odometry.edges.push_back(e);
-      chained[static_cast<std::size_t>(std::max(e.i, e.j))] = 1;
-    } else {
-      run.candidate_edges.push_back(static_cast<int>(k));
+  auto robot_name = [&](int r) {
+    const std::string& src = robots[static_cast<std::size_t>(r)].source;
+    return R == 1 ? std::string("the robot")
+                  : fmt::format("robot {}{}", r, src.empty() ? "" : " (" + src + ")");
+  };
+
+  // Each robot's odometry (edges between consecutive poses, either direction, chaining every pose) and its
+  // own candidate closures (every other edge).
+  int total = 0;
+  for (int r = 0; r < R; ++r) {
+    const Graph& g = robots[static_cast<std::size_t>(r)];
+    const int n = static_cast<int>(g.poses.size());
+    if (n == 0) throw std::invalid_argument(fmt::format("robust: {} has no poses", robot_name(r)));
+    run.offsets.push_back(total);
+    total += n;
+    Graph odo;
+    odo.poses = g.poses;
+    odo.has_initial_poses = g.has_initial_poses;
+    odo.source = g.source;
+    std::vector<char> chained(static_cast<std::size_t>(n), 0);
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {
+      const auto& e = g.edges[k];
+      if (e.i < 0 || e.i >= n || e.j < 0 || e.j >= n)
+        throw std::invalid_argument(
+            fmt::format("robust: {}: edge {} → {}{} names a pose it does not have (0 … {})", robot_name(r),
+                        e.i, e.j, at_line(e.line), n - 1));
+      if (std::abs(e.j - e.i) == 1) {
+        odo.edges.push_back(e);
+        chained[static_cast<std::size_t>(std::max(e.i, e.j))] = 1;
+        continue;
+      }
+      RobustCandidate<G> c;
+      c.robot_a = c.robot_b = r;
+      c.pose_a = e.i;
+      c.pose_b = e.j;
+      c.source = r;
+      c.edge = static_cast<int>(k);
+      c.line = e.line;
+      c.z = e.measurement;
+      try {
+        c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
+      } catch (const std::invalid_argument& ex) {
+        throw std::invalid_argument(fmt::format("robust: {}: loop closure {} → {}{}: {}", robot_name(r), e.i,
+                                                e.j, at_line(e.line), ex.what()));
+      }
+      run.candidates.push_back(c);
     }
+    for (int k = 1; k < n; ++k)
+      if (!chained[static_cast<std::size_t>(k)])
+        throw std::invalid_argument(fmt::format(
+            "robust: {}: pose {} has no odometry edge from pose {} (the odometry, edges between consecutive "
+            "poses, must chain every pose; the loop closures are the other edges)",
+            robot_name(r), k, k - 1));
+    run.odometry.push_back(std::move(odo));
   }
-  for (int k = 1; k < n; ++k)
-    if (!chained[static_cast<std::size_t>(k)])
-      throw std::invalid_argument(fmt::format(
-          "robust: pose {} has no odometry edge from pose {} (the odometry, edges between consecutive poses, "
-          "must chain every pose; the loop closures are the other edges)",
-          k, k - 1));
-  for (const int k : run.candidate_edges) {
-    const auto& e = input.edges[static_cast<std::size_t>(k)];
-    pcm::InterRobotMeasurement<G> m;
-    m.pose_a = e.i;
-    m.pose_b = e.j;
-    m.z = e.measurement;
+
+  // The inter-robot candidates, ids global; each oriented from the lower robot to the higher (z⁻¹ =
+  // exp(−Ad(z⁻¹) n) z̄⁻¹ to first order, so Σ' = Ad(z⁻¹) Σ Ad(z⁻¹)ᵀ).
+  auto robot_of = [&](int id) {
+    const auto it = std::upper_bound(run.offsets.begin(), run.offsets.end(), id);
+    return static_cast<int>(it - run.offsets.begin()) - 1;
+  };
+  for (std::size_t k = 0; k < inter.size(); ++k) {
+    const auto& e = inter[k];
+    const std::string where = fmt::format("robust: inter-robot candidate {}{}", k, at_line(e.line));
+    for (const int id : {e.i, e.j})
+      if (id < 0 || id >= total)
+        throw std::invalid_argument(
+            fmt::format("{}: id {} is not a pose of the robots ({} poses together: ids 0 … {}, robot r's "
+                        "pose k is id k plus "
+                        "the poses of the robots before it)",
+                        where, id, total, total - 1));
+    RobustCandidate<G> c;
+    c.robot_a = robot_of(e.i);
+    c.robot_b = robot_of(e.j);
+    c.pose_a = e.i - run.offsets[static_cast<std::size_t>(c.robot_a)];
+    c.pose_b = e.j - run.offsets[static_cast<std::size_t>(c.robot_b)];
+    c.source = -1;
+    c.edge = static_cast<int>(k);
+    c.line = e.line;
+    c.z = e.measurement;
     try {
-      m.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
+      c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
     } catch (const std::invalid_argument& ex) {
-      throw std::invalid_argument(fmt::format("robust: loop closure {} → {}{}: {}", e.i, e.j,
-                                              e.line > 0 ? fmt::format(" (line {})", e.line) : std::string(),
-                                              ex.what()));
+      throw std::invalid_argument(fmt::format("{}: {}", where, ex.what()));
     }
-    run.candidates.push_back(m);
+    if (c.robot_a > c.robot_b) {
+      std::swap(c.robot_a, c.robot_b);
+      std::swap(c.pose_a, c.pose_b);
+      c.z = c.z.inverse();
+      const J A = c.z.adjoint();
+      const J S = A * c.covariance * A.transpose();
+      c.covariance = 0.5 * (S + S.transpose());
+    }
+    run.candidates.push_back(c);
   }
 
-  say(fmt::format("odometry map ({} poses, {} odometry edges, {} candidate loop closures)", n,
-                  run.odometry.edges.size(), run.candidates.size()));
-  const auto t_odo = core::Clock::now();
-  const auto local = merge::solve_local(run.odometry, o.local);
-  run.odometry_time_s = core::seconds_since(t_odo);
+  // Groups: each robot's own closures, then each pair of robots, in that order.
+  std::map<std::pair<int, int>, int> group_of;
+  {
+    std::vector<std::pair<int, int>> keys;
+    for (const auto& c : run.candidates) keys.emplace_back(c.robot_a, c.robot_b);
+    std::sort(keys.begin(), keys.end(), [](const auto& x, const auto& y) {
+      return std::tuple(x.first != x.second, x) < std::tuple(y.first != y.second, y);
+    });
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    for (const auto& k : keys) {
+      group_of[k] = static_cast<int>(run.groups.size());
+      RobustGroup grp;
+      grp.robot_a = k.first;
+      grp.robot_b = k.second;
+      run.groups.push_back(grp);
+    }
+    for (std::size_t k = 0; k < run.candidates.size(); ++k) {
+      auto& c = run.candidates[k];
+      c.group = group_of.at({c.robot_a, c.robot_b});
+      run.groups[static_cast<std::size_t>(c.group)].members.push_back(static_cast<int>(k));
+    }
+  }
 
-  if (!run.candidates.empty()) {
-    pcm::LocalMap<G> map;
-    map.poses = local.poses;
-    for (const auto& c : run.candidates) map.ids.insert(map.ids.end(), {c.pose_a, c.pose_b});
+  // Each robot's odometry map and the joint marginal of the poses its candidates touch.
+  say(fmt::format("odometry maps ({} robot{}, {} poses, {} candidate loop closures)", R, R == 1 ? "" : "s",
+                  total, run.candidates.size()));
+  std::vector<pcm::LocalMap<G>> maps(static_cast<std::size_t>(R));
+  for (const auto& c : run.candidates) {
+    maps[static_cast<std::size_t>(c.robot_a)].ids.push_back(c.pose_a);
+    maps[static_cast<std::size_t>(c.robot_b)].ids.push_back(c.pose_b);
+  }
+  for (int r = 0; r < R; ++r) {
+    auto& map = maps[static_cast<std::size_t>(r)];
+    if (map.ids.empty()) continue;  // no candidate touches it: its odometry is solved with the rest
     std::sort(map.ids.begin(), map.ids.end());
     map.ids.erase(std::unique(map.ids.begin(), map.ids.end()), map.ids.end());
-    const double bytes = 8.0 * std::pow(static_cast<double>(dof) * static_cast<double>(map.ids.size()), 2);
-    if (bytes > 2.0 * 1024 * 1024 * 1024)
+    const double gib = 8.0 * std::pow(static_cast<double>(dof) * static_cast<double>(map.ids.size()), 2) /
+                       (1024.0 * 1024 * 1024);
+    if (gib > 2.0)
       throw std::invalid_argument(
-          fmt::format("robust: the {} candidates touch {} poses, whose dense joint marginal would take "
+          fmt::format("robust: {}: its candidates touch {} poses, whose dense joint marginal would take "
                       "{:.1f} GiB (limit 2)",
-                      run.candidates.size(), map.ids.size(), bytes / (1024.0 * 1024 * 1024)));
-    say(fmt::format("joint marginals of the {} poses the candidates touch", map.ids.size()));
-    const auto t_m = core::Clock::now();
+                      robot_name(r), map.ids.size(), gib));
+    const auto t0 = core::Clock::now();
+    const auto local = merge::solve_local(run.odometry[static_cast<std::size_t>(r)], o.local);
+    run.odometry_time_s += core::seconds_since(t0);
+    say(fmt::format("joint marginals of the {} poses of {} that candidates touch", map.ids.size(),
+                    robot_name(r)));
+    const auto t1 = core::Clock::now();
+    map.poses = local.poses;
     map.joint = local.covariance->joint(map.ids);
-    run.marginals_time_s = core::seconds_since(t_m);
-    const std::size_t m = run.candidates.size();
-    say(fmt::format("consistency matrix ({} × {} loop errors, eq. 2.4, one map)", m, m));
-    const auto t_q = core::Clock::now();
-    pcm::ConsistencyOptions co;
-    co.composition = o.composition;
-    co.threads = o.threads;
-    run.q = pcm::consistency_matrix(map, run.candidates, co);
-    run.consistency_time_s = core::seconds_since(t_q);
-    run.gamma = pcm::consistency_threshold(o.p, run.q.dof);
-    say(fmt::format("maximum clique ({}, γ = {:.4g})", pcm::to_string(o.algorithm), run.gamma));
-    pcm::CliqueOptions clique;
-    clique.time_limit_s = o.time_limit_s;
-    run.selection = pcm::select_pcm(run.q, run.gamma, o.algorithm, clique);
-  } else {
-    run.q.dof = dof;
-    run.gamma = pcm::consistency_threshold(o.p, dof);
+    run.marginals_time_s += core::seconds_since(t1);
   }
 
-  run.selected = run.odometry;
-  for (const int k : run.selection.selected)
-    run.selected.edges.push_back(
-        input.edges[static_cast<std::size_t>(run.candidate_edges[static_cast<std::size_t>(k)])]);
-  say(fmt::format("certified solve of the odometry and {} selected loop closures",
-                  run.selection.selected.size()));
+  // Each group's Q (eq. 2.4), its threshold and its largest consistent set (eq. 2.5).
+  run.gamma = pcm::consistency_threshold(o.p, dof);
+  pcm::ConsistencyOptions co;
+  co.composition = o.composition;
+  co.threads = o.threads;
+  pcm::CliqueOptions clique;
+  clique.time_limit_s = o.time_limit_s;
+  for (auto& grp : run.groups) {
+    std::vector<pcm::InterRobotMeasurement<G>> cand;
+    for (const int k : grp.members) {
+      const auto& c = run.candidates[static_cast<std::size_t>(k)];
+      cand.push_back({c.pose_a, c.pose_b, c.z, c.covariance});
+    }
+    const auto& ma = maps[static_cast<std::size_t>(grp.robot_a)];
+    say(fmt::format("{}: consistency of {} candidates, then the largest consistent set ({})",
+                    grp.robot_a == grp.robot_b ? robot_name(grp.robot_a)
+                                               : robot_name(grp.robot_a) + " and " + robot_name(grp.robot_b),
+                    cand.size(), pcm::to_string(o.algorithm)));
+    const auto t0 = core::Clock::now();
+    grp.q = grp.robot_a == grp.robot_b
+                ? pcm::consistency_matrix(ma, cand, co)
+                : pcm::consistency_matrix(ma, maps[static_cast<std::size_t>(grp.robot_b)], cand, co);
+    grp.consistency_time_s = core::seconds_since(t0);
+    run.consistency_time_s += grp.consistency_time_s;
+    grp.selection = pcm::select_pcm(grp.q, run.gamma, o.algorithm, clique);
+    run.selection_time_s += grp.selection.time_s;
+    for (const int s : grp.selection.selected)
+      run.candidates[static_cast<std::size_t>(grp.members[static_cast<std::size_t>(s)])].kept = true;
+    for (std::size_t u = 0; u < grp.members.size(); ++u) {
+      int against = 0;
+      for (const int s : grp.selection.selected)
+        if (grp.q.at(static_cast<int>(u), s) > run.gamma || grp.q.at(s, static_cast<int>(u)) > run.gamma)
+          ++against;
+      run.candidates[static_cast<std::size_t>(grp.members[u])].inconsistent_with_kept = against;
+    }
+    run.kept += static_cast<int>(grp.selection.selected.size());
+  }
+
+  // Every robot must be joined to robot 0 by kept inter-robot closures, or there is no common frame.
+  std::vector<int> parent(static_cast<std::size_t>(R));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](int r) {
+    while (parent[static_cast<std::size_t>(r)] != r) r = parent[static_cast<std::size_t>(r)];
+    return r;
+  };
+  for (const auto& c : run.candidates)
+    if (c.kept) parent[static_cast<std::size_t>(root(c.robot_b))] = root(c.robot_a);
+  for (int r = 1; r < R; ++r)
+    if (root(r) != root(0))
+      throw std::invalid_argument(
+          fmt::format("robust: no kept inter-robot closure joins {} to robot 0, so the robots have no common "
+                      "frame ({} of {} "
+                      "candidates kept)",
+                      robot_name(r), run.kept, run.candidates.size()));
+
+  // All odometry and the kept closures, as the inputs gave them (ids moved by the robots' offsets).
+  for (int r = 0; r < R; ++r) {
+    const auto off = run.offsets[static_cast<std::size_t>(r)];
+    const Graph& odo = run.odometry[static_cast<std::size_t>(r)];
+    run.selected.poses.insert(run.selected.poses.end(), odo.poses.begin(), odo.poses.end());
+    for (auto e : odo.edges) {
+      e.i += off;
+      e.j += off;
+      run.selected.edges.push_back(e);
+    }
+  }
+  run.selected.has_initial_poses =
+      std::all_of(robots.begin(), robots.end(), [](const Graph& g) { return g.has_initial_poses; });
+  run.selected.source = R == 1 ? robots[0].source : std::string();
+  for (const auto& c : run.candidates) {
+    if (!c.kept) continue;
+    if (c.source < 0) {
+      run.selected.edges.push_back(inter[static_cast<std::size_t>(c.edge)]);
+    } else {
+      auto e = robots[static_cast<std::size_t>(c.source)].edges[static_cast<std::size_t>(c.edge)];
+      e.i += run.offsets[static_cast<std::size_t>(c.source)];
+      e.j += run.offsets[static_cast<std::size_t>(c.source)];
+      run.selected.edges.push_back(e);
+    }
+  }
+  say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
   run.solved = solve_certified(run.selected, Certified{o.solve});
   return run;
 }
@@ -121,11 +280,13 @@ void RobustOptions::validate() const {
   solve.validate();
 }
 
-RobustRun2 robust(const graph::PoseGraph2D& graph, const RobustOptions& options, const Progress& progress) {
-  return robust_impl<lie::SE2>(graph, options, progress);
+RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots, const std::vector<graph::Edge2>& inter_robot,
+                  const RobustOptions& options, const Progress& progress) {
+  return robust_impl<lie::SE2>(robots, inter_robot, options, progress);
 }
-RobustRun3 robust(const graph::PoseGraph3D& graph, const RobustOptions& options, const Progress& progress) {
-  return robust_impl<lie::SE3>(graph, options, progress);
+RobustRun3 robust(const std::vector<graph::PoseGraph3D>& robots, const std::vector<graph::Edge3>& inter_robot,
+                  const RobustOptions& options, const Progress& progress) {
+  return robust_impl<lie::SE3>(robots, inter_robot, options, progress);
 }
 
 }  // namespace keel::app

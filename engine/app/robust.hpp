@@ -1,10 +1,13 @@
-// keel::app — a robust back end for one robot's graph (the single-robot case of Kimera-RPGO): its odometry
-// (every edge between consecutive poses, i → i + 1) is trusted and every other edge is a candidate loop
-// closure. The candidates' pairwise consistency is measured in the odometry map with the joint marginals
-// (thesis eq. 2.4; the one-map form of pcm::consistency_matrix, whose two relative poses per loop are
-// correlated), the largest consistent set is selected (eq. 2.5), and the odometry with the selected closures
-// is solved by the certified solver (app::solve_certified), whose certificate or proven gap comes with the
-// answer.
+// keel::app — a robust back end for one or several robots (Kimera-RPGO's setting, with the thesis's
+// guarantees): each robot's odometry (every edge between consecutive poses, i → i + 1, of its own graph) is
+// trusted, and every other edge is a candidate loop closure: a robot's own non-consecutive edges
+// (intra-robot) and the inter-robot candidates given apart. Candidates are grouped by the robots they join
+// (one group per robot and per pair of robots); in each group their pairwise consistency is measured in the
+// robots' odometry maps with the joint marginals (thesis eq. 2.4: two maps for a pair of robots,
+// pcm::consistency_matrix; one map, whose two relative poses per loop are correlated, for a robot's own
+// closures) and the largest consistent set is selected (eq. 2.5). All robots' odometry and the kept closures
+// are then solved together by the certified solver (app::solve_certified), whose certificate or proven gap
+// comes with the answer.
 #pragma once
 
 #include <vector>
@@ -25,38 +28,68 @@ struct RobustOptions {
       0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
   pcm::Composition composition = pcm::Composition::joint;  // the relative poses from the joint marginals
   pcm::CliqueAlgorithm algorithm = pcm::CliqueAlgorithm::exact;
-  double time_limit_s = 0.0;  // exact clique search limit (s, >= 0); 0: none (the result says if it stopped)
-  merge::LocalSolveOptions local;  // the odometry map's solve (odometry initial guess, pose 0 fixed)
-  pgo::CertifiedOptions solve;     // the certified solve of the odometry and the selected closures
-  unsigned threads = 1;            // consistency matrix; 0 = keel::core::default_threads()
+  double time_limit_s = 0.0;  // per group's exact clique search (s, >= 0); 0: none (the result says if it
+                              // stopped)
+  merge::LocalSolveOptions local;  // each robot's odometry map (odometry initial guess, pose 0 fixed)
+  pgo::CertifiedOptions solve;     // the certified solve of all odometry and the kept closures
+  unsigned threads = 1;            // consistency matrices; 0 = keel::core::default_threads()
   // Throws std::invalid_argument naming the field (including the nested options' own checks).
   void validate() const;
 };
 
+/// One candidate loop closure: z ≈ (T^{robot_a}_{pose_a})⁻¹ T^{robot_b}_{pose_b}, robot_a ≤ robot_b (an
+/// inter-robot candidate given the other way round is inverted), poses local to their robots.
+template <class G>
+struct RobustCandidate {
+  int robot_a = 0, pose_a = 0, robot_b = 0, pose_b = 0;
+  int source = -1;  // r: an edge of robot r's graph; −1: the inter-robot candidate list
+  int edge = 0;     // index of that edge in its source
+  int line = 0;     // its source line (0 when built in memory)
+  int group = 0;    // index into RobustRun::groups
+  G z;
+  typename G::Jacobian covariance;  // of the left perturbation of z (pcm::left_covariance_from_information)
+  bool kept = false;
+  int inconsistent_with_kept =
+      0;  // kept candidates of its group it is inconsistent with (q above γ either way)
+};
+
+/// The candidates joining one robot (robot_a == robot_b) or one pair of robots, and their selection.
+struct RobustGroup {
+  int robot_a = 0, robot_b = 0;
+  std::vector<int> members;  // indices into RobustRun::candidates, in the order of Q
+  pcm::ConsistencyMatrix q;
+  pcm::Selection selection;  // indices into `members`; selection.search holds the clique search
+  double consistency_time_s = 0.0;
+};
+
 template <class G>
 struct RobustRun {
-  RobustOptions options;             // what the run was asked
-  graph::PoseGraphOf<G> odometry;    // the trusted chain: the input's poses and its edges i → i + 1
-  std::vector<int> candidate_edges;  // candidate k is the input's edge candidate_edges[k]
-  std::vector<pcm::InterRobotMeasurement<G>> candidates;  // pose_a = i, pose_b = j of that edge
-  pcm::ConsistencyMatrix q;                               // n = 0 when the graph has no loop closure
+  RobustOptions options;                        // what the run was asked
+  std::vector<int> offsets;                     // robot r's pose k is pose offsets[r] + k of the solved graph
+  std::vector<graph::PoseGraphOf<G>> odometry;  // per robot: its poses and odometry edges
+  std::vector<RobustCandidate<G>> candidates;   // robots' own closures (robot by robot), then the list's
+  std::vector<RobustGroup> groups;              // nonempty groups: each robot's own, then pairs (a < b)
   double gamma = 0.0;
-  pcm::Selection selection;        // selection.search holds the clique search (status, bound)
-  graph::PoseGraphOf<G> selected;  // the odometry and the selected closures, as the input gave them
-  CertifiedSolution<graph::PoseGraphOf<G>>
-      solved;  // `selected` solved with its certificate (app::solve_certified)
-  double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0;
+  int kept = 0;                    // candidates kept, over all groups
+  graph::PoseGraphOf<G> selected;  // all odometry and the kept closures, robots' poses one after another
+  CertifiedSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
+  double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0, selection_time_s = 0.0;
 };
 using RobustRun2 = RobustRun<lie::SE2>;
 using RobustRun3 = RobustRun<lie::SE3>;
 
-/// The pipeline above. Throws std::invalid_argument for invalid options, a graph whose odometry does not
-/// chain every pose (pose k without an edge from k − 1, naming k), a loop closure whose information is not
-/// positive definite (naming its line), or a candidate set whose joint marginal would not fit in memory
-/// (dense, (dof · poses touched)² numbers: over 2 GiB); std::runtime_error when a solve fails.
-[[nodiscard]] RobustRun2 robust(const graph::PoseGraph2D& graph, const RobustOptions& options = {},
-                                const Progress& progress = {});
-[[nodiscard]] RobustRun3 robust(const graph::PoseGraph3D& graph, const RobustOptions& options = {},
-                                const Progress& progress = {});
+/// The pipeline above on `robots` (one graph each, at least one) and `inter_robot` candidates whose ids are
+/// global: robot r's pose k is id offsets[r] + k, the robots' poses numbered one after another in the order
+/// given. Throws std::invalid_argument for invalid options, a robot whose odometry does not chain every pose
+/// (naming the robot and the pose), a candidate id beyond the last robot's poses or a loop closure whose
+/// information is not positive definite (naming the candidate and its line), robots that no kept closure
+/// joins (naming one), or a group whose dense joint marginal would not fit in memory ((dof · poses touched)²
+/// numbers over 2 GiB); std::runtime_error when a solve fails.
+[[nodiscard]] RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots,
+                                const std::vector<graph::Edge2>& inter_robot = {},
+                                const RobustOptions& options = {}, const Progress& progress = {});
+[[nodiscard]] RobustRun3 robust(const std::vector<graph::PoseGraph3D>& robots,
+                                const std::vector<graph::Edge3>& inter_robot = {},
+                                const RobustOptions& options = {}, const Progress& progress = {});
 
 }  // namespace keel::app

@@ -54,25 +54,28 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
     for (const double p : {0.11, 0.01}) {
       app::RobustOptions o;
       o.p = p;
-      const auto run = app::robust(g, o);
-      CHECK(static_cast<int>(run.odometry.edges.size()) == n - 1);
+      const auto run = app::robust({g}, {}, o);
+      CHECK(static_cast<int>(run.odometry[0].edges.size()) == n - 1);
       REQUIRE(static_cast<int>(run.candidates.size()) == true_closures + 15);
+      REQUIRE(run.groups.size() == 1);
+      const auto& Q = run.groups[0].q;
       // The true closures' pairs: q calibrated to χ²(3) (mean ≈ 3), so about a share p above γ.
       int above = 0, pairs = 0;
       double mean = 0.0;
       for (int u = 0; u < true_closures; ++u)
         for (int v = 0; v < true_closures; ++v)
-          if (u != v) ++pairs, above += run.q.at(u, v) > run.gamma ? 1 : 0, mean += run.q.at(u, v);
+          if (u != v) ++pairs, above += Q.at(u, v) > run.gamma ? 1 : 0, mean += Q.at(u, v);
       mean /= pairs;
-      // Candidate k is the input's edge candidate_edges[k]; the true closures come first in the input.
+      // Candidate k is the input's edge c.edge; the true closures come first in the input.
       int kept_true = 0, kept_wrong = 0;
-      for (const int k : run.selection.selected) {
-        const auto& e = g.edges[static_cast<std::size_t>(run.candidate_edges[static_cast<std::size_t>(k)])];
-        CHECK(run.candidates[static_cast<std::size_t>(k)].pose_a == e.i);
-        CHECK(run.candidates[static_cast<std::size_t>(k)].pose_b == e.j);
-        (run.candidate_edges[static_cast<std::size_t>(k)] < n - 1 + true_closures ? kept_true : kept_wrong) +=
-            1;
+      for (const auto& c : run.candidates) {
+        const auto& e = g.edges[static_cast<std::size_t>(c.edge)];
+        CHECK(c.source == 0);
+        CHECK(c.pose_a == e.i);
+        CHECK(c.pose_b == e.j);
+        if (c.kept) (c.edge < n - 1 + true_closures ? kept_true : kept_wrong) += 1;
       }
+      CHECK(kept_true + kept_wrong == run.kept);
       MESSAGE("seed " << seed << ", p " << p << ": true pairs above γ " << above << " of " << pairs
                       << ", mean q " << mean << "; kept " << kept_true << " of " << true_closures
                       << " true closures, " << kept_wrong << " of 15 wrong ones");
@@ -80,8 +83,8 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
       CHECK(above < 2.0 * p * pairs);
       CHECK(kept_wrong == 0);
       if (p == 0.01) CHECK(kept_true >= 0.8 * true_closures);
-      CHECK(run.selection.proven_optimal());
-      CHECK(run.selected.edges.size() == run.odometry.edges.size() + run.selection.selected.size());
+      CHECK(run.groups[0].selection.proven_optimal());
+      CHECK(run.selected.edges.size() == run.odometry[0].edges.size() + static_cast<std::size_t>(run.kept));
       CHECK(run.solved.summary.certificate.certified);
       // The answer is the certified solve of exactly the odometry and the kept closures.
       const auto direct = pgo::solve_certified(run.selected);
@@ -92,19 +95,99 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
 
 TEST_CASE("app::robust: no loop closure, a broken chain and bad options") {
   auto syn = sim::testing::square_laps<lie::SE2>(1, 2, 5, true, true);
-  const auto run = app::robust(syn.graph);  // one lap: no closure i → i + 40
+  const auto run = app::robust({syn.graph});  // one lap: no closure i → i + 40
   CHECK(run.candidates.empty());
-  CHECK(run.selection.selected.empty());
+  CHECK(run.groups.empty());
+  CHECK(run.kept == 0);
   CHECK(run.solved.summary.certificate.certified);
 
   auto broken = syn.graph;
   broken.edges.erase(broken.edges.begin() + 7);  // 7 → 8
-  CHECK(contains(message_of([&] { (void)app::robust(broken); }), "pose 8 has no odometry edge from pose 7"));
+  CHECK(
+      contains(message_of([&] { (void)app::robust({broken}); }), "pose 8 has no odometry edge from pose 7"));
 
   app::RobustOptions o;
   o.p = 1.5;
-  CHECK(contains(message_of([&] { (void)app::robust(syn.graph, o); }), "p must be in (0, 1)"));
+  CHECK(contains(message_of([&] { (void)app::robust({syn.graph}, {}, o); }), "p must be in (0, 1)"));
   o = {};
   o.time_limit_s = -1;
-  CHECK(contains(message_of([&] { (void)app::robust(syn.graph, o); }), "time_limit_s"));
+  CHECK(contains(message_of([&] { (void)app::robust({syn.graph}, {}, o); }), "time_limit_s"));
+}
+
+// The same laps as two robots: poses 0–59 and 60–119, each with its own odometry and closures, and every edge
+// between the halves (the odometry edge 59 → 60, true and wrong closures) an inter-robot candidate whose
+// global ids are the original ones.
+TEST_CASE("app::robust on two robots: groups, global ids, orientation and the common frame") {
+  int true_closures = 0;
+  const auto g = laps_with_outliers(15, 3, &true_closures);
+  const int n = static_cast<int>(g.poses.size()), half = n / 2;
+  graph::PoseGraph2D a, b;
+  a.poses.assign(g.poses.begin(), g.poses.begin() + half);
+  b.poses.assign(g.poses.begin() + half, g.poses.end());
+  a.has_initial_poses = b.has_initial_poses = true;
+  std::vector<graph::Edge2> inter;
+  std::vector<bool> inter_true;
+  for (std::size_t k = 0; k < g.edges.size(); ++k) {
+    auto e = g.edges[k];
+    const bool truth = static_cast<int>(k) < n - 1 + true_closures;
+    if (e.i < half && e.j < half) {
+      a.edges.push_back(e);
+    } else if (e.i >= half && e.j >= half) {
+      e.i -= half, e.j -= half;
+      b.edges.push_back(e);
+    } else {
+      inter.push_back(e);
+      inter_true.push_back(truth);
+    }
+  }
+  REQUIRE(inter.size() > 5);
+  app::RobustOptions o;
+  o.p = 0.01;
+  const auto run = app::robust({a, b}, inter, o);
+  CHECK(run.offsets == std::vector<int>{0, half});
+  REQUIRE(run.groups.size() == 3);  // robot 0's own, robot 1's own, the pair
+  CHECK((run.groups[0].robot_a == 0 && run.groups[0].robot_b == 0));
+  CHECK((run.groups[1].robot_a == 1 && run.groups[1].robot_b == 1));
+  CHECK((run.groups[2].robot_a == 0 && run.groups[2].robot_b == 1));
+  int kept_wrong = 0, kept_true_inter = 0;
+  for (const auto& c : run.candidates) {
+    if (c.source != -1) continue;
+    const auto& e = inter[static_cast<std::size_t>(c.edge)];
+    // Oriented from robot 0 to robot 1, poses local.
+    CHECK(c.robot_a == 0);
+    CHECK(c.robot_b == 1);
+    CHECK(c.pose_a == std::min(e.i, e.j));
+    CHECK(c.pose_b == std::max(e.i, e.j) - half);
+    if (c.kept) (inter_true[static_cast<std::size_t>(c.edge)] ? kept_true_inter : kept_wrong) += 1;
+  }
+  MESSAGE("inter-robot: kept " << kept_true_inter << " true, " << kept_wrong << " wrong of " << inter.size());
+  CHECK(kept_wrong == 0);
+  CHECK(kept_true_inter >= 1);
+  CHECK(run.solved.summary.certificate.certified);
+  CHECK(run.selected.poses.size() == g.poses.size());
+
+  // A candidate given the other way round (robot 1 → robot 0, z⁻¹ with its information moved) is the same
+  // candidate: the same selection, and q equal to first order.
+  auto flipped = inter;
+  for (auto& e : flipped) {
+    const lie::Mat3 Ad = e.measurement.adjoint();  // r' = ρ((z⁻¹)⁻¹ T_j⁻¹ T_i) = −Ad(z) r to first order
+    e.information = Ad.inverse().transpose() * e.information * Ad.inverse();
+    e.information = 0.5 * (e.information + e.information.transpose()).eval();
+    e.measurement = e.measurement.inverse();
+    std::swap(e.i, e.j);
+  }
+  const auto run_flipped = app::robust({a, b}, flipped, o);
+  for (std::size_t k = 0; k < run.candidates.size(); ++k)
+    CHECK(run.candidates[k].kept == run_flipped.candidates[k].kept);
+  const auto &q1 = run.groups[2].q, &q2 = run_flipped.groups[2].q;
+  for (std::size_t k = 0; k < q1.q.size(); ++k)
+    CHECK(q2.q[k] == doctest::Approx(q1.q[k]).epsilon(1e-6).scale(1.0));
+
+  // Robots that no kept closure joins have no common frame.
+  CHECK(contains(message_of([&] { (void)app::robust({a, b}, {}, o); }),
+                 "no kept inter-robot closure joins robot 1"));
+  auto far = inter;
+  far[0].j = n;  // one past the last pose
+  CHECK(contains(message_of([&] { (void)app::robust({a, b}, far, o); }),
+                 "inter-robot candidate 0: id 120 is not a pose"));
 }

@@ -18,6 +18,7 @@ import keel.app;
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tool_common.hpp"
@@ -28,29 +29,30 @@ namespace {
 
 struct RobustArgs {
   Common common;
-  std::string file, out, report;
+  std::vector<std::string> files;
+  std::string candidates, out, report;
   double p = 0.11;
   std::string composition = "joint", algorithm = "exact";
   double time_limit_s = 0.0;
   unsigned threads = 1;
 };
 
-template <class Graph>
-void robust_file(const RobustArgs& args, const Graph& g, const Stages& stage, app::Outputs& outputs,
-                 graph::GraphFormat format) {
+template <class Graph, class Edge>
+void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, const std::vector<Edge>& inter,
+                  const Stages& stage, app::Outputs& outputs, graph::GraphFormat format) {
   app::RobustOptions o;
   o.p = args.p;
   o.composition = pcm::composition_from_string(args.composition);
   o.algorithm = pcm::clique_algorithm_from_string(args.algorithm);
   o.time_limit_s = args.time_limit_s;
   o.threads = args.threads;
-  const auto run = app::robust(g, o, stage.progress());
+  const auto run = app::robust(robots, inter, o, stage.progress());
   const auto& s = run.solved.summary;
   const bool certified = s.certificate.certified;
-  const auto& search = run.selection.search;
   // The report is app's record of the run (the Python module's keel.robust gives the same fields).
   json j = record_json(run);
-  j["file"] = args.file;
+  j["files"] = args.files;
+  j["candidates_file"] = args.candidates.empty() ? json(nullptr) : json(args.candidates);
   // Outputs are written only on exit 0 (a certified answer), all or nothing (app::Outputs).
   if (certified) {
     if (!args.out.empty()) {
@@ -68,27 +70,36 @@ void robust_file(const RobustArgs& args, const Graph& g, const Stages& stage, ap
   if (args.common.json) {
     fmt::print("{}\n", j.dump(1));
   } else {
-    fmt::print("graph        {} ({} poses, {} odometry edges, {} candidate loop closures)\n", args.file,
-               g.poses.size(), run.odometry.edges.size(), run.candidates.size());
-    if (search) {
-      fmt::print("threshold    γ = {:.6g} (p = {}, χ²({}) tail), {} composition in the odometry map\n",
-                 run.gamma, args.p, run.q.dof, args.composition);
-      fmt::print("kept         {} of {} loop closures ({}, bound {}){}\n", run.selection.selected.size(),
-                 run.candidates.size(), core::to_string(search->status), search->upper_bound,
-                 search->proven_optimal() ? "" : ": not proven the largest consistent set");
+    for (std::size_t r = 0; r < robots.size(); ++r)
+      fmt::print("robot {:<6} {} ({} poses, {} odometry edges)\n", r, args.files[r], robots[r].poses.size(),
+                 run.odometry[r].edges.size());
+    fmt::print("threshold    γ = {:.6g} (p = {}, χ²({}) tail), {} composition in the odometry maps\n",
+               run.gamma, args.p, s.dimension == 2 ? 3 : 6, args.composition);
+    for (const auto& grp : run.groups) {
+      const auto& search = *grp.selection.search;
+      fmt::print("kept         {} of {} {} ({}, bound {}){}\n", grp.selection.selected.size(),
+                 grp.members.size(),
+                 grp.robot_a == grp.robot_b
+                     ? fmt::format("loop closures of robot {}", grp.robot_a)
+                     : fmt::format("closures between robots {} and {}", grp.robot_a, grp.robot_b),
+                 core::to_string(search.status), search.upper_bound,
+                 search.proven_optimal() ? "" : ": not proven the largest consistent set");
     }
-    print_certified_summary(args.file, s, run.solved.anisotropic_cost);
+    if (run.groups.empty()) fmt::print("kept         no candidate loop closure was given\n");
+    print_certified_summary(args.files.size() == 1 ? args.files[0] : "the robots' graphs together", s,
+                            run.solved.anisotropic_cost);
     fmt::print(
-        "times        odometry {:.3f} s, marginals {:.3f} s, Q {:.3f} s, clique {:.3f} s, certified solve "
+        "times        odometry {:.3f} s, marginals {:.3f} s, Q {:.3f} s, cliques {:.3f} s, certified solve "
         "{:.3f} s\n",
-        run.odometry_time_s, run.marginals_time_s, run.consistency_time_s, run.selection.time_s,
+        run.odometry_time_s, run.marginals_time_s, run.consistency_time_s, run.selection_time_s,
         s.total_time_s);
     if (!args.out.empty() && certified) fmt::print("written      {}\n", args.out);
     if (!args.report.empty() && certified) fmt::print("written      {}\n", args.report);
   }
   if (!certified)
-    throw CommandFailed(fmt::format("not certified: {}{}", s.message,
-                                    args.out.empty() && args.report.empty() ? "" : " (no output written)"));
+    throw CommandFailed(
+        fmt::format("{}{}{}", s.message.starts_with("not certified") ? "" : "not certified: ", s.message,
+                    args.out.empty() && args.report.empty() ? "" : " (no output written)"));
 }
 
 void run_robust(const RobustArgs& args) {
@@ -105,30 +116,56 @@ void run_robust(const RobustArgs& args) {
     o.validate();
   });
   const Stages stage("robust", args.common.quiet);
-  app::Outputs outputs({{"file", args.file}});
+  std::vector<std::pair<std::string, std::filesystem::path>> inputs;
+  for (const auto& f : args.files) inputs.emplace_back("GRAPH", f);
+  if (!args.candidates.empty()) inputs.emplace_back("--candidates", args.candidates);
+  app::Outputs outputs(inputs);
   if (!args.out.empty()) outputs.file("--out", args.out, app::OutputKind::graph());
   if (!args.report.empty()) outputs.file("--report", args.report, app::OutputKind::json());
-  stage(fmt::format("reading {}", args.file));
-  const app::GraphInput input = app::read_graph_input(args.file);
+  stage(fmt::format("reading {}{}", fmt::join(args.files, ", "),
+                    args.candidates.empty() ? "" : " and " + args.candidates));
   const auto ext = std::filesystem::path(args.out).extension();
   const auto format = ext == ".txt" ? graph::GraphFormat::isam : graph::GraphFormat::g2o;
-  std::visit([&](const auto& g) { robust_file(args, g, stage, outputs, format); }, input.graph);
+  // The first graph decides the dimension; the others and the candidates are read as that.
+  const app::GraphInput first = app::read_graph_input(args.files[0]);
+  if (const auto* g2 = std::get_if<graph::PoseGraph2D>(&first.graph)) {
+    std::vector<graph::PoseGraph2D> robots{*g2};
+    for (std::size_t r = 1; r < args.files.size(); ++r)
+      robots.push_back(graph::read_pose_graph_2d(args.files[r]));
+    robust_files(
+        args, robots,
+        args.candidates.empty() ? std::vector<graph::Edge2>{} : graph::read_g2o_edges_2d(args.candidates),
+        stage, outputs, format);
+  } else {
+    std::vector<graph::PoseGraph3D> robots{std::get<graph::PoseGraph3D>(first.graph)};
+    for (std::size_t r = 1; r < args.files.size(); ++r)
+      robots.push_back(graph::read_pose_graph_3d(args.files[r]));
+    robust_files(
+        args, robots,
+        args.candidates.empty() ? std::vector<graph::Edge3>{} : graph::read_g2o_edges_3d(args.candidates),
+        stage, outputs, format);
+  }
 }
 
 }  // namespace
 
 void add_robust_command(CLI::App& app) {
   auto a = std::make_shared<RobustArgs>();
-  auto* c = app.add_subcommand("robust",
-                               "one robot's graph with wrong loop closures: keep the largest "
-                               "pairwise-consistent set (PCM, thesis ch. 2) "
-                               "and solve with a global-optimality certificate");
+  auto* c =
+      app.add_subcommand("robust",
+                         "one or several robots' graphs with wrong loop closures: keep the largest "
+                         "pairwise-consistent set (PCM, thesis ch. 2) and solve with a global-optimality "
+                         "certificate");
   c->group("Your data");
   c->add_option(
-       "file", a->file,
-       "the graph (g2o or iSAM, 2D or 3D): edges i → i + 1 are the trusted odometry, every other edge "
-       "a candidate loop closure")
+       "graphs", a->files,
+       "one graph per robot (g2o or iSAM, 2D or 3D): edges i → i + 1 are the robot's trusted odometry, "
+       "every other edge a candidate loop closure")
       ->required();
+  c->add_option(
+      "--candidates", a->candidates,
+      "inter-robot candidate loop closures: g2o edges whose ids are global (robot r's pose k is k plus "
+      "the poses of the robots before it, in the order given)");
   c->add_option("--p", a->p, "χ² tail probability of the consistency threshold γ (thesis PCM-Exact-11 %)")
       ->capture_default_str();
   c->add_option("--composition", a->composition, "joint (with the joint marginals) or independent")

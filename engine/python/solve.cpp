@@ -15,6 +15,7 @@
 #include "app/robust.hpp"
 #include "app/solve.hpp"
 #include "bindings.hpp"
+#include "candidates.hpp"
 #include "cov/marginal_covariance.hpp"
 #include "pgo/optimize.hpp"
 
@@ -516,8 +517,9 @@ ValueError.)doc");
 
   m.def(
       "robust",
-      [](const py::object& g, double p, const std::string& composition, const std::string& algorithm,
-         const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
+      [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
+         const std::string& algorithm, const std::optional<double>& time_limit_s,
+         unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
         o.composition = pcm::composition_from_string(composition);
@@ -531,38 +533,71 @@ ValueError.)doc");
         }
         o.threads = threads;
         o.validate();  // ValueError before any work
-        auto run_on = [&](const auto& graph) {
-          std::optional<std::decay_t<decltype(app::robust(graph, o))>> run;
+        // One graph or a list of graphs, all 2D or all 3D; candidates None or a keel.Candidates of that
+        // dimension.
+        const py::list list = py::isinstance<py::list>(graphs) || py::isinstance<py::tuple>(graphs)
+                                  ? py::list(graphs)
+                                  : py::list(py::make_tuple(graphs));
+        if (list.empty()) throw py::value_error("robust: no robot's graph given");
+        auto run_on = [&](auto tag) {
+          using Graph = decltype(tag);
+          using Edge = std::decay_t<decltype(Graph{}.edges[0])>;
+          std::vector<Graph> robots;
+          for (std::size_t r = 0; r < list.size(); ++r) {
+            if (!py::isinstance<Graph>(list[r]))
+              throw py::type_error(fmt::format("robust: graphs[{}] is a {}, the first a {}", r,
+                                               type_name(list[r]), type_name(list[0])));
+            robots.push_back(list[r].cast<const Graph&>());
+          }
+          std::vector<Edge> inter;
+          if (!candidates.is_none()) {
+            if (!py::isinstance<Candidates>(candidates))
+              throw py::type_error(fmt::format(
+                  "robust: candidates must be a keel.Candidates or None (got {})", type_name(candidates)));
+            const auto& c = candidates.cast<const Candidates&>();
+            const auto* e = std::get_if<std::vector<Edge>>(&c.edges);
+            if (e == nullptr)
+              throw py::value_error(fmt::format("robust: the candidates are {}D, the graphs {}D", c.dim(),
+                                                std::is_same_v<Graph, PoseGraph2D> ? 2 : 3));
+            inter = *e;
+          }
+          std::optional<std::decay_t<decltype(app::robust(robots, inter, o))>> run;
           {
             py::gil_scoped_release release;
-            run = app::robust(graph, o);
+            run = app::robust(robots, inter, o);
           }
           py::dict d = record_dict(*run);
           d["solution"] = poses_to_array(run->solved.graph.poses);
           d["graph"] = py::cast(run->solved.graph);
           return d;
         };
-        if (py::isinstance<PoseGraph2D>(g)) return run_on(g.cast<const PoseGraph2D&>());
-        if (py::isinstance<PoseGraph3D>(g)) return run_on(g.cast<const PoseGraph3D&>());
-        throw py::type_error("robust: graph must be a keel.Graph2D or keel.Graph3D");
+        if (py::isinstance<PoseGraph2D>(list[0])) return run_on(PoseGraph2D{});
+        if (py::isinstance<PoseGraph3D>(list[0])) return run_on(PoseGraph3D{});
+        throw py::type_error("robust: graphs must be a keel.Graph2D or keel.Graph3D, or a list of them");
       },
-      py::arg("graph"), py::arg("p") = 0.11, py::arg("composition") = "joint", py::arg("algorithm") = "exact",
-      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
-One robot's graph with wrong loop closures, as `keel robust FILE` (app::robust; same inputs give the same
-numbers): the edges between consecutive poses are trusted odometry, every other edge a candidate loop closure;
-the candidates' pairwise consistency in the odometry map (thesis eq. 2.4 with the joint marginals), the largest
-consistent set (exact maximum clique, or 'heuristic'), then the certified solve of the odometry and the kept
-closures.
+      py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
+      py::arg("composition") = "joint", py::arg("algorithm") = "exact", py::arg("time_limit_s") = py::none(),
+      py::arg("threads") = 1, R"doc(
+One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
+(app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
+odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
+k is k plus the poses of the robots before it) are candidate loop closures. Per group (a robot's own closures, or
+a pair of robots') the pairwise consistency in the odometry maps (thesis eq. 2.4 with the joint marginals) and
+the largest consistent set (exact maximum clique, or 'heuristic'), then the certified solve of all odometry and the
+kept closures.
+  graphs        a keel.Graph2D / Graph3D, or a list of them (one per robot, all of one dimension)
+  candidates    None or a keel.Candidates (inter-robot), of the graphs' dimension
   p             chi-square tail probability of the threshold gamma, in (0, 1) (thesis PCM-Exact-11 %)
   composition   'joint' or 'independent' (the relative poses' cross-covariances dropped)
   algorithm     'exact' or 'heuristic'
-  time_limit_s  exact clique search limit in seconds (> 0), None for none
-  threads       threads for the consistency matrix (the result does not depend on it)
-Returns a dict with the fields of `keel robust --json` but 'file' (poses, odometry_edges, candidates, kept, p,
-gamma, dof, composition, algorithm, clique, times_s, anisotropic_cost, certificate, candidate_list) and, beside
-them, 'solution' (the (n, 3) or (n, 7) estimate) and 'graph' (the solved graph: the odometry and the kept
-closures). Unlike the command, nothing is refused when the answer is not certified: read
-d['certificate']['certified']. An odometry that does not chain every pose raises ValueError naming the pose.)doc");
+  time_limit_s  each group's exact clique search limit in seconds (> 0), None for none
+  threads       threads for the consistency matrices (the result does not depend on it)
+Returns a dict with the fields of `keel robust --json` but 'files' and 'candidates_file' (robots, poses,
+odometry_edges, candidates, kept, p, gamma, dof, composition, algorithm, groups, times_s, anisotropic_cost,
+certificate, candidate_list) and, beside them, 'solution' (the (n, 3) or (n, 7) estimate of all robots' poses,
+one robot after another) and 'graph' (the solved graph: all odometry and the kept closures). Unlike the command,
+nothing is refused when the answer is not certified: read d['certificate']['certified']. An odometry that does
+not chain every pose, or robots that no kept closure joins, raise ValueError naming the robot.)doc");
 
   py::class_<cov::MarginalCovariance>(m, "MarginalCovariance", R"doc(
 The factorized information matrix of a graph at given poses (keel::cov::MarginalCovariance), to query joint

@@ -80,6 +80,7 @@ class RobustCommand(unittest.TestCase):
             self.assertEqual(json.load(f), j)
         self.assertEqual(j["poses"], 3 * LAP)
         self.assertEqual(j["odometry_edges"], 3 * LAP - 1)
+        self.assertEqual(j["robots"], 1)
         cands = j["candidate_list"]
         self.assertEqual(len(cands), len(self.truth))
         kept_true = sum(c["kept"] and t for c, t in zip(cands, self.truth))
@@ -92,8 +93,10 @@ class RobustCommand(unittest.TestCase):
                 self.assertEqual(c["inconsistent_with_kept"], 0)
             else:  # the clique is maximum, so a closure left out conflicts with a kept one
                 self.assertGreaterEqual(c["inconsistent_with_kept"], 1)
-        self.assertEqual(j["clique"]["status"], "optimal")
-        self.assertEqual(j["clique"]["size"], kept_true)
+        self.assertEqual(len(j["groups"]), 1)
+        self.assertEqual(j["groups"][0]["clique"]["status"], "optimal")
+        self.assertEqual(j["groups"][0]["clique"]["size"], kept_true)
+        self.assertEqual(j["files"], [self.graph])
         self.assertTrue(j["certificate"]["certified"])
         # The solved graph: the odometry and exactly the kept closures.
         with open(out) as f:
@@ -102,6 +105,50 @@ class RobustCommand(unittest.TestCase):
         kept_pairs = {(c["i"], c["j"]) for c in cands if c["kept"]}
         closures = {(int(e[1]), int(e[2])) for e in edges if abs(int(e[2]) - int(e[1])) != 1}
         self.assertEqual(closures, kept_pairs)
+
+    def test_two_robots_with_global_ids(self):
+        """The laps as two robots (poses 0-59 and 60-119) and the edges between them as inter-robot candidates with
+        global ids: the same closures are candidates, none wrong kept, the answer certified."""
+        half = 3 * LAP // 2
+        with open(self.graph) as f:
+            lines = f.read().splitlines()
+        verts = [ln for ln in lines if ln.startswith("VERTEX_SE2")]
+        edges = [ln.split() for ln in lines if ln.startswith("EDGE_SE2")]
+        a, b, inter = [], [], []
+        for e in edges:
+            i, j = int(e[1]), int(e[2])
+            if i < half and j < half:
+                a.append(" ".join(e))
+            elif i >= half and j >= half:
+                b.append(" ".join([e[0], str(i - half), str(j - half)] + e[3:]))
+            else:
+                inter.append(" ".join(e))
+        shifted = []
+        for v in verts[half:]:
+            f = v.split()
+            shifted.append(" ".join([f[0], str(int(f[1]) - half)] + f[2:]))
+        files = []
+        for name, vs, es in (("a.g2o", verts[:half], a), ("b.g2o", shifted, b), ("c.g2o", [], inter)):
+            files.append(os.path.join(self.dir.name, name))
+            with open(files[-1], "w") as f:
+                f.write("\n".join(vs + es) + "\n")
+        r = run("robust", files[0], files[1], "--candidates", files[2], "--p", "0.01", "--json", "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        j = json.loads(r.stdout)
+        self.assertEqual(j["robots"], 2)
+        self.assertEqual(j["poses"], 3 * LAP)
+        self.assertEqual([(g["robot_a"], g["robot_b"]) for g in j["groups"]], [(0, 0), (1, 1), (0, 1)])
+        self.assertEqual(j["candidates"], len(self.truth) + 1)  # the odometry edge between the halves as well
+        self.assertTrue(j["certificate"]["certified"])
+        by_pair = {}
+        for c in j["candidate_list"]:
+            gi = c["i"] + (half if c["robot_a"] == 1 else 0)
+            gj = c["j"] + (half if c["robot_b"] == 1 else 0)
+            by_pair[(gi, gj)] = c["kept"]
+        # The wrong closures (random pose pairs, appended last in the single-robot file) are not kept.
+        wrong = [(int(e[1]), int(e[2])) for e, t in zip(edges[3 * LAP - 1:], self.truth) if not t]
+        for i, j_ in wrong:
+            self.assertFalse(by_pair.get((min(i, j_), max(i, j_)), by_pair.get((i, j_), False)))
 
     def test_broken_chain_is_refused(self):
         with open(self.graph) as f:

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/timing.hpp"
+#include "cov/chain.hpp"
 
 namespace keel::app {
 
@@ -179,7 +180,8 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
                     robot_name(r)));
     const auto t1 = core::Clock::now();
     map.poses = local.poses;
-    map.joint = local.covariance->joint(map.ids);
+    // The odometry map is a chain: its joint marginal in closed form (cov/chain.hpp), H⁻¹ exactly.
+    map.joint = cov::chain_joint(run.odometry[static_cast<std::size_t>(r)], local.poses, map.ids);
     run.marginals_time_s += core::seconds_since(t1);
   }
 

@@ -6,12 +6,14 @@
 // no import of another facade. Consumers also import keel.lie (SE2, Mat6, ...) and keel.graph (PoseGraph2D,
 // readers) themselves.
 module;
+#include "cov/chain.hpp"
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
 export module keel.cov;
 
 export namespace keel::cov {
 // residuals and their Lie-algebra Jacobians
+using keel::cov::chain_joint;
 using keel::cov::EdgeLinearization2;
 using keel::cov::EdgeLinearization3;
 using keel::cov::LandmarkLinearization2;

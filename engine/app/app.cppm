@@ -76,10 +76,14 @@ using keel::app::score_selection;
 using keel::app::SelectionScore;
 // robust
 using keel::app::robust;
+using keel::app::robust_selector_from_string;
+using keel::app::RobustCandidate;
+using keel::app::RobustGroup;
 using keel::app::RobustOptions;
 using keel::app::RobustRun;
 using keel::app::RobustRun2;
 using keel::app::RobustRun3;
+using keel::app::RobustSelector;
 // records
 using keel::app::FieldWriter;
 using keel::app::proven_figures;

@@ -199,13 +199,15 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   w.number("gamma", r.gamma);
   w.integer("dof", G::DoF);
   w.text("composition", pcm::to_string(o.composition));
-  w.text("algorithm", pcm::to_string(o.algorithm));
+  w.text("selector", to_string(o.selector));
+  w.integer("exact_up_to", o.exact_up_to);
   w.records("groups", r.groups.size(), [&](std::size_t k, FieldWriter& g) {
     const RobustGroup& grp = r.groups[k];
     g.integer("robot_a", grp.robot_a);
     g.integer("robot_b", grp.robot_b);
     g.integer("candidates", static_cast<std::int64_t>(grp.members.size()));
     g.integer("kept", static_cast<std::int64_t>(grp.selection.selected.size()));
+    g.text("selector", to_string(grp.selector));
     const auto& search = *grp.selection.search;
     g.record("clique", [&](FieldWriter& c) {
       c.text("status", core::to_string(search.status));

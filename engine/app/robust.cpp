@@ -11,6 +11,7 @@
 #include <tuple>
 #include <utility>
 
+#include "core/names.hpp"
 #include "core/timing.hpp"
 #include "cov/chain.hpp"
 
@@ -199,17 +200,38 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       cand.push_back({c.pose_a, c.pose_b, c.z, c.covariance});
     }
     const auto& ma = maps[static_cast<std::size_t>(grp.robot_a)];
-    say(fmt::format("{}: consistency of {} candidates, then the largest consistent set ({})",
+    say(fmt::format("{}: consistency of {} candidates, then the largest consistent set",
                     grp.robot_a == grp.robot_b ? robot_name(grp.robot_a)
                                                : robot_name(grp.robot_a) + " and " + robot_name(grp.robot_b),
-                    cand.size(), pcm::to_string(o.algorithm)));
+                    cand.size()));
     const auto t0 = core::Clock::now();
     grp.q = grp.robot_a == grp.robot_b
                 ? pcm::consistency_matrix(ma, cand, co)
                 : pcm::consistency_matrix(ma, maps[static_cast<std::size_t>(grp.robot_b)], cand, co);
     grp.consistency_time_s = core::seconds_since(t0);
     run.consistency_time_s += grp.consistency_time_s;
-    grp.selection = pcm::select_pcm(grp.q, run.gamma, o.algorithm, clique);
+    grp.selector = o.selector != RobustSelector::automatic          ? o.selector
+                   : static_cast<int>(cand.size()) <= o.exact_up_to ? RobustSelector::exact
+                                                                    : RobustSelector::densest;
+    if (grp.selector == RobustSelector::densest) {
+      grp.selection = pcm::select_densest(grp.q, run.gamma);
+      // No search proves its size; the degeneracy bound of the consistency graph (max core + 1) bounds it.
+      const auto t1 = core::Clock::now();
+      const auto bound =
+          pcm::maximum_clique_heuristic(pcm::ConsistencyGraph::from_threshold(grp.q.n, grp.q.q, run.gamma));
+      pcm::CliqueResult r;
+      r.clique = grp.selection.selected;
+      r.upper_bound = bound.upper_bound;
+      r.status = static_cast<int>(r.clique.size()) == r.upper_bound ? core::SearchStatus::optimal
+                                                                    : core::SearchStatus::unproven;
+      grp.selection.search = r;
+      grp.selection.time_s += core::seconds_since(t1);
+    } else {
+      grp.selection = pcm::select_pcm(grp.q, run.gamma,
+                                      grp.selector == RobustSelector::exact ? pcm::CliqueAlgorithm::exact
+                                                                            : pcm::CliqueAlgorithm::heuristic,
+                                      clique);
+    }
     run.selection_time_s += grp.selection.time_s;
     for (const int s : grp.selection.selected)
       run.candidates[static_cast<std::size_t>(grp.members[static_cast<std::size_t>(s)])].kept = true;
@@ -272,7 +294,21 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
 
 }  // namespace
 
+namespace {
+constexpr core::NameTable<RobustSelector, 4> kSelectorNames{"app::RobustSelector",
+                                                            {{{RobustSelector::automatic, "auto"},
+                                                              {RobustSelector::exact, "exact"},
+                                                              {RobustSelector::heuristic, "heuristic"},
+                                                              {RobustSelector::densest, "densest"}}}};
+}  // namespace
+
+std::string_view to_string(RobustSelector s) { return kSelectorNames.name(s); }
+RobustSelector robust_selector_from_string(std::string_view text) { return kSelectorNames.parse(text); }
+
 void RobustOptions::validate() const {
+  if (exact_up_to < 1)
+    throw std::invalid_argument(
+        fmt::format("app::RobustOptions: exact_up_to must be >= 1 (got {})", exact_up_to));
   if (!(p > 0.0 && p < 1.0))
     throw std::invalid_argument(fmt::format("app::RobustOptions: p must be in (0, 1) (got {})", p));
   if (!(std::isfinite(time_limit_s) && time_limit_s >= 0.0))

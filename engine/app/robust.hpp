@@ -10,6 +10,7 @@
 // comes with the answer.
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include "app/progress.hpp"
@@ -23,11 +24,20 @@
 
 namespace keel::app {
 
+/// How each group's consistent set is chosen: the exact maximum clique (proven, or stopped at the time limit
+/// with its bound), the greedy heuristic (pcm::CliqueAlgorithm::heuristic), the densest-subgraph selector
+/// (pcm::select_densest, CLIPPER's relaxation; its bound the heuristic's degeneracy bound), or by size:
+/// exact up to RobustOptions::exact_up_to candidates in the group, densest beyond.
+enum class RobustSelector { automatic, exact, heuristic, densest };
+[[nodiscard]] std::string_view to_string(RobustSelector s);
+[[nodiscard]] RobustSelector robust_selector_from_string(std::string_view text);  // "auto" | "exact" | …
+
 struct RobustOptions {
   double p =
       0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
   pcm::Composition composition = pcm::Composition::joint;  // the relative poses from the joint marginals
-  pcm::CliqueAlgorithm algorithm = pcm::CliqueAlgorithm::exact;
+  RobustSelector selector = RobustSelector::automatic;
+  int exact_up_to = 2000;     // automatic: the exact clique for groups of at most this many candidates (>= 1)
   double time_limit_s = 0.0;  // per group's exact clique search (s, >= 0); 0: none (the result says if it
                               // stopped)
   merge::LocalSolveOptions local;  // each robot's odometry map (odometry initial guess, pose 0 fixed)
@@ -56,7 +66,8 @@ struct RobustCandidate {
 /// The candidates joining one robot (robot_a == robot_b) or one pair of robots, and their selection.
 struct RobustGroup {
   int robot_a = 0, robot_b = 0;
-  std::vector<int> members;  // indices into RobustRun::candidates, in the order of Q
+  RobustSelector selector = RobustSelector::exact;  // the one that chose (never automatic)
+  std::vector<int> members;                         // indices into RobustRun::candidates, in the order of Q
   pcm::ConsistencyMatrix q;
   pcm::Selection selection;  // indices into `members`; selection.search holds the clique search
   double consistency_time_s = 0.0;

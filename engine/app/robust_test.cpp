@@ -191,3 +191,30 @@ TEST_CASE("app::robust on two robots: groups, global ids, orientation and the co
   CHECK(contains(message_of([&] { (void)app::robust({a, b}, far, o); }),
                  "inter-robot candidate 0: id 120 is not a pose"));
 }
+
+TEST_CASE("app::robust's selectors: auto by group size, densest bounded, names round-trip") {
+  int true_closures = 0;
+  const auto g = laps_with_outliers(15, 3, &true_closures);
+  app::RobustOptions o;
+  o.p = 0.01;
+  const auto exact = app::robust({g}, {}, o);  // 55 candidates ≤ 2000: exact
+  CHECK(exact.groups[0].selector == app::RobustSelector::exact);
+  o.exact_up_to = 10;  // beyond: densest
+  const auto densest = app::robust({g}, {}, o);
+  CHECK(densest.groups[0].selector == app::RobustSelector::densest);
+  const auto& s = *densest.groups[0].selection.search;
+  // The densest selection is a clique of the same graph, no larger than the proven maximum, below its bound.
+  CHECK(s.clique.size() <= exact.groups[0].selection.selected.size());
+  CHECK(s.upper_bound >= static_cast<int>(exact.groups[0].selection.selected.size()));
+  CHECK((s.status == core::SearchStatus::optimal) == (static_cast<int>(s.clique.size()) == s.upper_bound));
+  for (const int u : s.clique)
+    for (const int v : s.clique)
+      if (u != v) CHECK(densest.groups[0].q.at(u, v) <= densest.gamma);
+  for (const auto sel : {app::RobustSelector::automatic, app::RobustSelector::exact,
+                         app::RobustSelector::heuristic, app::RobustSelector::densest})
+    CHECK(app::robust_selector_from_string(app::to_string(sel)) == sel);
+  CHECK(contains(message_of([] { (void)app::robust_selector_from_string("best"); }),
+                 "unknown app::RobustSelector 'best'"));
+  o.exact_up_to = 0;
+  CHECK(contains(message_of([&] { (void)app::robust({g}, {}, o); }), "exact_up_to must be >= 1"));
+}

@@ -32,7 +32,8 @@ struct RobustArgs {
   std::vector<std::string> files;
   std::string candidates, out, report;
   double p = 0.11;
-  std::string composition = "joint", algorithm = "exact";
+  std::string composition = "joint", selector = "auto";
+  int exact_up_to = 2000;
   double time_limit_s = 0.0;
   unsigned threads = 1;
 };
@@ -43,7 +44,8 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   app::RobustOptions o;
   o.p = args.p;
   o.composition = pcm::composition_from_string(args.composition);
-  o.algorithm = pcm::clique_algorithm_from_string(args.algorithm);
+  o.selector = app::robust_selector_from_string(args.selector);
+  o.exact_up_to = args.exact_up_to;
   o.time_limit_s = args.time_limit_s;
   o.threads = args.threads;
   const auto run = app::robust(robots, inter, o, stage.progress());
@@ -77,12 +79,12 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
                run.gamma, args.p, s.dimension == 2 ? 3 : 6, args.composition);
     for (const auto& grp : run.groups) {
       const auto& search = *grp.selection.search;
-      fmt::print("kept         {} of {} {} ({}, bound {}){}\n", grp.selection.selected.size(),
+      fmt::print("kept         {} of {} {} ({}: {}, bound {}){}\n", grp.selection.selected.size(),
                  grp.members.size(),
                  grp.robot_a == grp.robot_b
                      ? fmt::format("loop closures of robot {}", grp.robot_a)
                      : fmt::format("closures between robots {} and {}", grp.robot_a, grp.robot_b),
-                 core::to_string(search.status), search.upper_bound,
+                 app::to_string(grp.selector), core::to_string(search.status), search.upper_bound,
                  search.proven_optimal() ? "" : ": not proven the largest consistent set");
     }
     if (run.groups.empty()) fmt::print("kept         no candidate loop closure was given\n");
@@ -109,7 +111,12 @@ void run_robust(const RobustArgs& args) {
     o.validate();
   });
   check_option("--composition", [&] { (void)pcm::composition_from_string(args.composition); });
-  check_option("--algorithm", [&] { (void)pcm::clique_algorithm_from_string(args.algorithm); });
+  check_option("--selector", [&] { (void)app::robust_selector_from_string(args.selector); });
+  check_option("--exact-up-to", [&] {
+    app::RobustOptions o;
+    o.exact_up_to = args.exact_up_to;
+    o.validate();
+  });
   check_option("--time-limit", [&] {
     app::RobustOptions o;
     o.time_limit_s = args.time_limit_s;
@@ -170,7 +177,14 @@ void add_robust_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--composition", a->composition, "joint (with the joint marginals) or independent")
       ->capture_default_str();
-  c->add_option("--algorithm", a->algorithm, "maximum clique: exact or heuristic")->capture_default_str();
+  c->add_option(
+       "--selector", a->selector,
+       "each group's consistent set: auto (exact up to --exact-up-to candidates, densest beyond), exact "
+       "(maximum clique), heuristic (greedy clique) or densest (densest subgraph)")
+      ->capture_default_str();
+  c->add_option("--exact-up-to", a->exact_up_to,
+                "auto: the exact clique for groups of at most this many candidates")
+      ->capture_default_str();
   c->add_option("--time-limit", a->time_limit_s,
                 "stop the exact clique search after this many seconds (0: none)")
       ->capture_default_str();

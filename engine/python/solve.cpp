@@ -518,12 +518,13 @@ ValueError.)doc");
   m.def(
       "robust",
       [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
-         const std::string& algorithm, const std::optional<double>& time_limit_s,
+         const std::string& selector, int exact_up_to, const std::optional<double>& time_limit_s,
          unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
         o.composition = pcm::composition_from_string(composition);
-        o.algorithm = pcm::clique_algorithm_from_string(algorithm);
+        o.selector = app::robust_selector_from_string(selector);
+        o.exact_up_to = exact_up_to;
         if (time_limit_s) {
           if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
             throw py::value_error(fmt::format(
@@ -576,8 +577,8 @@ ValueError.)doc");
         throw py::type_error("robust: graphs must be a keel.Graph2D or keel.Graph3D, or a list of them");
       },
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
-      py::arg("composition") = "joint", py::arg("algorithm") = "exact", py::arg("time_limit_s") = py::none(),
-      py::arg("threads") = 1, R"doc(
+      py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
+      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
 odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
@@ -589,11 +590,13 @@ kept closures.
   candidates    None or a keel.Candidates (inter-robot), of the graphs' dimension
   p             chi-square tail probability of the threshold gamma, in (0, 1) (thesis PCM-Exact-11 %)
   composition   'joint' or 'independent' (the relative poses' cross-covariances dropped)
-  algorithm     'exact' or 'heuristic'
+  selector      each group's consistent set: 'auto' (exact up to exact_up_to candidates, densest beyond),
+                'exact' (maximum clique), 'heuristic' (greedy clique) or 'densest' (densest subgraph)
+  exact_up_to   see selector (>= 1)
   time_limit_s  each group's exact clique search limit in seconds (> 0), None for none
   threads       threads for the consistency matrices (the result does not depend on it)
 Returns a dict with the fields of `keel robust --json` but 'files' and 'candidates_file' (robots, poses,
-odometry_edges, candidates, kept, p, gamma, dof, composition, algorithm, groups, times_s, anisotropic_cost,
+odometry_edges, candidates, kept, p, gamma, dof, composition, selector, exact_up_to, groups, times_s, anisotropic_cost,
 certificate, candidate_list) and, beside them, 'solution' (the (n, 3) or (n, 7) estimate of all robots' poses,
 one robot after another) and 'graph' (the solved graph: all odometry and the kept closures). Unlike the command,
 nothing is refused when the answer is not certified: read d['certificate']['certified']. An odometry that does

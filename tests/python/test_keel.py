@@ -377,8 +377,8 @@ class TestReference(unittest.TestCase):
         self.assertEqual(kept_wrong, [])
         with self.assertRaisesRegex(ValueError, "p must be in"):
             keel.robust(g, p=1.5)
-        with self.assertRaisesRegex(ValueError, "unknown pcm::CliqueAlgorithm"):
-            keel.robust(g, algorithm="best")
+        with self.assertRaisesRegex(ValueError, "unknown app::RobustSelector"):
+            keel.robust(g, selector="best")
 
     def test_refuses_non_integer_ids_and_non_finite_poses(self):
         g = keel.read_graph(self.file2d)

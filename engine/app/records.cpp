@@ -200,6 +200,9 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   w.integer("dof", G::DoF);
   w.text("composition", pcm::to_string(o.composition));
   w.text("selector", to_string(o.selector));
+  w.number("residual_p", o.residual_p);
+  w.number("residual_threshold", r.residual_threshold);
+  w.integer("residual_rounds", r.residual_rounds);
   w.integer("exact_up_to", o.exact_up_to);
   w.records("groups", r.groups.size(), [&](std::size_t k, FieldWriter& g) {
     const RobustGroup& grp = r.groups[k];
@@ -223,6 +226,7 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     t.number("marginals", r.marginals_time_s);
     t.number("consistency", r.consistency_time_s);
     t.number("selection", r.selection_time_s);
+    t.number("residual_solves", r.residual_time_s);
     t.number("certified_solve", r.solved.summary.total_time_s);
   });
   w.number("anisotropic_cost", r.solved.anisotropic_cost);
@@ -240,6 +244,8 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     c.integer("group", cand.group);
     c.boolean("kept", cand.kept);
     c.integer("inconsistent_with_kept", cand.inconsistent_with_kept);
+    c.integer("removed_in_round", cand.removed_in_round);
+    c.number("residual_chi2", cand.residual_chi2);
   });
 }
 

@@ -9,11 +9,13 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "core/names.hpp"
 #include "core/timing.hpp"
 #include "cov/chain.hpp"
+#include "graph/residuals.hpp"
 
 namespace keel::app {
 
@@ -262,33 +264,118 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
                       "candidates kept)",
                       robot_name(r), run.kept, run.candidates.size()));
 
-  // All odometry and the kept closures, as the inputs gave them (ids moved by the robots' offsets).
+  // All odometry, then the kept closures, as the inputs gave them (ids moved by the robots' offsets).
+  Graph base;
   for (int r = 0; r < R; ++r) {
     const auto off = run.offsets[static_cast<std::size_t>(r)];
     const Graph& odo = run.odometry[static_cast<std::size_t>(r)];
-    run.selected.poses.insert(run.selected.poses.end(), odo.poses.begin(), odo.poses.end());
+    base.poses.insert(base.poses.end(), odo.poses.begin(), odo.poses.end());
     for (auto e : odo.edges) {
       e.i += off;
       e.j += off;
-      run.selected.edges.push_back(e);
+      base.edges.push_back(e);
     }
   }
-  run.selected.has_initial_poses =
+  base.has_initial_poses =
       std::all_of(robots.begin(), robots.end(), [](const Graph& g) { return g.has_initial_poses; });
-  run.selected.source = R == 1 ? robots[0].source : std::string();
-  for (const auto& c : run.candidates) {
-    if (!c.kept) continue;
-    if (c.source < 0) {
-      run.selected.edges.push_back(inter[static_cast<std::size_t>(c.edge)]);
-    } else {
-      auto e = robots[static_cast<std::size_t>(c.source)].edges[static_cast<std::size_t>(c.edge)];
-      e.i += run.offsets[static_cast<std::size_t>(c.source)];
-      e.j += run.offsets[static_cast<std::size_t>(c.source)];
-      run.selected.edges.push_back(e);
-    }
-  }
+  base.source = R == 1 ? robots[0].source : std::string();
+  auto edge_of = [&](const RobustCandidate<G>& c) {
+    if (c.source < 0) return inter[static_cast<std::size_t>(c.edge)];
+    auto e = robots[static_cast<std::size_t>(c.source)].edges[static_cast<std::size_t>(c.edge)];
+    e.i += run.offsets[static_cast<std::size_t>(c.source)];
+    e.j += run.offsets[static_cast<std::size_t>(c.source)];
+    return e;
+  };
+  auto assemble = [&] {
+    run.selected = base;
+    for (const auto& c : run.candidates)
+      if (c.kept) run.selected.edges.push_back(edge_of(c));
+  };
+  auto joined_without = [&](std::size_t skip) {  // every robot joined to robot 0 without candidate `skip`
+    std::vector<int> up(static_cast<std::size_t>(R));
+    std::iota(up.begin(), up.end(), 0);
+    auto top = [&](int r) {
+      while (up[static_cast<std::size_t>(r)] != r) r = up[static_cast<std::size_t>(r)];
+      return r;
+    };
+    for (std::size_t k = 0; k < run.candidates.size(); ++k)
+      if (k != skip && run.candidates[k].kept)
+        up[static_cast<std::size_t>(top(run.candidates[k].robot_b))] = top(run.candidates[k].robot_a);
+    for (int r = 1; r < R; ++r)
+      if (top(r) != top(0)) return false;
+    return true;
+  };
+  auto chi2_at = [&](const RobustCandidate<G>& c, const std::vector<G>& poses) {
+    const auto e = edge_of(c);
+    const auto res = graph::edge_residual(e.measurement, poses[static_cast<std::size_t>(e.i)],
+                                          poses[static_cast<std::size_t>(e.j)]);
+    return static_cast<double>(res.dot(e.information * res));
+  };
+  assemble();
   say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
   run.solved = solve_certified(run.selected, Certified{o.solve});
+  // The residual check: the kept closure whose χ² = rᵀΩr at the solution is largest, above γ_r =
+  // F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved by Levenberg–Marquardt from the current
+  // estimate, one closure per round (never one whose removal would leave a robot without a common frame);
+  // once none is above γ_r, the certified solve of what is left gives the answer and its certificate.
+  if (o.residual_p > 0.0) {
+    run.residual_threshold = pcm::consistency_threshold(o.residual_p, dof);
+    // Time of the check: the certified solves whose answers a later round replaced (the first among them) and
+    // the re-solves; the last certified solve is the answer's own (solved.summary).
+    const auto t_check = core::Clock::now();
+    const double first_solve_s = run.solved.summary.total_time_s;
+    // The worst kept closure above γ_r at `estimate`, if any (candidates.size() if none).
+    auto worst_at = [&](const std::vector<G>& estimate, double* chi2) {
+      double worst = run.residual_threshold;
+      std::size_t worst_k = run.candidates.size();
+      for (std::size_t k = 0; k < run.candidates.size(); ++k) {
+        if (!run.candidates[k].kept) continue;
+        const double x = chi2_at(run.candidates[k], estimate);
+        if (x > worst && joined_without(k)) worst = x, worst_k = k;
+      }
+      *chi2 = worst;
+      return worst_k;
+    };
+    std::vector<G> estimate = run.solved.graph.poses;
+    bool certified_estimate = true;  // `estimate` is the certified solve's answer
+    while (run.residual_rounds < o.max_residual_rounds) {
+      double worst = 0.0;
+      const std::size_t k = worst_at(estimate, &worst);
+      if (k == run.candidates.size()) {
+        if (certified_estimate) break;
+        // None is above γ_r at LM's estimate: solve what is left with the certificate, and check its answer.
+        say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
+        run.solved = solve_certified(run.selected, Certified{o.solve});
+        estimate = run.solved.graph.poses;
+        certified_estimate = true;
+        continue;
+      }
+      auto& c = run.candidates[k];
+      c.kept = false;
+      c.removed_in_round = ++run.residual_rounds;
+      c.residual_chi2 = worst;
+      --run.kept;
+      assemble();
+      say(fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
+                      run.residual_rounds, c.pose_a, c.pose_b, worst, run.residual_threshold));
+      MaximumLikelihood lm;
+      lm.options.initial_guess = pgo::InitialGuess::supplied;
+      if constexpr (std::is_same_v<G, lie::SE2>) {
+        const pgo::Estimate2D from{estimate, {}};
+        estimate = solve(run.selected, lm, &from).graph.poses;
+      } else {
+        const pgo::Estimate3D from{estimate};
+        estimate = solve(run.selected, lm, &from).graph.poses;
+      }
+      certified_estimate = false;
+    }
+    if (!certified_estimate)  // the round limit was reached after a removal
+      run.solved = solve_certified(run.selected, Certified{o.solve});
+    if (run.residual_rounds > 0)
+      run.residual_time_s = first_solve_s + core::seconds_since(t_check) - run.solved.summary.total_time_s;
+  }
+  for (auto& c : run.candidates)
+    if (c.kept) c.residual_chi2 = chi2_at(c, run.solved.graph.poses);
   return run;
 }
 
@@ -306,6 +393,12 @@ std::string_view to_string(RobustSelector s) { return kSelectorNames.name(s); }
 RobustSelector robust_selector_from_string(std::string_view text) { return kSelectorNames.parse(text); }
 
 void RobustOptions::validate() const {
+  if (!(residual_p >= 0.0 && residual_p < 1.0))
+    throw std::invalid_argument(fmt::format(
+        "app::RobustOptions: residual_p must be in [0, 1), 0 for no residual check (got {})", residual_p));
+  if (max_residual_rounds < 0)
+    throw std::invalid_argument(
+        fmt::format("app::RobustOptions: max_residual_rounds must be >= 0 (got {})", max_residual_rounds));
   if (exact_up_to < 1)
     throw std::invalid_argument(
         fmt::format("app::RobustOptions: exact_up_to must be >= 1 (got {})", exact_up_to));

@@ -10,6 +10,7 @@
 // comes with the answer.
 #pragma once
 
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -43,6 +44,12 @@ struct RobustOptions {
   merge::LocalSolveOptions local;  // each robot's odometry map (odometry initial guess, pose 0 fixed)
   pgo::CertifiedOptions solve;     // the certified solve of all odometry and the kept closures
   unsigned threads = 1;            // consistency matrices; 0 = keel::core::default_threads()
+  // The residual check after the selection: the kept closure with the largest χ² = rᵀΩr at the solution,
+  // above F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved (Levenberg–Marquardt from the
+  // estimate), up to max_residual_rounds times; then the certified solve of what is left. residual_p = 0: no
+  // check.
+  double residual_p = 0.01;
+  int max_residual_rounds = 50;
   // Throws std::invalid_argument naming the field (including the nested options' own checks).
   void validate() const;
 };
@@ -59,8 +66,11 @@ struct RobustCandidate {
   G z;
   typename G::Jacobian covariance;  // of the left perturbation of z (pcm::left_covariance_from_information)
   bool kept = false;
-  int inconsistent_with_kept =
-      0;  // kept candidates of its group it is inconsistent with (q above γ either way)
+  int inconsistent_with_kept = 0;  // kept candidates of its group it contradicts (q above γ either way)
+  int removed_in_round =
+      0;  // > 0: kept by its group's selection, removed by that round of the residual check
+  // rᵀΩr at the final solution (kept), or at its removal; NaN for one never kept.
+  double residual_chi2 = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The candidates joining one robot (robot_a == robot_b) or one pair of robots, and their selection.
@@ -85,6 +95,9 @@ struct RobustRun {
   graph::PoseGraphOf<G> selected;  // all odometry and the kept closures, robots' poses one after another
   CertifiedSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
   double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0, selection_time_s = 0.0;
+  double residual_threshold = 0.0;  // F⁻¹_χ²(dof)(1 − residual_p); 0 without the check
+  int residual_rounds = 0;          // closures the residual check removed
+  double residual_time_s = 0.0;     // the residual check: the first certified solve and the re-solves
 };
 using RobustRun2 = RobustRun<lie::SE2>;
 using RobustRun3 = RobustRun<lie::SE3>;

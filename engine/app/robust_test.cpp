@@ -4,6 +4,7 @@
 // located errors; a graph without loop closures is solved as its odometry.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -217,4 +218,56 @@ TEST_CASE("app::robust's selectors: auto by group size, densest bounded, names r
                  "unknown app::RobustSelector 'best'"));
   o.exact_up_to = 0;
   CHECK(contains(message_of([&] { (void)app::robust({g}, {}, o); }), "exact_up_to must be >= 1"));
+}
+
+// The residual check's rules on the laps with wrong closures off by 0.3–0.6 m and 0.02–0.05 rad from the
+// truth (between the first and the third lap; PCM keeps some, as the odometry's uncertainty over 80–120 steps
+// allows), with a strict threshold (p = 0.5, γ_r = χ²₃ median) so that it acts: every closure it removed was
+// above γ_r when removed, every one kept is at or below it at the answer, the answer is the certified solve
+// of exactly the kept closures, and residual_p = 0 removes nothing. (On Intel with wrong closures appended,
+// docs/USING.md, it removes exactly the wrong ones PCM let through.)
+TEST_CASE("app::robust's residual check: removed above the threshold, kept below it, the answer re-solved") {
+  auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
+  auto g = syn.graph;
+  const int n = static_cast<int>(g.poses.size());
+  auto rng = core::Rng::stream(11, 2);
+  const lie::Mat3 info = g.edges.back().information;
+  for (int k = 0; k < 12; ++k) {
+    const int i = static_cast<int>(rng.uniform() * 20), j = n - 1 - static_cast<int>(rng.uniform() * 20);
+    const lie::SE2 truth =
+        syn.truth[static_cast<std::size_t>(i)].inverse() * syn.truth[static_cast<std::size_t>(j)];
+    const double s = rng.uniform() < 0.5 ? -1.0 : 1.0;
+    g.edges.push_back(
+        {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
+         info, 0});
+  }
+  app::RobustOptions off;
+  off.p = 0.01;
+  off.residual_p = 0.0;
+  const auto without = app::robust({g}, {}, off);
+  CHECK(without.residual_rounds == 0);
+  CHECK(without.residual_threshold == 0.0);
+  app::RobustOptions on = off;
+  on.residual_p = 0.5;
+  const auto with = app::robust({g}, {}, on);
+  MESSAGE("kept " << without.kept << " without the check, " << with.kept << " with it ("
+                  << with.residual_rounds << " removed)");
+  CHECK(with.residual_threshold == doctest::Approx(pcm::consistency_threshold(0.5, 3)));
+  REQUIRE(with.residual_rounds >= 1);
+  CHECK(with.kept == without.kept - with.residual_rounds);
+  std::vector<int> rounds;
+  for (std::size_t k = 0; k < with.candidates.size(); ++k) {
+    const auto& c = with.candidates[k];
+    CHECK(without.candidates[k].kept == (c.kept || c.removed_in_round > 0));  // it removes only what PCM kept
+    if (c.removed_in_round > 0) {
+      CHECK(c.residual_chi2 > with.residual_threshold);
+      rounds.push_back(c.removed_in_round);
+    }
+    if (c.kept) CHECK(c.residual_chi2 <= with.residual_threshold);
+  }
+  std::sort(rounds.begin(), rounds.end());
+  for (std::size_t r = 0; r < rounds.size(); ++r) CHECK(rounds[r] == static_cast<int>(r) + 1);
+  const auto direct = pgo::solve_certified(with.selected);
+  CHECK(direct.summary.final_cost == doctest::Approx(with.solved.summary.final_cost).epsilon(1e-12));
+  CHECK(with.selected.edges.size() == static_cast<std::size_t>(n - 1 + with.kept));
 }

@@ -34,6 +34,7 @@ struct RobustArgs {
   double p = 0.11;
   std::string composition = "joint", selector = "auto";
   int exact_up_to = 2000;
+  double residual_p = 0.01;
   double time_limit_s = 0.0;
   unsigned threads = 1;
 };
@@ -46,6 +47,7 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   o.composition = pcm::composition_from_string(args.composition);
   o.selector = app::robust_selector_from_string(args.selector);
   o.exact_up_to = args.exact_up_to;
+  o.residual_p = args.residual_p;
   o.time_limit_s = args.time_limit_s;
   o.threads = args.threads;
   const auto run = app::robust(robots, inter, o, stage.progress());
@@ -88,13 +90,27 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
                  search.proven_optimal() ? "" : ": not proven the largest consistent set");
     }
     if (run.groups.empty()) fmt::print("kept         no candidate loop closure was given\n");
+    if (run.residual_threshold > 0.0) {
+      std::vector<std::string> removed;
+      for (const auto& c : run.candidates)
+        if (c.removed_in_round > 0)
+          removed.push_back(fmt::format("{}:{} → {}:{} (χ² {:.3g})", c.robot_a, c.pose_a, c.robot_b, c.pose_b,
+                                        c.residual_chi2));
+      fmt::print(
+          "residual     {} removed (χ² at the solution above {:.4g}, p = {}){}{}{}; {} loop closures kept\n",
+          removed.size(), run.residual_threshold, run.options.residual_p, removed.empty() ? "" : ": ",
+          fmt::join(removed.begin(), removed.begin() + std::min<std::ptrdiff_t>(10, std::ssize(removed)),
+                    ", "),
+          removed.size() > 10 ? ", …" : "", run.kept);
+    }
     print_certified_summary(args.files.size() == 1 ? args.files[0] : "the robots' graphs together", s,
                             run.solved.anisotropic_cost);
     fmt::print(
-        "times        odometry {:.3f} s, marginals {:.3f} s, Q {:.3f} s, cliques {:.3f} s, certified solve "
-        "{:.3f} s\n",
+        "times        odometry {:.3f} s, marginals {:.3f} s, Q {:.3f} s, cliques {:.3f} s, residual check "
+        "{:.3f} s, "
+        "certified solve {:.3f} s\n",
         run.odometry_time_s, run.marginals_time_s, run.consistency_time_s, run.selection_time_s,
-        s.total_time_s);
+        run.residual_time_s, s.total_time_s);
     if (!args.out.empty() && certified) fmt::print("written      {}\n", args.out);
     if (!args.report.empty() && certified) fmt::print("written      {}\n", args.report);
   }
@@ -112,6 +128,11 @@ void run_robust(const RobustArgs& args) {
   });
   check_option("--composition", [&] { (void)pcm::composition_from_string(args.composition); });
   check_option("--selector", [&] { (void)app::robust_selector_from_string(args.selector); });
+  check_option("--residual-p", [&] {
+    app::RobustOptions o;
+    o.residual_p = args.residual_p;
+    o.validate();
+  });
   check_option("--exact-up-to", [&] {
     app::RobustOptions o;
     o.exact_up_to = args.exact_up_to;
@@ -181,6 +202,11 @@ void add_robust_command(CLI::App& app) {
        "--selector", a->selector,
        "each group's consistent set: auto (exact up to --exact-up-to candidates, densest beyond), exact "
        "(maximum clique), heuristic (greedy clique) or densest (densest subgraph)")
+      ->capture_default_str();
+  c->add_option(
+       "--residual-p", a->residual_p,
+       "the residual check after the selection: kept closures whose χ² at the solution exceeds the χ² "
+       "quantile at 1 − this are removed one at a time, worst first (0: no check)")
       ->capture_default_str();
   c->add_option("--exact-up-to", a->exact_up_to,
                 "auto: the exact clique for groups of at most this many candidates")

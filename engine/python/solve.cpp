@@ -518,13 +518,14 @@ ValueError.)doc");
   m.def(
       "robust",
       [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
-         const std::string& selector, int exact_up_to, const std::optional<double>& time_limit_s,
-         unsigned threads) -> py::dict {
+         const std::string& selector, int exact_up_to, double residual_p,
+         const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
         o.composition = pcm::composition_from_string(composition);
         o.selector = app::robust_selector_from_string(selector);
         o.exact_up_to = exact_up_to;
+        o.residual_p = residual_p;
         if (time_limit_s) {
           if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
             throw py::value_error(fmt::format(
@@ -578,7 +579,7 @@ ValueError.)doc");
       },
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
-      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
+      py::arg("residual_p") = 0.01, py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
 odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
@@ -593,6 +594,8 @@ kept closures.
   selector      each group's consistent set: 'auto' (exact up to exact_up_to candidates, densest beyond),
                 'exact' (maximum clique), 'heuristic' (greedy clique) or 'densest' (densest subgraph)
   exact_up_to   see selector (>= 1)
+  residual_p    the residual check after the selection: kept closures whose chi-square at the solution exceeds
+                the quantile at 1 - residual_p are removed one at a time, worst first; 0 for none
   time_limit_s  each group's exact clique search limit in seconds (> 0), None for none
   threads       threads for the consistency matrices (the result does not depend on it)
 Returns a dict with the fields of `keel robust --json` but 'files' and 'candidates_file' (robots, poses,

@@ -42,6 +42,27 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
                   : fmt::format("robot {}{}", r, src.empty() ? "" : " (" + src + ")");
   };
 
+  // A candidate from an input edge: its robots and local poses, where it came from, and the left covariance
+  // of its measurement (an information that is not positive definite is refused, named by `where`).
+  auto candidate = [](int robot_a, int pose_a, int robot_b, int pose_b, int source, std::size_t edge,
+                      const Edge& e, const std::string& where) {
+    RobustCandidate<G> c;
+    c.robot_a = robot_a;
+    c.pose_a = pose_a;
+    c.robot_b = robot_b;
+    c.pose_b = pose_b;
+    c.source = source;
+    c.edge = static_cast<int>(edge);
+    c.line = e.line;
+    c.z = e.measurement;
+    try {
+      c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
+    } catch (const std::invalid_argument& ex) {
+      throw std::invalid_argument(fmt::format("{}: {}", where, ex.what()));
+    }
+    return c;
+  };
+
   // Each robot's odometry (edges between consecutive poses, either direction, chaining every pose) and its
   // own candidate closures (every other edge).
   int total = 0;
@@ -67,21 +88,9 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
         chained[static_cast<std::size_t>(std::max(e.i, e.j))] = 1;
         continue;
       }
-      RobustCandidate<G> c;
-      c.robot_a = c.robot_b = r;
-      c.pose_a = e.i;
-      c.pose_b = e.j;
-      c.source = r;
-      c.edge = static_cast<int>(k);
-      c.line = e.line;
-      c.z = e.measurement;
-      try {
-        c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
-      } catch (const std::invalid_argument& ex) {
-        throw std::invalid_argument(fmt::format("robust: {}: loop closure {} → {}{}: {}", robot_name(r), e.i,
-                                                e.j, at_line(e.line), ex.what()));
-      }
-      run.candidates.push_back(c);
+      run.candidates.push_back(candidate(
+          r, e.i, r, e.j, r, k, e,
+          fmt::format("robust: {}: loop closure {} → {}{}", robot_name(r), e.i, e.j, at_line(e.line))));
     }
     for (int k = 1; k < n; ++k)
       if (!chained[static_cast<std::size_t>(k)])
@@ -108,20 +117,9 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
                         "pose k is id k plus "
                         "the poses of the robots before it)",
                         where, id, total, total - 1));
-    RobustCandidate<G> c;
-    c.robot_a = robot_of(e.i);
-    c.robot_b = robot_of(e.j);
-    c.pose_a = e.i - run.offsets[static_cast<std::size_t>(c.robot_a)];
-    c.pose_b = e.j - run.offsets[static_cast<std::size_t>(c.robot_b)];
-    c.source = -1;
-    c.edge = static_cast<int>(k);
-    c.line = e.line;
-    c.z = e.measurement;
-    try {
-      c.covariance = pcm::left_covariance_from_information(e.measurement, e.information);
-    } catch (const std::invalid_argument& ex) {
-      throw std::invalid_argument(fmt::format("{}: {}", where, ex.what()));
-    }
+    const int ra = robot_of(e.i), rb = robot_of(e.j);
+    RobustCandidate<G> c = candidate(ra, e.i - run.offsets[static_cast<std::size_t>(ra)], rb,
+                                     e.j - run.offsets[static_cast<std::size_t>(rb)], -1, k, e, where);
     if (c.robot_a > c.robot_b) {
       std::swap(c.robot_a, c.robot_b);
       std::swap(c.pose_a, c.pose_b);

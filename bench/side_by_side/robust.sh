@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# keel robust and Kimera-RPGO side by side on data sets with wrong loop closures added (robust.py says how the
+# files are made and scored), one thread each, both timed as whole processes.
+#
+#   KIMERA_MEASURE=/path/to/kimera_measure bench/side_by_side/robust.sh OUT.tsv [NAME=FILE.g2o ...]
+#
+# kimera_measure is keel's driver (bench/side_by_side/kimera_measure.cpp) built against externally built GTSAM and
+# Kimera-RPGO (shared/notes/peers.md). Environment: KEEL (default build/release/keel), RATES (default 0,10,20,40),
+# TRIALS (default 3), SEED (default 1), P (default 0.11), NO_GNC=1 (Kimera-RPGO's PCM alone), TIMEOUT
+# (seconds per tool and file, default 600). Without data sets
+# given: Intel, MIT, Manhattan (M3500) and the parking garage from ../shared/datasets.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+KEEL=${KEEL:-build/release/keel}
+[[ -x $KEEL ]] || { echo "robust.sh: $KEEL not built (scripts/build release)" >&2; exit 2; }
+[[ -n ${KIMERA_MEASURE:-} && -x $KIMERA_MEASURE ]] ||
+  { echo "robust.sh: set KIMERA_MEASURE to the built kimera_measure (shared/notes/peers.md)" >&2; exit 2; }
+[[ $# -ge 1 ]] || { echo "usage: robust.sh OUT.tsv [NAME=FILE.g2o ...]" >&2; exit 2; }
+out=$1
+shift
+D=../shared/datasets
+sets=("$@")
+[[ ${#sets[@]} -gt 0 ]] || sets=(intel=$D/intel/se-sync/intel.g2o mit=$D/se-sync-benchmarks/MIT.g2o
+  manhattan=$D/manhattan3500/se-sync/manhattan.g2o garage=$D/parking-garage/se-sync/parking-garage.g2o)
+exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
+  --rates "${RATES:-0,10,20,40}" --trials "${TRIALS:-3}" --seed "${SEED:-1}" --p "${P:-0.11}" \
+  --timeout "${TIMEOUT:-600}" "${sets[@]}"

@@ -38,7 +38,7 @@ Graph chain_of(const Graph& g) {
   return c;
 }
 
-double rel_err(const lie::MatX& a, const lie::MatX& b) { return (a - b).norm() / b.norm(); }
+double chain_rel_err(const lie::MatX& a, const lie::MatX& b) { return (a - b).norm() / b.norm(); }
 
 }  // namespace
 
@@ -52,8 +52,8 @@ TEST_CASE("chain_joint equals the factorized H's joint marginals (2D and 3D, awa
     const auto c3 = chain_of(g3.graph);
     const MarginalCovariance m3(information_matrix(c3, g3.estimate));
     for (const auto& q : queries) {
-      CHECK(rel_err(chain_joint(c2, g2.estimate, q), m2.joint(q)) < 1e-9);
-      CHECK(rel_err(chain_joint(c3, g3.estimate, q), m3.joint(q)) < 1e-9);
+      CHECK(chain_rel_err(chain_joint(c2, g2.estimate, q), m2.joint(q)) < 1e-9);
+      CHECK(chain_rel_err(chain_joint(c3, g3.estimate, q), m3.joint(q)) < 1e-9);
     }
   }
 }

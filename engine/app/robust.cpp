@@ -245,22 +245,27 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
     run.kept += static_cast<int>(grp.selection.selected.size());
   }
 
-  // Every robot must be joined to robot 0 by kept inter-robot closures, or there is no common frame.
-  std::vector<int> parent(static_cast<std::size_t>(R));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](int r) {
-    while (parent[static_cast<std::size_t>(r)] != r) r = parent[static_cast<std::size_t>(r)];
-    return r;
+  // The first robot that kept closures (all but candidate `skip`) leave unjoined to robot 0, or −1 when every
+  // robot is joined: without a join the robots have no common frame.
+  auto unjoined_robot = [&](std::size_t skip) {
+    std::vector<int> up(static_cast<std::size_t>(R));
+    std::iota(up.begin(), up.end(), 0);
+    auto top = [&](int r) {
+      while (up[static_cast<std::size_t>(r)] != r) r = up[static_cast<std::size_t>(r)];
+      return r;
+    };
+    for (std::size_t k = 0; k < run.candidates.size(); ++k)
+      if (k != skip && run.candidates[k].kept)
+        up[static_cast<std::size_t>(top(run.candidates[k].robot_b))] = top(run.candidates[k].robot_a);
+    for (int r = 1; r < R; ++r)
+      if (top(r) != top(0)) return r;
+    return -1;
   };
-  for (const auto& c : run.candidates)
-    if (c.kept) parent[static_cast<std::size_t>(root(c.robot_b))] = root(c.robot_a);
-  for (int r = 1; r < R; ++r)
-    if (root(r) != root(0))
-      throw std::invalid_argument(
-          fmt::format("robust: no kept inter-robot closure joins {} to robot 0, so the robots have no common "
-                      "frame ({} of {} "
-                      "candidates kept)",
-                      robot_name(r), run.kept, run.candidates.size()));
+  if (const int r = unjoined_robot(run.candidates.size()); r >= 0)
+    throw std::invalid_argument(fmt::format(
+        "robust: no kept inter-robot closure joins {} to robot 0, so the robots have no common frame "
+        "({} of {} candidates kept)",
+        robot_name(r), run.kept, run.candidates.size()));
 
   // All odometry, then the kept closures, as the inputs gave them (ids moved by the robots' offsets).
   Graph base;
@@ -289,20 +294,6 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
     for (const auto& c : run.candidates)
       if (c.kept) run.selected.edges.push_back(edge_of(c));
   };
-  auto joined_without = [&](std::size_t skip) {  // every robot joined to robot 0 without candidate `skip`
-    std::vector<int> up(static_cast<std::size_t>(R));
-    std::iota(up.begin(), up.end(), 0);
-    auto top = [&](int r) {
-      while (up[static_cast<std::size_t>(r)] != r) r = up[static_cast<std::size_t>(r)];
-      return r;
-    };
-    for (std::size_t k = 0; k < run.candidates.size(); ++k)
-      if (k != skip && run.candidates[k].kept)
-        up[static_cast<std::size_t>(top(run.candidates[k].robot_b))] = top(run.candidates[k].robot_a);
-    for (int r = 1; r < R; ++r)
-      if (top(r) != top(0)) return false;
-    return true;
-  };
   auto chi2_at = [&](const RobustCandidate<G>& c, const std::vector<G>& poses) {
     const auto e = edge_of(c);
     const auto res = graph::edge_residual(e.measurement, poses[static_cast<std::size_t>(e.i)],
@@ -329,7 +320,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       for (std::size_t k = 0; k < run.candidates.size(); ++k) {
         if (!run.candidates[k].kept) continue;
         const double x = chi2_at(run.candidates[k], estimate);
-        if (x > worst && joined_without(k)) worst = x, worst_k = k;
+        if (x > worst && unjoined_robot(k) < 0) worst = x, worst_k = k;
       }
       *chi2 = worst;
       return worst_k;

@@ -1,7 +1,8 @@
-// keel robust GRAPH — one robot's graph with wrong loop closures (app::robust): the odometry trusted, the
-// other edges candidates, the largest pairwise-consistent set of them (thesis eqs. 2.4–2.5, the relative
-// poses from the odometry map's joint marginals), then the certified solve of the odometry and the kept
-// closures. <variant> before the imports (docs/TOOLCHAIN.md; as in marginals.cpp).
+// keel robust GRAPH... [--candidates FILE] — one or several robots' graphs with wrong loop closures
+// (app::robust): each robot's odometry trusted, its other edges and the inter-robot list candidates, each
+// group's largest pairwise-consistent set (thesis eqs. 2.4–2.5, the relative poses from the odometry maps'
+// joint marginals), the residual check, then the certified solve of all odometry and the kept closures.
+// <variant> before the imports (docs/TOOLCHAIN.md; as in marginals.cpp).
 #include <variant>
 
 import keel.core;

@@ -1,8 +1,10 @@
 // keel.merge — the curated facade of engine/merge (tier "algorithms", docs/DESIGN.md "Tiers"): robust
-// multi-robot map merging (thesis §2.6) and the outlier-rejection methods of §2.7 behind one MergeMethod.
+// multi-robot map merging (thesis §2.6), the outlier-rejection methods of §2.7 behind one MergeMethod, and
+// the robust back end (robust.hpp).
 // Facade rules as every area.
 module;
 #include "merge/merge.hpp"
+#include "merge/robust.hpp"
 export module keel.merge;
 
 export namespace keel::merge {
@@ -37,4 +39,16 @@ using keel::merge::Ransac;
 using keel::merge::Scgp;
 using keel::merge::select;
 using keel::merge::to_string;
+// a robust back end for one or several robots: PCM per robot and pair, residual check, certified solve
+using keel::merge::robust;
+using keel::merge::robust_selector_from_string;
+using keel::merge::RobustCandidate;
+using keel::merge::RobustGroup;
+using keel::merge::RobustOptions;
+using keel::merge::RobustProgress;
+using keel::merge::RobustRun;
+using keel::merge::RobustRun2;
+using keel::merge::RobustRun3;
+using keel::merge::RobustSelector;
+using keel::merge::RobustSolution;
 }  // namespace keel::merge

@@ -14,6 +14,7 @@
 #include "kit/name_tables.hpp"
 #include "lie/fourth_order_joint.hpp"
 #include "merge/merge.hpp"
+#include "merge/robust.hpp"
 #include "pcm/clique.hpp"
 #include "pcm/combinatorial.hpp"
 #include "pcm/consistency.hpp"
@@ -114,6 +115,11 @@ TEST_CASE(
       {MergeMethodKind::no_outliers, MergeMethodKind::dcs, MergeMethodKind::scgp, MergeMethodKind::ransac,
        MergeMethodKind::pcm_exact, MergeMethodKind::pcm_heuristic, MergeMethodKind::densest},
       merge::merge_method_kind_from_string);
+  using merge::RobustSelector;
+  check_name_table(
+      "merge::RobustSelector",
+      {RobustSelector::automatic, RobustSelector::exact, RobustSelector::heuristic, RobustSelector::densest},
+      merge::robust_selector_from_string);
   using align::Method;
   check_name_table("align::Method",
                    {Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine},

@@ -377,7 +377,7 @@ class TestReference(unittest.TestCase):
         self.assertEqual(kept_wrong, [])
         with self.assertRaisesRegex(ValueError, "p must be in"):
             keel.robust(g, p=1.5)
-        with self.assertRaisesRegex(ValueError, "unknown app::RobustSelector"):
+        with self.assertRaisesRegex(ValueError, "unknown merge::RobustSelector"):
             keel.robust(g, selector="best")
 
     def test_refuses_non_integer_ids_and_non_finite_poses(self):

@@ -1,6 +1,6 @@
-// app::robust on a synthetic single-robot graph (three square laps, every closure i → i + 40 an inlier) with
-// wrong loop closures added: no wrong closure kept, most true ones kept, the answer certified and equal to
-// the certified solve of the odometry with the kept closures; a broken odometry chain and bad options give
+// merge::robust on a synthetic single-robot graph (three square laps, every closure i → i + 40 an inlier)
+// with wrong loop closures added: no wrong closure kept, most true ones kept, the answer certified and equal
+// to the certified solve of the odometry with the kept closures; a broken odometry chain and bad options give
 // located errors; a graph without loop closures is solved as its odometry.
 #include <doctest/doctest.h>
 
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "app/robust.hpp"
+#include "merge/robust.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/two_robot_test_graphs.hpp"
@@ -45,7 +45,7 @@ graph::PoseGraph2D laps_with_outliers(int outliers, std::uint64_t seed, int* tru
 
 }  // namespace
 
-TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the answer") {
+TEST_CASE("merge::robust keeps no wrong closure, most true ones, and certifies the answer") {
   for (const std::uint64_t seed : {3u, 17u}) {
     int true_closures = 0;
     const auto g = laps_with_outliers(15, seed, &true_closures);
@@ -53,9 +53,9 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
     // p = 0.11 (the thesis's PCM-Exact-11 %) fails about 11 % of the true pairs, so its clique leaves out a
     // share of true closures; p = 0.01 fails about 1 %.
     for (const double p : {0.11, 0.01}) {
-      app::RobustOptions o;
+      merge::RobustOptions o;
       o.p = p;
-      const auto run = app::robust({g}, {}, o);
+      const auto run = merge::robust({g}, {}, o);
       CHECK(static_cast<int>(run.odometry[0].edges.size()) == n - 1);
       REQUIRE(static_cast<int>(run.candidates.size()) == true_closures + 15);
       REQUIRE(run.groups.size() == 1);
@@ -94,9 +94,9 @@ TEST_CASE("app::robust keeps no wrong closure, most true ones, and certifies the
   }
 }
 
-TEST_CASE("app::robust: no loop closure, a broken chain and bad options") {
+TEST_CASE("merge::robust: no loop closure, a broken chain and bad options") {
   auto syn = sim::testing::square_laps<lie::SE2>(1, 2, 5, true, true);
-  const auto run = app::robust({syn.graph});  // one lap: no closure i → i + 40
+  const auto run = merge::robust({syn.graph});  // one lap: no closure i → i + 40
   CHECK(run.candidates.empty());
   CHECK(run.groups.empty());
   CHECK(run.kept == 0);
@@ -104,21 +104,21 @@ TEST_CASE("app::robust: no loop closure, a broken chain and bad options") {
 
   auto broken = syn.graph;
   broken.edges.erase(broken.edges.begin() + 7);  // 7 → 8
-  CHECK(
-      contains(message_of([&] { (void)app::robust({broken}); }), "pose 8 has no odometry edge from pose 7"));
+  CHECK(contains(message_of([&] { (void)merge::robust({broken}); }),
+                 "pose 8 has no odometry edge from pose 7"));
 
-  app::RobustOptions o;
+  merge::RobustOptions o;
   o.p = 1.5;
-  CHECK(contains(message_of([&] { (void)app::robust({syn.graph}, {}, o); }), "p must be in (0, 1)"));
+  CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "p must be in (0, 1)"));
   o = {};
   o.time_limit_s = -1;
-  CHECK(contains(message_of([&] { (void)app::robust({syn.graph}, {}, o); }), "time_limit_s"));
+  CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "time_limit_s"));
 }
 
 // The same laps as two robots: poses 0–59 and 60–119, each with its own odometry and closures, and every edge
 // between the halves (the odometry edge 59 → 60, true and wrong closures) an inter-robot candidate whose
 // global ids are the original ones.
-TEST_CASE("app::robust on two robots: groups, global ids, orientation and the common frame") {
+TEST_CASE("merge::robust on two robots: groups, global ids, orientation and the common frame") {
   int true_closures = 0;
   const auto g = laps_with_outliers(15, 3, &true_closures);
   const int n = static_cast<int>(g.poses.size()), half = n / 2;
@@ -142,9 +142,9 @@ TEST_CASE("app::robust on two robots: groups, global ids, orientation and the co
     }
   }
   REQUIRE(inter.size() > 5);
-  app::RobustOptions o;
+  merge::RobustOptions o;
   o.p = 0.01;
-  const auto run = app::robust({a, b}, inter, o);
+  const auto run = merge::robust({a, b}, inter, o);
   CHECK(run.offsets == std::vector<int>{0, half});
   REQUIRE(run.groups.size() == 3);  // robot 0's own, robot 1's own, the pair
   CHECK((run.groups[0].robot_a == 0 && run.groups[0].robot_b == 0));
@@ -177,7 +177,7 @@ TEST_CASE("app::robust on two robots: groups, global ids, orientation and the co
     e.measurement = e.measurement.inverse();
     std::swap(e.i, e.j);
   }
-  const auto run_flipped = app::robust({a, b}, flipped, o);
+  const auto run_flipped = merge::robust({a, b}, flipped, o);
   for (std::size_t k = 0; k < run.candidates.size(); ++k)
     CHECK(run.candidates[k].kept == run_flipped.candidates[k].kept);
   const auto &q1 = run.groups[2].q, &q2 = run_flipped.groups[2].q;
@@ -185,24 +185,24 @@ TEST_CASE("app::robust on two robots: groups, global ids, orientation and the co
     CHECK(q2.q[k] == doctest::Approx(q1.q[k]).epsilon(1e-6).scale(1.0));
 
   // Robots that no kept closure joins have no common frame.
-  CHECK(contains(message_of([&] { (void)app::robust({a, b}, {}, o); }),
+  CHECK(contains(message_of([&] { (void)merge::robust({a, b}, {}, o); }),
                  "no kept inter-robot closure joins robot 1"));
   auto far = inter;
   far[0].j = n;  // one past the last pose
-  CHECK(contains(message_of([&] { (void)app::robust({a, b}, far, o); }),
+  CHECK(contains(message_of([&] { (void)merge::robust({a, b}, far, o); }),
                  "inter-robot candidate 0: id 120 is not a pose"));
 }
 
-TEST_CASE("app::robust's selectors: auto by group size, densest bounded, names round-trip") {
+TEST_CASE("merge::robust's selectors: auto by group size, densest bounded, names round-trip") {
   int true_closures = 0;
   const auto g = laps_with_outliers(15, 3, &true_closures);
-  app::RobustOptions o;
+  merge::RobustOptions o;
   o.p = 0.01;
-  const auto exact = app::robust({g}, {}, o);  // 55 candidates ≤ 2000: exact
-  CHECK(exact.groups[0].selector == app::RobustSelector::exact);
+  const auto exact = merge::robust({g}, {}, o);  // 55 candidates ≤ 2000: exact
+  CHECK(exact.groups[0].selector == merge::RobustSelector::exact);
   o.exact_up_to = 10;  // beyond: densest
-  const auto densest = app::robust({g}, {}, o);
-  CHECK(densest.groups[0].selector == app::RobustSelector::densest);
+  const auto densest = merge::robust({g}, {}, o);
+  CHECK(densest.groups[0].selector == merge::RobustSelector::densest);
   const auto& s = *densest.groups[0].selection.search;
   // The densest selection is a clique of the same graph, no larger than the proven maximum, below its bound.
   CHECK(s.clique.size() <= exact.groups[0].selection.selected.size());
@@ -211,13 +211,13 @@ TEST_CASE("app::robust's selectors: auto by group size, densest bounded, names r
   for (const int u : s.clique)
     for (const int v : s.clique)
       if (u != v) CHECK(densest.groups[0].q.at(u, v) <= densest.gamma);
-  for (const auto sel : {app::RobustSelector::automatic, app::RobustSelector::exact,
-                         app::RobustSelector::heuristic, app::RobustSelector::densest})
-    CHECK(app::robust_selector_from_string(app::to_string(sel)) == sel);
-  CHECK(contains(message_of([] { (void)app::robust_selector_from_string("best"); }),
-                 "unknown app::RobustSelector 'best'"));
+  for (const auto sel : {merge::RobustSelector::automatic, merge::RobustSelector::exact,
+                         merge::RobustSelector::heuristic, merge::RobustSelector::densest})
+    CHECK(merge::robust_selector_from_string(merge::to_string(sel)) == sel);
+  CHECK(contains(message_of([] { (void)merge::robust_selector_from_string("best"); }),
+                 "unknown merge::RobustSelector 'best'"));
   o.exact_up_to = 0;
-  CHECK(contains(message_of([&] { (void)app::robust({g}, {}, o); }), "exact_up_to must be >= 1"));
+  CHECK(contains(message_of([&] { (void)merge::robust({g}, {}, o); }), "exact_up_to must be >= 1"));
 }
 
 // The residual check's rules on the laps with wrong closures off by 0.3–0.6 m and 0.02–0.05 rad from the
@@ -226,7 +226,8 @@ TEST_CASE("app::robust's selectors: auto by group size, densest bounded, names r
 // above γ_r when removed, every one kept is at or below it at the answer, the answer is the certified solve
 // of exactly the kept closures, and residual_p = 0 removes nothing. (On Intel with wrong closures appended,
 // docs/USING.md, it removes exactly the wrong ones PCM let through.)
-TEST_CASE("app::robust's residual check: removed above the threshold, kept below it, the answer re-solved") {
+TEST_CASE(
+    "merge::robust's residual check: removed above the threshold, kept below it, the answer re-solved") {
   auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
   auto g = syn.graph;
   const int n = static_cast<int>(g.poses.size());
@@ -241,15 +242,15 @@ TEST_CASE("app::robust's residual check: removed above the threshold, kept below
         {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
          info, 0});
   }
-  app::RobustOptions off;
+  merge::RobustOptions off;
   off.p = 0.01;
   off.residual_p = 0.0;
-  const auto without = app::robust({g}, {}, off);
+  const auto without = merge::robust({g}, {}, off);
   CHECK(without.residual_rounds == 0);
   CHECK(without.residual_threshold == 0.0);
-  app::RobustOptions on = off;
+  merge::RobustOptions on = off;
   on.residual_p = 0.5;
-  const auto with = app::robust({g}, {}, on);
+  const auto with = merge::robust({g}, {}, on);
   MESSAGE("kept " << without.kept << " without the check, " << with.kept << " with it ("
                   << with.residual_rounds << " removed)");
   CHECK(with.residual_threshold == doctest::Approx(pcm::consistency_threshold(0.5, 3)));

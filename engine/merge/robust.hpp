@@ -1,0 +1,133 @@
+// keel::merge — a robust back end for one or several robots (Kimera-RPGO's setting, with the thesis's
+// guarantees): each robot's odometry (every edge between consecutive poses, i → i + 1, of its own graph) is
+// trusted, and every other edge is a candidate loop closure: a robot's own non-consecutive edges
+// (intra-robot) and the inter-robot candidates given apart. Candidates are grouped by the robots they join
+// (one group per robot and per pair of robots); in each group their pairwise consistency is measured in the
+// robots' odometry maps with the joint marginals (thesis eq. 2.4: two maps for a pair of robots,
+// pcm::consistency_matrix; one map, whose two relative poses per loop are correlated, for a robot's own
+// closures) and the largest consistent set is selected (eq. 2.5). All robots' odometry and the kept closures
+// are then solved together by the certified solver (pgo::solve_certified), whose certificate or proven gap
+// comes with the answer. `keel robust`, the Python module (app::robust) and the ext_robust_backend study run
+// it.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string_view>
+#include <vector>
+
+#include "graph/pose_graph.hpp"
+#include "merge/merge.hpp"
+#include "pcm/clique.hpp"
+#include "pcm/consistency.hpp"
+#include "pcm/selection.hpp"
+#include "pgo/certified.hpp"
+
+namespace keel::merge {
+
+/// How each group's consistent set is chosen: the exact maximum clique (proven, or stopped at the time limit
+/// with its bound), the greedy heuristic (pcm::CliqueAlgorithm::heuristic), the densest-subgraph selector
+/// (pcm::select_densest, CLIPPER's relaxation; its bound the heuristic's degeneracy bound), or by size:
+/// exact up to RobustOptions::exact_up_to candidates in the group, densest beyond.
+enum class RobustSelector { automatic, exact, heuristic, densest };
+[[nodiscard]] std::string_view to_string(RobustSelector s);
+[[nodiscard]] RobustSelector robust_selector_from_string(std::string_view text);  // "auto" | "exact" | …
+
+struct RobustOptions {
+  double p =
+      0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
+  pcm::Composition composition = pcm::Composition::joint;  // the relative poses from the joint marginals
+  RobustSelector selector = RobustSelector::automatic;
+  int exact_up_to = 2000;     // automatic: the exact clique for groups of at most this many candidates (>= 1)
+  double time_limit_s = 0.0;  // per group's exact clique search (s, >= 0); 0: none (the result says if it
+                              // stopped)
+  LocalSolveOptions local;    // each robot's odometry map (odometry initial guess, pose 0 fixed)
+  pgo::CertifiedOptions solve;  // the certified solve of all odometry and the kept closures
+  unsigned threads = 1;         // consistency matrices; 0 = keel::core::default_threads()
+  // The residual check after the selection: the kept closure with the largest χ² = rᵀΩr at the solution,
+  // above F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved (Levenberg–Marquardt from the
+  // estimate), up to max_residual_rounds times; then the certified solve of what is left. residual_p = 0: no
+  // check.
+  double residual_p = 0.01;
+  int max_residual_rounds = 50;
+  // Throws std::invalid_argument naming the field (including the nested options' own checks).
+  void validate() const;
+};
+
+/// One candidate loop closure: z ≈ (T^{robot_a}_{pose_a})⁻¹ T^{robot_b}_{pose_b}, robot_a ≤ robot_b (an
+/// inter-robot candidate given the other way round is inverted), poses local to their robots.
+template <class G>
+struct RobustCandidate {
+  int robot_a = 0, pose_a = 0, robot_b = 0, pose_b = 0;
+  int source = -1;  // r: an edge of robot r's graph; −1: the inter-robot candidate list
+  int edge = 0;     // index of that edge in its source
+  int line = 0;     // its source line (0 when built in memory)
+  int group = 0;    // index into RobustRun::groups
+  G z;
+  typename G::Jacobian covariance;  // of the left perturbation of z (pcm::left_covariance_from_information)
+  bool kept = false;
+  int inconsistent_with_kept = 0;  // kept candidates of its group it contradicts (q above γ either way)
+  int removed_in_round =
+      0;  // > 0: kept by its group's selection, removed by that round of the residual check
+  // rᵀΩr at the final solution (kept), or at its removal; NaN for one never kept.
+  double residual_chi2 = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// The candidates joining one robot (robot_a == robot_b) or one pair of robots, and their selection.
+struct RobustGroup {
+  int robot_a = 0, robot_b = 0;
+  RobustSelector selector = RobustSelector::exact;  // the one that chose (never automatic)
+  std::vector<int> members;                         // indices into RobustRun::candidates, in the order of Q
+  pcm::ConsistencyMatrix q;
+  pcm::Selection selection;  // indices into `members`; selection.search holds the clique search
+  double consistency_time_s = 0.0;
+};
+
+/// The certified solve of the selected graph (pgo::solve_certified): the graph with the certified estimate as
+/// its poses, the certificate's summary, and the anisotropic maximum-likelihood cost of eq. 2.1 at that
+/// estimate (NaN where some information is indefinite).
+template <class Graph>
+struct RobustSolution {
+  Graph graph;
+  pgo::CertifiedSummary summary;
+  double anisotropic_cost = 0.0;
+  double solve_time_s = 0.0;
+};
+
+/// Called with a short description of each stage as it starts; may be empty.
+using RobustProgress = std::function<void(std::string_view stage)>;
+
+template <class G>
+struct RobustRun {
+  RobustOptions options;                        // what the run was asked
+  std::vector<int> offsets;                     // robot r's pose k is pose offsets[r] + k of the solved graph
+  std::vector<graph::PoseGraphOf<G>> odometry;  // per robot: its poses and odometry edges
+  std::vector<RobustCandidate<G>> candidates;   // robots' own closures (robot by robot), then the list's
+  std::vector<RobustGroup> groups;              // nonempty groups: each robot's own, then pairs (a < b)
+  double gamma = 0.0;
+  int kept = 0;                    // candidates kept, over all groups
+  graph::PoseGraphOf<G> selected;  // all odometry and the kept closures, robots' poses one after another
+  RobustSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
+  double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0, selection_time_s = 0.0;
+  double residual_threshold = 0.0;  // F⁻¹_χ²(dof)(1 − residual_p); 0 without the check
+  int residual_rounds = 0;          // closures the residual check removed
+  double residual_time_s = 0.0;     // the residual check: the first certified solve and the re-solves
+};
+using RobustRun2 = RobustRun<lie::SE2>;
+using RobustRun3 = RobustRun<lie::SE3>;
+
+/// The pipeline above on `robots` (one graph each, at least one) and `inter_robot` candidates whose ids are
+/// global: robot r's pose k is id offsets[r] + k, the robots' poses numbered one after another in the order
+/// given. Throws std::invalid_argument for invalid options, a robot whose odometry does not chain every pose
+/// (naming the robot and the pose), a candidate id beyond the last robot's poses or a loop closure whose
+/// information is not positive definite (naming the candidate and its line), robots that no kept closure
+/// joins (naming one), or a group whose dense joint marginal would not fit in memory ((dof · poses touched)²
+/// numbers over 2 GiB); std::runtime_error when a solve fails.
+[[nodiscard]] RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots,
+                                const std::vector<graph::Edge2>& inter_robot = {},
+                                const RobustOptions& options = {}, const RobustProgress& progress = {});
+[[nodiscard]] RobustRun3 robust(const std::vector<graph::PoseGraph3D>& robots,
+                                const std::vector<graph::Edge3>& inter_robot = {},
+                                const RobustOptions& options = {}, const RobustProgress& progress = {});
+
+}  // namespace keel::merge

@@ -12,6 +12,7 @@ module;
 #include "graph/parse_error.hpp"
 #include "graph/pose_graph.hpp"
 #include "graph/trajectory.hpp"
+#include "graph/trajectory_error.hpp"
 export module keel.graph;
 
 export namespace keel::graph {
@@ -58,6 +59,9 @@ using keel::graph::write_landmarks_2d;
 using keel::graph::write_poses_2d;
 using keel::graph::write_poses_3d;
 using keel::graph::write_tum;
+// trajectory errors
+using keel::graph::absolute_trajectory_error;
+using keel::graph::relative_pose_error;
 // dispatch and comparison
 using keel::graph::detect_graph_format;
 using keel::graph::graph_difference;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "core/random.hpp"
@@ -48,5 +49,60 @@ using CorruptedGraph3 = CorruptedGraph<graph::PoseGraph3D>;
 [[nodiscard]] CorruptedGraph3 corrupt_loop_closures(const graph::PoseGraph3D& g,
                                                     const LoopClosureCorruption& o,
                                                     const core::Streams& streams, std::uint64_t index);
+
+// Wrong loop closures added to a graph (a robust back end's input; Kimera-RPGO's and the thesis's §2.7
+// setting): the graph keeps its L loop closures, and m = round(rate / (1 − rate) · L) wrong ones are
+// appended, so that `rate` is the share of wrong closures among all of them.
+//   random   each between a random pose pair (i, j), |i − j| ≥ 2 (both uniform over the poses kept), its
+//            measurement a rotation uniform on SO(d) and each translation coordinate uniform in [−s, s], s as
+//            in LoopClosureCorruption;
+//   aliased  perceptual aliasing, groups of `group_size` mutually consistent wrong closures: a group draws
+//   two
+//            blocks of poses a … a + g − 1 and b … b + g − 1 that do not overlap or touch, and a false
+//            relative pose A (drawn as a random closure's measurement); member k joins a + k to b + k with
+//            z̄_k = O_{a+k}⁻¹ O_a A O_b⁻¹ O_{b+k}, O the poses chained from the odometry (pose 0 at the
+//            identity), so the group agrees with one wrong alignment of the two blocks exactly as the
+//            odometry maps see them. The last group is cut short so that m is exact.
+// Every wrong closure copies the information Ω of a true loop closure drawn uniformly (it is as confident as
+// the true ones); an aliased member is also perturbed like a measurement, z = z̄ ρ⁻¹(r)⁻¹ with r ~ N(0, Ω⁻¹).
+// The draws of one index come in order from one stream, so a higher rate adds to a lower rate's wrong
+// closures (common random numbers).
+enum class WrongClosureKind { random, aliased };
+[[nodiscard]] std::string_view to_string(WrongClosureKind kind);                       // "random" | "aliased"
+[[nodiscard]] WrongClosureKind wrong_closure_kind_from_string(std::string_view text);  // throws on others
+
+struct WrongClosures {
+  int first_poses = 0;  // as LoopClosureCorruption::first_poses
+  double rate = 0.0;    // the share of wrong closures among all loop closures, in [0, 1)
+  WrongClosureKind kind = WrongClosureKind::random;
+  int group_size = 5;     // aliased: members per group (>= 1; the thesis's §2.7.2 groups have 5)
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+
+// The graph with its wrong closures appended (`outliers`: their indices, the last m edges) from stream
+// `index` of `streams`' child "wrong". Throws std::invalid_argument for invalid options, landmarks,
+// first_poses above the pose count, a pose kept without an odometry edge from its predecessor, wrong closures
+// asked of a graph with no loop closure (nothing to copy the information of), or an aliased group that does
+// not fit.
+[[nodiscard]] CorruptedGraph2 add_wrong_loop_closures(const graph::PoseGraph2D& g, const WrongClosures& o,
+                                                      const core::Streams& streams, std::uint64_t index);
+[[nodiscard]] CorruptedGraph3 add_wrong_loop_closures(const graph::PoseGraph3D& g, const WrongClosures& o,
+                                                      const core::Streams& streams, std::uint64_t index);
+
+// One graph cut into `robots` robots, each a block of consecutive poses: robot r holds poses
+// [⌊r n / R⌋, ⌊(r + 1) n / R⌋), re-indexed from 0, and the edges inside its block. An edge between two
+// blocks is an inter-robot candidate with its ids as in the graph (which are merge::robust's global ids: the
+// robots' poses numbered one after another), except the odometry edges (|i − j| = 1) that join two blocks,
+// which are dropped: the robots' trajectories are not joined by odometry.
+template <class Graph>
+struct RobotSplit {
+  std::vector<Graph> robots;
+  std::vector<typename decltype(Graph::edges)::value_type> inter;
+  std::vector<std::vector<int>> robot_edge;  // robot_edge[r][k]: the graph's edge that robot r's edge k is
+  std::vector<int> inter_edge;               // the graph's edge that inter-robot candidate k is
+};
+// Throws std::invalid_argument when robots < 1 or robots exceeds the pose count.
+[[nodiscard]] RobotSplit<graph::PoseGraph2D> split_into_robots(const graph::PoseGraph2D& g, int robots);
+[[nodiscard]] RobotSplit<graph::PoseGraph3D> split_into_robots(const graph::PoseGraph3D& g, int robots);
 
 }  // namespace keel::sim

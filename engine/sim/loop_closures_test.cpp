@@ -210,3 +210,130 @@ TEST_CASE("corrupt_loop_closures: bad inputs are refused with the field named") 
       [&] { (void)corrupt_loop_closures(with_landmarks, LoopClosureCorruption{}, Streams(1), 0); },
       "has landmarks"));
 }
+
+TEST_CASE("add_wrong_loop_closures: the rate's count appended, originals untouched, higher rates add") {
+  const auto g = ring<graph::PoseGraph2D>(100);  // 31 loop closures
+  using keel::sim::add_wrong_loop_closures;
+  using keel::sim::WrongClosureKind;
+  using keel::sim::WrongClosures;
+  for (const auto kind : {WrongClosureKind::random, WrongClosureKind::aliased}) {
+    CAPTURE(keel::sim::to_string(kind));
+    WrongClosures lo, hi;
+    lo.kind = hi.kind = kind;
+    lo.rate = 0.2;
+    hi.rate = 0.5;
+    const auto a = add_wrong_loop_closures(g, lo, Streams(5), 3);
+    const auto b = add_wrong_loop_closures(g, hi, Streams(5), 3);
+    CHECK(a.outliers.size() == 8);   // round(0.2 / 0.8 · 31) = round(7.75)
+    CHECK(b.outliers.size() == 31);  // as many wrong as true
+    REQUIRE(a.graph.edges.size() == g.edges.size() + 8);
+    CHECK(a.loop_closures.size() == 31 + 8);
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {  // the input's edges as read, in order
+      CHECK(a.graph.edges[k].i == g.edges[k].i);
+      CHECK(a.graph.edges[k].measurement.angle() == g.edges[k].measurement.angle());
+    }
+    for (std::size_t k = 0; k < a.outliers.size();
+         ++k) {  // a lower rate's wrong closures are a higher's first
+      const auto& x = a.graph.edges[static_cast<std::size_t>(a.outliers[k])];
+      const auto& y = b.graph.edges[static_cast<std::size_t>(b.outliers[k])];
+      CHECK(x.i == y.i);
+      CHECK(x.j == y.j);
+      CHECK(x.measurement.angle() == y.measurement.angle());
+    }
+    for (const int e : b.outliers) {  // no odometry pair, and a true closure's information
+      const auto& w = b.graph.edges[static_cast<std::size_t>(e)];
+      CHECK(std::abs(w.i - w.j) >= 2);
+      CHECK(std::any_of(g.edges.begin(), g.edges.end(), [&](const auto& t) {
+        return std::abs(t.i - t.j) != 1 && t.information == w.information;
+      }));
+    }
+  }
+}
+
+TEST_CASE("add_wrong_loop_closures: an aliased group agrees on one wrong alignment, groups differ") {
+  auto g = ring<graph::PoseGraph3D>(120);
+  for (auto& e : g.edges) e.information *= 1e8;  // noise ~1e-4: the groups' agreement shows plainly
+  keel::sim::WrongClosures o;
+  o.kind = keel::sim::WrongClosureKind::aliased;
+  o.rate = 0.5;  // 38 wrong closures: 7 groups of 5 and one of 3
+  const auto c = keel::sim::add_wrong_loop_closures(g, o, Streams(9), 0);
+  REQUIRE(c.outliers.size() == 38);
+  // The chained odometry (the ring's poses, pose 0 moved to the identity); member (i, j)'s implied anchor
+  // O_i z O_j⁻¹ is its group's.
+  std::vector<lie::SE3> chain;
+  for (const auto& p : g.poses) chain.push_back(g.poses[0].inverse() * p);
+  std::vector<lie::SE3> anchors;
+  for (const int e : c.outliers) {
+    const auto& w = c.graph.edges[static_cast<std::size_t>(e)];
+    anchors.push_back(chain[static_cast<std::size_t>(w.i)] * w.measurement *
+                      chain[static_cast<std::size_t>(w.j)].inverse());
+  }
+  const auto gap = [](const lie::SE3& x, const lie::SE3& y) {
+    const lie::SE3 d = x.inverse() * y;
+    return d.translation().norm() + d.so3().log().norm();
+  };
+  for (std::size_t k = 0; k < anchors.size(); ++k) {
+    const std::size_t group = k / 5;
+    const auto& w = c.graph.edges[static_cast<std::size_t>(c.outliers[k])];
+    const auto& first = c.graph.edges[static_cast<std::size_t>(c.outliers[group * 5])];
+    CHECK(w.i - first.i == static_cast<int>(k % 5));  // consecutive blocks a + k → b + k
+    CHECK(w.j - first.j == static_cast<int>(k % 5));
+    CHECK(gap(anchors[k], anchors[group * 5]) < 1e-2);
+    if (group > 0) CHECK(gap(anchors[k], anchors[(group - 1) * 5]) > 1e-1);
+  }
+}
+
+TEST_CASE("split_into_robots: blocks re-indexed, inter-robot candidates with global ids, joins dropped") {
+  const auto g = ring<graph::PoseGraph2D>(100);
+  const auto s = keel::sim::split_into_robots(g, 4);
+  REQUIRE(s.robots.size() == 4);
+  std::size_t edges = s.inter.size();
+  for (int r = 0; r < 4; ++r) {
+    const auto& h = s.robots[static_cast<std::size_t>(r)];
+    CHECK(h.poses.size() == 25);
+    edges += h.edges.size();
+    for (std::size_t k = 0; k < h.edges.size(); ++k) {
+      const auto& e = g.edges[static_cast<std::size_t>(s.robot_edge[static_cast<std::size_t>(r)][k])];
+      CHECK(h.edges[k].i == e.i - 25 * r);
+      CHECK(h.edges[k].j == e.j - 25 * r);
+      CHECK(h.edges[k].measurement.angle() == e.measurement.angle());
+    }
+  }
+  CHECK(edges + 3 == g.edges.size());  // the three odometry edges between blocks are dropped
+  for (std::size_t k = 0; k < s.inter.size(); ++k) {
+    const auto& e = g.edges[static_cast<std::size_t>(s.inter_edge[k])];
+    CHECK(s.inter[k].i == e.i);
+    CHECK(s.inter[k].j == e.j);
+    CHECK(e.i / 25 != e.j / 25);
+    CHECK(std::abs(e.i - e.j) != 1);
+  }
+  const auto one = keel::sim::split_into_robots(g, 1);
+  CHECK(one.robots[0].edges.size() == g.edges.size());
+  CHECK(one.inter.empty());
+}
+
+TEST_CASE("add_wrong_loop_closures and split_into_robots: bad inputs are refused") {
+  const auto g = ring<graph::PoseGraph2D>(20);
+  keel::sim::WrongClosures o;
+  o.rate = 1.0;
+  CHECK(throws_with<std::invalid_argument>(
+      [&] { (void)keel::sim::add_wrong_loop_closures(g, o, Streams(1), 0); }, "rate = 1"));
+  o = {};
+  o.group_size = 0;
+  CHECK(throws_with<std::invalid_argument>(
+      [&] { (void)keel::sim::add_wrong_loop_closures(g, o, Streams(1), 0); }, "group_size = 0"));
+  auto bare = g;
+  std::erase_if(bare.edges, [](const auto& e) { return std::abs(e.i - e.j) != 1; });
+  o = {};
+  o.rate = 0.5;
+  CHECK(throws_with<std::invalid_argument>(
+      [&] { (void)keel::sim::add_wrong_loop_closures(bare, o, Streams(1), 0); }, "has no loop closure"));
+  auto gap = g;
+  std::erase_if(gap.edges, [](const auto& e) { return e.i == 7 && e.j == 8; });
+  CHECK(throws_with<std::invalid_argument>(
+      [&] { (void)keel::sim::add_wrong_loop_closures(gap, o, Streams(1), 0); },
+      "pose 8 has no odometry edge from pose 7"));
+  CHECK(throws_with<std::invalid_argument>([&] { (void)keel::sim::split_into_robots(g, 0); },
+                                           "0 robots asked of ring with 20 poses"));
+  CHECK_THROWS_AS((void)keel::sim::wrong_closure_kind_from_string("clustered"), std::invalid_argument);
+}

@@ -66,9 +66,15 @@ using keel::sim::planted_clique_graph;
 using keel::sim::PlantedClique;
 using keel::sim::random_graph;
 // corrupted loop closures (inputs for the certified solver beyond the thesis)
+using keel::sim::add_wrong_loop_closures;
 using keel::sim::corrupt_loop_closures;
 using keel::sim::CorruptedGraph;
 using keel::sim::CorruptedGraph2;
 using keel::sim::CorruptedGraph3;
 using keel::sim::LoopClosureCorruption;
+using keel::sim::RobotSplit;
+using keel::sim::split_into_robots;
+using keel::sim::wrong_closure_kind_from_string;
+using keel::sim::WrongClosureKind;
+using keel::sim::WrongClosures;
 }  // namespace keel::sim

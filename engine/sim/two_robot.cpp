@@ -36,11 +36,10 @@ bool all_finite(const M& m) {
 bool finite_pose(const lie::SE2& T) { return T.translation().allFinite() && std::isfinite(T.angle()); }
 bool finite_pose(const lie::SE3& T) { return T.translation().allFinite() && T.rotation().allFinite(); }
 
-// ρ⁻¹: the pose whose residual parameterization (graph/pose_graph.hpp) is r.
-lie::SE2 from_residual(const lie::Vec3& r) { return lie::SE2(r(0), r(1), r(2)); }
-lie::SE3 from_residual(const lie::Vec6& r) { return lie::SE3(lie::SO3::exp(r.tail<3>()), r.head<3>()); }
-
+using detail::from_residual;
+using detail::normal_sample;
 using detail::random_rotation;
+using detail::redraw;
 
 // A unit vector uniform on the circle / sphere (a normalized standard normal vector).
 template <int N>
@@ -74,14 +73,6 @@ lie::SE3 make_pose(const lie::SO3& R, const lie::Vec3& t) { return lie::SE3(R, t
 int uniform_index(core::Rng& rng, int n) {
   const int k = static_cast<int>(rng.uniform() * n);
   return std::min(k, n - 1);
-}
-
-// A draw of N(0, C) from the lower Cholesky factor of C.
-template <class Mat>
-auto normal_sample(core::Rng& rng, const Mat& lower) {
-  typename Eigen::Matrix<double, Mat::RowsAtCompileTime, 1> n;
-  for (int k = 0; k < n.size(); ++k) n(k) = rng.normal();
-  return (lower * n).eval();
 }
 
 template <class G>
@@ -299,17 +290,6 @@ CandidateSet<G> generate_impl(const TwoRobotScenario<G>& s, const CandidateOptio
     }
   }
   return out;
-}
-
-// A residual draw r ~ N(0, s² Ω⁻¹) and the measurement X ρ⁻¹(r)⁻¹ whose residual at the true relative pose X
-// is r.
-template <class G>
-G redraw(core::Rng& rng, const G& X, const typename G::Jacobian& info, double scale) {
-  using J = typename G::Jacobian;
-  const J cov = info.ldlt().solve(J::Identity());
-  const J L = Eigen::LLT<J>(0.5 * (cov + cov.transpose())).matrixL();
-  const typename G::Tangent r = scale * normal_sample(rng, L);
-  return X * from_residual(r).inverse();
 }
 
 template <class G, class Graph>

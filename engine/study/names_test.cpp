@@ -20,6 +20,7 @@
 #include "pcm/consistency.hpp"
 #include "pcm/selection.hpp"
 #include "pgo/options.hpp"
+#include "sim/loop_closures.hpp"
 #include "sim/world1d.hpp"
 #include "sos/relaxation.hpp"
 #include "study/ch2/clique_scale.hpp"
@@ -128,6 +129,8 @@ TEST_CASE(
                    sos::structure_from_string);
 
   // data
+  check_name_table("sim::WrongClosureKind", {sim::WrongClosureKind::random, sim::WrongClosureKind::aliased},
+                   sim::wrong_closure_kind_from_string);
   using sim::MeasurementLabel;
   check_name_table("sim::MeasurementLabel",
                    {MeasurementLabel::inlier, MeasurementLabel::aliased, MeasurementLabel::random},

@@ -16,6 +16,7 @@ module;
 #include "study/ch2/world1d_comparison.hpp"
 #include "study/ch2/world1d_study_common.hpp"
 #include "study/ch4/certified_noise.hpp"
+#include "study/ch4/robust_backend.hpp"
 #include "study/ch4/certified_pgo.hpp"
 #include "study/ch4/segments.hpp"
 #include "study/ch4/exactness.hpp"
@@ -83,6 +84,7 @@ using keel::study::ch4::CertifiedBenchmark;
 using keel::study::ch4::CertifiedNoiseSweep;
 using keel::study::ch4::Exactness;
 using keel::study::ch4::FirstSegment;
+using keel::study::ch4::RobustBackend;
 using keel::study::ch4::Segments;
 using keel::study::ch4::WholeDataCertificate;
 }  // namespace keel::study::ch4

@@ -123,6 +123,54 @@ def timed(cmd, limit):
     return r, time.monotonic() - t0
 
 
+def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
+    """Runs keel robust and Kimera-RPGO on file f, scores both and appends their rows to rows and out."""
+    r, keel_s = timed([a.keel, "robust", f, "--json", "-q", "--p", str(a.p)], a.timeout)
+    if r is not None and r.returncode not in (0, 1):
+        sys.exit(f"robust.py: keel robust {f} exited {r.returncode}: {r.stderr}")
+    result = []
+    gamma = gammas.get(name)
+    if r is None:
+        result.append(("keel", None, keel_s, float("nan"), "timeout"))
+    else:
+        j = json.loads(r.stdout)
+        gamma = gammas.setdefault(name, j["gamma"])
+        kept = [(c["i"], c["j"]) for c in j["candidate_list"] if c["kept"]]
+        own = sum(v for v in j["times_s"].values())
+        result.append(("keel", kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no"))
+    if gamma is None:
+        sys.exit(f"robust.py: keel timed out on {name}'s first file, so there is no gamma for "
+                 "Kimera-RPGO's threshold")
+    r, kim_s = timed([a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}", f]
+                     + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), a.timeout)
+    if r is None:
+        result.append(("kimera", None, kim_s, float("nan"), "timeout"))
+    else:
+        if r.returncode != 0:
+            sys.exit(f"robust.py: kimera_measure {f} exited {r.returncode}: {r.stderr}")
+        kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
+        kept_k = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
+        result.append(("kimera", kept_k, kim_s, float(kv["rpgo_s"]), ""))
+    for tool, kept_pairs, proc, own_s, cert in result:
+        if kept_pairs is None:  # timed out
+            row = (name, rate, trial, tool, "", n_true, "", len(wrong_pairs), float("nan"), float("nan"),
+                   proc, own_s, cert)
+            rows.append(row)
+            out.write("\t".join(str(v) for v in row) + "\n")
+            continue
+        kw = sum(1 for p in kept_pairs if p in wrong_pairs)
+        kt = len(kept_pairs) - kw
+        prec = kt / len(kept_pairs) if kept_pairs else 1.0
+        rec = kt / n_true if n_true else 1.0
+        row = (name, rate, trial, tool, kt, n_true, kw, len(wrong_pairs), prec, rec, proc, own_s, cert)
+        rows.append(row)
+        out.write("\t".join(str(v) for v in row) + "\n")
+        out.flush()
+    print(f"{name} {rate:g}% trial {trial}: " + "; ".join(
+        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} {row[10]:.2f} s {row[12]}" for row in rows[-2:]),
+          file=sys.stderr)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keel", required=True)
@@ -136,8 +184,13 @@ def main():
     ap.add_argument("--workdir", default=None)
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per tool and file (a run past it is "
                     "recorded as 'timeout', its time as the limit)")
-    ap.add_argument("datasets", nargs="+", help="NAME=FILE.g2o")
+    ap.add_argument("--prepared", default=None, help="a list written by keel_robust_graphs (lines 'KEY=FILE "
+                    "TRUE_EDGES'): run on those files instead of corrupting data sets; the edges after the first "
+                    "TRUE_EDGES are the wrong closures")
+    ap.add_argument("datasets", nargs="*", help="NAME=FILE.g2o")
     a = ap.parse_args()
+    if bool(a.prepared) == bool(a.datasets):
+        sys.exit("robust.py: give data sets or --prepared LIST, not both or neither")
     work = a.workdir or tempfile.mkdtemp(prefix="keel_robust_")
     rates = [float(r) for r in a.rates.split(",")]
     rows = []
@@ -145,6 +198,18 @@ def main():
     with open(a.out, "w") as out:
         out.write("dataset\trate\ttrial\ttool\tkept_true\ttrue\tkept_wrong\twrong\tprecision\trecall\tprocess_s\t"
                   "own_s\tcertified\n")
+        for line in open(a.prepared) if a.prepared else []:
+            # <graph>.r1.<kind>.out<percent>.t<trial> or <graph>.r1.clean.t<trial> (ext_robust_backend's cells)
+            key, rest = line.strip().split("=", 1)
+            f, true_edges = rest.rsplit(" ", 1)
+            parts = key.split(".")
+            name = parts[0] if parts[2] == "clean" else f"{parts[0]}.{parts[2]}"
+            rate = 0.0 if parts[2] == "clean" else float(parts[3][3:])
+            trial = int(parts[-1][1:])
+            edges = read_edges(f)
+            clean, wrong = edges[:int(true_edges)], edges[int(true_edges):]
+            n_true = sum(1 for t in clean if abs(int(t[2]) - int(t[1])) != 1)
+            run_file(a, name, rate, trial, f, n_true, {(int(t[1]), int(t[2])) for t in wrong}, gammas, rows, out)
         for spec in a.datasets:
             name, path = spec.split("=", 1)
             edges = read_edges(path)
@@ -158,50 +223,7 @@ def main():
                     with open(f, "w") as g:
                         g.write("\n".join(verts + [" ".join(t) for t in edges + wrong]) + "\n")
                     wrong_pairs = {(int(t[1]), int(t[2])) for t in wrong}
-                    r, keel_s = timed([a.keel, "robust", f, "--json", "-q", "--p", str(a.p)], a.timeout)
-                    if r is not None and r.returncode not in (0, 1):
-                        sys.exit(f"robust.py: keel robust {f} exited {r.returncode}: {r.stderr}")
-                    result = []
-                    gamma = gammas.get(name)
-                    if r is None:
-                        result.append(("keel", None, keel_s, float("nan"), "timeout"))
-                    else:
-                        j = json.loads(r.stdout)
-                        gamma = gammas.setdefault(name, j["gamma"])
-                        kept = [(c["i"], c["j"]) for c in j["candidate_list"] if c["kept"]]
-                        own = sum(v for v in j["times_s"].values())
-                        result.append(("keel", kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no"))
-                    if gamma is None:
-                        sys.exit(f"robust.py: keel timed out on {name}'s first file, so there is no gamma for "
-                                 "Kimera-RPGO's threshold")
-                    r, kim_s = timed([a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}", f]
-                                     + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), a.timeout)
-                    if r is None:
-                        result.append(("kimera", None, kim_s, float("nan"), "timeout"))
-                    else:
-                        if r.returncode != 0:
-                            sys.exit(f"robust.py: kimera_measure {f} exited {r.returncode}: {r.stderr}")
-                        kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
-                        kept_k = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
-                        result.append(("kimera", kept_k, kim_s, float(kv["rpgo_s"]), ""))
-                    for tool, kept_pairs, proc, own_s, cert in result:
-                        if kept_pairs is None:  # timed out
-                            row = (name, rate, trial, tool, "", n_true, "", len(wrong), float("nan"), float("nan"),
-                                   proc, own_s, cert)
-                            rows.append(row)
-                            out.write("\t".join(str(v) for v in row) + "\n")
-                            continue
-                        kw = sum(1 for p in kept_pairs if p in wrong_pairs)
-                        kt = len(kept_pairs) - kw
-                        prec = kt / len(kept_pairs) if kept_pairs else 1.0
-                        rec = kt / n_true if n_true else 1.0
-                        row = (name, rate, trial, tool, kt, n_true, kw, len(wrong), prec, rec, proc, own_s, cert)
-                        rows.append(row)
-                        out.write("\t".join(str(v) for v in row) + "\n")
-                        out.flush()
-                    print(f"{name} {rate:g}% trial {trial}: " + "; ".join(
-                        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} {row[10]:.2f} s {row[12]}" for row in rows[-2:]),
-                          file=sys.stderr)
+                    run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out)
     print("| data set | outliers | tool | precision (median) | recall (median) | wrong kept (median) | "
           "process s (median) | keel certified |")
     print("|---|---|---|---|---|---|---|---|")

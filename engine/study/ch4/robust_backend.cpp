@@ -93,13 +93,6 @@ std::vector<RobustBackendCell> RobustBackend::make_cells(const Options& o) {
 
 namespace {
 
-// A graph's outlier-free subset, in the one of its dimension.
-struct BackendCleanGraph {
-  graph::PoseGraph2D g2;
-  graph::PoseGraph3D g3;
-  int loop_closures = 0;
-};
-
 // Robot r of `robots` holds poses [⌊r n / R⌋, ⌊(r + 1) n / R⌋) (sim::split_into_robots).
 int backend_robot_of(int id, int n, int robots) {
   int r = static_cast<int>(static_cast<long long>(id) * robots / n);
@@ -144,15 +137,7 @@ RobustBackendReference backend_reference(const Graph& clean, std::size_t g, int 
 template <class Graph, class Pose>
 void backend_trial(const Graph& clean, const RobustBackendCell& cell, const RobustBackend::Options& o,
                    const core::Streams& streams, const std::vector<Pose>& reference, RobustBackendTrial& t) {
-  sim::WrongClosures w;
-  w.rate = cell.rate;
-  w.kind = cell.kind;
-  w.group_size = o.group_size;
-  // The stream of (graph, trial) in the kind's family: every robot count and rate of a trial sees the same
-  // draws (a higher rate adds to a lower one's wrong closures).
-  const auto corrupted = sim::add_wrong_loop_closures(
-      clean, w, streams.child(std::string(sim::to_string(cell.kind))),
-      cell.graph * static_cast<std::uint64_t>(o.trials) + static_cast<std::uint64_t>(t.trial));
+  const auto corrupted = RobustBackend::trial_graph(clean, o, cell, t.trial, streams);
   const int n_clean = static_cast<int>(clean.edges.size());
   t.true_closures = static_cast<int>(corrupted.loop_closures.size() - corrupted.outliers.size());
   t.wrong_closures = static_cast<int>(corrupted.outliers.size());
@@ -194,31 +179,58 @@ void backend_trial(const Graph& clean, const RobustBackendCell& cell, const Robu
   }
 }
 
+template <class Graph>
+auto backend_trial_graph(const Graph& clean, const RobustBackend::Options& o, const RobustBackendCell& cell,
+                         int trial, const core::Streams& streams) {
+  sim::WrongClosures w;
+  w.rate = cell.rate;
+  w.kind = cell.kind;
+  w.group_size = o.group_size;
+  // The stream of (graph, trial) in the kind's family: every robot count and rate of a trial sees the same
+  // draws (a higher rate adds to a lower one's wrong closures).
+  return sim::add_wrong_loop_closures(
+      clean, w, streams.child("wrong_closures").child(std::string(sim::to_string(cell.kind))),
+      cell.graph * static_cast<std::uint64_t>(o.trials) + static_cast<std::uint64_t>(trial));
+}
+
 }  // namespace
+
+RobustBackend::CleanGraph RobustBackend::clean_graph(const Options& o, std::size_t g) {
+  const RobustBackendGraph& f = o.graphs[g];
+  const auto path = datasets::resolve_dataset_file(f.dataset, f.file);
+  sim::WrongClosures subset;  // rate 0: the first poses and the edges among them, as read
+  subset.first_poses = f.poses;
+  CleanGraph out;
+  if (f.dimension == 2)
+    out.g2 = sim::add_wrong_loop_closures(graph::read_pose_graph_2d(path), subset, core::Streams(0), 0).graph;
+  else
+    out.g3 = sim::add_wrong_loop_closures(graph::read_pose_graph_3d(path), subset, core::Streams(0), 0).graph;
+  return out;
+}
+
+sim::CorruptedGraph2 RobustBackend::trial_graph(const graph::PoseGraph2D& clean, const Options& o,
+                                                const RobustBackendCell& cell, int trial,
+                                                const core::Streams& streams) {
+  return backend_trial_graph(clean, o, cell, trial, streams);
+}
+sim::CorruptedGraph3 RobustBackend::trial_graph(const graph::PoseGraph3D& clean, const Options& o,
+                                                const RobustBackendCell& cell, int trial,
+                                                const core::Streams& streams) {
+  return backend_trial_graph(clean, o, cell, trial, streams);
+}
 
 RobustBackend::Outcome RobustBackend::run(const Options& o, const RunContext& context) {
   Outcome out;
   out.options = o;
   out.cells = make_cells(o);
   // Set-up (every shard): the subsets, and the reference of each graph and robot count.
-  std::vector<BackendCleanGraph> clean(o.graphs.size());
+  std::vector<CleanGraph> clean;
   for (std::size_t g = 0; g < o.graphs.size(); ++g) {
-    const RobustBackendGraph& f = o.graphs[g];
-    const auto path = datasets::resolve_dataset_file(f.dataset, f.file);
-    sim::WrongClosures subset;
-    subset.first_poses = f.poses;
-    if (f.dimension == 2) {
-      auto c = sim::add_wrong_loop_closures(graph::read_pose_graph_2d(path), subset, context.streams(), 0);
-      clean[g].g2 = std::move(c.graph);
-      clean[g].loop_closures = static_cast<int>(c.loop_closures.size());
-    } else {
-      auto c = sim::add_wrong_loop_closures(graph::read_pose_graph_3d(path), subset, context.streams(), 0);
-      clean[g].g3 = std::move(c.graph);
-      clean[g].loop_closures = static_cast<int>(c.loop_closures.size());
-    }
+    clean.push_back(clean_graph(o, g));
     for (const int robots : o.robots)
-      out.references.push_back(f.dimension == 2 ? backend_reference(clean[g].g2, g, robots, o.robust.solve)
-                                                : backend_reference(clean[g].g3, g, robots, o.robust.solve));
+      out.references.push_back(o.graphs[g].dimension == 2
+                                   ? backend_reference(clean[g].g2, g, robots, o.robust.solve)
+                                   : backend_reference(clean[g].g3, g, robots, o.robust.solve));
   }
   const auto reference = [&](const RobustBackendCell& c) -> const RobustBackendReference& {
     for (const auto& r : out.references)
@@ -228,7 +240,7 @@ RobustBackend::Outcome RobustBackend::run(const Options& o, const RunContext& co
   const std::size_t per_cell = static_cast<std::size_t>(o.trials);
   out.trials.resize(out.cells.size() * per_cell);
   core::Progress progress = context.progress(out.trials.size());
-  const core::Streams streams = context.streams().child("wrong_closures");
+  const core::Streams& streams = context.streams();
   context.trials(
       out.trials.size(),
       [&](std::size_t i) {

@@ -90,6 +90,21 @@ struct RobustBackend {
   };
   // The grid's cells in run order: graph, robot count, then the clean cell and each kind's rates.
   static std::vector<RobustBackendCell> make_cells(const Options& options);
+  // Graph g's outlier-free subset, read from its data set (in g2 or g3, by its dimension).
+  struct CleanGraph {
+    graph::PoseGraph2D g2;
+    graph::PoseGraph3D g3;
+  };
+  static CleanGraph clean_graph(const Options& options, std::size_t g);
+  // Trial t of `cell`: its graph's clean subset with the wrong closures the experiment draws appended (from
+  // `streams`, the experiment's seed at base 0), so bench/side_by_side/robust_graphs.cpp writes the graphs
+  // the experiment runs.
+  static sim::CorruptedGraph2 trial_graph(const graph::PoseGraph2D& clean, const Options& options,
+                                          const RobustBackendCell& cell, int trial,
+                                          const core::Streams& streams);
+  static sim::CorruptedGraph3 trial_graph(const graph::PoseGraph3D& clean, const Options& options,
+                                          const RobustBackendCell& cell, int trial,
+                                          const core::Streams& streams);
   static Outcome run(const Options& options, const repro::RunContext& context);
   static void record(repro::Results& results, const Outcome& outcome);
   static std::vector<repro::Figure> figures(const Outcome& outcome);

@@ -19,7 +19,6 @@ using merge::RobustRun;
 using merge::RobustRun2;
 using merge::RobustRun3;
 using merge::RobustSelector;
-using merge::RobustSolution;
 using merge::to_string;  // of RobustSelector
 
 /// merge::robust after the numeric check of every robot's graph and the inter-robot candidates

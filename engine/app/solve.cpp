@@ -41,27 +41,7 @@ template <class Graph>
 CertifiedSolution<Graph> certified_impl(const Graph& g, const Certified& backend) {
   backend.validate();
   check_numeric_range(g);  // as solve_impl
-  const pgo::CertifiedOptions& o = backend.options;
-  const auto t0 = core::Clock::now();
-  auto r = pgo::solve_certified(g, o);
-  CertifiedSolution<Graph> out;
-  out.solve_time_s = core::seconds_since(t0);
-  out.graph = g;
-  out.graph.poses = std::move(r.poses);
-  out.graph.has_initial_poses = true;
-  out.summary = std::move(r.summary);
-  if (g.indefinite_information > 0) {
-    out.anisotropic_cost = std::numeric_limits<double>::quiet_NaN();  // undefined with indefinite information
-  } else if constexpr (std::is_same_v<Graph, graph::PoseGraph2D>) {
-    pgo::Estimate2D at;
-    at.poses = out.graph.poses;
-    out.anisotropic_cost = pgo::evaluate(g, at).cost;
-  } else {
-    pgo::Estimate3D at;
-    at.poses = out.graph.poses;
-    out.anisotropic_cost = pgo::evaluate(g, at).cost;
-  }
-  return out;
+  return pgo::certified_solution(g, backend.options);
 }
 
 }  // namespace

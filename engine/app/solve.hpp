@@ -74,15 +74,10 @@ using Solution2 = Solution<graph::PoseGraph2D>;
 using Solution3 = Solution<graph::PoseGraph3D>;
 
 /// The certified solve (pgo::solve_certified) and, at its estimate, the anisotropic maximum-likelihood cost
-/// of eq. 2.1 that `solve` minimizes (the two problems differ; both costs are reported).
+/// of eq. 2.1 that `solve` minimizes (pgo::certified_solution; the two problems differ, both costs are
+/// reported).
 template <class Graph>
-struct CertifiedSolution {
-  Graph graph;  // the input with the certified estimate as its poses
-  pgo::CertifiedSummary summary;
-  double anisotropic_cost = 0.0;  // ½ Σ rᵀΩr at the certified estimate (pgo::evaluate); NaN when some Ω is
-                                  // not positive definite (graph.indefinite_information > 0)
-  double solve_time_s = 0.0;
-};
+using CertifiedSolution = pgo::CertifiedSolution<Graph>;
 using CertifiedSolution2 = CertifiedSolution<graph::PoseGraph2D>;
 using CertifiedSolution3 = CertifiedSolution<graph::PoseGraph3D>;
 /// Throws std::invalid_argument for invalid options, a disconnected graph, landmarks or weights that are not

@@ -23,11 +23,16 @@ import keel.graph;
 
 namespace {
 
-// Prints "keel <command>: <message>" and returns the exit code of the error's class (Exit in commands.hpp).
+// Prints "keel <command>: <message>" and returns the exit code of the error's class (Exit in commands.hpp). A
+// message that begins with the command's own name ("robust: …", from merge::robust) is printed once, not as
+// "keel robust: robust: …".
 int report_error(const char* command, std::exception_ptr error) {
   using namespace keel::cli;
   auto say = [&](const std::string& prefix, const std::exception& e, int code) {
-    fmt::print(stderr, "keel {}: {}{}\n", command, prefix, e.what());
+    std::string_view message = e.what();
+    const std::string own = std::string(command) + ": ";
+    if (prefix.empty() && message.starts_with(own)) message.remove_prefix(own.size());
+    fmt::print(stderr, "keel {}: {}{}\n", command, prefix, message);
     return code;
   };
   try {

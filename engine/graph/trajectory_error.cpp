@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "graph/residuals.hpp"
+
 namespace keel::graph {
 
 namespace {
@@ -60,9 +62,9 @@ double rpe(const std::vector<Pose>& reference, const std::vector<Pose>& estimate
       throw std::invalid_argument(
           fmt::format("relative_pose_error: pair ({}, {}) names a pose out of 0 … {}", i, j, n - 1));
     const auto si = static_cast<std::size_t>(i), sj = static_cast<std::size_t>(j);
-    const Pose d =
-        Pose((reference[si].inverse() * reference[sj]).inverse() * (estimate[si].inverse() * estimate[sj]));
-    sum += d.translation().squaredNorm();
+    // ρ(z⁻¹ T̂_i⁻¹ T̂_j) with z = T_i⁻¹ T_j: the edge residual (residuals.hpp), its translation first.
+    const auto r = edge_residual(Pose(reference[si].inverse() * reference[sj]), estimate[si], estimate[sj]);
+    sum += r.template head<Pose::Point::RowsAtCompileTime>().squaredNorm();
   }
   return std::sqrt(sum / static_cast<double>(pairs.size()));
 }

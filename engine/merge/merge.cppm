@@ -50,5 +50,4 @@ using keel::merge::RobustRun;
 using keel::merge::RobustRun2;
 using keel::merge::RobustRun3;
 using keel::merge::RobustSelector;
-using keel::merge::RobustSolution;
 }  // namespace keel::merge

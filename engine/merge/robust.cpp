@@ -30,27 +30,6 @@ template <class Graph>
 using EstimateOf =
     std::conditional_t<std::is_same_v<Graph, graph::PoseGraph2D>, pgo::Estimate2D, pgo::Estimate3D>;
 
-// The certified solve of `g` (pgo::solve_certified) and the anisotropic cost of eq. 2.1 at its answer.
-template <class Graph>
-RobustSolution<Graph> certified_solution(const Graph& g, const pgo::CertifiedOptions& o) {
-  const auto t0 = core::Clock::now();
-  auto r = pgo::solve_certified(g, o);
-  RobustSolution<Graph> out;
-  out.solve_time_s = core::seconds_since(t0);
-  out.graph = g;
-  out.graph.poses = std::move(r.poses);
-  out.graph.has_initial_poses = true;
-  out.summary = std::move(r.summary);
-  if (g.indefinite_information > 0) {
-    out.anisotropic_cost = std::numeric_limits<double>::quiet_NaN();  // undefined with indefinite information
-  } else {
-    EstimateOf<Graph> at;
-    at.poses = out.graph.poses;
-    out.anisotropic_cost = pgo::evaluate(g, at).cost;
-  }
-  return out;
-}
-
 template <class G, class Graph, class Edge>
 RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edge>& inter,
                          const RobustOptions& o, const RobustProgress& progress) {
@@ -330,7 +309,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   };
   assemble();
   say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
-  run.solved = certified_solution(run.selected, o.solve);
+  run.solved = pgo::certified_solution(run.selected, o.solve);
   // The residual check: the kept closure whose χ² = rᵀΩr at the solution is largest, above γ_r =
   // F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved by Levenberg–Marquardt from the current
   // estimate, one closure per round (never one whose removal would leave a robot without a common frame);
@@ -362,7 +341,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
         if (certified_estimate) break;
         // None is above γ_r at LM's estimate: solve what is left with the certificate, and check its answer.
         say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
-        run.solved = certified_solution(run.selected, o.solve);
+        run.solved = pgo::certified_solution(run.selected, o.solve);
         estimate = run.solved.graph.poses;
         certified_estimate = true;
         continue;
@@ -384,7 +363,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       certified_estimate = false;
     }
     if (!certified_estimate)  // the round limit was reached after a removal
-      run.solved = certified_solution(run.selected, o.solve);
+      run.solved = pgo::certified_solution(run.selected, o.solve);
     if (run.residual_rounds > 0)
       run.residual_time_s = first_solve_s + core::seconds_since(t_check) - run.solved.summary.total_time_s;
   }

@@ -83,17 +83,6 @@ struct RobustGroup {
   double consistency_time_s = 0.0;
 };
 
-/// The certified solve of the selected graph (pgo::solve_certified): the graph with the certified estimate as
-/// its poses, the certificate's summary, and the anisotropic maximum-likelihood cost of eq. 2.1 at that
-/// estimate (NaN where some information is indefinite).
-template <class Graph>
-struct RobustSolution {
-  Graph graph;
-  pgo::CertifiedSummary summary;
-  double anisotropic_cost = 0.0;
-  double solve_time_s = 0.0;
-};
-
 /// Called with a short description of each stage as it starts; may be empty.
 using RobustProgress = std::function<void(std::string_view stage)>;
 
@@ -107,7 +96,7 @@ struct RobustRun {
   double gamma = 0.0;
   int kept = 0;                    // candidates kept, over all groups
   graph::PoseGraphOf<G> selected;  // all odometry and the kept closures, robots' poses one after another
-  RobustSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
+  pgo::CertifiedSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
   double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0, selection_time_s = 0.0;
   double residual_threshold = 0.0;  // F⁻¹_χ²(dof)(1 − residual_p); 0 without the check
   int residual_rounds = 0;          // closures the residual check removed

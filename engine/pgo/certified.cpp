@@ -322,6 +322,39 @@ CertifiedResult3D solve_certified(const graph::PoseGraph3D& graph, const Certifi
   return r;
 }
 
+namespace {
+
+template <class Graph>
+CertifiedSolution<Graph> solution_impl(const Graph& g, const CertifiedOptions& options) {
+  const auto t0 = core::Clock::now();
+  auto r = solve_certified(g, options);
+  CertifiedSolution<Graph> out;
+  out.solve_time_s = core::seconds_since(t0);
+  out.graph = g;
+  out.graph.poses = std::move(r.poses);
+  out.graph.has_initial_poses = true;
+  out.summary = std::move(r.summary);
+  if (g.indefinite_information > 0) {
+    out.anisotropic_cost = std::numeric_limits<double>::quiet_NaN();  // undefined with indefinite information
+  } else {
+    std::conditional_t<std::is_same_v<Graph, graph::PoseGraph2D>, Estimate2D, Estimate3D> at;
+    at.poses = out.graph.poses;
+    out.anisotropic_cost = evaluate(g, at).cost;
+  }
+  return out;
+}
+
+}  // namespace
+
+CertifiedSolution<graph::PoseGraph2D> certified_solution(const graph::PoseGraph2D& graph,
+                                                         const CertifiedOptions& options) {
+  return solution_impl(graph, options);
+}
+CertifiedSolution<graph::PoseGraph3D> certified_solution(const graph::PoseGraph3D& graph,
+                                                         const CertifiedOptions& options) {
+  return solution_impl(graph, options);
+}
+
 Certificate certify(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
                     double gap_tolerance) {
   return certify_impl(graph, poses, gap_tolerance);

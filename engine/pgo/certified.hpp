@@ -214,6 +214,22 @@ struct CertifiedResult3D {
 [[nodiscard]] CertifiedResult3D solve_certified(const graph::PoseGraph3D& graph,
                                                 const CertifiedOptions& options = {});
 
+// The certified solve as the faces report it: the graph with the certified estimate as its poses, the
+// summary, and at that estimate the anisotropic maximum-likelihood cost of eq. 2.1 that optimize() minimizes
+// (evaluate(); NaN when some information is not positive definite, graph.indefinite_information > 0). The two
+// problems differ; both costs are reported.
+template <class Graph>
+struct CertifiedSolution {
+  Graph graph;
+  CertifiedSummary summary;
+  double anisotropic_cost = 0.0;
+  double solve_time_s = 0.0;  // wall time of solve_certified
+};
+[[nodiscard]] CertifiedSolution<graph::PoseGraph2D> certified_solution(const graph::PoseGraph2D& graph,
+                                                                       const CertifiedOptions& options = {});
+[[nodiscard]] CertifiedSolution<graph::PoseGraph3D> certified_solution(const graph::PoseGraph3D& graph,
+                                                                       const CertifiedOptions& options = {});
+
 // The certificate at given poses (no solve): what a user runs on a solution found elsewhere.
 [[nodiscard]] Certificate certify(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
                                   double gap_tolerance = 1e-6);

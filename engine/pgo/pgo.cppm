@@ -70,9 +70,11 @@ using keel::pgo::initial_estimate;
 using keel::pgo::optimize;
 // certified solve of the isotropic model (certified.hpp)
 using keel::pgo::Certificate;
+using keel::pgo::certified_solution;
 using keel::pgo::CertifiedOptions;
 using keel::pgo::CertifiedResult2D;
 using keel::pgo::CertifiedResult3D;
+using keel::pgo::CertifiedSolution;
 using keel::pgo::CertifiedSummary;
 using keel::pgo::CertifiedTermination;
 using keel::pgo::certify;

@@ -68,6 +68,17 @@ CorruptedGraph<Graph> first_poses_of(const Graph& g, int first_poses, const char
   return out;
 }
 
+// s of the random measurements: the largest absolute coordinate of any loop closure's measured translation (1
+// if all are zero).
+template <class Graph>
+double closure_span(const CorruptedGraph<Graph>& c) {
+  double span = 0;
+  for (int e : c.loop_closures)
+    span = std::max(
+        span, c.graph.edges[static_cast<std::size_t>(e)].measurement.translation().cwiseAbs().maxCoeff());
+  return span > 0 ? span : 1.0;
+}
+
 template <class Graph>
 CorruptedGraph<Graph> corrupt(const Graph& g, const LoopClosureCorruption& o, const core::Streams& streams,
                               std::uint64_t index) {
@@ -90,11 +101,7 @@ CorruptedGraph<Graph> corrupt(const Graph& g, const LoopClosureCorruption& o, co
   std::sort(out.outliers.begin(), out.outliers.end());
   std::vector<char> is_outlier(h.edges.size(), 0);
   for (int e : out.outliers) is_outlier[static_cast<std::size_t>(e)] = 1;
-  double span = 0;
-  for (int e : out.loop_closures)
-    span =
-        std::max(span, h.edges[static_cast<std::size_t>(e)].measurement.translation().cwiseAbs().maxCoeff());
-  if (!(span > 0)) span = 1;
+  const double span = closure_span(out);
   // Every loop closure draws its noise direction and its outlier pose, in edge order, whatever it becomes.
   core::Rng noise_rng = streams.child("noise").stream(index);
   core::Rng outlier_rng = streams.child("outlier").stream(index);
@@ -142,11 +149,7 @@ CorruptedGraph<Graph> add_wrong(const Graph& g, const WrongClosures& o, const co
     const Pose step = edge.j == k ? Pose(edge.measurement) : Pose(edge.measurement.inverse());
     chain[static_cast<std::size_t>(k)] = chain[static_cast<std::size_t>(k) - 1] * step;
   }
-  double span = 0;
-  for (int e : out.loop_closures)
-    span =
-        std::max(span, h.edges[static_cast<std::size_t>(e)].measurement.translation().cwiseAbs().maxCoeff());
-  if (!(span > 0)) span = 1;
+  const double span = closure_span(out);
   core::Rng rng = streams.child("wrong").stream(index);
   const auto uniform_below = [&](int k) {
     return std::min(static_cast<int>(rng.uniform() * static_cast<double>(k)), k - 1);

@@ -159,6 +159,7 @@ class RobustCommand(unittest.TestCase):
         r = run("robust", self.graph, "--out", out, "--quiet")
         self.assertEqual(r.returncode, 3, r.stdout + r.stderr)
         self.assertIn("pose 8 has no odometry edge from pose 7", r.stderr)
+        self.assertIn("keel robust: the robot: pose 8", r.stderr)  # the command's name once, not "robust: robust:"
         self.assertFalse(os.path.exists(out))
 
     def test_bad_option_is_refused(self):

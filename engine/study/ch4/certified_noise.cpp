@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -65,15 +64,8 @@ CertifiedNoiseSweep::Options CertifiedNoiseSweep::Options::read(const core::Conf
   if (o.levels.empty())
     throw core::ConfigError(fmt::format("{}: no level (rotation_noise and outlier_fraction are both empty)",
                                         p.where("rotation_noise")));
-  std::map<std::string, int> poses;
-  const auto files = read_graph_files(p, [&](const std::string& name, const core::ConfigTable& g) {
-    const int n = static_cast<int>(g.integer("poses"));
-    if (n < 0)
-      throw core::ConfigError(fmt::format("{}: must be >= 0 (0: every pose), not {}", g.where("poses"), n));
-    poses[name] = n;
-  });
-  for (const CertifiedGraphFile& f : files)
-    o.subsets.push_back({f.name, f.dataset, f.file, f.dimension, poses.at(f.name)});
+  for (const GraphPrefix& g : read_graph_prefixes(p))
+    o.subsets.push_back({g.file.name, g.file.dataset, g.file.file, g.file.dimension, g.poses});
   return o;
 }
 

@@ -63,6 +63,19 @@ std::vector<CertifiedGraphFile> read_graph_files(
   return chosen;
 }
 
+std::vector<GraphPrefix> read_graph_prefixes(const core::ConfigTable& p) {
+  std::map<std::string, int> poses;
+  const auto files = read_graph_files(p, [&](const std::string& name, const core::ConfigTable& g) {
+    const int n = static_cast<int>(g.integer("poses"));
+    if (n < 0)
+      throw core::ConfigError(fmt::format("{}: must be >= 0 (0: every pose), not {}", g.where("poses"), n));
+    poses[name] = n;
+  });
+  std::vector<GraphPrefix> out;
+  for (const CertifiedGraphFile& f : files) out.push_back({f, poses.at(f.name)});
+  return out;
+}
+
 CertifiedBenchmark::Options CertifiedBenchmark::Options::read(const core::ConfigTable& p) {
   Options o;
   o.solve = read_certified_solve(p);

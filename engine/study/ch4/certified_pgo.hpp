@@ -32,6 +32,13 @@ struct CertifiedGraphFile {
     const core::ConfigTable& p,
     const std::function<void(const std::string& name, const core::ConfigTable& entry)>& extra = {});
 
+// read_graph_files with each entry's `poses` (>= 0; 0: every pose): the first poses of each file.
+struct GraphPrefix {
+  CertifiedGraphFile file;
+  int poses = 0;
+};
+[[nodiscard]] std::vector<GraphPrefix> read_graph_prefixes(const core::ConfigTable& p);
+
 // One data set's outcome.
 struct CertifiedGraphOutcome {
   CertifiedGraphFile graph;

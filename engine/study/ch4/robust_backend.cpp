@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -60,15 +59,8 @@ RobustBackend::Options RobustBackend::Options::read(const core::ConfigTable& p) 
   w.group_size = o.group_size;
   p.validate(w);
   o.trials = static_cast<int>(p.count("trials"));
-  std::map<std::string, int> poses;
-  const auto files = read_graph_files(p, [&](const std::string& name, const core::ConfigTable& g) {
-    const int n = static_cast<int>(g.integer("poses"));
-    if (n < 0)
-      throw core::ConfigError(fmt::format("{}: must be >= 0 (0: every pose), not {}", g.where("poses"), n));
-    poses[name] = n;
-  });
-  for (const CertifiedGraphFile& f : files)
-    o.graphs.push_back({f.name, f.dataset, f.file, f.dimension, poses.at(f.name)});
+  for (const GraphPrefix& g : read_graph_prefixes(p))
+    o.graphs.push_back({g.file.name, g.file.dataset, g.file.file, g.file.dimension, g.poses});
   return o;
 }
 

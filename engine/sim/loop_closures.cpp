@@ -225,9 +225,7 @@ RobotSplit<Graph> split(const Graph& g, int robots) {
   std::vector<int> first(static_cast<std::size_t>(robots) + 1);
   for (int r = 0; r <= robots; ++r)
     first[static_cast<std::size_t>(r)] = static_cast<int>(static_cast<long long>(r) * n / robots);
-  const auto robot_of = [&](int id) {
-    return static_cast<int>(std::upper_bound(first.begin(), first.end(), id) - first.begin()) - 1;
-  };
+  const auto robot_of = [&](int id) { return robot_of_pose(id, n, robots); };
   out.robots.resize(static_cast<std::size_t>(robots));
   out.robot_edge.resize(static_cast<std::size_t>(robots));
   for (int r = 0; r < robots; ++r) {
@@ -284,6 +282,14 @@ CorruptedGraph3 add_wrong_loop_closures(const graph::PoseGraph3D& g, const Wrong
                                         const core::Streams& streams, std::uint64_t index) {
   return add_wrong(g, o, streams, index);
 }
+int robot_of_pose(int id, int poses, int robots) {
+  // Robot r holds [⌊r n / R⌋, ⌊(r + 1) n / R⌋): the largest r whose first pose is at most id.
+  int r = static_cast<int>(static_cast<long long>(id) * robots / poses);
+  while (r > 0 && static_cast<long long>(r) * poses / robots > id) --r;
+  while (r + 1 < robots && static_cast<long long>(r + 1) * poses / robots <= id) ++r;
+  return r;
+}
+
 RobotSplit<graph::PoseGraph2D> split_into_robots(const graph::PoseGraph2D& g, int robots) {
   return split(g, robots);
 }

@@ -104,5 +104,7 @@ struct RobotSplit {
 // Throws std::invalid_argument when robots < 1 or robots exceeds the pose count.
 [[nodiscard]] RobotSplit<graph::PoseGraph2D> split_into_robots(const graph::PoseGraph2D& g, int robots);
 [[nodiscard]] RobotSplit<graph::PoseGraph3D> split_into_robots(const graph::PoseGraph3D& g, int robots);
+// The robot that split_into_robots gives pose `id` of `poses` cut into `robots` (0 <= id < poses).
+[[nodiscard]] int robot_of_pose(int id, int poses, int robots);
 
 }  // namespace keel::sim

@@ -307,6 +307,13 @@ TEST_CASE("split_into_robots: blocks re-indexed, inter-robot candidates with glo
     CHECK(e.i / 25 != e.j / 25);
     CHECK(std::abs(e.i - e.j) != 1);
   }
+  // robot_of_pose names the block split_into_robots puts each pose in, also when blocks differ in size.
+  const auto seven = keel::sim::split_into_robots(g, 7);
+  int id = 0;
+  for (int r = 0; r < 7; ++r)
+    for (std::size_t k = 0; k < seven.robots[static_cast<std::size_t>(r)].poses.size(); ++k, ++id)
+      CHECK(keel::sim::robot_of_pose(id, 100, 7) == r);
+  CHECK(id == 100);
   const auto one = keel::sim::split_into_robots(g, 1);
   CHECK(one.robots[0].edges.size() == g.edges.size());
   CHECK(one.inter.empty());

@@ -73,6 +73,7 @@ using keel::sim::CorruptedGraph2;
 using keel::sim::CorruptedGraph3;
 using keel::sim::LoopClosureCorruption;
 using keel::sim::RobotSplit;
+using keel::sim::robot_of_pose;
 using keel::sim::split_into_robots;
 using keel::sim::wrong_closure_kind_from_string;
 using keel::sim::WrongClosureKind;

@@ -85,19 +85,11 @@ std::vector<RobustBackendCell> RobustBackend::make_cells(const Options& o) {
 
 namespace {
 
-// Robot r of `robots` holds poses [⌊r n / R⌋, ⌊(r + 1) n / R⌋) (sim::split_into_robots).
-int backend_robot_of(int id, int n, int robots) {
-  int r = static_cast<int>(static_cast<long long>(id) * robots / n);
-  while (r > 0 && static_cast<long long>(r) * n / robots > id) --r;
-  while (r + 1 < robots && static_cast<long long>(r + 1) * n / robots <= id) ++r;
-  return r;
-}
-
 // Consecutive poses of one robot: the pairs of RPE.
 std::vector<std::pair<int, int>> backend_rpe_pairs(int n, int robots) {
   std::vector<std::pair<int, int>> out;
   for (int k = 0; k + 1 < n; ++k)
-    if (backend_robot_of(k, n, robots) == backend_robot_of(k + 1, n, robots)) out.emplace_back(k, k + 1);
+    if (sim::robot_of_pose(k, n, robots) == sim::robot_of_pose(k + 1, n, robots)) out.emplace_back(k, k + 1);
   return out;
 }
 
@@ -109,7 +101,7 @@ RobustBackendReference backend_reference(const Graph& clean, std::size_t g, int 
   Graph h = clean;
   const int n = static_cast<int>(h.poses.size());
   std::erase_if(h.edges, [&](const auto& e) {
-    return std::abs(e.i - e.j) == 1 && backend_robot_of(e.i, n, robots) != backend_robot_of(e.j, n, robots);
+    return std::abs(e.i - e.j) == 1 && sim::robot_of_pose(e.i, n, robots) != sim::robot_of_pose(e.j, n, robots);
   });
   RobustBackendReference ref;
   ref.graph = g;

@@ -101,7 +101,8 @@ RobustBackendReference backend_reference(const Graph& clean, std::size_t g, int 
   Graph h = clean;
   const int n = static_cast<int>(h.poses.size());
   std::erase_if(h.edges, [&](const auto& e) {
-    return std::abs(e.i - e.j) == 1 && sim::robot_of_pose(e.i, n, robots) != sim::robot_of_pose(e.j, n, robots);
+    return std::abs(e.i - e.j) == 1 &&
+           sim::robot_of_pose(e.i, n, robots) != sim::robot_of_pose(e.j, n, robots);
   });
   RobustBackendReference ref;
   ref.graph = g;

@@ -9,12 +9,15 @@ each, timing each whole process (file reading and set-up included, the same for 
               measurements uniform within WRONG_T m (each axis) and a uniform rotation, information copied from a
               random true loop closure (as confident as the true ones). VERTEX lines are the odometry chained from
               pose 0 at the identity, so both tools start from the same estimate.
-  keel        `keel robust FILE --json --p P` (PCM per group, exact clique, the certified solve);
+  keel        `keel robust FILE --json --p P` (PCM per group, exact clique, the certified solve), once per variant
+              (--variants "LABEL=EXTRA ARGS;...": each its own tool row, labelled LABEL);
   Kimera-RPGO kimera_measure (keel's driver, Kimera-RPGO's Mahalanobis PCM with its threshold set to sqrt(gamma) of
               keel's gamma, the norm it compares, then GNC unless NO_GNC=1).
 
 A kept closure is scored against the truth: precision = true kept / kept, recall = true kept / true closures.
-Writes one TSV row per run and prints a summary per data set and rate (medians over trials).
+Writes one TSV row per run and prints a summary per data set and rate (medians over trials), then each keel variant
+paired with Kimera-RPGO file by file: per cell the mean difference of precision, recall and process time with a 95 %
+t interval over the trials, and the cells where the interval lies above, straddles or lies below zero.
 
   robust.py --keel K --kimera M --out OUT.tsv [--rates 0,10,20,40] [--trials 3] [--seed 1] [--p 0.11]
             NAME=FILE.g2o ...
@@ -125,19 +128,20 @@ def timed(cmd, limit):
 
 def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
     """Runs keel robust and Kimera-RPGO on file f, scores both and appends their rows to rows and out."""
-    r, keel_s = timed([a.keel, "robust", f, "--json", "-q", "--p", str(a.p)], a.timeout)
-    if r is not None and r.returncode not in (0, 1):
-        sys.exit(f"robust.py: keel robust {f} exited {r.returncode}: {r.stderr}")
     result = []
     gamma = gammas.get(name)
-    if r is None:
-        result.append(("keel", None, keel_s, float("nan"), "timeout"))
-    else:
-        j = json.loads(r.stdout)
-        gamma = gammas.setdefault(name, j["gamma"])
-        kept = [(c["i"], c["j"]) for c in j["candidate_list"] if c["kept"]]
-        own = sum(v for v in j["times_s"].values())
-        result.append(("keel", kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no"))
+    for label, extra in a.variants:
+        r, keel_s = timed([a.keel, "robust", f, "--json", "-q", "--p", str(a.p), *extra], a.timeout)
+        if r is not None and r.returncode not in (0, 1):
+            sys.exit(f"robust.py: keel robust {f} {' '.join(extra)} exited {r.returncode}: {r.stderr}")
+        if r is None:
+            result.append((label, None, keel_s, float("nan"), "timeout"))
+        else:
+            j = json.loads(r.stdout)
+            gamma = gammas.setdefault(name, j["gamma"])
+            kept = [(c["i"], c["j"]) for c in j["candidate_list"] if c["kept"]]
+            own = sum(v for v in j["times_s"].values())
+            result.append((label, kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no"))
     if gamma is None:
         sys.exit(f"robust.py: keel timed out on {name}'s first file, so there is no gamma for "
                  "Kimera-RPGO's threshold")
@@ -167,7 +171,7 @@ def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
         out.write("\t".join(str(v) for v in row) + "\n")
         out.flush()
     print(f"{name} {rate:g}% trial {trial}: " + "; ".join(
-        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} {row[10]:.2f} s {row[12]}" for row in rows[-2:]),
+        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} {row[10]:.2f} s {row[12]}" for row in rows[-len(result):]),
           file=sys.stderr)
 
 
@@ -180,6 +184,8 @@ def main():
     ap.add_argument("--trials", type=int, default=3)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--p", type=float, default=0.11)
+    ap.add_argument("--variants", default="keel=", help="keel robust's runs per file: 'LABEL=EXTRA ARGS' separated "
+                    "by ';' (default: one run labelled keel, no extra arguments)")
     ap.add_argument("--wrong-t", type=float, default=5.0)
     ap.add_argument("--workdir", default=None)
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per tool and file (a run past it is "
@@ -189,6 +195,9 @@ def main():
                     "TRUE_EDGES are the wrong closures")
     ap.add_argument("datasets", nargs="*", help="NAME=FILE.g2o")
     a = ap.parse_args()
+    a.variants = [(v.split("=", 1)[0], v.split("=", 1)[1].split()) for v in a.variants.split(";") if v.strip()]
+    if not a.variants or any(not label or label == "kimera" for label, _ in a.variants):
+        sys.exit("robust.py: --variants needs 'LABEL=ARGS' entries with labels other than kimera")
     if bool(a.prepared) == bool(a.datasets):
         sys.exit("robust.py: give data sets or --prepared LIST, not both or neither")
     work = a.workdir or tempfile.mkdtemp(prefix="keel_robust_")
@@ -227,10 +236,10 @@ def main():
     print("| data set | outliers | tool | precision (median) | recall (median) | wrong kept (median) | "
           "process s (median) | keel certified |")
     print("|---|---|---|---|---|---|---|---|")
-    keys = sorted({(r[0], r[1], r[3]) for r in rows}, key=lambda k: (k[0], k[1], k[2] != "keel"))
+    keys = sorted({(r[0], r[1], r[3]) for r in rows}, key=lambda k: (k[0], k[1], k[2] == "kimera", k[2]))
     for name, rate, tool in keys:
         sel = [r for r in rows if (r[0], r[1], r[3]) == (name, rate, tool)]
-        cert = f"{sum(r[12] == 'yes' for r in sel)} of {len(sel)}" if tool == "keel" else ""
+        cert = f"{sum(r[12] == 'yes' for r in sel)} of {len(sel)}" if tool != "kimera" else ""
         done = [r for r in sel if r[12] != "timeout"]
         late = len(sel) - len(done)
         if not done:
@@ -239,6 +248,67 @@ def main():
         print(f"| {name} | {rate:g} % | {tool} | {statistics.median(r[8] for r in done):.3f} | "
               f"{statistics.median(r[9] for r in done):.3f} | {statistics.median(r[6] for r in done):g} | "
               f"{statistics.median(r[10] for r in done):.2f}{f' ({late} timed out)' if late else ''} | {cert} |")
+    labels = [label for label, _ in a.variants]
+    for label in labels:
+        paired(rows, label, "kimera")
+    for label in labels[1:]:  # each further variant against the first
+        paired(rows, label, labels[0])
+
+
+# Two-sided 97.5 % quantiles of Student's t for 1 … 30 degrees of freedom (the 95 % interval of a mean).
+T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def interval(d):
+    """Mean and 95 % t interval of the paired differences d (unbounded for a single value: nothing is shown)."""
+    m = statistics.fmean(d)
+    if len(d) < 2:
+        return m, -math.inf, math.inf
+    h = T975[min(len(d) - 1, len(T975)) - 1] * statistics.stdev(d) / math.sqrt(len(d))
+    return m, m - h, m + h
+
+
+def sign_test(up, down):
+    """Two-sided exact sign test: the chance of a split at least this uneven if either side were as likely."""
+    n, k = up + down, min(up, down)
+    if n == 0:
+        return 1.0
+    return min(1.0, 2.0 * sum(math.comb(n, i) for i in range(k + 1)) / 2.0 ** n)
+
+
+def paired(rows, label, ref):
+    """Tool `label` against tool `ref` on the same files: per cell (data set, rate) the mean difference label − ref
+    of precision, recall and process seconds with its 95 % interval over the trials where both finished; per metric
+    the cells whose interval lies on either side of 0 or contains it, and a sign test over the cells."""
+    by = {(r[0], r[1], r[2], r[3]): r for r in rows if r[12] != "timeout"}
+    cells = sorted({(r[0], r[1]) for r in rows})
+    print(f"\n{label} − {ref}, paired by file (mean [95 % interval]):\n")
+    print("| data set | outliers | files | Δ precision | Δ recall | Δ process s |")
+    print("|---|---|---|---|---|---|")
+    tally = {m: [0, 0, 0] for m in ("precision", "recall", "time")}
+    signs = {m: [0, 0] for m in tally}  # cells whose mean difference favours label, and ref
+    for name, rate in cells:
+        pairs = [(by[k], by[(k[0], k[1], k[2], ref)]) for k in by
+                 if k[0] == name and k[1] == rate and k[3] == label and (k[0], k[1], k[2], ref) in by]
+        if not pairs:
+            continue
+        out = []
+        for m, col in (("precision", 8), ("recall", 9), ("time", 10)):
+            mean, lo, hi = interval([x[col] - y[col] for x, y in pairs])
+            # For time, lower is better: an interval below 0 is label's win.
+            win, loss = (lo > 0, hi < 0) if m != "time" else (hi < 0, lo > 0)
+            tally[m][0 if win else 2 if loss else 1] += 1
+            if mean != 0:
+                signs[m][0 if (mean > 0) == (m != "time") else 1] += 1
+            out.append(f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
+        print(f"| {name} | {rate:g} % | {len(pairs)} | " + " | ".join(out) + " |")
+    print()
+    for m, (w, tie, l) in tally.items():
+        up, down = signs[m]
+        print(f"{label} vs {ref}, {m}: {label} better in {w} cells, no difference shown in {tie}, worse in {l} "
+              f"(95 % intervals, each cell alone); the mean difference favours {label} in {up} cells, {ref} in "
+              f"{down}: two-sided sign test over the cells p = {sign_test(up, down):.3g}")
 
 
 if __name__ == "__main__":

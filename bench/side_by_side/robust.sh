@@ -10,7 +10,9 @@
 # (seconds per tool and file, default 600). Without data sets
 # given: Intel, MIT, Manhattan (M3500) and the parking garage from ../shared/datasets. PREPARED=N instead runs the
 # single-robot graphs of ext_robust_backend's full profile, its first N trials per cell (keel_robust_graphs writes
-# them with the experiment's own generator and seed).
+# them with the experiment's own generator and seed, or with SEED when set: graphs drawn fresh). KEEL_VARIANTS
+# (";"-separated LABEL=ARGS, e.g. "edge=;snooping=--residual-test snooping") runs keel robust once per variant
+# with those extra arguments (default: one run, no extra arguments, labelled keel).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 KEEL=${KEEL:-build/release/keel}
@@ -26,12 +28,12 @@ if [[ -n ${PREPARED:-} ]]; then
   B=$(dirname "$KEEL")/bench/keel_robust_graphs
   [[ -x $B ]] || { echo "robust.sh: $B not built (scripts/build release)" >&2; exit 2; }
   work=$(mktemp -d)
-  "$B" experiments/ext_robust_backend/experiment.toml full "$work" "$PREPARED" >"$work/list.txt"
+  "$B" experiments/ext_robust_backend/experiment.toml full "$work" "$PREPARED" ${SEED:+"$SEED"} >"$work/list.txt"
   exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
-    --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --prepared "$work/list.txt"
+    --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" --prepared "$work/list.txt"
 fi
 [[ ${#sets[@]} -gt 0 ]] || sets=(intel=$D/intel/se-sync/intel.g2o mit=$D/se-sync-benchmarks/MIT.g2o
   manhattan=$D/manhattan3500/se-sync/manhattan.g2o garage=$D/parking-garage/se-sync/parking-garage.g2o)
 exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
   --rates "${RATES:-0,10,20,40}" --trials "${TRIALS:-3}" --seed "${SEED:-1}" --p "${P:-0.11}" \
-  --timeout "${TIMEOUT:-600}" "${sets[@]}"
+  --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" "${sets[@]}"

@@ -4,9 +4,10 @@
 // one robot (g2o round trips every field to the last bit, graph/g2o.hpp). The clean subset's edges come first
 // and the wrong closures after them.
 //
-// Usage: keel_robust_graphs CONFIG PROFILE OUT_DIR [TRIALS]   (TRIALS: the first trials of each cell; default
-// all) Output: OUT_DIR/<key>.t<trial>.g2o per graph, and one line per graph on stdout: "<key>.t<trial>=<path>
-// <n>", n the number of edges before the wrong closures.
+// Usage: keel_robust_graphs CONFIG PROFILE OUT_DIR [TRIALS [SEED]]   (TRIALS: the first trials of each cell,
+// default all; SEED: instead of the experiment's, for graphs drawn fresh) Output: OUT_DIR/<key>.t<trial>.g2o
+// per graph, and one line per graph on stdout: "<key>.t<trial>=<path> <n>", n the number of edges before the
+// wrong closures.
 import keel.core;
 import keel.graph;
 import keel.repro;
@@ -19,18 +20,18 @@ import keel.study;
 #include <vector>
 
 int main(int argc, char** argv) {
-  if (argc != 4 && argc != 5) {
-    std::fprintf(stderr, "usage: keel_robust_graphs CONFIG PROFILE OUT_DIR [TRIALS]\n");
+  if (argc < 4 || argc > 6) {
+    std::fprintf(stderr, "usage: keel_robust_graphs CONFIG PROFILE OUT_DIR [TRIALS [SEED]]\n");
     return 2;
   }
   try {
     using keel::study::ch4::RobustBackend;
     const auto config = keel::repro::ExperimentConfig::load(argv[1], argv[2]);
     const auto options = RobustBackend::Options::read(config.params);
-    const int trials = argc == 5 ? std::stoi(argv[4]) : options.trials;
+    const int trials = argc >= 5 ? std::stoi(argv[4]) : options.trials;
     const std::filesystem::path dir = argv[3];
     std::filesystem::create_directories(dir);
-    const keel::core::Streams streams(config.seed);
+    const keel::core::Streams streams(argc == 6 ? std::stoull(argv[5]) : config.seed);
     std::vector<RobustBackend::CleanGraph> clean;
     for (std::size_t g = 0; g < options.graphs.size(); ++g)
       clean.push_back(RobustBackend::clean_graph(options, g));

@@ -76,10 +76,15 @@ using keel::app::score_selection;
 using keel::app::SelectionScore;
 // robust
 using keel::app::robust;
+using keel::app::robust_gnc_from_string;
+using keel::app::robust_residual_test_from_string;
 using keel::app::robust_selector_from_string;
 using keel::app::RobustCandidate;
+using keel::app::RobustGnc;
+using keel::app::RobustGncRound;
 using keel::app::RobustGroup;
 using keel::app::RobustOptions;
+using keel::app::RobustResidualTest;
 using keel::app::RobustRun;
 using keel::app::RobustRun2;
 using keel::app::RobustRun3;

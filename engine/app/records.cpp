@@ -201,9 +201,31 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   w.text("composition", pcm::to_string(o.composition));
   w.text("selector", to_string(o.selector));
   w.number("residual_p", o.residual_p);
+  w.text("residual_test", to_string(o.residual_test));
   w.number("residual_threshold", r.residual_threshold);
   w.integer("residual_rounds", r.residual_rounds);
   w.integer("exact_up_to", o.exact_up_to);
+  w.record("gnc", [&](FieldWriter& g) {
+    g.text("mode", to_string(o.gnc));
+    g.number("p", o.gnc_p);
+    g.number("threshold", r.gnc_threshold);
+    g.number("mu_factor", o.gnc_mu_factor);
+    g.integer("max_rounds", o.gnc_max_rounds);
+    g.text("inner", o.gnc_certified_inner ? "certified" : "local");
+    g.integer("weighed", r.gnc_weighed);
+    g.boolean("converged", r.gnc_converged);
+    g.records("rounds", r.gnc_rounds.size(), [&](std::size_t k, FieldWriter& x) {
+      const RobustGncRound& round = r.gnc_rounds[k];
+      x.number("mu", round.mu);
+      x.integer("inliers", round.inliers);
+      x.integer("zero", round.zero);
+      x.number("weight_sum", round.weight_sum);
+      x.number("tls_cost", round.tls_cost);
+      x.boolean("certified", round.certified);
+      x.number("relative_gap", round.relative_gap);
+      x.number("time_s", round.time_s);
+    });
+  });
   w.records("groups", r.groups.size(), [&](std::size_t k, FieldWriter& g) {
     const RobustGroup& grp = r.groups[k];
     g.integer("robot_a", grp.robot_a);
@@ -211,12 +233,13 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     g.integer("candidates", static_cast<std::int64_t>(grp.members.size()));
     g.integer("kept", static_cast<std::int64_t>(grp.selection.selected.size()));
     g.text("selector", to_string(grp.selector));
-    const auto& search = *grp.selection.search;
+    // No search when GNC replaced the selection (every candidate went to GNC): status "not run".
+    const auto& search = grp.selection.search;
     g.record("clique", [&](FieldWriter& c) {
-      c.text("status", core::to_string(search.status));
-      c.integer("size", static_cast<std::int64_t>(search.clique.size()));
-      c.integer("upper_bound", search.upper_bound);
-      c.integer("nodes_explored", static_cast<std::int64_t>(search.nodes_explored));
+      c.text("status", search ? core::to_string(search->status) : std::string_view("not run"));
+      c.integer("size", search ? static_cast<std::int64_t>(search->clique.size()) : 0);
+      c.integer("upper_bound", search ? search->upper_bound : 0);
+      c.integer("nodes_explored", search ? static_cast<std::int64_t>(search->nodes_explored) : 0);
     });
     g.number("consistency_time_s", grp.consistency_time_s);
     g.number("selection_time_s", grp.selection.time_s);
@@ -227,6 +250,7 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     t.number("consistency", r.consistency_time_s);
     t.number("selection", r.selection_time_s);
     t.number("residual_solves", r.residual_time_s);
+    t.number("gnc", r.gnc_time_s);
     t.number("certified_solve", r.solved.summary.total_time_s);
   });
   w.number("anisotropic_cost", r.solved.anisotropic_cost);
@@ -246,6 +270,9 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     c.integer("inconsistent_with_kept", cand.inconsistent_with_kept);
     c.integer("removed_in_round", cand.removed_in_round);
     c.number("residual_chi2", cand.residual_chi2);
+    c.number("snooping_t", cand.snooping_t);
+    c.number("gnc_weight", cand.gnc_weight);
+    c.boolean("joins_robots", cand.joins_robots);
   });
 }
 

@@ -11,10 +11,15 @@
 
 namespace keel::app {
 
+using merge::robust_gnc_from_string;
+using merge::robust_residual_test_from_string;
 using merge::robust_selector_from_string;
 using merge::RobustCandidate;
+using merge::RobustGnc;
+using merge::RobustGncRound;
 using merge::RobustGroup;
 using merge::RobustOptions;
+using merge::RobustResidualTest;
 using merge::RobustRun;
 using merge::RobustRun2;
 using merge::RobustRun3;

@@ -1,7 +1,8 @@
 // keel robust GRAPH... [--candidates FILE] — one or several robots' graphs with wrong loop closures
 // (app::robust): each robot's odometry trusted, its other edges and the inter-robot list candidates, each
 // group's largest pairwise-consistent set (thesis eqs. 2.4–2.5, the relative poses from the odometry maps'
-// joint marginals), the residual check, then the certified solve of all odometry and the kept closures.
+// joint marginals), the residual check or GNC (--gnc), then the certified solve of all odometry and the kept
+// closures.
 // <variant> before the imports (docs/TOOLCHAIN.md; as in marginals.cpp).
 #include <variant>
 
@@ -15,9 +16,11 @@ import keel.app;
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,6 +39,8 @@ struct RobustArgs {
   std::string composition = "joint", selector = "auto";
   int exact_up_to = 2000;
   double residual_p = 0.01;
+  std::string gnc = "off", gnc_inner = "certified", residual_test = "edge";
+  double gnc_p = 0.01;
   double time_limit_s = 0.0;
   unsigned threads = 1;
 };
@@ -49,6 +54,10 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   o.selector = app::robust_selector_from_string(args.selector);
   o.exact_up_to = args.exact_up_to;
   o.residual_p = args.residual_p;
+  o.residual_test = app::robust_residual_test_from_string(args.residual_test);
+  o.gnc = app::robust_gnc_from_string(args.gnc);
+  o.gnc_p = args.gnc_p;
+  o.gnc_certified_inner = args.gnc_inner == "certified";
   o.time_limit_s = args.time_limit_s;
   o.threads = args.threads;
   const auto run = app::robust(robots, inter, o, stage.progress());
@@ -81,6 +90,14 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
     fmt::print("threshold    γ = {:.6g} (p = {}, χ²({}) tail), {} composition in the odometry maps\n",
                run.gamma, args.p, s.dimension == 2 ? 3 : 6, args.composition);
     for (const auto& grp : run.groups) {
+      if (!grp.selection.search) {
+        fmt::print("candidates   {} {} (no consistency check: every candidate goes to GNC)\n",
+                   grp.members.size(),
+                   grp.robot_a == grp.robot_b
+                       ? fmt::format("loop closures of robot {}", grp.robot_a)
+                       : fmt::format("closures between robots {} and {}", grp.robot_a, grp.robot_b));
+        continue;
+      }
       const auto& search = *grp.selection.search;
       fmt::print("kept         {} of {} {} ({}: {}, bound {}){}\n", grp.selection.selected.size(),
                  grp.members.size(),
@@ -95,23 +112,54 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
       std::vector<std::string> removed;
       for (const auto& c : run.candidates)
         if (c.removed_in_round > 0)
-          removed.push_back(fmt::format("{}:{} → {}:{} (χ² {:.3g})", c.robot_a, c.pose_a, c.robot_b, c.pose_b,
-                                        c.residual_chi2));
+          removed.push_back(std::isnan(c.snooping_t)
+                                ? fmt::format("{}:{} → {}:{} (χ² {:.3g})", c.robot_a, c.pose_a, c.robot_b,
+                                              c.pose_b, c.residual_chi2)
+                                : fmt::format("{}:{} → {}:{} (T {:.3g}, χ² {:.3g})", c.robot_a, c.pose_a,
+                                              c.robot_b, c.pose_b, c.snooping_t, c.residual_chi2));
+      fmt::print("residual     {} removed ({} above {:.4g}, p = {}){}{}{}; {} loop closures kept\n",
+                 removed.size(),
+                 run.options.residual_test == app::RobustResidualTest::snooping
+                     ? "data snooping's T, Bonferroni over the closures tested; first round's threshold"
+                     : "χ² at the solution",
+                 run.residual_threshold, run.options.residual_p, removed.empty() ? "" : ": ",
+                 fmt::join(removed.begin(),
+                           removed.begin() + std::min<std::ptrdiff_t>(10, std::ssize(removed)), ", "),
+                 removed.size() > 10 ? ", …" : "", run.kept);
+    }
+    if (run.options.gnc != app::RobustGnc::off) {
+      int rejected = 0, joins = 0;
+      for (const auto& c : run.candidates) {
+        rejected += !c.kept && !std::isnan(c.gnc_weight);
+        joins += c.joins_robots;
+      }
+      int certified_rounds = 0;
+      double worst_gap = 0.0;
+      for (const auto& r : run.gnc_rounds) {
+        certified_rounds += r.certified;
+        worst_gap = std::max(worst_gap, r.relative_gap);
+      }
       fmt::print(
-          "residual     {} removed (χ² at the solution above {:.4g}, p = {}){}{}{}; {} loop closures kept\n",
-          removed.size(), run.residual_threshold, run.options.residual_p, removed.empty() ? "" : ": ",
-          fmt::join(removed.begin(), removed.begin() + std::min<std::ptrdiff_t>(10, std::ssize(removed)),
-                    ", "),
-          removed.size() > 10 ? ", …" : "", run.kept);
+          "gnc          TLS over {} closures, c̄² = {:.4g} (p = {}): {} round{}{}, {} rejected{}; {} loop "
+          "closures kept\n",
+          run.gnc_weighed, run.gnc_threshold, run.options.gnc_p, run.gnc_rounds.size(),
+          run.gnc_rounds.size() == 1 ? "" : "s",
+          run.gnc_converged ? " (converged)" : " (round limit: weights not settled)", rejected,
+          joins > 0 ? fmt::format(", {} kept only to join robots", joins) : "", run.kept);
+      if (run.options.gnc_certified_inner && !run.gnc_rounds.empty())
+        fmt::print("gnc solves   {} of {} weighted solves certified{}\n", certified_rounds,
+                   run.gnc_rounds.size(),
+                   certified_rounds == std::ssize(run.gnc_rounds)
+                       ? ""
+                       : fmt::format(" (largest proven relative gap {:.3g})", worst_gap));
     }
     print_certified_summary(args.files.size() == 1 ? args.files[0] : "the robots' graphs together", s,
                             run.solved.anisotropic_cost);
     fmt::print(
         "times        odometry {:.3f} s, marginals {:.3f} s, Q {:.3f} s, cliques {:.3f} s, residual check "
-        "{:.3f} s, "
-        "certified solve {:.3f} s\n",
+        "{:.3f} s, GNC {:.3f} s, certified solve {:.3f} s\n",
         run.odometry_time_s, run.marginals_time_s, run.consistency_time_s, run.selection_time_s,
-        run.residual_time_s, s.total_time_s);
+        run.residual_time_s, run.gnc_time_s, s.total_time_s);
     if (!args.out.empty() && certified) fmt::print("written      {}\n", args.out);
     if (!args.report.empty() && certified) fmt::print("written      {}\n", args.report);
   }
@@ -133,6 +181,18 @@ void run_robust(const RobustArgs& args) {
     app::RobustOptions o;
     o.residual_p = args.residual_p;
     o.validate();
+  });
+  check_option("--residual-test", [&] { (void)app::robust_residual_test_from_string(args.residual_test); });
+  check_option("--gnc", [&] { (void)app::robust_gnc_from_string(args.gnc); });
+  check_option("--gnc-p", [&] {
+    app::RobustOptions o;
+    o.gnc_p = args.gnc_p;
+    o.validate();
+  });
+  check_option("--gnc-inner", [&] {
+    if (args.gnc_inner != "certified" && args.gnc_inner != "local")
+      throw std::invalid_argument(
+          fmt::format("--gnc-inner must be certified or local (got '{}')", args.gnc_inner));
   });
   check_option("--exact-up-to", [&] {
     app::RobustOptions o;
@@ -208,6 +268,23 @@ void add_robust_command(CLI::App& app) {
        "--residual-p", a->residual_p,
        "the residual check after the selection: kept closures whose χ² at the solution exceeds the χ² "
        "quantile at 1 − this are removed one at a time, worst first (0: no check)")
+      ->capture_default_str();
+  c->add_option(
+       "--residual-test", a->residual_test,
+       "the residual check's statistic: edge (χ² = rᵀΩr at the solution) or snooping (data snooping: "
+       "rᵀQ⁻¹r with Q the least-squares residual's covariance, Bonferroni over the closures tested)")
+      ->capture_default_str();
+  c->add_option(
+       "--gnc", a->gnc,
+       "graduated non-convexity with truncated least squares, instead of the residual check: off, after "
+       "(over the closures the consistency selection kept) or only (over every candidate, no PCM)")
+      ->capture_default_str();
+  c->add_option("--gnc-p", a->gnc_p,
+                "GNC's inlier threshold: the χ² quantile at 1 − this on each closure's rᵀΩr")
+      ->capture_default_str();
+  c->add_option("--gnc-inner", a->gnc_inner,
+                "GNC's weighted solves: certified (each with its certificate or gap) or local "
+                "(Levenberg–Marquardt; the answer is certified either way)")
       ->capture_default_str();
   c->add_option("--exact-up-to", a->exact_up_to,
                 "auto: the exact clique for groups of at most this many candidates")

@@ -39,15 +39,21 @@ using keel::merge::Ransac;
 using keel::merge::Scgp;
 using keel::merge::select;
 using keel::merge::to_string;
-// a robust back end for one or several robots: PCM per robot and pair, residual check, certified solve
+// a robust back end for one or several robots: PCM per robot and pair, residual check or GNC, certified solve
 using keel::merge::robust;
+using keel::merge::robust_gnc_from_string;
+using keel::merge::robust_residual_test_from_string;
 using keel::merge::robust_selector_from_string;
 using keel::merge::RobustCandidate;
+using keel::merge::RobustGnc;
+using keel::merge::RobustGncRound;
 using keel::merge::RobustGroup;
 using keel::merge::RobustOptions;
 using keel::merge::RobustProgress;
+using keel::merge::RobustResidualTest;
 using keel::merge::RobustRun;
 using keel::merge::RobustRun2;
 using keel::merge::RobustRun3;
 using keel::merge::RobustSelector;
+using keel::merge::snooping_statistics;
 }  // namespace keel::merge

@@ -1,5 +1,6 @@
 #include "merge/robust.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -16,8 +18,11 @@
 #include "core/names.hpp"
 #include "core/timing.hpp"
 #include "cov/chain.hpp"
+#include "cov/information.hpp"
+#include "cov/marginal_covariance.hpp"
 #include "graph/residuals.hpp"
 #include "pgo/optimize.hpp"
+#include "pgo/robust.hpp"
 
 namespace keel::merge {
 
@@ -29,6 +34,207 @@ std::string at_line(int line) { return line > 0 ? fmt::format(" (line {})", line
 template <class Graph>
 using EstimateOf =
     std::conditional_t<std::is_same_v<Graph, graph::PoseGraph2D>, pgo::Estimate2D, pgo::Estimate3D>;
+
+// Data snooping's T = rᵀ Q⁻¹ r (RobustResidualTest::snooping) of each edge of `tested` (edges of `graph`, ids
+// global) at `poses`, a maximum-likelihood solution of `graph`: Q = Ω⁻¹ − J P Jᵀ, P the joint marginal of the
+// edge's two poses (left perturbations, eq. 5.14; the gauge pose fixed), J its residual's Jacobian in them.
+// NaN where Q is not positive definite (to 1e-10 of its largest eigenvalue): nothing else constrains the
+// edge's relative pose, so it cannot be tested.
+template <class Graph, class Edge, class G>
+std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& poses,
+                                  const std::vector<Edge>& tested) {
+  constexpr int dof = G::DoF;
+  cov::GaugeOptions gauge;
+  gauge.pose = graph.gauge_pose;
+  cov::SparseInformation H;
+  if constexpr (dof == 3)
+    H = cov::information_matrix(graph, poses, {}, gauge);
+  else
+    H = cov::information_matrix(graph, poses, gauge);
+  const cov::MarginalCovariance marginals(H);
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& e : tested) pairs.emplace_back(e.i, e.j);
+  const auto P = cov::pair_marginals(marginals, pairs);
+  std::vector<double> t(tested.size(), std::numeric_limits<double>::quiet_NaN());
+  using Mat = Eigen::Matrix<double, dof, dof>;
+  for (std::size_t k = 0; k < tested.size(); ++k) {
+    const auto& e = tested[k];
+    const auto lin = graph::linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
+                                           poses[static_cast<std::size_t>(e.j)]);
+    Eigen::Matrix<double, dof, 2 * dof> J;
+    J << lin.J_r_xi_i, lin.J_r_xi_j;
+    const Mat omega = e.information;
+    Mat Q = omega.inverse() - J * P[k] * J.transpose();
+    Q = 0.5 * (Q + Q.transpose()).eval();
+    const Eigen::SelfAdjointEigenSolver<Mat> es(Q);
+    const auto& l = es.eigenvalues();
+    if (!(l(0) > 1e-10 * l(dof - 1))) continue;
+    const auto v = (es.eigenvectors().transpose() * lin.residual).eval();
+    double sum = 0.0;
+    for (int a = 0; a < dof; ++a) sum += v(a) * v(a) / l(a);
+    t[k] = sum;
+  }
+  return t;
+}
+
+// Union–find over robots: which robots the given closures join.
+struct RobotSets {
+  std::vector<int> up;
+  explicit RobotSets(int robots) : up(static_cast<std::size_t>(robots)) {
+    std::iota(up.begin(), up.end(), 0);
+  }
+  int top(int r) {
+    while (up[static_cast<std::size_t>(r)] != r) r = up[static_cast<std::size_t>(r)];
+    return r;
+  }
+  bool join(int a, int b) {  // false when already joined
+    a = top(a), b = top(b);
+    if (a == b) return false;
+    up[static_cast<std::size_t>(b)] = a;
+    return true;
+  }
+  bool all_joined() {
+    for (int r = 1; r < static_cast<int>(up.size()); ++r)
+      if (top(r) != top(0)) return false;
+    return true;
+  }
+};
+
+// GNC with truncated least squares (pgo/robust.hpp; Yang, Antonante, Tzoumas, Carlone, RA-L 2020) over the
+// closures kept so far, the odometry trusted: weights at μ from each closure's χ² at the last solution, the
+// weighted solve (informations scaled by w; w = 0 left out), μ ← factor·μ, until the weights of the last
+// solve are all 0 or 1 and are the weights at its own solution, or the round limit. With several robots a
+// weight-0 closure that alone joins a robot to the others stays in the weighted solves at weight 1e-3 (the
+// robots need a common frame; the least χ² first), and at the end one whose weight is below ½ is kept at
+// full weight when the kept ones would leave a robot unjoined (marked joins_robots).
+template <class G, class Graph, class EdgeOf, class Assemble, class Chi2At, class Say>
+void gnc_stage(RobustRun<G>& run, const Graph& base, const EdgeOf& edge_of, const Assemble& assemble,
+               const Chi2At& chi2_at, const Say& say) {
+  constexpr double kJoinWeight = 1e-3;
+  const RobustOptions& o = run.options;
+  const int R = static_cast<int>(run.odometry.size());
+  const auto t_gnc = core::Clock::now();
+  const double first_solve_s = run.solved.summary.total_time_s;
+  const double c2 = pcm::consistency_threshold(o.gnc_p, G::DoF);
+  run.gnc_threshold = c2;
+  std::vector<std::size_t> pool;  // the closures GNC weighs
+  for (std::size_t k = 0; k < run.candidates.size(); ++k)
+    if (run.candidates[k].kept) pool.push_back(k);
+  run.gnc_weighed = static_cast<int>(pool.size());
+  const std::size_t m = pool.size();
+  std::vector<double> chi2(m), w(m, 1.0);
+  std::vector<G> estimate = run.solved.graph.poses;
+  auto residuals = [&] {
+    for (std::size_t i = 0; i < m; ++i) chi2[i] = chi2_at(run.candidates[pool[i]], estimate);
+  };
+  residuals();
+  // Weight-0 closures to keep (by index into pool) so that every robot shares a frame: the least χ² first.
+  auto joining = [&](const std::vector<double>& weights, double keep_at) {
+    std::vector<std::size_t> extra;
+    if (R == 1) return extra;
+    RobotSets sets(R);
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto& c = run.candidates[pool[i]];
+      if (weights[i] >= keep_at)
+        sets.join(c.robot_a, c.robot_b);
+      else if (c.robot_a != c.robot_b)
+        out.push_back(i);
+    }
+    std::sort(out.begin(), out.end(), [&](std::size_t a, std::size_t b) { return chi2[a] < chi2[b]; });
+    for (const std::size_t i : out)
+      if (sets.join(run.candidates[pool[i]].robot_a, run.candidates[pool[i]].robot_b)) extra.push_back(i);
+    return extra;
+  };
+  std::optional<pgo::CertifiedSolution<Graph>> last;  // the last weighted solve, when certified-inner
+  bool last_repaired = false;
+  double mu = pgo::tls_gnc_initial_mu(m == 0 ? 0.0 : *std::max_element(chi2.begin(), chi2.end()), c2);
+  if (!std::isfinite(mu)) run.gnc_converged = true;  // every closure within c̄² at the solution: all inliers
+  for (int round = 1; std::isfinite(mu); ++round) {
+    std::vector<double> next(m);
+    for (std::size_t i = 0; i < m; ++i) next[i] = pgo::tls_gnc_weight(chi2[i], mu, c2);
+    if (round > 1 && next == w &&
+        std::all_of(w.begin(), w.end(), [](double x) { return x == 0.0 || x == 1.0; })) {
+      run.gnc_converged = true;
+      break;
+    }
+    if (round > o.gnc_max_rounds) break;
+    w = next;
+    const auto t_round = core::Clock::now();
+    Graph weighted = base;
+    weighted.poses = estimate;
+    weighted.has_initial_poses = true;
+    const auto extra = joining(w, std::numeric_limits<double>::min());
+    last_repaired = !extra.empty();
+    for (std::size_t i = 0; i < m; ++i) {
+      const bool join = std::find(extra.begin(), extra.end(), i) != extra.end();
+      if (w[i] <= 0.0 && !join) continue;
+      auto e = edge_of(run.candidates[pool[i]]);
+      e.information *= join ? kJoinWeight : w[i];
+      weighted.edges.push_back(e);
+    }
+    RobustGncRound r;
+    r.mu = mu;
+    for (const double x : w) {
+      r.inliers += x >= 0.5;
+      r.zero += x == 0.0;
+      r.weight_sum += x;
+    }
+    say(fmt::format("GNC round {}: μ = {:.4g}, {} of {} closures weighed ≥ ½, {} at 0", round, mu, r.inliers,
+                    m, r.zero));
+    if (o.gnc_certified_inner) {
+      pgo::CertifiedOptions inner = o.solve;
+      inner.chordal_initialization = false;  // from the round before
+      last = pgo::certified_solution(weighted, inner);
+      estimate = last->graph.poses;
+      const auto& cert = last->summary.certificate;
+      r.certified = cert.certified;
+      r.relative_gap = cert.proven ? cert.bound.relative_gap_up() : std::numeric_limits<double>::infinity();
+    } else {
+      pgo::Options lm;
+      lm.initial_guess = pgo::InitialGuess::supplied;
+      lm.constant_poses = {weighted.gauge_pose};
+      EstimateOf<Graph> from;
+      from.poses = estimate;
+      estimate = pgo::optimize(weighted, lm, &from).estimate.poses;
+      r.relative_gap = std::numeric_limits<double>::quiet_NaN();
+    }
+    residuals();
+    for (std::size_t i = 0; i < m; ++i) r.tls_cost += std::min(chi2[i], c2);
+    r.time_s = core::seconds_since(t_round);
+    run.gnc_rounds.push_back(r);
+    mu *= o.gnc_mu_factor;
+  }
+  // The kept closures: weight ≥ ½, and those that alone join a robot.
+  const auto extra = joining(w, 0.5);
+  run.kept = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    auto& c = run.candidates[pool[i]];
+    c.gnc_weight = w[i];
+    c.joins_robots = std::find(extra.begin(), extra.end(), i) != extra.end();
+    c.kept = w[i] >= 0.5 || c.joins_robots;
+    run.kept += c.kept;
+  }
+  assemble();
+  const bool binary = std::all_of(w.begin(), w.end(), [](double x) { return x == 0.0 || x == 1.0; });
+  if (last && binary && extra.empty() && !last_repaired && !run.gnc_rounds.empty()) {
+    // The last weighted solve was the certified solve of exactly the odometry and the kept closures.
+    run.solved = std::move(*last);
+    run.solved.graph.edges = run.selected.edges;
+    run.solved.graph.has_initial_poses = run.selected.has_initial_poses;
+  } else if (!run.gnc_rounds.empty()) {
+    say(fmt::format("certified solve of the odometry and {} closures GNC kept", run.kept));
+    pgo::CertifiedOptions final_solve = o.solve;
+    Graph from = run.selected;
+    from.poses = estimate;
+    from.has_initial_poses = true;
+    final_solve.chordal_initialization = false;
+    run.solved = pgo::certified_solution(from, final_solve);
+    run.solved.graph.has_initial_poses = run.selected.has_initial_poses;
+  }
+  run.gnc_time_s = first_solve_s + core::seconds_since(t_gnc) -
+                   (run.gnc_rounds.empty() ? first_solve_s : run.solved.summary.total_time_s);
+}
 
 template <class G, class Graph, class Edge>
 RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edge>& inter,
@@ -161,14 +367,26 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
     }
   }
 
-  // Each robot's odometry map and the joint marginal of the poses its candidates touch.
-  say(fmt::format("odometry maps ({} robot{}, {} poses, {} candidate loop closures)", R, R == 1 ? "" : "s",
-                  total, run.candidates.size()));
-  std::vector<pcm::LocalMap<G>> maps(static_cast<std::size_t>(R));
-  for (const auto& c : run.candidates) {
-    maps[static_cast<std::size_t>(c.robot_a)].ids.push_back(c.pose_a);
-    maps[static_cast<std::size_t>(c.robot_b)].ids.push_back(c.pose_b);
+  run.gamma = pcm::consistency_threshold(o.p, dof);
+  if (o.gnc == RobustGnc::only) {
+    // No consistency check: every candidate goes to GNC (each group's selection is all of it, unsearched).
+    for (auto& grp : run.groups) {
+      grp.selection.selected.resize(grp.members.size());
+      std::iota(grp.selection.selected.begin(), grp.selection.selected.end(), 0);
+    }
+    for (auto& c : run.candidates) c.kept = true;
+    run.kept = static_cast<int>(run.candidates.size());
   }
+  // Each robot's odometry map and the joint marginal of the poses its candidates touch.
+  if (o.gnc != RobustGnc::only)
+    say(fmt::format("odometry maps ({} robot{}, {} poses, {} candidate loop closures)", R, R == 1 ? "" : "s",
+                    total, run.candidates.size()));
+  std::vector<pcm::LocalMap<G>> maps(static_cast<std::size_t>(R));
+  if (o.gnc != RobustGnc::only)
+    for (const auto& c : run.candidates) {
+      maps[static_cast<std::size_t>(c.robot_a)].ids.push_back(c.pose_a);
+      maps[static_cast<std::size_t>(c.robot_b)].ids.push_back(c.pose_b);
+    }
   for (int r = 0; r < R; ++r) {
     auto& map = maps[static_cast<std::size_t>(r)];
     if (map.ids.empty()) continue;  // no candidate touches it: its odometry is solved with the rest
@@ -194,13 +412,13 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   }
 
   // Each group's Q (eq. 2.4), its threshold and its largest consistent set (eq. 2.5).
-  run.gamma = pcm::consistency_threshold(o.p, dof);
   pcm::ConsistencyOptions co;
   co.composition = o.composition;
   co.threads = o.threads;
   pcm::CliqueOptions clique;
   clique.time_limit_s = o.time_limit_s;
   for (auto& grp : run.groups) {
+    if (o.gnc == RobustGnc::only) break;
     std::vector<pcm::InterRobotMeasurement<G>> cand;
     for (const int k : grp.members) {
       const auto& c = run.candidates[static_cast<std::size_t>(k)];
@@ -314,29 +532,62 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   // F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved by Levenberg–Marquardt from the current
   // estimate, one closure per round (never one whose removal would leave a robot without a common frame);
   // once none is above γ_r, the certified solve of what is left gives the answer and its certificate.
-  if (o.residual_p > 0.0) {
-    run.residual_threshold = pcm::consistency_threshold(o.residual_p, dof);
+  if (o.gnc == RobustGnc::off && o.residual_p > 0.0) {
+    run.residual_threshold = pcm::consistency_threshold(o.residual_p, dof);  // edge; snooping: set below
     // Time of the check: the certified solves whose answers a later round replaced (the first among them) and
     // the re-solves; the last certified solve is the answer's own (solved.summary).
     const auto t_check = core::Clock::now();
     const double first_solve_s = run.solved.summary.total_time_s;
-    // The worst kept closure above γ_r at `estimate`, if any (candidates.size() if none).
-    auto worst_at = [&](const std::vector<G>& estimate, double* chi2) {
-      double worst = run.residual_threshold;
-      std::size_t worst_k = run.candidates.size();
-      for (std::size_t k = 0; k < run.candidates.size(); ++k) {
-        if (!run.candidates[k].kept) continue;
-        const double x = chi2_at(run.candidates[k], estimate);
-        if (x > worst && unjoined_robot(k) < 0) worst = x, worst_k = k;
+    // Levenberg–Marquardt on the kept graph from `from` (the anisotropic cost the statistics assume).
+    auto relax = [&](const std::vector<G>& from_poses) {
+      pgo::Options lm;
+      lm.initial_guess = pgo::InitialGuess::supplied;
+      lm.constant_poses = {run.selected.gauge_pose};
+      EstimateOf<Graph> from;
+      from.poses = from_poses;
+      return pgo::optimize(run.selected, lm, &from).estimate.poses;
+    };
+    const bool snooping = o.residual_test == RobustResidualTest::snooping;
+    bool first_round = true;
+    // The worst kept closure above the threshold at `estimate`, if any (candidates.size() if none); its
+    // χ² there, and for snooping its T (at the maximum-likelihood solution: `estimate` relaxed first when it
+    // is the certified solve's).
+    auto worst_at = [&](const std::vector<G>& estimate, bool certified, double* chi2, double* t) {
+      std::vector<std::size_t> tested;
+      for (std::size_t k = 0; k < run.candidates.size(); ++k)
+        if (run.candidates[k].kept) tested.push_back(k);
+      std::vector<G> at;
+      std::vector<double> statistic(tested.size());
+      double threshold = run.residual_threshold;
+      if (snooping) {
+        at = certified ? relax(estimate) : estimate;
+        std::vector<Edge> edges;
+        for (const std::size_t k : tested) edges.push_back(edge_of(run.candidates[k]));
+        statistic = snooping_impl(run.selected, at, edges);
+        const auto m =
+            std::count_if(statistic.begin(), statistic.end(), [](double x) { return !std::isnan(x); });
+        threshold = pcm::consistency_threshold(
+            o.residual_p / static_cast<double>(std::max<std::ptrdiff_t>(m, 1)), dof);
+      } else {
+        for (std::size_t u = 0; u < tested.size(); ++u)
+          statistic[u] = chi2_at(run.candidates[tested[u]], estimate);
       }
-      *chi2 = worst;
+      if (first_round) run.residual_threshold = threshold, first_round = false;
+      double worst = threshold;
+      std::size_t worst_k = run.candidates.size();
+      for (std::size_t u = 0; u < tested.size(); ++u)
+        if (statistic[u] > worst && unjoined_robot(tested[u]) < 0) worst = statistic[u], worst_k = tested[u];
+      if (worst_k < run.candidates.size()) {
+        *t = snooping ? worst : std::numeric_limits<double>::quiet_NaN();
+        *chi2 = chi2_at(run.candidates[worst_k], snooping ? at : estimate);
+      }
       return worst_k;
     };
     std::vector<G> estimate = run.solved.graph.poses;
     bool certified_estimate = true;  // `estimate` is the certified solve's answer
     while (run.residual_rounds < o.max_residual_rounds) {
-      double worst = 0.0;
-      const std::size_t k = worst_at(estimate, &worst);
+      double worst = 0.0, worst_t = 0.0;
+      const std::size_t k = worst_at(estimate, certified_estimate, &worst, &worst_t);
       if (k == run.candidates.size()) {
         if (certified_estimate) break;
         // None is above γ_r at LM's estimate: solve what is left with the certificate, and check its answer.
@@ -350,16 +601,14 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       c.kept = false;
       c.removed_in_round = ++run.residual_rounds;
       c.residual_chi2 = worst;
+      c.snooping_t = worst_t;
       --run.kept;
       assemble();
-      say(fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
-                      run.residual_rounds, c.pose_a, c.pose_b, worst, run.residual_threshold));
-      pgo::Options lm;
-      lm.initial_guess = pgo::InitialGuess::supplied;
-      lm.constant_poses = {run.selected.gauge_pose};
-      EstimateOf<Graph> from;
-      from.poses = estimate;
-      estimate = pgo::optimize(run.selected, lm, &from).estimate.poses;
+      say(snooping ? fmt::format("residual check, round {}: closure {} → {} removed (T {:.4g})",
+                                 run.residual_rounds, c.pose_a, c.pose_b, worst_t)
+                   : fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
+                                 run.residual_rounds, c.pose_a, c.pose_b, worst, run.residual_threshold));
+      estimate = relax(estimate);
       certified_estimate = false;
     }
     if (!certified_estimate)  // the round limit was reached after a removal
@@ -367,6 +616,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
     if (run.residual_rounds > 0)
       run.residual_time_s = first_solve_s + core::seconds_since(t_check) - run.solved.summary.total_time_s;
   }
+  if (o.gnc != RobustGnc::off) gnc_stage(run, base, edge_of, assemble, chi2_at, say);
   for (auto& c : run.candidates)
     if (c.kept) c.residual_chi2 = chi2_at(c, run.solved.graph.poses);
   return run;
@@ -380,10 +630,22 @@ constexpr core::NameTable<RobustSelector, 4> kSelectorNames{"merge::RobustSelect
                                                               {RobustSelector::exact, "exact"},
                                                               {RobustSelector::heuristic, "heuristic"},
                                                               {RobustSelector::densest, "densest"}}}};
+constexpr core::NameTable<RobustResidualTest, 2> kResidualTestNames{
+    "merge::RobustResidualTest",
+    {{{RobustResidualTest::edge, "edge"}, {RobustResidualTest::snooping, "snooping"}}}};
+constexpr core::NameTable<RobustGnc, 3> kGncNames{
+    "merge::RobustGnc",
+    {{{RobustGnc::off, "off"}, {RobustGnc::after_pcm, "after"}, {RobustGnc::only, "only"}}}};
 }  // namespace
 
 std::string_view to_string(RobustSelector s) { return kSelectorNames.name(s); }
 RobustSelector robust_selector_from_string(std::string_view text) { return kSelectorNames.parse(text); }
+std::string_view to_string(RobustGnc g) { return kGncNames.name(g); }
+std::string_view to_string(RobustResidualTest t) { return kResidualTestNames.name(t); }
+RobustResidualTest robust_residual_test_from_string(std::string_view text) {
+  return kResidualTestNames.parse(text);
+}
+RobustGnc robust_gnc_from_string(std::string_view text) { return kGncNames.parse(text); }
 
 void RobustOptions::validate() const {
   if (!(residual_p >= 0.0 && residual_p < 1.0))
@@ -397,11 +659,28 @@ void RobustOptions::validate() const {
         fmt::format("merge::RobustOptions: exact_up_to must be >= 1 (got {})", exact_up_to));
   if (!(p > 0.0 && p < 1.0))
     throw std::invalid_argument(fmt::format("merge::RobustOptions: p must be in (0, 1) (got {})", p));
+  if (!(gnc_p > 0.0 && gnc_p < 1.0))
+    throw std::invalid_argument(fmt::format("merge::RobustOptions: gnc_p must be in (0, 1) (got {})", gnc_p));
+  if (!(std::isfinite(gnc_mu_factor) && gnc_mu_factor > 1.0))
+    throw std::invalid_argument(
+        fmt::format("merge::RobustOptions: gnc_mu_factor must be finite and > 1 (got {})", gnc_mu_factor));
+  if (gnc_max_rounds < 1)
+    throw std::invalid_argument(
+        fmt::format("merge::RobustOptions: gnc_max_rounds must be >= 1 (got {})", gnc_max_rounds));
   if (!(std::isfinite(time_limit_s) && time_limit_s >= 0.0))
     throw std::invalid_argument(fmt::format(
         "merge::RobustOptions: time_limit_s must be finite and >= 0, 0 for none (got {})", time_limit_s));
   local.validate();
   solve.validate();
+}
+
+std::vector<double> snooping_statistics(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
+                                        const std::vector<graph::Edge2>& tested) {
+  return snooping_impl(graph, poses, tested);
+}
+std::vector<double> snooping_statistics(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses,
+                                        const std::vector<graph::Edge3>& tested) {
+  return snooping_impl(graph, poses, tested);
 }
 
 RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots, const std::vector<graph::Edge2>& inter_robot,

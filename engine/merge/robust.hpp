@@ -33,6 +33,29 @@ enum class RobustSelector { automatic, exact, heuristic, densest };
 [[nodiscard]] std::string_view to_string(RobustSelector s);
 [[nodiscard]] RobustSelector robust_selector_from_string(std::string_view text);  // "auto" | "exact" | …
 
+/// The residual check's statistic for a kept closure at the solution.
+///  - edge: χ² = rᵀΩr against F⁻¹_χ²(dof)(1 − residual_p).
+///  - snooping: data snooping (Baarda 1968; the test of an observation vector, Teunissen, "Testing Theory",
+///    2000, §4): T = rᵀ Q⁻¹ r with Q = Ω⁻¹ − J P Jᵀ the covariance of the least-squares residual (P the joint
+///    marginal of the closure's two poses at the maximum-likelihood solution, J = ∂r/∂(ξ_i, ξ_j)), against
+///    F⁻¹_χ²(dof)(1 − residual_p / m) with m the closures tested in that round (Bonferroni: at most
+///    residual_p chance of removing a true closure per round under the model). T is the drop of Σ rᵀΩr when
+///    that closure alone is left out (to first order), and χ² ≤ T always: a wrong closure that bends the map
+///    until it fits (small χ², large drop) is caught. A closure whose Q is not positive definite (nothing but
+///    it constrains its relative pose) cannot be tested and is left as it is.
+enum class RobustResidualTest { edge, snooping };
+[[nodiscard]] std::string_view to_string(RobustResidualTest t);
+[[nodiscard]] RobustResidualTest robust_residual_test_from_string(
+    std::string_view text);  // "edge" | "snooping"
+
+/// Graduated non-convexity for truncated least squares (pgo/robust.hpp: Yang et al. 2020) over the candidate
+/// loop closures, the odometry trusted: after the consistency selection, over the closures it kept (the
+/// order of Kimera-RPGO: PCM, then GNC), or instead of it, over every candidate. It replaces the residual
+/// check.
+enum class RobustGnc { off, after_pcm, only };
+[[nodiscard]] std::string_view to_string(RobustGnc g);
+[[nodiscard]] RobustGnc robust_gnc_from_string(std::string_view text);  // "off" | "after" | "only"
+
 struct RobustOptions {
   double p =
       0.11;  // γ = F⁻¹_χ²(dof)(1 − p), the consistency threshold (thesis §2.7: PCM-Exact-11 %), in (0, 1)
@@ -50,6 +73,18 @@ struct RobustOptions {
   // check.
   double residual_p = 0.01;
   int max_residual_rounds = 50;
+  RobustResidualTest residual_test = RobustResidualTest::edge;
+  // GNC (instead of the residual check when not off): TLS with the inlier threshold c̄² = F⁻¹_χ²(dof)(1 −
+  // gnc_p) on each closure's χ² = rᵀΩr, μ₀ from the largest χ² at the certified solve of what it weighs, μ ←
+  // gnc_mu_factor·μ each round, at most gnc_max_rounds weighted solves. Each weighted solve is the certified
+  // solver's (gnc_certified_inner, started from the round before; its certificate or gap recorded) or
+  // Levenberg–Marquardt's; the closures of weight ≥ ½ at the end are kept, and the answer is the certified
+  // solve of the odometry and them.
+  RobustGnc gnc = RobustGnc::off;
+  double gnc_p = 0.01;
+  double gnc_mu_factor = 1.4;
+  int gnc_max_rounds = 100;
+  bool gnc_certified_inner = true;
   // Throws std::invalid_argument naming the field (including the nested options' own checks).
   void validate() const;
 };
@@ -71,6 +106,23 @@ struct RobustCandidate {
       0;  // > 0: kept by its group's selection, removed by that round of the residual check
   // rᵀΩr at the final solution (kept), or at its removal; NaN for one never kept.
   double residual_chi2 = std::numeric_limits<double>::quiet_NaN();
+  // Data snooping's T at its removal (RobustResidualTest::snooping); NaN otherwise.
+  double snooping_t = std::numeric_limits<double>::quiet_NaN();
+  // GNC's last weight (the weight of the last weighted solve; kept when ≥ ½); NaN when GNC did not weigh it.
+  double gnc_weight = std::numeric_limits<double>::quiet_NaN();
+  bool joins_robots = false;  // kept only because without it a robot would have no common frame
+};
+
+/// One round of GNC: the weights at μ, then the weighted solve.
+struct RobustGncRound {
+  double mu = 0.0;
+  int inliers = 0;            // weights ≥ ½
+  int zero = 0;               // weights 0 (left out of the solve, unless one joins robots: weight 1e-3)
+  double weight_sum = 0.0;    // Σ w
+  double tls_cost = 0.0;      // Σ min(χ², c̄²) over the weighed closures at the round's solution
+  bool certified = false;     // the weighted solve carried a certificate (always false for LM solves)
+  double relative_gap = 0.0;  // its proven relative gap (+inf when nothing was proven; NaN for LM solves)
+  double time_s = 0.0;
 };
 
 /// The candidates joining one robot (robot_a == robot_b) or one pair of robots, and their selection.
@@ -98,9 +150,15 @@ struct RobustRun {
   graph::PoseGraphOf<G> selected;  // all odometry and the kept closures, robots' poses one after another
   pgo::CertifiedSolution<graph::PoseGraphOf<G>> solved;  // `selected` solved with its certificate
   double odometry_time_s = 0.0, marginals_time_s = 0.0, consistency_time_s = 0.0, selection_time_s = 0.0;
-  double residual_threshold = 0.0;  // F⁻¹_χ²(dof)(1 − residual_p); 0 without the check
+  double residual_threshold = 0.0;  // F⁻¹_χ²(dof)(1 − residual_p); 0 without the check (snooping: of the
+                                    // first round, with its Bonferroni correction)
   int residual_rounds = 0;          // closures the residual check removed
   double residual_time_s = 0.0;     // the residual check: the first certified solve and the re-solves
+  double gnc_threshold = 0.0;       // c̄²; 0 without GNC
+  int gnc_weighed = 0;              // closures GNC weighed
+  std::vector<RobustGncRound> gnc_rounds;
+  bool gnc_converged = false;  // the last solve's weights, all 0 or 1, are the weights at its solution
+  double gnc_time_s = 0.0;     // GNC: the first certified solve and the weighted solves (the answer's not)
 };
 using RobustRun2 = RobustRun<lie::SE2>;
 using RobustRun3 = RobustRun<lie::SE3>;
@@ -118,5 +176,18 @@ using RobustRun3 = RobustRun<lie::SE3>;
 [[nodiscard]] RobustRun3 robust(const std::vector<graph::PoseGraph3D>& robots,
                                 const std::vector<graph::Edge3>& inter_robot = {},
                                 const RobustOptions& options = {}, const RobustProgress& progress = {});
+
+/// Data snooping's T = rᵀ Q⁻¹ r (RobustResidualTest::snooping) of each edge of `tested` (edges of `graph`,
+/// ids those of its poses) at `poses`, a maximum-likelihood solution of `graph` (pgo::optimize's): Q = Ω⁻¹ −
+/// J P Jᵀ, P the joint marginal of the edge's two poses (left perturbations, thesis eq. 5.14;
+/// graph.gauge_pose fixed) and J = ∂r/∂(ξ_i, ξ_j). NaN for an edge whose Q is not positive definite (to 1e-10
+/// of its largest eigenvalue): nothing else constrains its relative pose. Throws as cov::MarginalCovariance
+/// when the information matrix is not positive definite.
+[[nodiscard]] std::vector<double> snooping_statistics(const graph::PoseGraph2D& graph,
+                                                      const std::vector<lie::SE2>& poses,
+                                                      const std::vector<graph::Edge2>& tested);
+[[nodiscard]] std::vector<double> snooping_statistics(const graph::PoseGraph3D& graph,
+                                                      const std::vector<lie::SE3>& poses,
+                                                      const std::vector<graph::Edge3>& tested);
 
 }  // namespace keel::merge

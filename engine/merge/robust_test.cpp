@@ -1,7 +1,8 @@
 // merge::robust on a synthetic single-robot graph (three square laps, every closure i → i + 40 an inlier)
 // with wrong loop closures added: no wrong closure kept, most true ones kept, the answer certified and equal
 // to the certified solve of the odometry with the kept closures; a broken odometry chain and bad options give
-// located errors; a graph without loop closures is solved as its odometry.
+// located errors; a graph without loop closures is solved as its odometry. Data snooping's statistic against
+// the exact drop of the cost, and GNC's weights, rounds and answer.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "merge/robust.hpp"
+#include "pgo/optimize.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/two_robot_test_graphs.hpp"
@@ -113,6 +115,17 @@ TEST_CASE("merge::robust: no loop closure, a broken chain and bad options") {
   o = {};
   o.time_limit_s = -1;
   CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "time_limit_s"));
+  o = {};
+  o.gnc_p = 0.0;
+  CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "gnc_p must be in (0, 1)"));
+  o = {};
+  o.gnc_mu_factor = 1.0;
+  CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "gnc_mu_factor"));
+  o = {};
+  o.gnc_max_rounds = 0;
+  CHECK(contains(message_of([&] { (void)merge::robust({syn.graph}, {}, o); }), "gnc_max_rounds"));
+  CHECK(contains(message_of([] { (void)merge::robust_gnc_from_string("before"); }), "after"));
+  CHECK(contains(message_of([] { (void)merge::robust_residual_test_from_string("w"); }), "snooping"));
 }
 
 // The same laps as two robots: poses 0–59 and 60–119, each with its own odometry and closures, and every edge
@@ -271,4 +284,160 @@ TEST_CASE(
   const auto direct = pgo::solve_certified(with.selected);
   CHECK(direct.summary.final_cost == doctest::Approx(with.solved.summary.final_cost).epsilon(1e-12));
   CHECK(with.selected.edges.size() == static_cast<std::size_t>(n - 1 + with.kept));
+}
+
+namespace {
+
+// Levenberg–Marquardt to convergence from `from` (the gauge pose fixed).
+template <class Graph, class G>
+pgo::Result2D relax_2d(const Graph& g, const std::vector<G>& from) {
+  pgo::Options lm;
+  lm.initial_guess = pgo::InitialGuess::supplied;
+  lm.constant_poses = {g.gauge_pose};
+  lm.max_iterations = 200;
+  pgo::Estimate2D start;
+  start.poses = from;
+  return pgo::optimize(g, lm, &start);
+}
+
+}  // namespace
+
+TEST_CASE("data snooping's T is the drop of Σ rᵀΩr when the closure alone is left out, and at least its χ²") {
+  // The laps with small noise and one closure moved by a bias of a few σ: every closure's T against the exact
+  // drop 2·(F − F₋ₖ) of the re-solved graph without it (equal to first order; the noise keeps the problem
+  // nearly linear).
+  auto syn = sim::testing::square_laps<lie::SE2>(2, 4, 5, true, true);
+  auto g = syn.graph;
+  const int n = static_cast<int>(g.poses.size());
+  const int first_closure = n - 1;
+  auto& biased = g.edges.back();
+  biased.measurement = biased.measurement * lie::SE2(0.3, -0.2, 0.1);
+  const auto full = relax_2d(g, syn.truth);
+  std::vector<graph::Edge2> tested(g.edges.begin() + first_closure, g.edges.end());
+  const auto t = merge::snooping_statistics(g, full.estimate.poses, tested);
+  REQUIRE(t.size() == tested.size());
+  for (std::size_t k = 0; k < tested.size(); k += 3) {
+    auto without = g;
+    without.edges.erase(without.edges.begin() + first_closure + static_cast<std::ptrdiff_t>(k));
+    const auto reduced = relax_2d(without, full.estimate.poses);
+    const double drop = 2.0 * (full.summary.final_cost - reduced.summary.final_cost);
+    const auto& e = tested[k];
+    const auto r = graph::edge_residual(e.measurement, full.estimate.poses[static_cast<std::size_t>(e.i)],
+                                        full.estimate.poses[static_cast<std::size_t>(e.j)]);
+    const double chi2 = r.dot(e.information * r);
+    CAPTURE(k);
+    REQUIRE(std::isfinite(t[k]));
+    CHECK(t[k] == doctest::Approx(drop).epsilon(0.02).scale(1e-3));
+    CHECK(chi2 <= t[k] * (1 + 1e-9));
+  }
+  // The biased closure stands out.
+  CHECK(t.back() > pcm::consistency_threshold(0.01 / static_cast<double>(t.size()), 3));
+}
+
+TEST_CASE("merge::robust's data snooping: removals ordered, every kept closure passes its test at the end") {
+  // The residual check's biased closures between the laps' start and end (the test above): data snooping at
+  // the same p removes some, one per round, and what it keeps passes T ≤ F⁻¹(1 − p/m) at the answer's
+  // maximum-likelihood solution.
+  auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
+  auto g = syn.graph;
+  const int n = static_cast<int>(g.poses.size());
+  auto rng = core::Rng::stream(11, 2);
+  const lie::Mat3 info = g.edges.back().information;
+  const int true_closures = static_cast<int>(g.edges.size()) - (n - 1);
+  std::set<int> biased;
+  for (int k = 0; k < 12; ++k) {
+    const int i = static_cast<int>(rng.uniform() * 20), j = n - 1 - static_cast<int>(rng.uniform() * 20);
+    const lie::SE2 truth =
+        syn.truth[static_cast<std::size_t>(i)].inverse() * syn.truth[static_cast<std::size_t>(j)];
+    const double s = rng.uniform() < 0.5 ? -1.0 : 1.0;
+    biased.insert(static_cast<int>(g.edges.size()));
+    g.edges.push_back(
+        {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
+         info, 0});
+  }
+  (void)true_closures;
+  merge::RobustOptions o;
+  o.p = 0.01;
+  o.residual_p = 0.5;
+  o.residual_test = merge::RobustResidualTest::snooping;
+  const auto run = merge::robust({g}, {}, o);
+  int wrong_kept = 0, true_removed = 0;
+  std::vector<graph::Edge2> kept;
+  std::vector<int> rounds;
+  for (const auto& c : run.candidates) {
+    if (c.kept) kept.push_back(g.edges[static_cast<std::size_t>(c.edge)]);
+    if (c.kept && biased.count(c.edge)) ++wrong_kept;
+    if (c.removed_in_round > 0 && !biased.count(c.edge)) ++true_removed;
+    if (c.removed_in_round > 0) {
+      rounds.push_back(c.removed_in_round);
+      CHECK(c.snooping_t >= c.residual_chi2);
+    } else {
+      CHECK(std::isnan(c.snooping_t));
+    }
+  }
+  MESSAGE("data snooping: " << run.residual_rounds << " removed (" << true_removed << " true), " << run.kept
+                            << " kept, " << wrong_kept << " of them biased");
+  REQUIRE(run.residual_rounds >= 1);
+  std::sort(rounds.begin(), rounds.end());
+  for (std::size_t r = 0; r < rounds.size(); ++r) CHECK(rounds[r] == static_cast<int>(r) + 1);
+  // The first round's threshold is F⁻¹(1 − p/m) over the closures PCM kept (all testable here).
+  int pcm_kept = 0;
+  for (const auto& c : run.candidates) pcm_kept += c.kept || c.removed_in_round > 0;
+  CHECK(run.residual_threshold == doctest::Approx(pcm::consistency_threshold(0.5 / pcm_kept, 3)));
+  const auto ml = relax_2d(run.selected, run.solved.graph.poses);
+  const auto t = merge::snooping_statistics(run.selected, ml.estimate.poses, kept);
+  const double threshold = pcm::consistency_threshold(0.5 / static_cast<double>(kept.size()), 3);
+  for (const double x : t) CHECK(x <= threshold * (1 + 1e-6));
+  CHECK(run.solved.summary.certificate.certified);
+}
+
+TEST_CASE("merge::robust's GNC: gross wrong closures weighed out, weights settled, the answer certified") {
+  for (const auto mode : {merge::RobustGnc::after_pcm, merge::RobustGnc::only}) {
+    int true_closures = 0;
+    const auto g = laps_with_outliers(15, 3, &true_closures);
+    const int n = static_cast<int>(g.poses.size());
+    merge::RobustOptions o;
+    o.gnc = mode;
+    const auto run = merge::robust({g}, {}, o);
+    CAPTURE(merge::to_string(mode));
+    CHECK(run.gnc_threshold == doctest::Approx(pcm::consistency_threshold(0.01, 3)));
+    CHECK(run.residual_rounds == 0);  // GNC replaces the residual check
+    if (mode == merge::RobustGnc::only) {
+      CHECK(run.gnc_weighed == static_cast<int>(run.candidates.size()));
+      CHECK_FALSE(run.groups[0].selection.search.has_value());
+    }
+    // After PCM nothing may be left to weigh out (every kept closure within c̄²: no round); alone, the gross
+    // closures must be.
+    if (mode == merge::RobustGnc::only) REQUIRE_FALSE(run.gnc_rounds.empty());
+    CHECK(run.gnc_converged);
+    CHECK(static_cast<int>(run.gnc_rounds.size()) <= o.gnc_max_rounds);
+    for (std::size_t r = 1; r < run.gnc_rounds.size(); ++r)
+      CHECK(run.gnc_rounds[r].mu == doctest::Approx(run.gnc_rounds[r - 1].mu * o.gnc_mu_factor));
+    int kept_wrong = 0, kept_true = 0, weighed = 0;
+    for (const auto& c : run.candidates) {
+      if (std::isnan(c.gnc_weight)) {
+        CHECK_FALSE(c.kept);
+        continue;
+      }
+      ++weighed;
+      CHECK((c.gnc_weight == 0.0 || c.gnc_weight == 1.0));  // settled
+      CHECK(c.kept == (c.gnc_weight >= 0.5));
+      if (c.kept) (c.edge < n - 1 + true_closures ? kept_true : kept_wrong) += 1;
+      // At the answer (the last weighted solve's), a kept closure is within c̄², a rejected one beyond it.
+      if (c.kept) CHECK(c.residual_chi2 <= run.gnc_threshold);
+    }
+    CHECK(weighed == run.gnc_weighed);
+    MESSAGE(merge::to_string(mode) << ": " << run.gnc_rounds.size() << " rounds, kept " << kept_true << " of "
+                                   << true_closures << " true, " << kept_wrong << " wrong");
+    CHECK(kept_wrong == 0);
+    if (mode == merge::RobustGnc::only) CHECK(kept_true >= true_closures * 3 / 4);
+    for (const auto& r : run.gnc_rounds) {
+      CHECK(r.inliers + r.zero <= run.gnc_weighed);
+      if (r.certified) CHECK(r.relative_gap <= o.solve.gap_tolerance);
+    }
+    REQUIRE(run.solved.summary.certificate.certified);
+    const auto direct = pgo::solve_certified(run.selected);
+    CHECK(direct.summary.final_cost == doctest::Approx(run.solved.summary.final_cost).epsilon(1e-9));
+    CHECK(run.selected.edges.size() == static_cast<std::size_t>(n - 1 + run.kept));
+  }
 }

@@ -40,6 +40,9 @@ using keel::pgo::Types;
 using keel::pgo::dcs_scale;
 using keel::pgo::Rho;
 using keel::pgo::robust_rho;
+using keel::pgo::tls_gnc_initial_mu;
+using keel::pgo::tls_gnc_weight;
+using keel::pgo::tls_surrogate;
 // multi-robot graphs
 using keel::pgo::InterRobotEdge2;
 using keel::pgo::InterRobotEdge3;

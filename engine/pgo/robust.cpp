@@ -2,10 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace keel::pgo {
 
 double dcs_scale(double chi2, double phi) { return std::min(1.0, 2.0 * phi / (phi + chi2)); }
+
+double tls_surrogate(double chi2, double mu, double threshold) {
+  if (chi2 <= mu / (mu + 1.0) * threshold) return chi2;
+  if (chi2 >= (mu + 1.0) / mu * threshold) return threshold;
+  return 2.0 * std::sqrt(threshold * mu * (mu + 1.0) * chi2) - mu * (threshold + chi2);
+}
+
+double tls_gnc_weight(double chi2, double mu, double threshold) {
+  if (chi2 <= mu / (mu + 1.0) * threshold) return 1.0;
+  if (chi2 >= (mu + 1.0) / mu * threshold) return 0.0;
+  // Between the two ends χ² > 0, and the expression runs from 1 down to 0; clamp the rounding at the ends.
+  return std::clamp(std::sqrt(threshold * mu * (mu + 1.0) / chi2) - mu, 0.0, 1.0);
+}
+
+double tls_gnc_initial_mu(double max_chi2, double threshold) {
+  if (!(max_chi2 > threshold)) return std::numeric_limits<double>::infinity();
+  return threshold / (2.0 * max_chi2 - threshold);
+}
 
 Rho robust_rho(RobustKernel kernel, double a, double s) {
   Rho r;

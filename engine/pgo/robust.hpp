@@ -46,4 +46,20 @@ struct Rho {
 // The DCS scaling s = min(1, 2φ/(φ + χ²)) of Agarwal et al. (2013).
 [[nodiscard]] double dcs_scale(double chi2, double phi);
 
+// Graduated non-convexity for truncated least squares (Yang, Antonante, Tzoumas, Carlone, "Graduated
+// Non-Convexity for Robust Spatial Perception", RA-L 2020, §III-B; GTSAM's GncOptimizer). TLS gives a
+// measurement the cost min(χ², c̄²), c̄² the inlier threshold. Its surrogate with control parameter μ > 0 is
+//     ρ_μ(χ²) = χ²                                  for χ² ≤ μ/(μ+1) · c̄²,
+//             = 2 c̄ √(μ(μ+1)) √χ² − μ (c̄² + χ²)     between,
+//             = c̄²                                  for χ² ≥ (μ+1)/μ · c̄²,
+// convex for μ → 0 and TLS itself as μ → ∞. GNC starts at μ₀ = c̄² / (2 max χ² − c̄²) (where every residual is
+// in the convex part), alternates a weighted least-squares solve with the weights below and μ ← factor·μ.
+// The weight of a measurement is w = dρ_μ/dχ²:
+//     w = 1 for χ² ≤ μ/(μ+1) c̄²,  0 for χ² ≥ (μ+1)/μ c̄²,  c̄ √(μ(μ+1)/χ²) − μ between (in [0, 1]).
+[[nodiscard]] double tls_surrogate(double chi2, double mu, double threshold);  // ρ_μ(χ²); threshold = c̄²
+[[nodiscard]] double tls_gnc_weight(double chi2, double mu, double threshold);
+// μ₀ for the largest χ² of the measurements; +∞ when max χ² ≤ c̄² (every measurement an inlier: nothing to
+// graduate).
+[[nodiscard]] double tls_gnc_initial_mu(double max_chi2, double threshold);
+
 }  // namespace keel::pgo

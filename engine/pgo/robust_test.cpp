@@ -1,5 +1,5 @@
 // Robust kernels: DCS ρ, ρ', ρ'' (derived in robust.hpp) checked numerically; ρ' = s² for DCS; Huber and
-// Cauchy.
+// Cauchy; the TLS surrogate of GNC and its weight.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -78,4 +78,45 @@ TEST_CASE("Huber and Cauchy: values and numerical derivatives; none is the ident
   CHECK(robust_rho(RobustKernel::huber, a, 9.0).rho == doctest::Approx(2 * a * 3.0 - a * a));
   CHECK(robust_rho(RobustKernel::huber, a, 3.0).rho == 3.0);
   CHECK(robust_rho(RobustKernel::cauchy, a, 9.0).rho == doctest::Approx(a * a * std::log(1 + 9.0 / (a * a))));
+}
+
+TEST_CASE("TLS GNC: the weight is dρ_μ/dχ², ρ_μ is continuous, μ₀ weighs every residual, TLS as μ grows") {
+  const double c2 = 11.34;  // χ²(3) at 0.99
+  for (const double mu : {0.01, 0.3, 1.0, 1.4, 20.0, 1e4}) {
+    CAPTURE(mu);
+    const double lo = mu / (mu + 1.0) * c2, hi = (mu + 1.0) / mu * c2;
+    // Continuity at both ends of the middle piece.
+    for (const double x : {lo, hi}) {
+      CHECK(tls_surrogate(x * (1 - 1e-12), mu, c2) ==
+            doctest::Approx(tls_surrogate(x * (1 + 1e-12), mu, c2)));
+      CHECK(tls_gnc_weight(x * (1 - 1e-12), mu, c2) ==
+            doctest::Approx(tls_gnc_weight(x * (1 + 1e-12), mu, c2)).epsilon(1e-5));
+    }
+    // w = dρ_μ/dχ² by central differences, inside each piece; w in [0, 1] and not increasing.
+    double previous = 1.0;
+    for (int k = 1; k < 200; ++k) {
+      const double x = 3.0 * hi * k / 200.0;
+      const double w = tls_gnc_weight(x, mu, c2);
+      CHECK(w >= 0.0);
+      CHECK(w <= previous);
+      previous = w;
+      const double h = 1e-6 * x;
+      if (std::abs(x - lo) < 2 * h || std::abs(x - hi) < 2 * h) continue;
+      const double d = (tls_surrogate(x + h, mu, c2) - tls_surrogate(x - h, mu, c2)) / (2 * h);
+      CAPTURE(x);
+      CHECK(d == doctest::Approx(w).epsilon(1e-6).scale(1.0));
+    }
+  }
+  // μ₀ puts the largest residual at half the upper end of the middle piece: still weighed, at less than 1.
+  const double max_chi2 = 500.0;
+  const double mu0 = tls_gnc_initial_mu(max_chi2, c2);
+  CHECK(mu0 == doctest::Approx(c2 / (2 * max_chi2 - c2)));
+  CHECK((mu0 + 1.0) / mu0 * c2 == doctest::Approx(2 * max_chi2));
+  CHECK(tls_gnc_weight(max_chi2, mu0, c2) > 0.0);
+  CHECK(tls_gnc_weight(max_chi2, mu0, c2) < 1.0);
+  // As μ grows the surrogate tends to min(χ², c̄²).
+  for (const double x : {1.0, 11.0, 11.7, 40.0, 1e6})
+    CHECK(tls_surrogate(x, 1e9, c2) == doctest::Approx(std::min(x, c2)).epsilon(1e-4));
+  CHECK(std::isinf(tls_gnc_initial_mu(c2, c2)));
+  CHECK(std::isinf(tls_gnc_initial_mu(1.0, c2)));
 }

@@ -518,7 +518,8 @@ ValueError.)doc");
   m.def(
       "robust",
       [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
-         const std::string& selector, int exact_up_to, double residual_p,
+         const std::string& selector, int exact_up_to, double residual_p, const std::string& residual_test,
+         const std::string& gnc, double gnc_p, const std::string& gnc_inner,
          const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
@@ -526,6 +527,13 @@ ValueError.)doc");
         o.selector = app::robust_selector_from_string(selector);
         o.exact_up_to = exact_up_to;
         o.residual_p = residual_p;
+        o.residual_test = app::robust_residual_test_from_string(residual_test);
+        o.gnc = app::robust_gnc_from_string(gnc);
+        o.gnc_p = gnc_p;
+        if (gnc_inner != "certified" && gnc_inner != "local")
+          throw py::value_error(
+              fmt::format("robust: gnc_inner must be 'certified' or 'local' (got '{}')", gnc_inner));
+        o.gnc_certified_inner = gnc_inner == "certified";
         if (time_limit_s) {
           if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
             throw py::value_error(fmt::format(
@@ -579,7 +587,9 @@ ValueError.)doc");
       },
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
-      py::arg("residual_p") = 0.01, py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
+      py::arg("residual_p") = 0.01, py::arg("residual_test") = "edge", py::arg("gnc") = "off",
+      py::arg("gnc_p") = 0.01, py::arg("gnc_inner") = "certified", py::arg("time_limit_s") = py::none(),
+      py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
 odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
@@ -596,11 +606,18 @@ kept closures.
   exact_up_to   see selector (>= 1)
   residual_p    the residual check after the selection: kept closures whose chi-square at the solution exceeds
                 the quantile at 1 - residual_p are removed one at a time, worst first; 0 for none
+  residual_test 'edge' (that chi-square) or 'snooping' (data snooping: r'Q^-1 r, Q the least-squares residual's
+                covariance, against the quantile at 1 - residual_p/m over the m closures tested)
+  gnc           'off', 'after' (graduated non-convexity with truncated least squares over the closures the
+                selection kept, instead of the residual check) or 'only' (over every candidate, no PCM)
+  gnc_p         GNC's inlier threshold: the chi-square quantile at 1 - gnc_p on each closure's r'Omega r
+  gnc_inner     GNC's weighted solves: 'certified' (each with its certificate or gap, in d['gnc']['rounds'])
+                or 'local' (Levenberg-Marquardt); the answer is the certified solve either way
   time_limit_s  each group's exact clique search limit in seconds (> 0), None for none
   threads       threads for the consistency matrices (the result does not depend on it)
 Returns a dict with the fields of `keel robust --json` but 'files' and 'candidates_file' (robots, poses,
 odometry_edges, candidates, kept, p, gamma, dof, composition, selector, exact_up_to, groups, times_s, anisotropic_cost,
-certificate, candidate_list) and, beside them, 'solution' (the (n, 3) or (n, 7) estimate of all robots' poses,
+gnc, certificate, candidate_list) and, beside them, 'solution' (the (n, 3) or (n, 7) estimate of all robots' poses,
 one robot after another) and 'graph' (the solved graph: all odometry and the kept closures). Unlike the command,
 nothing is refused when the answer is not certified: read d['certificate']['certified']. An odometry that does
 not chain every pose, or robots that no kept closure joins, raise ValueError naming the robot.)doc");

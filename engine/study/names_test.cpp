@@ -121,6 +121,12 @@ TEST_CASE(
       "merge::RobustSelector",
       {RobustSelector::automatic, RobustSelector::exact, RobustSelector::heuristic, RobustSelector::densest},
       merge::robust_selector_from_string);
+  check_name_table("merge::RobustGnc",
+                   {merge::RobustGnc::off, merge::RobustGnc::after_pcm, merge::RobustGnc::only},
+                   merge::robust_gnc_from_string);
+  check_name_table("merge::RobustResidualTest",
+                   {merge::RobustResidualTest::edge, merge::RobustResidualTest::snooping},
+                   merge::robust_residual_test_from_string);
   using align::Method;
   check_name_table("align::Method",
                    {Method::proposed, Method::so_conv_hull, Method::symmetric, Method::affine},

@@ -5,7 +5,8 @@ Run by CTest (cli.robust) with KEEL set to the binary; from this folder: KEEL=..
 poses a lap, exact odometry), true closures i -> i + 40 every other pose with small noise, and wrong closures
 between random poses. What must hold: every candidate in the JSON report with its poses, kept or not and why; no
 wrong closure kept; the answer certified; the solved graph written only with the odometry and the kept closures; a
-broken odometry chain refused (exit 3) naming the pose, and no output written.
+broken odometry chain refused (exit 3) naming the pose, and no output written; GNC alone (--gnc only) and data
+snooping (--residual-test snooping) reported field by field; bad values of their options refused (exit 2).
 """
 import json
 import math
@@ -166,6 +167,50 @@ class RobustCommand(unittest.TestCase):
         r = run("robust", self.graph, "--p", "2", "--quiet")
         self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
         self.assertIn("--p", r.stderr)
+        for option, value in (("--gnc", "before"), ("--gnc-p", "1"), ("--gnc-inner", "exact"),
+                              ("--residual-test", "w")):
+            r = run("robust", self.graph, option, value, "--quiet")
+            self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+            self.assertIn(option, r.stderr)
+
+    def test_gnc_alone_weighs_out_the_wrong_closures(self):
+        """--gnc only: no consistency check; GNC's rounds in the report, its weights settled at 0 or 1, no wrong
+        closure kept, the answer certified; the text summary names the rounds and the weighted solves."""
+        r = run("robust", self.graph, "--gnc", "only", "--json", "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        j = json.loads(r.stdout)
+        g = j["gnc"]
+        self.assertEqual(g["mode"], "only")
+        self.assertEqual(g["inner"], "certified")
+        self.assertEqual(g["weighed"], len(self.truth))
+        self.assertTrue(g["converged"])
+        self.assertGreater(len(g["rounds"]), 0)
+        self.assertEqual(j["groups"][0]["clique"]["status"], "not run")
+        cands = j["candidate_list"]
+        self.assertTrue(all(c["gnc_weight"] in (0.0, 1.0) for c in cands))
+        self.assertTrue(all(c["kept"] == (c["gnc_weight"] == 1.0) for c in cands))
+        self.assertEqual(sum(c["kept"] and not t for c, t in zip(cands, self.truth)), 0)
+        self.assertTrue(j["certificate"]["certified"])
+        text = run("robust", self.graph, "--gnc", "only", "--quiet")
+        self.assertEqual(text.returncode, 0, text.stderr)
+        self.assertIn(f"{len(g['rounds'])} rounds (converged)", text.stdout)
+        self.assertIn("weighted solves certified", text.stdout)
+        self.assertIn("no consistency check", text.stdout)
+
+    def test_data_snooping_is_reported(self):
+        r = run("robust", self.graph, "--p", "0.01", "--residual-test", "snooping", "--json", "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        j = json.loads(r.stdout)
+        self.assertEqual(j["residual_test"], "snooping")
+        kept = sum(c["kept"] or c["removed_in_round"] > 0 for c in j["candidate_list"])
+        # The first round's threshold carries the Bonferroni correction over the closures tested.
+        self.assertGreater(j["residual_threshold"], 11.3449)
+        for c in j["candidate_list"]:
+            if c["removed_in_round"] > 0:
+                self.assertGreaterEqual(c["snooping_t"], c["residual_chi2"])
+            else:
+                self.assertIsNone(c["snooping_t"])
+        self.assertGreater(kept, 0)
 
 
 if __name__ == "__main__":

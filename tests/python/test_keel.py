@@ -362,19 +362,28 @@ class TestReference(unittest.TestCase):
                              np.concatenate([g.information, np.repeat(g.information[-1:], extra, axis=0)]))
         path = os.path.join(self.tmp.name, "manhattan200_wrong.g2o")
         keel.write_graph(wrong, path)
-        r = subprocess.run([exe, "robust", path, "--json", "-q"], capture_output=True, text=True)
-        cli = json.loads(r.stdout)
-        py = keel.robust(keel.read_graph(path))
-        self.assertEqual(r.returncode, 0 if py["certificate"]["certified"] else 1, r.stderr)
-        self.assertEqual(cli.pop("files"), [path])
-        self.assertIsNone(cli.pop("candidates_file"))
-        self.assertEqual(py.pop("solution").shape, (n, 3))
-        self.assertIsInstance(py.pop("graph"), keel.Graph2D)
-        self.assertEqual(sorted(py), sorted(cli))
-        self.assertEqual(strip_times(py), strip_times(cli))
-        self.assertEqual(py["candidates"], len(g.edges) - (n - 1) + extra)
-        kept_wrong = [c for c in py["candidate_list"] if c["edge"] >= len(g.edges) and c["kept"]]
-        self.assertEqual(kept_wrong, [])
+        # The defaults, data snooping, and GNC after the selection and alone, each by the command and the module.
+        for args, kwargs in (([], {}), (["--residual-test", "snooping"], {"residual_test": "snooping"}),
+                             (["--gnc", "after"], {"gnc": "after"}),
+                             (["--gnc", "only", "--gnc-inner", "local"], {"gnc": "only", "gnc_inner": "local"})):
+            with self.subTest(args=args):
+                r = subprocess.run([exe, "robust", path, "--json", "-q", *args], capture_output=True, text=True)
+                cli = json.loads(r.stdout)
+                py = keel.robust(keel.read_graph(path), **kwargs)
+                self.assertEqual(r.returncode, 0 if py["certificate"]["certified"] else 1, r.stderr)
+                self.assertEqual(cli.pop("files"), [path])
+                self.assertIsNone(cli.pop("candidates_file"))
+                self.assertEqual(py.pop("solution").shape, (n, 3))
+                self.assertIsInstance(py.pop("graph"), keel.Graph2D)
+                self.assertEqual(sorted(py), sorted(cli))
+                self.assertEqual(strip_times(py), strip_times(cli))
+                self.assertEqual(py["candidates"], len(g.edges) - (n - 1) + extra)
+                kept_wrong = [c for c in py["candidate_list"] if c["edge"] >= len(g.edges) and c["kept"]]
+                self.assertEqual(kept_wrong, [])
+        with self.assertRaisesRegex(ValueError, "gnc_inner must be"):
+            keel.robust(g, gnc="after", gnc_inner="exact")
+        with self.assertRaisesRegex(ValueError, "unknown merge::RobustGnc"):
+            keel.robust(g, gnc="before")
         with self.assertRaisesRegex(ValueError, "p must be in"):
             keel.robust(g, p=1.5)
         with self.assertRaisesRegex(ValueError, "unknown merge::RobustSelector"):

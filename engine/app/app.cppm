@@ -35,6 +35,8 @@ using keel::app::write_terrain_world;
 using keel::app::graph_dimension;
 using keel::app::GraphSummary;
 using keel::app::read_labels;
+using keel::app::robot_files;
+using keel::app::RobotFilesOptions;
 using keel::app::split_files;
 using keel::app::SplitFilesOptions;
 using keel::app::summarize;
@@ -101,6 +103,7 @@ using keel::app::OutputError;
 using keel::app::OutputKind;
 using keel::app::Outputs;
 using keel::app::remove_temporaries_on_signals;
+using keel::app::robot_folder_files;
 using keel::app::split_folder_files;
 using keel::app::world_folder_files;
 // Ceres's log

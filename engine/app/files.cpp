@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/random.hpp"
 #include "core/timing.hpp"
 #include "graph/g2o.hpp"
 #include "graph/io.hpp"
@@ -233,6 +234,59 @@ sim::CandidateSet2 split_files(const graph::PoseGraph2D& graph, const std::vecto
                                      graph::fmt17(T.translation().x()), graph::fmt17(T.translation().y()),
                                      graph::fmt17(T.angle())));
   return set;
+}
+
+namespace {
+
+template <class Graph>
+int robot_files_impl(const Graph& input, const RobotFilesOptions& o, const std::filesystem::path& dir) {
+  if (o.robots < 1)
+    throw std::invalid_argument(fmt::format("RobotFilesOptions: robots must be >= 1 (got {})", o.robots));
+  o.wrong.validate();
+  // The wrong closures (appended after the graph's own edges), then the cut.
+  Graph g = input;
+  std::vector<char> wrong(g.edges.size(), 0);
+  if (o.wrong.rate > 0.0) {
+    const auto corrupted = sim::add_wrong_loop_closures(input, o.wrong, core::Streams(o.seed), 0);
+    g = corrupted.graph;
+    wrong.assign(g.edges.size(), 0);
+    for (const int k : corrupted.outliers) wrong[static_cast<std::size_t>(k)] = 1;
+  }
+  const auto split = sim::split_into_robots(g, o.robots);
+  std::filesystem::create_directories(dir);
+  std::string lines =
+      "# i j file edge kind (written by keel split: every loop closure, its ids global, the file and edge "
+      "index "
+      "it went to; kind true or wrong)\n";
+  auto line = [&](int graph_edge, const std::string& file, std::size_t k) {
+    const auto& e = g.edges[static_cast<std::size_t>(graph_edge)];
+    if (std::abs(e.j - e.i) == 1) return;  // odometry
+    lines += fmt::format("{} {} {} {} {}\n", e.i, e.j, file, k,
+                         wrong[static_cast<std::size_t>(graph_edge)] ? "wrong" : "true");
+  };
+  for (int r = 0; r < o.robots; ++r) {
+    const std::string file = fmt::format("robot{}.g2o", r);
+    graph::write_g2o(split.robots[static_cast<std::size_t>(r)], dir / file);
+    for (std::size_t k = 0; k < split.robot_edge[static_cast<std::size_t>(r)].size(); ++k)
+      line(split.robot_edge[static_cast<std::size_t>(r)][k], file, k);
+  }
+  if (o.robots > 1) {
+    graph::write_g2o_edges(split.inter, dir / "candidates.g2o");
+    for (std::size_t k = 0; k < split.inter.size(); ++k) line(split.inter_edge[k], "candidates.g2o", k);
+  }
+  graph::write_file_atomically(dir / "closures.txt", lines);
+  return static_cast<int>(std::count(wrong.begin(), wrong.end(), 1));
+}
+
+}  // namespace
+
+int robot_files(const graph::PoseGraph2D& graph, const RobotFilesOptions& options,
+                const std::filesystem::path& dir) {
+  return robot_files_impl(graph, options, dir);
+}
+int robot_files(const graph::PoseGraph3D& graph, const RobotFilesOptions& options,
+                const std::filesystem::path& dir) {
+  return robot_files_impl(graph, options, dir);
 }
 
 std::vector<bool> read_labels(const std::filesystem::path& file) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "graph/pose_graph.hpp"
+#include "sim/loop_closures.hpp"
 #include "sim/two_robot.hpp"
 
 namespace keel::app {
@@ -72,6 +73,25 @@ struct SplitFilesOptions {
 /// candidate set. Throws std::invalid_argument for a bad split or options.
 sim::CandidateSet2 split_files(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& ground_truth,
                                const SplitFilesOptions& options, const std::filesystem::path& dir);
+
+struct RobotFilesOptions {
+  int robots = 2;            // robots of consecutive poses (>= 1, at most the pose count)
+  sim::WrongClosures wrong;  // wrong loop closures added before the cut (rate 0: none)
+  std::uint64_t seed = 1;    // their draw: stream 0 of core::Streams(seed)
+};
+
+/// One graph (2D or 3D) with wrong loop closures added (sim::add_wrong_loop_closures) and cut into robots of
+/// consecutive poses (sim::split_into_robots), written into `dir` (created if missing) for `keel robust`:
+/// robot<r>.g2o per robot (its poses re-indexed from 0, its odometry and its own loop closures, wrong ones
+/// among them), candidates.g2o with two robots or more (the loop closures between robots, ids global: robot
+/// r's pose k is k plus the poses of the robots before it), and closures.txt (one line per loop closure: its
+/// global ids, the file it went to and its edge index there, `true` or `wrong`). Returns the number of wrong
+/// closures. Throws std::invalid_argument for bad options (naming the field), a graph whose odometry does not
+/// chain its poses, or wrong closures asked of a graph without loop closures.
+int robot_files(const graph::PoseGraph2D& graph, const RobotFilesOptions& options,
+                const std::filesystem::path& dir);
+int robot_files(const graph::PoseGraph3D& graph, const RobotFilesOptions& options,
+                const std::filesystem::path& dir);
 
 /// Reads labels.txt (written by split_files): true where the candidate is an inlier. Throws graph::ParseError
 /// naming file and line for a malformed line, a kind other than inlier/aliased/random, or indices that are

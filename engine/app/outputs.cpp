@@ -143,6 +143,14 @@ std::vector<FolderFile> split_folder_files() {
           {"truth.txt", OutputKind::starting_with("# T_ab")}};
 }
 
+std::vector<FolderFile> robot_folder_files(int robots) {
+  std::vector<FolderFile> files;
+  for (int r = 0; r < robots; ++r) files.push_back({fmt::format("robot{}.g2o", r), OutputKind::graph()});
+  if (robots > 1) files.push_back({"candidates.g2o", OutputKind::graph()});
+  files.push_back({"closures.txt", OutputKind::starting_with("# i j file edge kind")});
+  return files;
+}
+
 std::vector<FolderFile> world_folder_files() {
   // The headers app::write_survey_csv and the world writer put on the first line.
   return {{"reference.csv", OutputKind::starting_with("x,y")},

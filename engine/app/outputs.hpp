@@ -54,6 +54,9 @@ struct FolderFile {
 };
 /// The files keel split (app::split_files) writes: a.g2o, b.g2o, candidates.g2o, labels.txt, truth.txt.
 [[nodiscard]] std::vector<FolderFile> split_folder_files();
+/// The files keel split --robots N (app::robot_files) writes: robot0.g2o … robot<N−1>.g2o, candidates.g2o
+/// (N ≥ 2) and closures.txt.
+[[nodiscard]] std::vector<FolderFile> robot_folder_files(int robots);
 /// The files keel align-world (app::write_alignment_world, write_terrain_world) writes: reference.csv,
 /// query.csv, truth.csv.
 [[nodiscard]] std::vector<FolderFile> world_folder_files();

@@ -213,5 +213,77 @@ class RobustCommand(unittest.TestCase):
         self.assertGreater(kept, 0)
 
 
+class SplitRobots(unittest.TestCase):
+    """keel split GRAPH --robots N: the laps cut into robots with wrong closures added, every loop closure listed in
+    closures.txt with the file and edge it went to, and keel robust run on the files it wrote."""
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.graph = os.path.join(self.dir.name, "laps.g2o")
+        text, self.truth = square_laps(3, 0, 7)
+        with open(self.graph, "w") as f:
+            f.write(text)
+        self.out = os.path.join(self.dir.name, "robots")
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def test_files_and_closures_list(self):
+        r = run("split", self.graph, "--robots", "3", "--wrong-rate", "0.25", "--seed", "4", "--out-dir", self.out,
+                "--json", "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        j = json.loads(r.stdout)
+        true_closures = len(self.truth)
+        self.assertEqual(j["wrong_closures"], round(0.25 / 0.75 * true_closures))
+        with open(os.path.join(self.out, "closures.txt")) as f:
+            rows = [ln.split() for ln in f if not ln.startswith("#")]
+        self.assertEqual(sum(r_[4] == "wrong" for r_ in rows), j["wrong_closures"])
+        self.assertEqual(sum(r_[4] == "true" for r_ in rows), true_closures)
+        edges = {}
+        for name in ("robot0.g2o", "robot1.g2o", "robot2.g2o", "candidates.g2o"):
+            with open(os.path.join(self.out, name)) as f:
+                edges[name] = [ln.split() for ln in f if ln.startswith("EDGE_SE2")]
+        poses = 3 * LAP
+        offsets = [0, poses // 3, 2 * poses // 3]
+        for i, j_, name, k, _ in rows:
+            e = edges[name][int(k)]
+            off = 0 if name == "candidates.g2o" else offsets[int(name[5])]
+            self.assertEqual((int(e[1]) + off, int(e[2]) + off), (int(i), int(j_)))
+        # keel robust reads the files as they are meant: its candidates are exactly the listed loop closures.
+        files = [os.path.join(self.out, f"robot{r_}.g2o") for r_ in range(3)]
+        r = run("robust", *files, "--candidates", os.path.join(self.out, "candidates.g2o"), "--p", "0.01",
+                "--json", "--quiet")
+        self.assertIn(r.returncode, (0, 1), r.stderr)
+        rj = json.loads(r.stdout)
+        self.assertEqual(rj["robots"], 3)
+        self.assertEqual(rj["poses"], poses)
+        listed = sorted(tuple(sorted((int(i), int(j_)))) for i, j_, _, _, _ in rows)
+        seen = sorted(tuple(sorted((c["i"] + offsets[c["robot_a"]], c["j"] + offsets[c["robot_b"]])))
+                      for c in rj["candidate_list"])
+        self.assertEqual(seen, listed)
+
+    def test_mode_options_and_stale_files_are_refused(self):
+        r = run("split", self.graph, "--robots", "2", "--ground-truth", self.graph, "--out-dir", self.out)
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--ground-truth", r.stderr)
+        r = run("split", self.graph, "--wrong-rate", "0.2", "--out-dir", self.out)
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--wrong-rate", r.stderr)
+        r = run("split", self.graph, "--robots", "2", "--wrong-rate", "1", "--out-dir", self.out)
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--wrong-rate", r.stderr)
+        r = run("split", self.graph, "--robots", "2", "--wrong-kind", "odd", "--out-dir", self.out)
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--wrong-kind", r.stderr)
+        r = run("split", self.graph, "--robots", "4", "--out-dir", self.out, "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        # Two robots now would leave robot2.g2o and robot3.g2o of the four-robot split beside the new files.
+        r = run("split", self.graph, "--robots", "2", "--out-dir", self.out, "--quiet")
+        self.assertEqual(r.returncode, 4, r.stdout + r.stderr)
+        self.assertIn("robot2.g2o", r.stderr)
+        r = run("split", self.graph, "--robots", "4", "--wrong-rate", "0.1", "--out-dir", self.out, "--quiet")
+        self.assertEqual(r.returncode, 0, r.stderr)  # the same set is replaced
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -26,6 +26,7 @@ import keel.app;
 #include <vector>
 
 #include "tool_common.hpp"
+#include "write_solution.hpp"
 
 namespace keel::cli {
 
@@ -70,12 +71,8 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   // Outputs are written only on exit 0 (a certified answer), all or nothing (app::Outputs).
   if (certified) {
     if (!args.out.empty()) {
-      const auto& solved = run.solved.graph;
       outputs.write(args.out, [&](const std::filesystem::path& temporary) {
-        if (format == graph::GraphFormat::g2o)
-          graph::write_g2o(solved, temporary);
-        else
-          graph::write_isam(solved, temporary);
+        write_solution(run.solved.graph, temporary, format);
       });
     }
     if (!args.report.empty()) write_json(outputs, args.report, j);

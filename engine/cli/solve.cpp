@@ -20,6 +20,7 @@ import keel.app;
 #include <string_view>
 
 #include "tool_common.hpp"
+#include "write_solution.hpp"
 
 namespace keel::cli {
 
@@ -33,16 +34,6 @@ graph::GraphFormat out_format(const SolveArgs& a, graph::GraphFormat input) {
   if (ext == ".g2o") return graph::GraphFormat::g2o;
   if (ext == ".txt") return graph::GraphFormat::isam;
   return input;
-}
-
-// Writes the graph with the solution as its initial estimate.
-template <class Graph>
-void write_solution(const Graph& g, const fs::path& out, graph::GraphFormat format) {
-  if (format == graph::GraphFormat::g2o) {
-    graph::write_g2o(g, out);
-  } else {
-    graph::write_isam(g, out);
-  }
 }
 
 template <class Graph>

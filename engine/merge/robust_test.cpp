@@ -45,6 +45,27 @@ graph::PoseGraph2D laps_with_outliers(int outliers, std::uint64_t seed, int* tru
   return g;
 }
 
+// The laps (seed 11) with 12 closures between the first and the last 20 poses, each moved by a bias of
+// 0.3–0.6 m and 0.02–0.05 rad from the truth (the residual check's cases); `biased` gets their edge indices.
+graph::PoseGraph2D laps_with_biased_closures(std::set<int>* biased) {
+  auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
+  auto g = syn.graph;
+  const int n = static_cast<int>(g.poses.size());
+  auto rng = core::Rng::stream(11, 2);
+  const lie::Mat3 info = g.edges.back().information;
+  for (int k = 0; k < 12; ++k) {
+    const int i = static_cast<int>(rng.uniform() * 20), j = n - 1 - static_cast<int>(rng.uniform() * 20);
+    const lie::SE2 truth =
+        syn.truth[static_cast<std::size_t>(i)].inverse() * syn.truth[static_cast<std::size_t>(j)];
+    const double s = rng.uniform() < 0.5 ? -1.0 : 1.0;
+    biased->insert(static_cast<int>(g.edges.size()));
+    g.edges.push_back(
+        {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
+         info, 0});
+  }
+  return g;
+}
+
 }  // namespace
 
 TEST_CASE("merge::robust keeps no wrong closure, most true ones, and certifies the answer") {
@@ -241,20 +262,9 @@ TEST_CASE("merge::robust's selectors: auto by group size, densest bounded, names
 // docs/USING.md, it removes exactly the wrong ones PCM let through.)
 TEST_CASE(
     "merge::robust's residual check: removed above the threshold, kept below it, the answer re-solved") {
-  auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
-  auto g = syn.graph;
+  std::set<int> biased;
+  const auto g = laps_with_biased_closures(&biased);
   const int n = static_cast<int>(g.poses.size());
-  auto rng = core::Rng::stream(11, 2);
-  const lie::Mat3 info = g.edges.back().information;
-  for (int k = 0; k < 12; ++k) {
-    const int i = static_cast<int>(rng.uniform() * 20), j = n - 1 - static_cast<int>(rng.uniform() * 20);
-    const lie::SE2 truth =
-        syn.truth[static_cast<std::size_t>(i)].inverse() * syn.truth[static_cast<std::size_t>(j)];
-    const double s = rng.uniform() < 0.5 ? -1.0 : 1.0;
-    g.edges.push_back(
-        {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
-         info, 0});
-  }
   merge::RobustOptions off;
   off.p = 0.01;
   off.residual_p = 0.0;
@@ -338,24 +348,8 @@ TEST_CASE("merge::robust's data snooping: removals ordered, every kept closure p
   // The residual check's biased closures between the laps' start and end (the test above): data snooping at
   // the same p removes some, one per round, and what it keeps passes T ≤ F⁻¹(1 − p/m) at the answer's
   // maximum-likelihood solution.
-  auto syn = sim::testing::square_laps<lie::SE2>(3, 2, 11, true, true);
-  auto g = syn.graph;
-  const int n = static_cast<int>(g.poses.size());
-  auto rng = core::Rng::stream(11, 2);
-  const lie::Mat3 info = g.edges.back().information;
-  const int true_closures = static_cast<int>(g.edges.size()) - (n - 1);
   std::set<int> biased;
-  for (int k = 0; k < 12; ++k) {
-    const int i = static_cast<int>(rng.uniform() * 20), j = n - 1 - static_cast<int>(rng.uniform() * 20);
-    const lie::SE2 truth =
-        syn.truth[static_cast<std::size_t>(i)].inverse() * syn.truth[static_cast<std::size_t>(j)];
-    const double s = rng.uniform() < 0.5 ? -1.0 : 1.0;
-    biased.insert(static_cast<int>(g.edges.size()));
-    g.edges.push_back(
-        {i, j, truth * lie::SE2(s * (0.3 + 0.3 * rng.uniform()), 0.0, s * (0.02 + 0.03 * rng.uniform())),
-         info, 0});
-  }
-  (void)true_closures;
+  const auto g = laps_with_biased_closures(&biased);
   merge::RobustOptions o;
   o.p = 0.01;
   o.residual_p = 0.5;

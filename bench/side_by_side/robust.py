@@ -13,6 +13,8 @@ each, timing each whole process (file reading and set-up included, the same for 
               (--variants "LABEL=EXTRA ARGS;...": each its own tool row, labelled LABEL);
   Kimera-RPGO kimera_measure (keel's driver, Kimera-RPGO's Mahalanobis PCM with its threshold set to sqrt(gamma) of
               keel's gamma, the norm it compares, then GNC unless NO_GNC=1).
+  GTSAM GNC   with --gtsam-gnc: gtsam_gnc_measure (keel's driver, GTSAM's GncOptimizer with truncated least squares
+              at probability 0.99, odometry and a prior on pose 0 known inliers, no PCM), labelled gtsam_gnc.
 
 A kept closure is scored against the truth: precision = true kept / kept, recall = true kept / true closures.
 Writes one TSV row per run and prints a summary per data set and rate (medians over trials), then each keel variant
@@ -155,6 +157,16 @@ def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
         kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
         kept_k = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
         result.append(("kimera", kept_k, kim_s, float(kv["rpgo_s"]), ""))
+    if a.gtsam_gnc:
+        r, gnc_s = timed([a.gtsam_gnc, f], a.timeout)
+        if r is None:
+            result.append(("gtsam_gnc", None, gnc_s, float("nan"), "timeout"))
+        else:
+            if r.returncode != 0:
+                sys.exit(f"robust.py: gtsam_gnc_measure {f} exited {r.returncode}: {r.stderr}")
+            kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
+            kept_g = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
+            result.append(("gtsam_gnc", kept_g, gnc_s, float(kv["gnc_s"]), ""))
     for tool, kept_pairs, proc, own_s, cert in result:
         if kept_pairs is None:  # timed out
             row = (name, rate, trial, tool, "", n_true, "", len(wrong_pairs), float("nan"), float("nan"),
@@ -179,6 +191,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keel", required=True)
     ap.add_argument("--kimera", required=True)
+    ap.add_argument("--gtsam-gnc", default=None, help="gtsam_gnc_measure, run as a further tool (gtsam_gnc)")
     ap.add_argument("--out", required=True)
     ap.add_argument("--rates", default="0,10,20,40")
     ap.add_argument("--trials", type=int, default=3)
@@ -198,6 +211,8 @@ def main():
     a.variants = [(v.split("=", 1)[0], v.split("=", 1)[1].split()) for v in a.variants.split(";") if v.strip()]
     if not a.variants or any(not label or label == "kimera" for label, _ in a.variants):
         sys.exit("robust.py: --variants needs 'LABEL=ARGS' entries with labels other than kimera")
+    if any(label == "gtsam_gnc" for label, _ in a.variants):
+        sys.exit("robust.py: gtsam_gnc is the label of --gtsam-gnc's runs")
     if bool(a.prepared) == bool(a.datasets):
         sys.exit("robust.py: give data sets or --prepared LIST, not both or neither")
     work = a.workdir or tempfile.mkdtemp(prefix="keel_robust_")
@@ -236,10 +251,11 @@ def main():
     print("| data set | outliers | tool | precision (median) | recall (median) | wrong kept (median) | "
           "process s (median) | keel certified |")
     print("|---|---|---|---|---|---|---|---|")
-    keys = sorted({(r[0], r[1], r[3]) for r in rows}, key=lambda k: (k[0], k[1], k[2] == "kimera", k[2]))
+    peers = ("kimera", "gtsam_gnc")
+    keys = sorted({(r[0], r[1], r[3]) for r in rows}, key=lambda k: (k[0], k[1], k[2] in peers, k[2]))
     for name, rate, tool in keys:
         sel = [r for r in rows if (r[0], r[1], r[3]) == (name, rate, tool)]
-        cert = f"{sum(r[12] == 'yes' for r in sel)} of {len(sel)}" if tool != "kimera" else ""
+        cert = f"{sum(r[12] == 'yes' for r in sel)} of {len(sel)}" if tool not in peers else ""
         done = [r for r in sel if r[12] != "timeout"]
         late = len(sel) - len(done)
         if not done:
@@ -251,6 +267,8 @@ def main():
     labels = [label for label, _ in a.variants]
     for label in labels:
         paired(rows, label, "kimera")
+        if a.gtsam_gnc:
+            paired(rows, label, "gtsam_gnc")
     for label in labels[1:]:  # each further variant against the first
         paired(rows, label, labels[0])
 

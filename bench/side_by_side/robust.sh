@@ -5,7 +5,8 @@
 #   KIMERA_MEASURE=/path/to/kimera_measure bench/side_by_side/robust.sh OUT.tsv [NAME=FILE.g2o ...]
 #
 # kimera_measure is keel's driver (bench/side_by_side/kimera_measure.cpp) built against externally built GTSAM and
-# Kimera-RPGO (shared/notes/peers.md). Environment: KEEL (default build/release/keel), RATES (default 0,10,20,40),
+# Kimera-RPGO (shared/notes/peers.md). GTSAM_GNC_MEASURE, when set, adds GTSAM's GncOptimizer
+# (bench/side_by_side/gtsam_gnc_measure.cpp, built the same way) as a further tool. Environment: KEEL (default build/release/keel), RATES (default 0,10,20,40),
 # TRIALS (default 3), SEED (default 1), P (default 0.11), NO_GNC=1 (Kimera-RPGO's PCM alone), TIMEOUT
 # (seconds per tool and file, default 600). Without data sets
 # given: Intel, MIT, Manhattan (M3500) and the parking garage from ../shared/datasets. PREPARED=N instead runs the
@@ -30,10 +31,12 @@ if [[ -n ${PREPARED:-} ]]; then
   work=$(mktemp -d)
   "$B" experiments/ext_robust_backend/experiment.toml full "$work" "$PREPARED" ${SEED:+"$SEED"} >"$work/list.txt"
   exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
-    --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" --prepared "$work/list.txt"
+    --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} \
+    --prepared "$work/list.txt"
 fi
 [[ ${#sets[@]} -gt 0 ]] || sets=(intel=$D/intel/se-sync/intel.g2o mit=$D/se-sync-benchmarks/MIT.g2o
   manhattan=$D/manhattan3500/se-sync/manhattan.g2o garage=$D/parking-garage/se-sync/parking-garage.g2o)
 exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
   --rates "${RATES:-0,10,20,40}" --trials "${TRIALS:-3}" --seed "${SEED:-1}" --p "${P:-0.11}" \
-  --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" "${sets[@]}"
+  --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" \
+  ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} "${sets[@]}"

@@ -147,26 +147,22 @@ def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
     if gamma is None:
         sys.exit(f"robust.py: keel timed out on {name}'s first file, so there is no gamma for "
                  "Kimera-RPGO's threshold")
-    r, kim_s = timed([a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}", f]
-                     + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), a.timeout)
-    if r is None:
-        result.append(("kimera", None, kim_s, float("nan"), "timeout"))
-    else:
-        if r.returncode != 0:
-            sys.exit(f"robust.py: kimera_measure {f} exited {r.returncode}: {r.stderr}")
-        kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
-        kept_k = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
-        result.append(("kimera", kept_k, kim_s, float(kv["rpgo_s"]), ""))
-    if a.gtsam_gnc:
-        r, gnc_s = timed([a.gtsam_gnc, f], a.timeout)
+    def peer(tool, driver, command, timer):
+        """A peer's driver on f: its key=value lines, kept_edges as "i-j" and its own timer `timer`."""
+        r, seconds = timed(command, a.timeout)
         if r is None:
-            result.append(("gtsam_gnc", None, gnc_s, float("nan"), "timeout"))
-        else:
-            if r.returncode != 0:
-                sys.exit(f"robust.py: gtsam_gnc_measure {f} exited {r.returncode}: {r.stderr}")
-            kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
-            kept_g = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
-            result.append(("gtsam_gnc", kept_g, gnc_s, float(kv["gnc_s"]), ""))
+            result.append((tool, None, seconds, float("nan"), "timeout"))
+            return
+        if r.returncode != 0:
+            sys.exit(f"robust.py: {driver} {f} exited {r.returncode}: {r.stderr}")
+        kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
+        kept_p = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
+        result.append((tool, kept_p, seconds, float(kv[timer]), ""))
+
+    peer("kimera", "kimera_measure", [a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}", f]
+         + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), "rpgo_s")
+    if a.gtsam_gnc:
+        peer("gtsam_gnc", "gtsam_gnc_measure", [a.gtsam_gnc, f], "gnc_s")
     for tool, kept_pairs, proc, own_s, cert in result:
         if kept_pairs is None:  # timed out
             row = (name, rate, trial, tool, "", n_true, "", len(wrong_pairs), float("nan"), float("nan"),

@@ -473,17 +473,12 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   // The first robot that kept closures (all but candidate `skip`) leave unjoined to robot 0, or −1 when every
   // robot is joined: without a join the robots have no common frame.
   auto unjoined_robot = [&](std::size_t skip) {
-    std::vector<int> up(static_cast<std::size_t>(R));
-    std::iota(up.begin(), up.end(), 0);
-    auto top = [&](int r) {
-      while (up[static_cast<std::size_t>(r)] != r) r = up[static_cast<std::size_t>(r)];
-      return r;
-    };
+    RobotSets sets(R);
     for (std::size_t k = 0; k < run.candidates.size(); ++k)
       if (k != skip && run.candidates[k].kept)
-        up[static_cast<std::size_t>(top(run.candidates[k].robot_b))] = top(run.candidates[k].robot_a);
+        sets.join(run.candidates[k].robot_a, run.candidates[k].robot_b);
     for (int r = 1; r < R; ++r)
-      if (top(r) != top(0)) return r;
+      if (sets.top(r) != sets.top(0)) return r;
     return -1;
   };
   if (const int r = unjoined_robot(run.candidates.size()); r >= 0)

@@ -202,6 +202,7 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   w.text("selector", to_string(o.selector));
   w.number("residual_p", o.residual_p);
   w.text("residual_test", to_string(o.residual_test));
+  w.integer("group_window", o.group_window);
   w.number("residual_threshold", r.residual_threshold);
   w.integer("residual_rounds", r.residual_rounds);
   w.integer("exact_up_to", o.exact_up_to);
@@ -271,6 +272,9 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
     c.integer("removed_in_round", cand.removed_in_round);
     c.number("residual_chi2", cand.residual_chi2);
     c.number("snooping_t", cand.snooping_t);
+    c.number("residual_group_t", cand.residual_group_t);
+    c.integer("residual_group_dof", cand.residual_group_dof);
+    c.integer("residual_group_size", cand.residual_group_size);
     c.number("gnc_weight", cand.gnc_weight);
     c.boolean("joins_robots", cand.joins_robots);
   });

@@ -41,6 +41,7 @@ struct RobustArgs {
   int exact_up_to = 2000;
   double residual_p = 0.01;
   std::string gnc = "off", gnc_inner = "certified", residual_test = "edge";
+  int group_window = 5;
   double gnc_p = 0.01;
   double time_limit_s = 0.0;
   unsigned threads = 1;
@@ -56,6 +57,7 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   o.exact_up_to = args.exact_up_to;
   o.residual_p = args.residual_p;
   o.residual_test = app::robust_residual_test_from_string(args.residual_test);
+  o.group_window = args.group_window;
   o.gnc = app::robust_gnc_from_string(args.gnc);
   o.gnc_p = args.gnc_p;
   o.gnc_certified_inner = args.gnc_inner == "certified";
@@ -109,20 +111,27 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
       std::vector<std::string> removed;
       for (const auto& c : run.candidates)
         if (c.removed_in_round > 0)
-          removed.push_back(std::isnan(c.snooping_t)
+          removed.push_back(!std::isnan(c.residual_group_t)
+                                ? fmt::format("{}:{} → {}:{} (its group of {}: T {:.3g}, {} dof)", c.robot_a,
+                                              c.pose_a, c.robot_b, c.pose_b, c.residual_group_size,
+                                              c.residual_group_t, c.residual_group_dof)
+                            : std::isnan(c.snooping_t)
                                 ? fmt::format("{}:{} → {}:{} (χ² {:.3g})", c.robot_a, c.pose_a, c.robot_b,
                                               c.pose_b, c.residual_chi2)
                                 : fmt::format("{}:{} → {}:{} (T {:.3g}, χ² {:.3g})", c.robot_a, c.pose_a,
                                               c.robot_b, c.pose_b, c.snooping_t, c.residual_chi2));
-      fmt::print("residual     {} removed ({} above {:.4g}, p = {}){}{}{}; {} loop closures kept\n",
-                 removed.size(),
-                 run.options.residual_test == app::RobustResidualTest::snooping
-                     ? "data snooping's T, Bonferroni over the closures tested; first round's threshold"
-                     : "χ² at the solution",
-                 run.residual_threshold, run.options.residual_p, removed.empty() ? "" : ": ",
-                 fmt::join(removed.begin(),
-                           removed.begin() + std::min<std::ptrdiff_t>(10, std::ssize(removed)), ", "),
-                 removed.size() > 10 ? ", …" : "", run.kept);
+      fmt::print(
+          "residual     {} removed ({} above {:.4g}, p = {}){}{}{}; {} loop closures kept\n", removed.size(),
+          run.options.residual_test == app::RobustResidualTest::snooping
+              ? "data snooping's T, Bonferroni over the closures tested; first round's threshold"
+          : run.options.residual_test == app::RobustResidualTest::groups
+              ? "data snooping's T of closures and of groups, Bonferroni over the tests; first round's "
+                "threshold of one closure"
+              : "χ² at the solution",
+          run.residual_threshold, run.options.residual_p, removed.empty() ? "" : ": ",
+          fmt::join(removed.begin(), removed.begin() + std::min<std::ptrdiff_t>(10, std::ssize(removed)),
+                    ", "),
+          removed.size() > 10 ? ", …" : "", run.kept);
     }
     if (run.options.gnc != app::RobustGnc::off) {
       int rejected = 0, joins = 0;
@@ -180,6 +189,11 @@ void run_robust(const RobustArgs& args) {
     o.validate();
   });
   check_option("--residual-test", [&] { (void)app::robust_residual_test_from_string(args.residual_test); });
+  check_option("--group-window", [&] {
+    app::RobustOptions o;
+    o.group_window = args.group_window;
+    o.validate();
+  });
   check_option("--gnc", [&] { (void)app::robust_gnc_from_string(args.gnc); });
   check_option("--gnc-p", [&] {
     app::RobustOptions o;
@@ -268,8 +282,15 @@ void add_robust_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option(
        "--residual-test", a->residual_test,
-       "the residual check's statistic: edge (χ² = rᵀΩr at the solution) or snooping (data snooping: "
-       "rᵀQ⁻¹r with Q the least-squares residual's covariance, Bonferroni over the closures tested)")
+       "the residual check's statistic: edge (χ² = rᵀΩr at the solution), snooping (data snooping: "
+       "rᵀQ⁻¹r with Q the least-squares residual's covariance, Bonferroni over the closures tested) or "
+       "groups "
+       "(snooping, and the same test of each closure's group: wrong closures that agree with one another)")
+      ->capture_default_str();
+  c->add_option(
+       "--group-window", a->group_window,
+       "--residual-test groups: a closure's group holds the kept closures whose ends both lie within "
+       "this many poses of its own")
       ->capture_default_str();
   c->add_option(
        "--gnc", a->gnc,

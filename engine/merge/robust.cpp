@@ -21,6 +21,7 @@
 #include "cov/information.hpp"
 #include "cov/marginal_covariance.hpp"
 #include "graph/residuals.hpp"
+#include "lie/metrics.hpp"
 #include "pgo/optimize.hpp"
 #include "pgo/robust.hpp"
 
@@ -35,14 +36,22 @@ template <class Graph>
 using EstimateOf =
     std::conditional_t<std::is_same_v<Graph, graph::PoseGraph2D>, pgo::Estimate2D, pgo::Estimate3D>;
 
+template <class Edge, class G>
+double group_snooping(const Eigen::MatrixXd& P, const std::vector<int>& ids, const std::vector<G>& poses,
+                      const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int* dof_out);
+
 // Data snooping's T = rᵀ Q⁻¹ r (RobustResidualTest::snooping) of each edge of `tested` (edges of `graph`, ids
 // global) at `poses`, a maximum-likelihood solution of `graph`: Q = Ω⁻¹ − J P Jᵀ, P the joint marginal of the
 // edge's two poses (left perturbations, eq. 5.14; the gauge pose fixed), J its residual's Jacobian in them.
 // NaN where Q is not positive definite (to 1e-10 of its largest eigenvalue): nothing else constrains the
-// edge's relative pose, so it cannot be tested.
+// edge's relative pose, so it cannot be tested. `groups` non-null: also each group's T (group_snooping,
+// below) into group_t and its degrees of freedom into group_dof.
 template <class Graph, class Edge, class G>
 std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& poses,
-                                  const std::vector<Edge>& tested) {
+                                  const std::vector<Edge>& tested,
+                                  const std::vector<std::vector<std::size_t>>* groups = nullptr,
+                                  std::vector<double>* group_t = nullptr,
+                                  std::vector<int>* group_dof = nullptr) {
   constexpr int dof = G::DoF;
   cov::GaugeOptions gauge;
   gauge.pose = graph.gauge_pose;
@@ -74,7 +83,107 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
     for (int a = 0; a < dof; ++a) sum += v(a) * v(a) / l(a);
     t[k] = sum;
   }
+  if (groups) {
+    group_t->assign(groups->size(), std::numeric_limits<double>::quiet_NaN());
+    group_dof->assign(groups->size(), 0);
+    std::vector<std::vector<int>> ids(groups->size());
+    for (std::size_t g = 0; g < groups->size(); ++g) {
+      for (const std::size_t k : (*groups)[g]) ids[g].push_back(tested[k].i), ids[g].push_back(tested[k].j);
+      std::sort(ids[g].begin(), ids[g].end());
+      ids[g].erase(std::unique(ids[g].begin(), ids[g].end()), ids[g].end());
+    }
+    const auto joint = marginals.joint_many(ids);  // the columns of H⁻¹ of each pose computed once
+    for (std::size_t g = 0; g < groups->size(); ++g)
+      (*group_t)[g] = group_snooping(joint[g], ids[g], poses, tested, (*groups)[g], &(*group_dof)[g]);
+  }
   return t;
+}
+
+// The groups of RobustResidualTest::groups among `tested` (edges, ids global): for each closure, the closures
+// whose ends both lie within `window` poses of its own (|i − i'| ≤ window and |j − j'| ≤ window, each edge's
+// ends ordered), itself included; groups of two or more, each listed once (indices into `tested`, ascending).
+// Neighbourhoods, not chained components: a long run of true closures along a revisited street stays in
+// groups of about 2·window + 1, and a group of wrong closures that agree with one another (consecutive poses
+// matched to another place) is inside the neighbourhood of its middle closure.
+template <class Edge>
+std::vector<std::vector<std::size_t>> closure_groups(const std::vector<Edge>& tested, int window) {
+  const std::size_t m = tested.size();
+  auto ends = [&](std::size_t k) { return std::minmax(tested[k].i, tested[k].j); };
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t a = 0; a < m; ++a) {
+    const auto [ai, aj] = ends(a);
+    std::vector<std::size_t> g;
+    for (std::size_t b = 0; b < m; ++b) {
+      const auto [bi, bj] = ends(b);
+      if (std::abs(ai - bi) <= window && std::abs(aj - bj) <= window) g.push_back(b);
+    }
+    if (g.size() >= 2) groups.push_back(std::move(g));
+  }
+  std::sort(groups.begin(), groups.end());
+  groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+  return groups;
+}
+
+// Data snooping for a group of closures (Teunissen, "Testing Theory", §4: the test of a vector of
+// observations): T = r_Gᵀ Q_G⁻¹ r_G with r_G the group's residuals stacked and Q_G = blockdiag(Ω_k⁻¹) −
+// J_G P J_Gᵀ, P the joint marginal of every pose the group touches (`ids`, ascending). T is, to first order,
+// the drop of Σ rᵀΩr when the whole group is left out, so a group of wrong closures that agree with one
+// another (perceptual aliasing, §2.7.2), each of which the others mask in the one-closure test, shows as one.
+// `dof_out` gets the test's degrees of freedom (below); T is NaN when there are none.
+template <class Edge, class G>
+double group_snooping(const Eigen::MatrixXd& P, const std::vector<int>& ids, const std::vector<G>& poses,
+                      const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int* dof_out) {
+  constexpr int dof = G::DoF;
+  using Mat = Eigen::Matrix<double, dof, dof>;
+  auto at = [&](int id) {
+    return static_cast<Eigen::Index>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin()) * dof;
+  };
+  const auto m = static_cast<Eigen::Index>(group.size());
+  // Each closure's residual depends on its two poses only, so Q_G's block (u, v) is δ_uv Ω_u⁻¹ − Σ J_u,a
+  // P_ab J_v,bᵀ over the two poses a of u and b of v: small products instead of the dense J P Jᵀ.
+  std::vector<Mat> Ji(static_cast<std::size_t>(m)), Jj(static_cast<std::size_t>(m));
+  std::vector<Eigen::Index> ai(static_cast<std::size_t>(m)), aj(static_cast<std::size_t>(m));
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(m * dof, m * dof);
+  Eigen::VectorXd r(m * dof);
+  for (Eigen::Index u = 0; u < m; ++u) {
+    const auto& e = tested[group[static_cast<std::size_t>(u)]];
+    const auto lin = graph::linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
+                                           poses[static_cast<std::size_t>(e.j)]);
+    const auto uu = static_cast<std::size_t>(u);
+    Ji[uu] = lin.J_r_xi_i, Jj[uu] = lin.J_r_xi_j, ai[uu] = at(e.i), aj[uu] = at(e.j);
+    r.segment(u * dof, dof) = lin.residual;
+    Q.block(u * dof, u * dof, dof, dof) = Mat(e.information).inverse();
+  }
+  for (Eigen::Index u = 0; u < m; ++u) {
+    const auto uu = static_cast<std::size_t>(u);
+    for (Eigen::Index v = 0; v <= u; ++v) {
+      const auto vv = static_cast<std::size_t>(v);
+      const Mat B = Ji[uu] * P.block<dof, dof>(ai[uu], ai[vv]) * Ji[vv].transpose() +
+                    Ji[uu] * P.block<dof, dof>(ai[uu], aj[vv]) * Jj[vv].transpose() +
+                    Jj[uu] * P.block<dof, dof>(aj[uu], ai[vv]) * Ji[vv].transpose() +
+                    Jj[uu] * P.block<dof, dof>(aj[uu], aj[vv]) * Jj[vv].transpose();
+      Q.block<dof, dof>(u * dof, v * dof) -= B;
+      if (v != u) Q.block<dof, dof>(v * dof, u * dof) -= B.transpose();
+    }
+  }
+  Q = (0.5 * (Q + Q.transpose())).eval();
+  // Well conditioned (Cholesky succeeds and its estimate of 1/cond(Q) is at least 1e-10): T by Cholesky, all
+  // m·dof degrees of freedom. Otherwise T over the eigenvalues above 1e-10 of the largest, as in the
+  // one-closure test (an eigendecomposition is ~10× a Cholesky factorization on groups of hundreds of rows).
+  const Eigen::LLT<Eigen::MatrixXd> llt(Q);
+  if (llt.info() == Eigen::Success && llt.rcond() >= 1e-10) {
+    *dof_out = static_cast<int>(m * dof);
+    return llt.matrixL().solve(r).squaredNorm();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Q);
+  const auto& l = es.eigenvalues();
+  const Eigen::VectorXd v = es.eigenvectors().transpose() * r;
+  double sum = 0.0;
+  int used = 0;
+  for (Eigen::Index a = 0; a < l.size(); ++a)
+    if (l(a) > 1e-10 * l(l.size() - 1)) sum += v(a) * v(a) / l(a), ++used;
+  *dof_out = used;
+  return used > 0 ? sum : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Union–find over robots: which robots the given closures join.
@@ -542,67 +651,109 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       from.poses = from_poses;
       return pgo::optimize(run.selected, lm, &from).estimate.poses;
     };
-    const bool snooping = o.residual_test == RobustResidualTest::snooping;
+    const bool by_groups = o.residual_test == RobustResidualTest::groups;
+    const bool snooping = o.residual_test == RobustResidualTest::snooping || by_groups;
     bool first_round = true;
-    // The worst kept closure above the threshold at `estimate`, if any (candidates.size() if none); its
-    // χ² there, and for snooping its T (at the maximum-likelihood solution: `estimate` relaxed first when it
-    // is the certified solve's).
-    auto worst_at = [&](const std::vector<G>& estimate, bool certified, double* chi2, double* t) {
+    // The closure a round removes, and the statistics behind it.
+    struct Pick {
+      std::size_t k = 0;                                          // candidates.size(): none
+      double chi2 = 0.0;                                          // its χ² (at the statistic's solution)
+      double t = std::numeric_limits<double>::quiet_NaN();        // snooping: its T
+      double group_t = std::numeric_limits<double>::quiet_NaN();  // groups: the T of the group that picked it
+      int group_dof = 0, group_size = 0;
+    };
+    // The worst kept closure above its threshold at `estimate`, if any (k = candidates.size() if none). For
+    // snooping, at the maximum-likelihood solution: `estimate` relaxed first when it is the certified
+    // solve's. Groups: the test most in excess of its own threshold, T / F⁻¹_χ²(dof)(1 − α) with α the
+    // Bonferroni share over every test of the round, single or group; a group's test picks its member with
+    // the largest single T (the one the others mask least).
+    auto worst_at = [&](const std::vector<G>& estimate, bool certified) {
+      Pick pick;
+      pick.k = run.candidates.size();
       std::vector<std::size_t> tested;
       for (std::size_t k = 0; k < run.candidates.size(); ++k)
         if (run.candidates[k].kept) tested.push_back(k);
-      std::vector<G> at;
-      std::vector<double> statistic(tested.size());
-      double threshold = run.residual_threshold;
-      if (snooping) {
-        at = certified ? relax(estimate) : estimate;
-        std::vector<Edge> edges;
-        for (const std::size_t k : tested) edges.push_back(edge_of(run.candidates[k]));
-        statistic = snooping_impl(run.selected, at, edges);
-        const auto m =
-            std::count_if(statistic.begin(), statistic.end(), [](double x) { return !std::isnan(x); });
-        threshold = pcm::consistency_threshold(
-            o.residual_p / static_cast<double>(std::max<std::ptrdiff_t>(m, 1)), dof);
-      } else {
-        for (std::size_t u = 0; u < tested.size(); ++u)
-          statistic[u] = chi2_at(run.candidates[tested[u]], estimate);
+      if (!snooping) {
+        double worst = run.residual_threshold;
+        for (const std::size_t k : tested)
+          if (const double x = chi2_at(run.candidates[k], estimate); x > worst && unjoined_robot(k) < 0)
+            worst = x, pick.k = k;
+        pick.chi2 = worst;
+        return pick;
       }
+      const std::vector<G> at = certified ? relax(estimate) : estimate;
+      std::vector<Edge> edges;
+      for (const std::size_t k : tested) edges.push_back(edge_of(run.candidates[k]));
+      std::vector<std::vector<std::size_t>> groups;
+      std::vector<double> group_t;
+      std::vector<int> group_dof;
+      if (by_groups) groups = closure_groups(edges, o.group_window);
+      const auto statistic =
+          snooping_impl(run.selected, at, edges, by_groups ? &groups : nullptr, &group_t, &group_dof);
+      const auto finite = [](double x) { return !std::isnan(x); };
+      const auto m = std::count_if(statistic.begin(), statistic.end(), finite) +
+                     std::count_if(group_t.begin(), group_t.end(), finite);
+      const double alpha = o.residual_p / static_cast<double>(std::max<std::ptrdiff_t>(m, 1));
+      const double threshold = pcm::consistency_threshold(alpha, dof);
       if (first_round) run.residual_threshold = threshold, first_round = false;
-      double worst = threshold;
-      std::size_t worst_k = run.candidates.size();
+      double excess = 1.0;
+      std::size_t u_pick = tested.size();
       for (std::size_t u = 0; u < tested.size(); ++u)
-        if (statistic[u] > worst && unjoined_robot(tested[u]) < 0) worst = statistic[u], worst_k = tested[u];
-      if (worst_k < run.candidates.size()) {
-        *t = snooping ? worst : std::numeric_limits<double>::quiet_NaN();
-        *chi2 = chi2_at(run.candidates[worst_k], snooping ? at : estimate);
+        if (statistic[u] / threshold > excess && unjoined_robot(tested[u]) < 0)
+          excess = statistic[u] / threshold, u_pick = u;
+      for (std::size_t g = 0; g < groups.size(); ++g) {
+        if (std::isnan(group_t[g])) continue;
+        const double x = group_t[g] / lie::chi2_quantile(1.0 - alpha, group_dof[g]);
+        if (!(x > excess)) continue;
+        std::size_t best = tested.size();
+        for (const std::size_t u : groups[g])
+          if (unjoined_robot(tested[u]) < 0 && (best == tested.size() || statistic[u] > statistic[best]))
+            best = u;
+        if (best == tested.size()) continue;
+        excess = x, u_pick = best;
+        pick.group_t = group_t[g], pick.group_dof = group_dof[g];
+        pick.group_size = static_cast<int>(groups[g].size());
       }
-      return worst_k;
+      if (u_pick == tested.size()) return pick;
+      pick.k = tested[u_pick];
+      pick.t = statistic[u_pick];
+      pick.chi2 = chi2_at(run.candidates[pick.k], at);
+      return pick;
     };
     std::vector<G> estimate = run.solved.graph.poses;
     bool certified_estimate = true;  // `estimate` is the certified solve's answer
     while (run.residual_rounds < o.max_residual_rounds) {
-      double worst = 0.0, worst_t = 0.0;
-      const std::size_t k = worst_at(estimate, certified_estimate, &worst, &worst_t);
-      if (k == run.candidates.size()) {
+      const Pick pick = worst_at(estimate, certified_estimate);
+      if (pick.k == run.candidates.size()) {
         if (certified_estimate) break;
-        // None is above γ_r at LM's estimate: solve what is left with the certificate, and check its answer.
+        // None is above its threshold at LM's estimate: solve what is left with the certificate, and check
+        // its answer.
         say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
         run.solved = pgo::certified_solution(run.selected, o.solve);
         estimate = run.solved.graph.poses;
         certified_estimate = true;
         continue;
       }
-      auto& c = run.candidates[k];
+      auto& c = run.candidates[pick.k];
       c.kept = false;
       c.removed_in_round = ++run.residual_rounds;
-      c.residual_chi2 = worst;
-      c.snooping_t = worst_t;
+      c.residual_chi2 = pick.chi2;
+      c.snooping_t = pick.t;
+      c.residual_group_t = pick.group_t;
+      c.residual_group_dof = pick.group_dof;
+      c.residual_group_size = pick.group_size;
       --run.kept;
       assemble();
-      say(snooping ? fmt::format("residual check, round {}: closure {} → {} removed (T {:.4g})",
-                                 run.residual_rounds, c.pose_a, c.pose_b, worst_t)
-                   : fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
-                                 run.residual_rounds, c.pose_a, c.pose_b, worst, run.residual_threshold));
+      if (!std::isnan(pick.group_t))
+        say(fmt::format(
+            "residual check, round {}: closure {} → {} removed (its group of {}: T {:.4g}, {} dof)",
+            run.residual_rounds, c.pose_a, c.pose_b, pick.group_size, pick.group_t, pick.group_dof));
+      else if (snooping)
+        say(fmt::format("residual check, round {}: closure {} → {} removed (T {:.4g})", run.residual_rounds,
+                        c.pose_a, c.pose_b, pick.t));
+      else
+        say(fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
+                        run.residual_rounds, c.pose_a, c.pose_b, pick.chi2, run.residual_threshold));
       estimate = relax(estimate);
       certified_estimate = false;
     }
@@ -625,9 +776,11 @@ constexpr core::NameTable<RobustSelector, 4> kSelectorNames{"merge::RobustSelect
                                                               {RobustSelector::exact, "exact"},
                                                               {RobustSelector::heuristic, "heuristic"},
                                                               {RobustSelector::densest, "densest"}}}};
-constexpr core::NameTable<RobustResidualTest, 2> kResidualTestNames{
+constexpr core::NameTable<RobustResidualTest, 3> kResidualTestNames{
     "merge::RobustResidualTest",
-    {{{RobustResidualTest::edge, "edge"}, {RobustResidualTest::snooping, "snooping"}}}};
+    {{{RobustResidualTest::edge, "edge"},
+      {RobustResidualTest::snooping, "snooping"},
+      {RobustResidualTest::groups, "groups"}}}};
 constexpr core::NameTable<RobustGnc, 3> kGncNames{
     "merge::RobustGnc",
     {{{RobustGnc::off, "off"}, {RobustGnc::after_pcm, "after"}, {RobustGnc::only, "only"}}}};
@@ -646,6 +799,9 @@ void RobustOptions::validate() const {
   if (!(residual_p >= 0.0 && residual_p < 1.0))
     throw std::invalid_argument(fmt::format(
         "merge::RobustOptions: residual_p must be in [0, 1), 0 for no residual check (got {})", residual_p));
+  if (group_window < 1)
+    throw std::invalid_argument(
+        fmt::format("merge::RobustOptions: group_window must be >= 1 (got {})", group_window));
   if (max_residual_rounds < 0)
     throw std::invalid_argument(
         fmt::format("merge::RobustOptions: max_residual_rounds must be >= 0 (got {})", max_residual_rounds));
@@ -676,6 +832,29 @@ std::vector<double> snooping_statistics(const graph::PoseGraph2D& graph, const s
 std::vector<double> snooping_statistics(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses,
                                         const std::vector<graph::Edge3>& tested) {
   return snooping_impl(graph, poses, tested);
+}
+
+namespace {
+template <class Graph, class Edge, class G>
+GroupStatistic group_statistic_impl(const Graph& graph, const std::vector<G>& poses,
+                                    const std::vector<Edge>& tested) {
+  if (tested.empty()) return {std::numeric_limits<double>::quiet_NaN(), 0};
+  std::vector<std::vector<std::size_t>> one(1);
+  for (std::size_t k = 0; k < tested.size(); ++k) one[0].push_back(k);
+  std::vector<double> t;
+  std::vector<int> dof;
+  (void)snooping_impl(graph, poses, tested, &one, &t, &dof);
+  return {t[0], dof[0]};
+}
+}  // namespace
+
+GroupStatistic group_snooping_statistic(const graph::PoseGraph2D& graph, const std::vector<lie::SE2>& poses,
+                                        const std::vector<graph::Edge2>& tested) {
+  return group_statistic_impl(graph, poses, tested);
+}
+GroupStatistic group_snooping_statistic(const graph::PoseGraph3D& graph, const std::vector<lie::SE3>& poses,
+                                        const std::vector<graph::Edge3>& tested) {
+  return group_statistic_impl(graph, poses, tested);
 }
 
 RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots, const std::vector<graph::Edge2>& inter_robot,

@@ -43,10 +43,19 @@ enum class RobustSelector { automatic, exact, heuristic, densest };
 ///    that closure alone is left out (to first order), and χ² ≤ T always: a wrong closure that bends the map
 ///    until it fits (small χ², large drop) is caught. A closure whose Q is not positive definite (nothing but
 ///    it constrains its relative pose) cannot be tested and is left as it is.
-enum class RobustResidualTest { edge, snooping };
+///  - groups: data snooping, and the same test of a group of closures (Teunissen §4, the observation vector
+///    being the group's residuals): T_G = r_Gᵀ Q_G⁻¹ r_G, Q_G = blockdiag(Ω⁻¹) − J_G P J_Gᵀ over the joint
+///    marginal of every pose the group touches, with m·dof degrees of freedom. A group is a closure and the
+///    kept closures whose ends both lie within RobustOptions::group_window poses of its own. Wrong closures
+///    that agree with one another (perceptual aliasing, §2.7.2) mask one another in the one-closure test: the
+///    map bends to fit them all, and leaving one out changes little. Left out together they drop Σ rᵀΩr by
+///    T_G. Each round the test most in excess of its own threshold F⁻¹_χ²(its dof)(1 − residual_p / m), m
+///    counting every single and group test of the round, removes one closure (a group's: its member with the
+///    largest single T).
+enum class RobustResidualTest { edge, snooping, groups };
 [[nodiscard]] std::string_view to_string(RobustResidualTest t);
 [[nodiscard]] RobustResidualTest robust_residual_test_from_string(
-    std::string_view text);  // "edge" | "snooping"
+    std::string_view text);  // "edge" | "snooping" | "groups"
 
 /// Graduated non-convexity for truncated least squares (pgo/robust.hpp: Yang et al. 2020) over the candidate
 /// loop closures, the odometry trusted: after the consistency selection, over the closures it kept (the
@@ -74,6 +83,8 @@ struct RobustOptions {
   double residual_p = 0.01;
   int max_residual_rounds = 50;
   RobustResidualTest residual_test = RobustResidualTest::edge;
+  int group_window = 5;  // groups: a closure's group holds the kept closures whose ends lie within this many
+                         // poses of its own (>= 1)
   // GNC (instead of the residual check when not off): TLS with the inlier threshold c̄² = F⁻¹_χ²(dof)(1 −
   // gnc_p) on each closure's χ² = rᵀΩr, μ₀ from the largest χ² at the certified solve of what it weighs, μ ←
   // gnc_mu_factor·μ each round, at most gnc_max_rounds weighted solves. Each weighted solve is the certified
@@ -106,8 +117,12 @@ struct RobustCandidate {
       0;  // > 0: kept by its group's selection, removed by that round of the residual check
   // rᵀΩr at the final solution (kept), or at its removal; NaN for one never kept.
   double residual_chi2 = std::numeric_limits<double>::quiet_NaN();
-  // Data snooping's T at its removal (RobustResidualTest::snooping); NaN otherwise.
+  // Data snooping's T at its removal (RobustResidualTest::snooping and groups); NaN otherwise.
   double snooping_t = std::numeric_limits<double>::quiet_NaN();
+  // RobustResidualTest::groups, when a group's test removed it: that group's T, its degrees of freedom and
+  // its closures (this one the member with the largest single T); NaN, 0, 0 otherwise.
+  double residual_group_t = std::numeric_limits<double>::quiet_NaN();
+  int residual_group_dof = 0, residual_group_size = 0;
   // GNC's last weight (the weight of the last weighted solve; kept when ≥ ½); NaN when GNC did not weigh it.
   double gnc_weight = std::numeric_limits<double>::quiet_NaN();
   bool joins_robots = false;  // kept only because without it a robot would have no common frame
@@ -187,6 +202,21 @@ using RobustRun3 = RobustRun<lie::SE3>;
                                                       const std::vector<lie::SE2>& poses,
                                                       const std::vector<graph::Edge2>& tested);
 [[nodiscard]] std::vector<double> snooping_statistics(const graph::PoseGraph3D& graph,
+                                                      const std::vector<lie::SE3>& poses,
+                                                      const std::vector<graph::Edge3>& tested);
+
+/// RobustResidualTest::groups' statistic of `tested` as one group (edges of `graph`, ids those of its poses)
+/// at `poses`, a maximum-likelihood solution of `graph`: T_G = r_Gᵀ Q_G⁻¹ r_G and its degrees of freedom
+/// (m·dof when Q_G is well conditioned; otherwise the eigenvalues of Q_G above 1e-10 of its largest, T over
+/// them; NaN and 0 when there are none).
+struct GroupStatistic {
+  double t = 0.0;
+  int dof = 0;
+};
+[[nodiscard]] GroupStatistic group_snooping_statistic(const graph::PoseGraph2D& graph,
+                                                      const std::vector<lie::SE2>& poses,
+                                                      const std::vector<graph::Edge2>& tested);
+[[nodiscard]] GroupStatistic group_snooping_statistic(const graph::PoseGraph3D& graph,
                                                       const std::vector<lie::SE3>& poses,
                                                       const std::vector<graph::Edge3>& tested);
 

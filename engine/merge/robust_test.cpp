@@ -15,6 +15,7 @@
 #include "pgo/optimize.hpp"
 #include "core/random.hpp"
 #include "kit/test_kit.hpp"
+#include "sim/loop_closures.hpp"
 #include "sim/two_robot_test_graphs.hpp"
 
 using namespace keel;
@@ -434,4 +435,93 @@ TEST_CASE("merge::robust's GNC: gross wrong closures weighed out, weights settle
     CHECK(direct.summary.final_cost == doctest::Approx(run.solved.summary.final_cost).epsilon(1e-9));
     CHECK(run.selected.edges.size() == static_cast<std::size_t>(n - 1 + run.kept));
   }
+}
+
+TEST_CASE("a group's T is the drop of Σ rᵀΩr when the group is left out, and at least each member's T") {
+  // The laps with small noise and three consecutive closures moved by one bias: the group's T against the
+  // exact drop 2·(F − F₋G) of the re-solved graph without them (equal to first order), for that group and
+  // for a group of true closures.
+  auto syn = sim::testing::square_laps<lie::SE2>(3, 1, 5, true, true);
+  auto g = syn.graph;
+  const int n = static_cast<int>(g.poses.size());
+  const int first_closure = n - 1;
+  for (int k = 10; k < 13; ++k) {
+    auto& e = g.edges[static_cast<std::size_t>(first_closure + k)];
+    e.measurement = e.measurement * lie::SE2(0.25, -0.15, 0.03);
+  }
+  const auto full = relax_2d(g, syn.truth);
+  for (const int start : {10, 30}) {  // the biased group, then three true closures
+    std::vector<graph::Edge2> group(g.edges.begin() + first_closure + start,
+                                    g.edges.begin() + first_closure + start + 3);
+    const auto stat = merge::group_snooping_statistic(g, full.estimate.poses, group);
+    CAPTURE(start);
+    REQUIRE(stat.dof == 9);
+    auto without = g;
+    without.edges.erase(without.edges.begin() + first_closure + start,
+                        without.edges.begin() + first_closure + start + 3);
+    const auto reduced = relax_2d(without, full.estimate.poses);
+    const double drop = 2.0 * (full.summary.final_cost - reduced.summary.final_cost);
+    CHECK(stat.t == doctest::Approx(drop).epsilon(0.02).scale(1e-3));
+    const auto single = merge::snooping_statistics(g, full.estimate.poses, group);
+    for (const double t : single) CHECK(t <= stat.t * (1 + 1e-9));
+    if (start == 10) CHECK(stat.t > pcm::consistency_threshold(0.01, 9));
+  }
+  // Nothing to test: NaN and no degrees of freedom.
+  const auto none = merge::group_snooping_statistic(g, full.estimate.poses, {});
+  CHECK(std::isnan(none.t));
+  CHECK(none.dof == 0);
+}
+
+TEST_CASE("merge::robust's group test removes aliased groups that mask one another in data snooping") {
+  // Four laps, a closure every fourth pose, the odometry's information scaled by 1e-3 (σ ≈ 0.6 m, 0.06 rad
+  // per step: a loose odometry leaves PCM little to reject), and perceptually aliased groups of five wrong
+  // closures (sim::add_wrong_loop_closures). Data snooping keeps some of them, each masked by the others; the
+  // group test keeps none and no fewer true closures.
+  int snooping_wrong = 0;
+  for (const double rate : {0.2, 0.4}) {
+    for (std::uint64_t draw = 0; draw < 3; ++draw) {
+      auto syn = sim::testing::square_laps<lie::SE2>(4, 4, 3, true, true);
+      for (auto& e : syn.graph.edges)
+        if (e.j == e.i + 1) e.information *= 1e-3;
+      sim::WrongClosures w;
+      w.rate = rate;
+      w.kind = sim::WrongClosureKind::aliased;
+      const auto bad = sim::add_wrong_loop_closures(syn.graph, w, core::Streams(7), draw);
+      const std::set<int> wrong(bad.outliers.begin(), bad.outliers.end());
+      int wrong_kept[2] = {}, true_kept[2] = {};
+      for (const auto test : {merge::RobustResidualTest::snooping, merge::RobustResidualTest::groups}) {
+        const int at = test == merge::RobustResidualTest::groups;
+        merge::RobustOptions o;
+        o.residual_test = test;
+        const auto run = merge::robust({bad.graph}, {}, o);
+        for (const auto& c : run.candidates) {
+          if (c.kept) (wrong.count(c.edge) ? wrong_kept[at] : true_kept[at]) += 1;
+          if (std::isnan(c.residual_group_t)) {
+            CHECK(c.residual_group_size == 0);
+            continue;
+          }
+          CHECK(at == 1);
+          CHECK(c.removed_in_round > 0);
+          CHECK(c.residual_group_size >= 2);
+          CHECK(c.residual_group_dof == 3 * c.residual_group_size);
+          CHECK(c.residual_group_t >
+                pcm::consistency_threshold(0.01 / static_cast<double>(run.candidates.size()),
+                                           c.residual_group_dof));
+        }
+        CHECK(run.solved.summary.certificate.proven);
+      }
+      CAPTURE(rate);
+      CAPTURE(draw);
+      CHECK(wrong_kept[1] == 0);
+      CHECK(true_kept[1] >= true_kept[0]);
+      snooping_wrong += wrong_kept[0];
+    }
+  }
+  CHECK(snooping_wrong > 0);
+}
+
+TEST_CASE("merge::RobustOptions refuses a group window below 1") {
+  merge::RobustOptions o;
+  o.group_window = 0;
+  CHECK_THROWS_WITH_AS(o.validate(), doctest::Contains("group_window must be >= 1"), std::invalid_argument);
 }

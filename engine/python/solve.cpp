@@ -519,7 +519,7 @@ ValueError.)doc");
       "robust",
       [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
          const std::string& selector, int exact_up_to, double residual_p, const std::string& residual_test,
-         const std::string& gnc, double gnc_p, const std::string& gnc_inner,
+         int group_window, const std::string& gnc, double gnc_p, const std::string& gnc_inner,
          const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
@@ -528,6 +528,7 @@ ValueError.)doc");
         o.exact_up_to = exact_up_to;
         o.residual_p = residual_p;
         o.residual_test = app::robust_residual_test_from_string(residual_test);
+        o.group_window = group_window;
         o.gnc = app::robust_gnc_from_string(gnc);
         o.gnc_p = gnc_p;
         if (gnc_inner != "certified" && gnc_inner != "local")
@@ -587,9 +588,9 @@ ValueError.)doc");
       },
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
-      py::arg("residual_p") = 0.01, py::arg("residual_test") = "edge", py::arg("gnc") = "off",
-      py::arg("gnc_p") = 0.01, py::arg("gnc_inner") = "certified", py::arg("time_limit_s") = py::none(),
-      py::arg("threads") = 1, R"doc(
+      py::arg("residual_p") = 0.01, py::arg("residual_test") = "edge", py::arg("group_window") = 5,
+      py::arg("gnc") = "off", py::arg("gnc_p") = 0.01, py::arg("gnc_inner") = "certified",
+      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
 odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
@@ -606,8 +607,12 @@ kept closures.
   exact_up_to   see selector (>= 1)
   residual_p    the residual check after the selection: kept closures whose chi-square at the solution exceeds
                 the quantile at 1 - residual_p are removed one at a time, worst first; 0 for none
-  residual_test 'edge' (that chi-square) or 'snooping' (data snooping: r'Q^-1 r, Q the least-squares residual's
-                covariance, against the quantile at 1 - residual_p/m over the m closures tested)
+  residual_test 'edge' (that chi-square), 'snooping' (data snooping: r'Q^-1 r, Q the least-squares residual's
+                covariance, against the quantile at 1 - residual_p/m over the m closures tested) or 'groups'
+                (snooping, and the same test of each closure's group, Bonferroni over every test: wrong
+                closures that agree with one another)
+  group_window  'groups': a closure's group holds the kept closures whose ends both lie within this many poses
+                of its own (>= 1)
   gnc           'off', 'after' (graduated non-convexity with truncated least squares over the closures the
                 selection kept, instead of the residual check) or 'only' (over every candidate, no PCM)
   gnc_p         GNC's inlier threshold: the chi-square quantile at 1 - gnc_p on each closure's r'Omega r

@@ -212,6 +212,26 @@ class RobustCommand(unittest.TestCase):
                 self.assertIsNone(c["snooping_t"])
         self.assertGreater(kept, 0)
 
+    def test_group_test_is_reported_and_its_window_checked(self):
+        r = run("robust", self.graph, "--p", "0.01", "--residual-test", "groups", "--group-window", "3", "--json",
+                "--quiet")
+        self.assertIn(r.returncode, (0, 1), r.stderr)
+        j = json.loads(r.stdout)
+        self.assertEqual(j["residual_test"], "groups")
+        self.assertEqual(j["group_window"], 3)
+        for c in j["candidate_list"]:
+            if c["residual_group_t"] is None:
+                self.assertEqual((c["residual_group_dof"], c["residual_group_size"]), (0, 0))
+            else:  # removed by its group's test: the group's T over 3 dof per closure
+                self.assertGreater(c["removed_in_round"], 0)
+                self.assertGreaterEqual(c["residual_group_size"], 2)
+                self.assertEqual(c["residual_group_dof"], 3 * c["residual_group_size"])
+        self.assertEqual(sum(c["kept"] and not t for c, t in zip(j["candidate_list"], self.truth)), 0)
+        r = run("robust", self.graph, "--residual-test", "groups", "--group-window", "0")
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--group-window", r.stderr)
+        self.assertIn("group_window must be >= 1", r.stderr)
+
 
 class SplitRobots(unittest.TestCase):
     """keel split GRAPH --robots N: the laps cut into robots with wrong closures added, every loop closure listed in

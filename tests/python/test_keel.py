@@ -364,6 +364,8 @@ class TestReference(unittest.TestCase):
         keel.write_graph(wrong, path)
         # The defaults, data snooping, and GNC after the selection and alone, each by the command and the module.
         for args, kwargs in (([], {}), (["--residual-test", "snooping"], {"residual_test": "snooping"}),
+                             (["--residual-test", "groups", "--group-window", "3"],
+                              {"residual_test": "groups", "group_window": 3}),
                              (["--gnc", "after"], {"gnc": "after"}),
                              (["--gnc", "only", "--gnc-inner", "local"], {"gnc": "only", "gnc_inner": "local"})):
             with self.subTest(args=args):
@@ -386,6 +388,8 @@ class TestReference(unittest.TestCase):
             keel.robust(g, gnc="before")
         with self.assertRaisesRegex(ValueError, "p must be in"):
             keel.robust(g, p=1.5)
+        with self.assertRaisesRegex(ValueError, "group_window must be >= 1"):
+            keel.robust(g, residual_test="groups", group_window=0)
         with self.assertRaisesRegex(ValueError, "unknown merge::RobustSelector"):
             keel.robust(g, selector="best")
 

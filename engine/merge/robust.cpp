@@ -92,9 +92,28 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
       std::sort(ids[g].begin(), ids[g].end());
       ids[g].erase(std::unique(ids[g].begin(), ids[g].end()), ids[g].end());
     }
-    const auto joint = marginals.joint_many(ids);  // the columns of H⁻¹ of each pose computed once
-    for (std::size_t g = 0; g < groups->size(); ++g)
-      (*group_t)[g] = group_snooping(joint[g], ids[g], poses, tested, (*groups)[g], &(*group_dof)[g]);
+    // joint_many computes the columns of H⁻¹ of each pose once per call. The groups go in batches whose joint
+    // marginals hold at most kBatchValues numbers together (128 MiB), so memory stays bounded on large, dense
+    // graphs; consecutive groups share most of their poses, so little is computed twice.
+    constexpr std::size_t kBatchValues = std::size_t{1} << 24;
+    for (std::size_t first = 0; first < groups->size();) {
+      auto values_of = [&](std::size_t g) {
+        const std::size_t side = static_cast<std::size_t>(dof) * ids[g].size();
+        return side * side;
+      };
+      std::size_t last = first, values = 0;
+      std::vector<std::vector<int>> batch;
+      do {
+        values += values_of(last);
+        batch.push_back(ids[last]);
+        ++last;
+      } while (last < groups->size() && values + values_of(last) <= kBatchValues);
+      const auto joint = marginals.joint_many(batch);
+      for (std::size_t g = first; g < last; ++g)
+        (*group_t)[g] =
+            group_snooping(joint[g - first], ids[g], poses, tested, (*groups)[g], &(*group_dof)[g]);
+      first = last;
+    }
   }
   return t;
 }

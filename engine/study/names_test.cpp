@@ -125,7 +125,8 @@ TEST_CASE(
                    {merge::RobustGnc::off, merge::RobustGnc::after_pcm, merge::RobustGnc::only},
                    merge::robust_gnc_from_string);
   check_name_table("merge::RobustResidualTest",
-                   {merge::RobustResidualTest::edge, merge::RobustResidualTest::snooping},
+                   {merge::RobustResidualTest::edge, merge::RobustResidualTest::snooping,
+                    merge::RobustResidualTest::groups},
                    merge::robust_residual_test_from_string);
   using align::Method;
   check_name_table("align::Method",

@@ -205,6 +205,25 @@ double group_snooping(const Eigen::MatrixXd& P, const std::vector<int>& ids, con
   return used > 0 ? sum : std::numeric_limits<double>::quiet_NaN();
 }
 
+// A group's test holds its poses' dense joint marginal P and its dense Q_G at once: refused past 2 GiB
+// together (the consistency stage's limit), before anything that size is formed. `what` starts the message.
+template <class Edge>
+void check_group_memory(const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int dof,
+                        const std::string& what) {
+  std::vector<int> ids;
+  for (const std::size_t k : group) ids.push_back(tested[k].i), ids.push_back(tested[k].j);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const double side_p = static_cast<double>(dof) * static_cast<double>(ids.size());
+  const double side_q = static_cast<double>(dof) * static_cast<double>(group.size());
+  const double gib = 8.0 * (side_p * side_p + side_q * side_q) / (1024.0 * 1024 * 1024);
+  if (gib > 2.0)
+    throw std::invalid_argument(
+        fmt::format("{}a group of {} closures touching {} poses: its dense joint marginal and covariance Q_G "
+                    "would take {:.1f} GiB (limit 2)",
+                    what, group.size(), ids.size(), gib));
+}
+
 // Union–find over robots: which robots the given closures join.
 struct RobotSets {
   std::vector<int> up;
@@ -706,7 +725,14 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       std::vector<std::vector<std::size_t>> groups;
       std::vector<double> group_t;
       std::vector<int> group_dof;
-      if (by_groups) groups = closure_groups(edges, o.group_window);
+      if (by_groups) {
+        groups = closure_groups(edges, o.group_window);
+        for (const auto& g : groups)
+          check_group_memory(edges, g, dof,
+                             fmt::format("robust: the residual test's groups (group_window = {}; a smaller "
+                                         "window gives smaller groups): ",
+                                         o.group_window));
+      }
       const auto statistic =
           snooping_impl(run.selected, at, edges, by_groups ? &groups : nullptr, &group_t, &group_dof);
       const auto finite = [](double x) { return !std::isnan(x); };
@@ -860,6 +886,7 @@ GroupStatistic group_statistic_impl(const Graph& graph, const std::vector<G>& po
   if (tested.empty()) return {std::numeric_limits<double>::quiet_NaN(), 0};
   std::vector<std::vector<std::size_t>> one(1);
   for (std::size_t k = 0; k < tested.size(); ++k) one[0].push_back(k);
+  check_group_memory(tested, one[0], G::DoF, "group_snooping_statistic: ");
   std::vector<double> t;
   std::vector<int> dof;
   (void)snooping_impl(graph, poses, tested, &one, &t, &dof);

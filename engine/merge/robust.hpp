@@ -183,8 +183,9 @@ using RobustRun3 = RobustRun<lie::SE3>;
 /// given. Throws std::invalid_argument for invalid options, a robot whose odometry does not chain every pose
 /// (naming the robot and the pose), a candidate id beyond the last robot's poses or a loop closure whose
 /// information is not positive definite (naming the candidate and its line), robots that no kept closure
-/// joins (naming one), or a group whose dense joint marginal would not fit in memory ((dof · poses touched)²
-/// numbers over 2 GiB); std::runtime_error when a solve fails.
+/// joins (naming one), a candidate group whose dense joint marginal would not fit in memory ((dof · poses
+/// touched)² numbers over 2 GiB), or, with RobustResidualTest::groups, a closure group whose P and Q_G would
+/// take more than 2 GiB together (naming group_window); std::runtime_error when a solve fails.
 [[nodiscard]] RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots,
                                 const std::vector<graph::Edge2>& inter_robot = {},
                                 const RobustOptions& options = {}, const RobustProgress& progress = {});
@@ -208,7 +209,8 @@ using RobustRun3 = RobustRun<lie::SE3>;
 /// RobustResidualTest::groups' statistic of `tested` as one group (edges of `graph`, ids those of its poses)
 /// at `poses`, a maximum-likelihood solution of `graph`: T_G = r_Gᵀ Q_G⁻¹ r_G and its degrees of freedom
 /// (m·dof when Q_G is well conditioned; otherwise the eigenvalues of Q_G above 1e-10 of its largest, T over
-/// them; NaN and 0 when there are none).
+/// them; NaN and 0 when there are none). Throws std::invalid_argument, before forming them, when P and Q_G
+/// would take more than 2 GiB together ((dof · poses touched)² + (dof · edges)² numbers).
 struct GroupStatistic {
   double t = 0.0;
   int dof = 0;

@@ -470,6 +470,12 @@ TEST_CASE("a group's T is the drop of Σ rᵀΩr when the group is left out, and
   const auto none = merge::group_snooping_statistic(g, full.estimate.poses, {});
   CHECK(std::isnan(none.t));
   CHECK(none.dof == 0);
+  // A group whose Q_G alone would take (3 · 5,600)² numbers, 2.1 GiB: refused before it is formed.
+  const std::vector<graph::Edge2> huge(5600, g.edges[static_cast<std::size_t>(first_closure)]);
+  CHECK_THROWS_WITH_AS((void)merge::group_snooping_statistic(g, full.estimate.poses, huge),
+                       doctest::Contains("a group of 5600 closures touching 2 poses"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)merge::group_snooping_statistic(g, full.estimate.poses, huge),
+                       doctest::Contains("GiB (limit 2)"), std::invalid_argument);
 }
 
 TEST_CASE("merge::robust's group test removes aliased groups that mask one another in data snooping") {

@@ -36,9 +36,7 @@ template <class Graph>
 using EstimateOf =
     std::conditional_t<std::is_same_v<Graph, graph::PoseGraph2D>, pgo::Estimate2D, pgo::Estimate3D>;
 
-template <class Edge, class G>
-double group_snooping(const Eigen::MatrixXd& P, const std::vector<int>& ids, const std::vector<G>& poses,
-                      const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int* dof_out);
+double group_snooping(Eigen::MatrixXd& Q, const Eigen::VectorXd& r, int* dof_out);
 
 // Data snooping's T = rᵀ Q⁻¹ r (RobustResidualTest::snooping) of each edge of `tested` (edges of `graph`, ids
 // global) at `poses`, a maximum-likelihood solution of `graph`: Q = Ω⁻¹ − J P Jᵀ, P the joint marginal of the
@@ -86,33 +84,80 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
   if (groups) {
     group_t->assign(groups->size(), std::numeric_limits<double>::quiet_NaN());
     group_dof->assign(groups->size(), 0);
-    std::vector<std::vector<int>> ids(groups->size());
-    for (std::size_t g = 0; g < groups->size(); ++g) {
-      for (const std::size_t k : (*groups)[g]) ids[g].push_back(tested[k].i), ids[g].push_back(tested[k].j);
-      std::sort(ids[g].begin(), ids[g].end());
-      ids[g].erase(std::unique(ids[g].begin(), ids[g].end()), ids[g].end());
-    }
-    // joint_many computes the columns of H⁻¹ of each pose once per call. The groups go in batches whose joint
-    // marginals hold at most kBatchValues numbers together (128 MiB), so memory stays bounded on large, dense
-    // graphs; consecutive groups share most of their poses, so little is computed twice.
-    constexpr std::size_t kBatchValues = std::size_t{1} << 24;
-    for (std::size_t first = 0; first < groups->size();) {
-      auto values_of = [&](std::size_t g) {
-        const std::size_t side = static_cast<std::size_t>(dof) * ids[g].size();
-        return side * side;
+    // Q_G's block (u, v) is δ_uv Ω_u⁻¹ − B_uv, B_uv = J_u P_uv J_vᵀ (group_snooping, below): it depends on
+    // the two closures only, not on the group. Neighbouring groups share most of their closures, so each pair
+    // of closures that shares a group is computed once per call, (u, v) with v ≤ u (indices into `tested`),
+    // and every group's Q_G is assembled from those blocks.
+    std::vector<std::pair<std::size_t, std::size_t>> cpairs;
+    for (const auto& grp : *groups)
+      for (std::size_t a = 0; a < grp.size(); ++a)
+        for (std::size_t b = 0; b <= a; ++b) cpairs.emplace_back(grp[a], grp[b]);
+    std::sort(cpairs.begin(), cpairs.end());
+    cpairs.erase(std::unique(cpairs.begin(), cpairs.end()), cpairs.end());
+    using Lin = decltype(graph::linearize_edge(tested[0].measurement, poses[0], poses[0]));
+    std::vector<std::optional<Lin>> lin(tested.size());
+    for (const auto& [u, v] : cpairs)
+      for (const std::size_t k : {u, v})
+        if (!lin[k])
+          lin[k] = graph::linearize_edge(tested[k].measurement, poses[static_cast<std::size_t>(tested[k].i)],
+                                         poses[static_cast<std::size_t>(tested[k].j)]);
+    std::vector<Mat> B(cpairs.size());
+    // The pose pairs' joint marginals in chunks of closure pairs, each at most kChunkValues numbers
+    // (128 MiB; ≤ 4 pose pairs of (2·dof)² numbers per closure pair), so memory stays bounded on large,
+    // dense graphs. A pose pair (a, b) is asked once, a ≤ b; (a, a) when a diagonal block alone is needed.
+    constexpr std::size_t kChunkValues = std::size_t{1} << 24;
+    constexpr std::size_t kChunk = kChunkValues / (4 * 4 * dof * dof);
+    for (std::size_t first = 0; first < cpairs.size(); first += kChunk) {
+      const std::size_t last = std::min(cpairs.size(), first + kChunk);
+      std::vector<std::pair<int, int>> keys;
+      for (std::size_t c = first; c < last; ++c) {
+        const auto [u, v] = cpairs[c];
+        for (const int a : {tested[u].i, tested[u].j})
+          for (const int b : {tested[v].i, tested[v].j}) keys.emplace_back(std::min(a, b), std::max(a, b));
+      }
+      std::sort(keys.begin(), keys.end());
+      keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+      const auto pm = cov::pair_marginals(marginals, keys);
+      // P_ab, dof × dof, from the pair's joint [Σ_aa Σ_ab; Σ_ba Σ_bb].
+      auto block = [&](int a, int b) -> Mat {
+        const auto k = static_cast<std::size_t>(
+            std::lower_bound(keys.begin(), keys.end(), std::pair(std::min(a, b), std::max(a, b))) -
+            keys.begin());
+        if (a <= b) return pm[k].template block<dof, dof>(0, a == b ? 0 : dof);
+        return pm[k].template block<dof, dof>(0, dof).transpose();
       };
-      std::size_t last = first, values = 0;
-      std::vector<std::vector<int>> batch;
-      do {
-        values += values_of(last);
-        batch.push_back(ids[last]);
-        ++last;
-      } while (last < groups->size() && values + values_of(last) <= kBatchValues);
-      const auto joint = marginals.joint_many(batch);
-      for (std::size_t g = first; g < last; ++g)
-        (*group_t)[g] =
-            group_snooping(joint[g - first], ids[g], poses, tested, (*groups)[g], &(*group_dof)[g]);
-      first = last;
+      for (std::size_t c = first; c < last; ++c) {
+        const auto [u, v] = cpairs[c];
+        const Lin& lu = *lin[u];
+        const Lin& lv = *lin[v];
+        const int iu = tested[u].i, ju = tested[u].j, iv = tested[v].i, jv = tested[v].j;
+        B[c] = lu.J_r_xi_i * block(iu, iv) * lv.J_r_xi_i.transpose() +
+               lu.J_r_xi_i * block(iu, jv) * lv.J_r_xi_j.transpose() +
+               lu.J_r_xi_j * block(ju, iv) * lv.J_r_xi_i.transpose() +
+               lu.J_r_xi_j * block(ju, jv) * lv.J_r_xi_j.transpose();
+      }
+    }
+    auto b_of = [&](std::size_t u, std::size_t v) -> const Mat& {
+      return B[static_cast<std::size_t>(std::lower_bound(cpairs.begin(), cpairs.end(), std::pair(u, v)) -
+                                        cpairs.begin())];
+    };
+    for (std::size_t g = 0; g < groups->size(); ++g) {
+      const auto& grp = (*groups)[g];
+      const auto m = static_cast<Eigen::Index>(grp.size());
+      Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(m * dof, m * dof);
+      Eigen::VectorXd r(m * dof);
+      for (Eigen::Index u = 0; u < m; ++u) {
+        const std::size_t k = grp[static_cast<std::size_t>(u)];
+        r.segment(u * dof, dof) = lin[k]->residual;
+        Q.block(u * dof, u * dof, dof, dof) = Mat(tested[k].information).inverse();
+      }
+      for (Eigen::Index u = 0; u < m; ++u)
+        for (Eigen::Index v = 0; v <= u; ++v) {
+          const Mat& Buv = b_of(grp[static_cast<std::size_t>(u)], grp[static_cast<std::size_t>(v)]);
+          Q.block<dof, dof>(u * dof, v * dof) -= Buv;
+          if (v != u) Q.block<dof, dof>(v * dof, u * dof) -= Buv.transpose();
+        }
+      (*group_t)[g] = group_snooping(Q, r, &(*group_dof)[g]);
     }
   }
   return t;
@@ -145,53 +190,21 @@ std::vector<std::vector<std::size_t>> closure_groups(const std::vector<Edge>& te
 
 // Data snooping for a group of closures (Teunissen, "Testing Theory", §4: the test of a vector of
 // observations): T = r_Gᵀ Q_G⁻¹ r_G with r_G the group's residuals stacked and Q_G = blockdiag(Ω_k⁻¹) −
-// J_G P J_Gᵀ, P the joint marginal of every pose the group touches (`ids`, ascending). T is, to first order,
-// the drop of Σ rᵀΩr when the whole group is left out, so a group of wrong closures that agree with one
-// another (perceptual aliasing, §2.7.2), each of which the others mask in the one-closure test, shows as one.
-// `dof_out` gets the test's degrees of freedom (below); T is NaN when there are none.
-template <class Edge, class G>
-double group_snooping(const Eigen::MatrixXd& P, const std::vector<int>& ids, const std::vector<G>& poses,
-                      const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int* dof_out) {
-  constexpr int dof = G::DoF;
-  using Mat = Eigen::Matrix<double, dof, dof>;
-  auto at = [&](int id) {
-    return static_cast<Eigen::Index>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin()) * dof;
-  };
-  const auto m = static_cast<Eigen::Index>(group.size());
-  // Each closure's residual depends on its two poses only, so Q_G's block (u, v) is δ_uv Ω_u⁻¹ − Σ J_u,a
-  // P_ab J_v,bᵀ over the two poses a of u and b of v: small products instead of the dense J P Jᵀ.
-  std::vector<Mat> Ji(static_cast<std::size_t>(m)), Jj(static_cast<std::size_t>(m));
-  std::vector<Eigen::Index> ai(static_cast<std::size_t>(m)), aj(static_cast<std::size_t>(m));
-  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(m * dof, m * dof);
-  Eigen::VectorXd r(m * dof);
-  for (Eigen::Index u = 0; u < m; ++u) {
-    const auto& e = tested[group[static_cast<std::size_t>(u)]];
-    const auto lin = graph::linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
-                                           poses[static_cast<std::size_t>(e.j)]);
-    const auto uu = static_cast<std::size_t>(u);
-    Ji[uu] = lin.J_r_xi_i, Jj[uu] = lin.J_r_xi_j, ai[uu] = at(e.i), aj[uu] = at(e.j);
-    r.segment(u * dof, dof) = lin.residual;
-    Q.block(u * dof, u * dof, dof, dof) = Mat(e.information).inverse();
-  }
-  for (Eigen::Index u = 0; u < m; ++u) {
-    const auto uu = static_cast<std::size_t>(u);
-    for (Eigen::Index v = 0; v <= u; ++v) {
-      const auto vv = static_cast<std::size_t>(v);
-      const Mat B = Ji[uu] * P.block<dof, dof>(ai[uu], ai[vv]) * Ji[vv].transpose() +
-                    Ji[uu] * P.block<dof, dof>(ai[uu], aj[vv]) * Jj[vv].transpose() +
-                    Jj[uu] * P.block<dof, dof>(aj[uu], ai[vv]) * Ji[vv].transpose() +
-                    Jj[uu] * P.block<dof, dof>(aj[uu], aj[vv]) * Jj[vv].transpose();
-      Q.block<dof, dof>(u * dof, v * dof) -= B;
-      if (v != u) Q.block<dof, dof>(v * dof, u * dof) -= B.transpose();
-    }
-  }
+// J_G P J_Gᵀ, P the joint marginal of every pose the group touches. T is, to first order, the drop of Σ rᵀΩr
+// when the whole group is left out, so a group of wrong closures that agree with one another (perceptual
+// aliasing, §2.7.2), each of which the others mask in the one-closure test, shows as one. Each closure's
+// residual depends on its two poses only, so Q_G's block (u, v) is δ_uv Ω_u⁻¹ − Σ J_u,a P_ab J_v,bᵀ over the
+// two poses a of u and b of v: small products instead of the dense J P Jᵀ (snooping_impl assembles Q_G so).
+// `dof_out` gets the test's degrees of freedom (below); T is NaN when there are none. Q is symmetrized in
+// place.
+double group_snooping(Eigen::MatrixXd& Q, const Eigen::VectorXd& r, int* dof_out) {
   Q = (0.5 * (Q + Q.transpose())).eval();
   // Well conditioned (Cholesky succeeds and its estimate of 1/cond(Q) is at least 1e-10): T by Cholesky, all
   // m·dof degrees of freedom. Otherwise T over the eigenvalues above 1e-10 of the largest, as in the
   // one-closure test (an eigendecomposition is ~10× a Cholesky factorization on groups of hundreds of rows).
   const Eigen::LLT<Eigen::MatrixXd> llt(Q);
   if (llt.info() == Eigen::Success && llt.rcond() >= 1e-10) {
-    *dof_out = static_cast<int>(m * dof);
+    *dof_out = static_cast<int>(r.size());
     return llt.matrixL().solve(r).squaredNorm();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Q);

@@ -61,3 +61,19 @@ TEST_CASE("ext_robust_backend's config: bad values are refused, naming the key")
   CHECK(throws_with<std::exception>([] { (void)read_robust_with("p = 0.11", "p = 1.5"); },
                                     "p must be in (0, 1)"));
 }
+
+TEST_CASE("ext_robust_backend's residual test: the registered edge test unless the config names another") {
+  const auto full =
+      RobustBackend::Options::read(keel::repro::ExperimentConfig::load(kRobustConfig, "full").params);
+  CHECK(full.robust.residual_test == keel::merge::RobustResidualTest::edge);
+  const auto groups =
+      read_robust_with("residual_p = 0.01", "residual_p = 0.01\nresidual_test = \"groups\"\ngroup_window = 3");
+  CHECK(groups.robust.residual_test == keel::merge::RobustResidualTest::groups);
+  CHECK(groups.robust.group_window == 3);
+  CHECK(throws_with<std::exception>(
+      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\nresidual_test = \"chi\""); },
+      "residual_test"));
+  CHECK(throws_with<std::exception>(
+      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\ngroup_window = 0"); },
+      "group_window"));
+}

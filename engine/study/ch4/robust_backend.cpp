@@ -34,8 +34,8 @@ RobustBackend::Options RobustBackend::Options::read(const core::ConfigTable& p) 
   o.robust.time_limit_s = p.number("clique_time_limit_s");
   // The residual check's statistic; absent: the edge χ² test this experiment was registered with, whatever
   // keel robust's own default is.
-  o.robust.residual_test = p.parse_or("residual_test", merge::robust_residual_test_from_string,
-                                      merge::RobustResidualTest::edge);
+  o.robust.residual_test =
+      p.parse_or("residual_test", merge::robust_residual_test_from_string, merge::RobustResidualTest::edge);
   o.robust.group_window = static_cast<int>(p.integer_or("group_window", o.robust.group_window));
   o.robust.solve = read_certified_solve(p);
   o.robust.solve.time_limit_s = p.number("solve_time_limit_s");

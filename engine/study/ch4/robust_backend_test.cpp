@@ -66,8 +66,8 @@ TEST_CASE("ext_robust_backend's residual test: the registered edge test unless t
   const auto full =
       RobustBackend::Options::read(keel::repro::ExperimentConfig::load(kRobustConfig, "full").params);
   CHECK(full.robust.residual_test == keel::merge::RobustResidualTest::edge);
-  const auto groups =
-      read_robust_with("residual_p = 0.01", "residual_p = 0.01\nresidual_test = \"groups\"\ngroup_window = 3");
+  const auto groups = read_robust_with("residual_p = 0.01",
+                                       "residual_p = 0.01\nresidual_test = \"groups\"\ngroup_window = 3");
   CHECK(groups.robust.residual_test == keel::merge::RobustResidualTest::groups);
   CHECK(groups.robust.group_window == 3);
   CHECK(throws_with<std::exception>(

@@ -40,7 +40,7 @@ struct RobustArgs {
   std::string composition = "joint", selector = "auto";
   int exact_up_to = 2000;
   double residual_p = 0.01;
-  std::string gnc = "off", gnc_inner = "certified", residual_test = "edge";
+  std::string gnc = "off", gnc_inner = "certified", residual_test = "groups";
   int group_window = 5;
   double gnc_p = 0.01;
   double time_limit_s = 0.0;
@@ -277,15 +277,15 @@ void add_robust_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option(
        "--residual-p", a->residual_p,
-       "the residual check after the selection: kept closures whose χ² at the solution exceeds the χ² "
-       "quantile at 1 − this are removed one at a time, worst first (0: no check)")
+       "the residual check after the selection: kept closures (or groups) above their test's quantile at "
+       "1 − this are removed one at a time, worst first (0: no check)")
       ->capture_default_str();
   c->add_option(
        "--residual-test", a->residual_test,
-       "the residual check's statistic: edge (χ² = rᵀΩr at the solution), snooping (data snooping: "
-       "rᵀQ⁻¹r with Q the least-squares residual's covariance, Bonferroni over the closures tested) or "
-       "groups "
-       "(snooping, and the same test of each closure's group: wrong closures that agree with one another)")
+       "the residual check's statistic: groups (data snooping, rᵀQ⁻¹r with Q the least-squares residual's "
+       "covariance, of each closure and of each closure's group, Bonferroni over every test: wrong closures "
+       "that agree with one another), snooping (the single closures alone) or edge (χ² = rᵀΩr at the "
+       "solution)")
       ->capture_default_str();
   c->add_option(
        "--group-window", a->group_window,

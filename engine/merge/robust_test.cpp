@@ -269,6 +269,7 @@ TEST_CASE(
   merge::RobustOptions off;
   off.p = 0.01;
   off.residual_p = 0.0;
+  off.residual_test = merge::RobustResidualTest::edge;  // the χ² test (the default is groups)
   const auto without = merge::robust({g}, {}, off);
   CHECK(without.residual_rounds == 0);
   CHECK(without.residual_threshold == 0.0);

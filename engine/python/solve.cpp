@@ -588,7 +588,7 @@ ValueError.)doc");
       },
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
-      py::arg("residual_p") = 0.01, py::arg("residual_test") = "edge", py::arg("group_window") = 5,
+      py::arg("residual_p") = 0.01, py::arg("residual_test") = "groups", py::arg("group_window") = 5,
       py::arg("gnc") = "off", py::arg("gnc_p") = 0.01, py::arg("gnc_inner") = "certified",
       py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
@@ -605,12 +605,12 @@ kept closures.
   selector      each group's consistent set: 'auto' (exact up to exact_up_to candidates, densest beyond),
                 'exact' (maximum clique), 'heuristic' (greedy clique) or 'densest' (densest subgraph)
   exact_up_to   see selector (>= 1)
-  residual_p    the residual check after the selection: kept closures whose chi-square at the solution exceeds
-                the quantile at 1 - residual_p are removed one at a time, worst first; 0 for none
-  residual_test 'edge' (that chi-square), 'snooping' (data snooping: r'Q^-1 r, Q the least-squares residual's
-                covariance, against the quantile at 1 - residual_p/m over the m closures tested) or 'groups'
-                (snooping, and the same test of each closure's group, Bonferroni over every test: wrong
-                closures that agree with one another)
+  residual_p    the residual check after the selection: kept closures (or groups) above their test's quantile
+                at 1 - residual_p (residual_test) are removed one at a time, worst first; 0 for none
+  residual_test 'groups' (the default: data snooping, r'Q^-1 r with Q the least-squares residual's covariance,
+                of each closure and of each closure's group, against the quantile at 1 - residual_p/m, m every
+                test of the round: wrong closures that agree with one another), 'snooping' (the single
+                closures alone) or 'edge' (each closure's chi-square r'Omega r at the solution)
   group_window  'groups': a closure's group holds the kept closures whose ends both lie within this many poses
                 of its own (>= 1)
   gnc           'off', 'after' (graduated non-convexity with truncated least squares over the closures the

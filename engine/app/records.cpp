@@ -203,6 +203,7 @@ void write_robust(const RobustRun<G>& r, FieldWriter& w) {
   w.number("residual_p", o.residual_p);
   w.text("residual_test", to_string(o.residual_test));
   w.integer("group_window", o.group_window);
+  w.text("first_solve", o.first_solve_rank_d ? "rank-d" : "staircase");
   w.number("residual_threshold", r.residual_threshold);
   w.integer("residual_rounds", r.residual_rounds);
   w.integer("exact_up_to", o.exact_up_to);

@@ -40,7 +40,7 @@ struct RobustArgs {
   std::string composition = "joint", selector = "auto";
   int exact_up_to = 2000;
   double residual_p = 0.01;
-  std::string gnc = "off", gnc_inner = "certified", residual_test = "groups";
+  std::string gnc = "off", gnc_inner = "certified", residual_test = "groups", first_solve = "staircase";
   int group_window = 5;
   double gnc_p = 0.01;
   double time_limit_s = 0.0;
@@ -58,6 +58,7 @@ void robust_files(const RobustArgs& args, const std::vector<Graph>& robots, cons
   o.residual_p = args.residual_p;
   o.residual_test = app::robust_residual_test_from_string(args.residual_test);
   o.group_window = args.group_window;
+  o.first_solve_rank_d = args.first_solve == "rank-d";
   o.gnc = app::robust_gnc_from_string(args.gnc);
   o.gnc_p = args.gnc_p;
   o.gnc_certified_inner = args.gnc_inner == "certified";
@@ -200,6 +201,11 @@ void run_robust(const RobustArgs& args) {
     o.gnc_p = args.gnc_p;
     o.validate();
   });
+  check_option("--first-solve", [&] {
+    if (args.first_solve != "staircase" && args.first_solve != "rank-d")
+      throw std::invalid_argument(
+          fmt::format("--first-solve must be staircase or rank-d (got '{}')", args.first_solve));
+  });
   check_option("--gnc-inner", [&] {
     if (args.gnc_inner != "certified" && args.gnc_inner != "local")
       throw std::invalid_argument(
@@ -299,6 +305,11 @@ void add_robust_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--gnc-p", a->gnc_p,
                 "GNC's inlier threshold: the χ² quantile at 1 − this on each closure's rᵀΩr")
+      ->capture_default_str();
+  c->add_option(
+       "--first-solve", a->first_solve,
+       "the residual check's first estimate: staircase (the certified solve) or rank-d (the certified "
+       "solver's local optimum at rank d; the certified solve at the end)")
       ->capture_default_str();
   c->add_option("--gnc-inner", a->gnc_inner,
                 "GNC's weighted solves: certified (each with its certificate or gap) or local "

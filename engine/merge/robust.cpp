@@ -682,12 +682,21 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   };
   assemble();
   say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
-  run.solved = pgo::certified_solution(run.selected, o.solve);
+  const bool residual_check = o.gnc == RobustGnc::off && o.residual_p > 0.0;
+  // first_solve_rank_d: the residual check starts from the certified solver's local optimum at rank d (no
+  // staircase). Certified there, it is the certified solve's answer (the staircase stops at rank d with that
+  // point); otherwise the check starts from it, and the certified solve comes once nothing is removed.
+  const bool rank_d_first = residual_check && o.first_solve_rank_d;
+  {
+    pgo::CertifiedOptions first = o.solve;
+    if (rank_d_first) first.max_rank = dof == 3 ? 2 : 3;
+    run.solved = pgo::certified_solution(run.selected, first);
+  }
   // The residual check: the kept closure whose χ² = rᵀΩr at the solution is largest, above γ_r =
   // F⁻¹_χ²(dof)(1 − residual_p), is removed and the rest re-solved by Levenberg–Marquardt from the current
   // estimate, one closure per round (never one whose removal would leave a robot without a common frame);
   // once none is above γ_r, the certified solve of what is left gives the answer and its certificate.
-  if (o.gnc == RobustGnc::off && o.residual_p > 0.0) {
+  if (residual_check) {
     run.residual_threshold = pcm::consistency_threshold(o.residual_p, dof);  // edge; snooping: set below
     // Time of the check: the certified solves whose answers a later round replaced (the first among them) and
     // the re-solves; the last certified solve is the answer's own (solved.summary).
@@ -779,9 +788,13 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       return pick;
     };
     std::vector<G> estimate = run.solved.graph.poses;
-    bool certified_estimate = true;  // `estimate` is the certified solve's answer
+    bool solver_estimate = true;  // `estimate` is a point of the certified solver (relaxed before snooping)
+    // `estimate` is the certified solve's answer (the rank-d solve's only when it is certified: the whole
+    // staircase would have stopped there with the same point)
+    bool certified_estimate = !rank_d_first || run.solved.summary.status == core::SearchStatus::optimal;
+    bool resolved = false;  // run.solved is no longer the first solve's
     while (run.residual_rounds < o.max_residual_rounds) {
-      const Pick pick = worst_at(estimate, certified_estimate);
+      const Pick pick = worst_at(estimate, solver_estimate);
       if (pick.k == run.candidates.size()) {
         if (certified_estimate) break;
         // None is above its threshold at LM's estimate: solve what is left with the certificate, and check
@@ -789,7 +802,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
         say(fmt::format("certified solve of the odometry and {} kept loop closures", run.kept));
         run.solved = pgo::certified_solution(run.selected, o.solve);
         estimate = run.solved.graph.poses;
-        certified_estimate = true;
+        certified_estimate = solver_estimate = resolved = true;
         continue;
       }
       auto& c = run.candidates[pick.k];
@@ -813,11 +826,11 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
         say(fmt::format("residual check, round {}: closure {} → {} removed (χ² {:.4g} > {:.4g})",
                         run.residual_rounds, c.pose_a, c.pose_b, pick.chi2, run.residual_threshold));
       estimate = relax(estimate);
-      certified_estimate = false;
+      certified_estimate = solver_estimate = false;
     }
-    if (!certified_estimate)  // the round limit was reached after a removal
+    if (!certified_estimate)  // the round limit was reached after a removal (or at once, rank d uncertified)
       run.solved = pgo::certified_solution(run.selected, o.solve);
-    if (run.residual_rounds > 0)
+    if (run.residual_rounds > 0 || resolved)
       run.residual_time_s = first_solve_s + core::seconds_since(t_check) - run.solved.summary.total_time_s;
   }
   if (o.gnc != RobustGnc::off) gnc_stage(run, base, edge_of, assemble, chi2_at, say);

@@ -519,8 +519,9 @@ ValueError.)doc");
       "robust",
       [](const py::object& graphs, const py::object& candidates, double p, const std::string& composition,
          const std::string& selector, int exact_up_to, double residual_p, const std::string& residual_test,
-         int group_window, const std::string& gnc, double gnc_p, const std::string& gnc_inner,
-         const std::optional<double>& time_limit_s, unsigned threads) -> py::dict {
+         int group_window, const std::string& first_solve, const std::string& gnc, double gnc_p,
+         const std::string& gnc_inner, const std::optional<double>& time_limit_s,
+         unsigned threads) -> py::dict {
         app::RobustOptions o;
         o.p = p;
         o.composition = pcm::composition_from_string(composition);
@@ -529,6 +530,10 @@ ValueError.)doc");
         o.residual_p = residual_p;
         o.residual_test = app::robust_residual_test_from_string(residual_test);
         o.group_window = group_window;
+        if (first_solve != "staircase" && first_solve != "rank-d")
+          throw py::value_error(
+              fmt::format("robust: first_solve must be 'staircase' or 'rank-d' (got '{}')", first_solve));
+        o.first_solve_rank_d = first_solve == "rank-d";
         o.gnc = app::robust_gnc_from_string(gnc);
         o.gnc_p = gnc_p;
         if (gnc_inner != "certified" && gnc_inner != "local")
@@ -589,8 +594,8 @@ ValueError.)doc");
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
       py::arg("residual_p") = 0.01, py::arg("residual_test") = "groups", py::arg("group_window") = 5,
-      py::arg("gnc") = "off", py::arg("gnc_p") = 0.01, py::arg("gnc_inner") = "certified",
-      py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
+      py::arg("first_solve") = "staircase", py::arg("gnc") = "off", py::arg("gnc_p") = 0.01,
+      py::arg("gnc_inner") = "certified", py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
 odometry, its other edges and the inter-robot `candidates` (a keel.Candidates whose ids are global: robot r's pose
@@ -613,6 +618,8 @@ kept closures.
                 closures alone) or 'edge' (each closure's chi-square r'Omega r at the solution)
   group_window  'groups': a closure's group holds the kept closures whose ends both lie within this many poses
                 of its own (>= 1)
+  first_solve   the residual check's first estimate: 'staircase' (the certified solve) or 'rank-d' (the
+                certified solver's local optimum at rank d, no staircase; the certified solve at the end)
   gnc           'off', 'after' (graduated non-convexity with truncated least squares over the closures the
                 selection kept, instead of the residual check) or 'only' (over every candidate, no PCM)
   gnc_p         GNC's inlier threshold: the chi-square quantile at 1 - gnc_p on each closure's r'Omega r

@@ -232,6 +232,15 @@ class RobustCommand(unittest.TestCase):
         self.assertIn("--group-window", r.stderr)
         self.assertIn("group_window must be >= 1", r.stderr)
 
+    def test_first_solve_is_reported_and_checked(self):
+        for value in ("staircase", "rank-d"):
+            r = run("robust", self.graph, "--p", "0.01", "--first-solve", value, "--json", "--quiet")
+            self.assertIn(r.returncode, (0, 1), r.stderr)
+            self.assertEqual(json.loads(r.stdout)["first_solve"], value)
+        r = run("robust", self.graph, "--first-solve", "rank-2")
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--first-solve must be staircase or rank-d (got 'rank-2')", r.stderr)
+
 
 class SplitRobots(unittest.TestCase):
     """keel split GRAPH --robots N: the laps cut into robots with wrong closures added, every loop closure listed in

@@ -366,6 +366,7 @@ class TestReference(unittest.TestCase):
         for args, kwargs in (([], {}), (["--residual-test", "snooping"], {"residual_test": "snooping"}),
                              (["--residual-test", "groups", "--group-window", "3"],
                               {"residual_test": "groups", "group_window": 3}),
+                             (["--first-solve", "rank-d"], {"first_solve": "rank-d"}),
                              (["--gnc", "after"], {"gnc": "after"}),
                              (["--gnc", "only", "--gnc-inner", "local"], {"gnc": "only", "gnc_inner": "local"})):
             with self.subTest(args=args):
@@ -388,6 +389,8 @@ class TestReference(unittest.TestCase):
             keel.robust(g, gnc="before")
         with self.assertRaisesRegex(ValueError, "p must be in"):
             keel.robust(g, p=1.5)
+        with self.assertRaisesRegex(ValueError, "first_solve must be 'staircase' or 'rank-d'"):
+            keel.robust(g, first_solve="rank-2")
         with self.assertRaisesRegex(ValueError, "group_window must be >= 1"):
             keel.robust(g, residual_test="groups", group_window=0)
         with self.assertRaisesRegex(ValueError, "unknown merge::RobustSelector"):

@@ -37,6 +37,12 @@ RobustBackend::Options RobustBackend::Options::read(const core::ConfigTable& p) 
   o.robust.residual_test =
       p.parse_or("residual_test", merge::robust_residual_test_from_string, merge::RobustResidualTest::edge);
   o.robust.group_window = static_cast<int>(p.integer_or("group_window", o.robust.group_window));
+  // The residual check's first estimate; absent: the certified solve, as registered.
+  const std::string first = p.string_or("first_solve", "staircase");
+  if (first != "staircase" && first != "rank-d")
+    throw core::ConfigError(
+        fmt::format("{}: first_solve must be staircase or rank-d, not '{}'", p.where("first_solve"), first));
+  o.robust.first_solve_rank_d = first == "rank-d";
   o.robust.solve = read_certified_solve(p);
   o.robust.solve.time_limit_s = p.number("solve_time_limit_s");
   o.robust.threads = 1;  // the trials run in parallel, each on one thread

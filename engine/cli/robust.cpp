@@ -40,7 +40,7 @@ struct RobustArgs {
   std::string composition = "joint", selector = "auto";
   int exact_up_to = 2000;
   double residual_p = 0.01;
-  std::string gnc = "off", gnc_inner = "certified", residual_test = "groups", first_solve = "staircase";
+  std::string gnc = "off", gnc_inner = "certified", residual_test = "groups", first_solve = "rank-d";
   int group_window = 5;
   double gnc_p = 0.01;
   double time_limit_s = 0.0;

@@ -544,6 +544,7 @@ namespace {
 bool check_rank_d_first(const graph::PoseGraph2D& g) {
   merge::RobustOptions staircase;
   staircase.p = 1e-9;
+  staircase.first_solve_rank_d = false;
   merge::RobustOptions rank_d = staircase;
   rank_d.first_solve_rank_d = true;
   const auto a = merge::robust({g}, {}, staircase);

@@ -594,7 +594,7 @@ ValueError.)doc");
       py::arg("graphs"), py::arg("candidates") = py::none(), py::arg("p") = 0.11,
       py::arg("composition") = "joint", py::arg("selector") = "auto", py::arg("exact_up_to") = 2000,
       py::arg("residual_p") = 0.01, py::arg("residual_test") = "groups", py::arg("group_window") = 5,
-      py::arg("first_solve") = "staircase", py::arg("gnc") = "off", py::arg("gnc_p") = 0.01,
+      py::arg("first_solve") = "rank-d", py::arg("gnc") = "off", py::arg("gnc_p") = 0.01,
       py::arg("gnc_inner") = "certified", py::arg("time_limit_s") = py::none(), py::arg("threads") = 1, R"doc(
 One or several robots' graphs with wrong loop closures, as `keel robust GRAPH... [--candidates FILE]`
 (app::robust; same inputs give the same numbers): each robot's edges between consecutive poses are trusted
@@ -618,8 +618,9 @@ kept closures.
                 closures alone) or 'edge' (each closure's chi-square r'Omega r at the solution)
   group_window  'groups': a closure's group holds the kept closures whose ends both lie within this many poses
                 of its own (>= 1)
-  first_solve   the residual check's first estimate: 'staircase' (the certified solve) or 'rank-d' (the
-                certified solver's local optimum at rank d, no staircase; the certified solve at the end)
+  first_solve   the residual check's first estimate: 'rank-d' (the default: the certified solver's local
+                optimum at rank d, no staircase; the certified solve at the end) or 'staircase' (the
+                certified solve)
   gnc           'off', 'after' (graduated non-convexity with truncated least squares over the closures the
                 selection kept, instead of the residual check) or 'only' (over every candidate, no PCM)
   gnc_p         GNC's inlier threshold: the chi-square quantile at 1 - gnc_p on each closure's r'Omega r

@@ -42,7 +42,7 @@ RobustBackend::Options RobustBackend::Options::read(const core::ConfigTable& p) 
   if (first != "staircase" && first != "rank-d")
     throw core::ConfigError(
         fmt::format("{}: first_solve must be staircase or rank-d, not '{}'", p.where("first_solve"), first));
-  o.robust.first_solve_rank_d = first == "rank-d";
+  o.robust.first_solve_rank_d = first == "rank-d";  // not keel robust's default: absent, as registered
   o.robust.solve = read_certified_solve(p);
   o.robust.solve.time_limit_s = p.number("solve_time_limit_s");
   o.robust.threads = 1;  // the trials run in parallel, each on one thread

@@ -66,10 +66,16 @@ TEST_CASE("ext_robust_backend's residual test: the registered edge test unless t
   const auto full =
       RobustBackend::Options::read(keel::repro::ExperimentConfig::load(kRobustConfig, "full").params);
   CHECK(full.robust.residual_test == keel::merge::RobustResidualTest::edge);
+  CHECK_FALSE(full.robust.first_solve_rank_d);  // the certified solve first, as registered
   const auto groups = read_robust_with("residual_p = 0.01",
                                        "residual_p = 0.01\nresidual_test = \"groups\"\ngroup_window = 3");
   CHECK(groups.robust.residual_test == keel::merge::RobustResidualTest::groups);
   CHECK(groups.robust.group_window == 3);
+  CHECK(read_robust_with("residual_p = 0.01", "residual_p = 0.01\nfirst_solve = \"rank-d\"")
+            .robust.first_solve_rank_d);
+  CHECK(throws_with<std::exception>(
+      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\nfirst_solve = \"rank-3\""); },
+      "first_solve"));
   CHECK(throws_with<std::exception>(
       [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\nresidual_test = \"chi\""); },
       "residual_test"));

@@ -828,8 +828,11 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
       estimate = relax(estimate);
       certified_estimate = solver_estimate = false;
     }
-    if (!certified_estimate)  // the round limit was reached after a removal (or at once, rank d uncertified)
+    if (!certified_estimate) {  // the round limit was reached after a removal (or at once, rank d
+                                // uncertified)
       run.solved = pgo::certified_solution(run.selected, o.solve);
+      resolved = true;
+    }
     if (run.residual_rounds > 0 || resolved)
       run.residual_time_s = first_solve_s + core::seconds_since(t_check) - run.solved.summary.total_time_s;
   }

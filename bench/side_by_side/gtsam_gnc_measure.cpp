@@ -11,7 +11,7 @@
 //   kept_edges     the kept closures as "i-j"
 //
 // keel's own file; it includes only GTSAM's public headers and is built outside the repository against an
-// externally built GTSAM (shared/notes/peers.md):
+// externally built GTSAM (docs/PEERS.md):
 //
 //   c++ -std=c++17 -O2 -I$GTSAM/include -I/usr/include/eigen3 gtsam_gnc_measure.cpp -L$GTSAM/lib -lgtsam
 //   -lcephes-gtsam

@@ -11,7 +11,7 @@
 //   kept_edges     the kept closures as "i-j" in global ids (robot r's pose k is k plus the poses before it)
 //
 // keel's own file; it includes only Kimera-RPGO's and GTSAM's public headers and is built outside the
-// repository against externally built copies (shared/notes/peers.md has the command).
+// repository against externally built copies (docs/PEERS.md has the commands).
 //
 //   kimera_measure [--threshold T] [--no-gnc] [--gnc-probability P] GRAPH... [--candidates FILE]
 //

@@ -5,7 +5,7 @@
 #   KIMERA_MEASURE=/path/to/kimera_measure bench/side_by_side/robust.sh OUT.tsv [NAME=FILE.g2o ...]
 #
 # kimera_measure is keel's driver (bench/side_by_side/kimera_measure.cpp) built against externally built GTSAM and
-# Kimera-RPGO (shared/notes/peers.md). GTSAM_GNC_MEASURE, when set, adds GTSAM's GncOptimizer
+# Kimera-RPGO (docs/PEERS.md). GTSAM_GNC_MEASURE, when set, adds GTSAM's GncOptimizer
 # (bench/side_by_side/gtsam_gnc_measure.cpp, built the same way) as a further tool. Environment: KEEL (default build/release/keel), RATES (default 0,10,20,40),
 # TRIALS (default 3), SEED (default 1), P (default 0.11), NO_GNC=1 (Kimera-RPGO's PCM alone), TIMEOUT
 # (seconds per tool and file, default 600). Without data sets
@@ -19,7 +19,7 @@ cd "$(dirname "$0")/../.."
 KEEL=${KEEL:-build/release/keel}
 [[ -x $KEEL ]] || { echo "robust.sh: $KEEL not built (scripts/build release)" >&2; exit 2; }
 [[ -n ${KIMERA_MEASURE:-} && -x $KIMERA_MEASURE ]] ||
-  { echo "robust.sh: set KIMERA_MEASURE to the built kimera_measure (shared/notes/peers.md)" >&2; exit 2; }
+  { echo "robust.sh: set KIMERA_MEASURE to the built kimera_measure (docs/PEERS.md)" >&2; exit 2; }
 [[ $# -ge 1 ]] || { echo "usage: robust.sh OUT.tsv [NAME=FILE.g2o ...]" >&2; exit 2; }
 out=$1
 shift

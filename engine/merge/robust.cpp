@@ -218,8 +218,9 @@ double group_snooping(Eigen::MatrixXd& Q, const Eigen::VectorXd& r, int* dof_out
   return used > 0 ? sum : std::numeric_limits<double>::quiet_NaN();
 }
 
-// A group's test holds its poses' dense joint marginal P and its dense Q_G at once: refused past 2 GiB
-// together (the consistency stage's limit), before anything that size is formed. `what` starts the message.
+// A group's test forms its dense Q_G, (dof·m)² numbers for m closures, from blocks of the joint marginal P of
+// the poses it touches, at most (dof·poses)² numbers: past 2 GiB together (the consistency stage's limit) the
+// group is refused, before anything that size is formed. `what` starts the message.
 template <class Edge>
 void check_group_memory(const std::vector<Edge>& tested, const std::vector<std::size_t>& group, int dof,
                         const std::string& what) {
@@ -232,8 +233,8 @@ void check_group_memory(const std::vector<Edge>& tested, const std::vector<std::
   const double gib = 8.0 * (side_p * side_p + side_q * side_q) / (1024.0 * 1024 * 1024);
   if (gib > 2.0)
     throw std::invalid_argument(
-        fmt::format("{}a group of {} closures touching {} poses: its dense joint marginal and covariance Q_G "
-                    "would take {:.1f} GiB (limit 2)",
+        fmt::format("{}a group of {} closures touching {} poses: its covariance Q_G and the blocks of the "
+                    "joint marginal behind it would take up to {:.1f} GiB (limit 2)",
                     what, group.size(), ids.size(), gib));
 }
 
@@ -689,7 +690,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   const bool rank_d_first = residual_check && o.first_solve_rank_d;
   {
     pgo::CertifiedOptions first = o.solve;
-    if (rank_d_first) first.max_rank = dof == 3 ? 2 : 3;
+    if (rank_d_first) first.max_rank = G::Dim - 1;  // d (G's matrices are (d + 1) × (d + 1))
     run.solved = pgo::certified_solution(run.selected, first);
   }
   // The residual check: the kept closure whose χ² = rᵀΩr at the solution is largest, above γ_r =

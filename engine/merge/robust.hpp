@@ -193,8 +193,9 @@ using RobustRun3 = RobustRun<lie::SE3>;
 /// (naming the robot and the pose), a candidate id beyond the last robot's poses or a loop closure whose
 /// information is not positive definite (naming the candidate and its line), robots that no kept closure
 /// joins (naming one), a candidate group whose dense joint marginal would not fit in memory ((dof · poses
-/// touched)² numbers over 2 GiB), or, with RobustResidualTest::groups, a closure group whose P and Q_G would
-/// take more than 2 GiB together (naming group_window); std::runtime_error when a solve fails.
+/// touched)² numbers over 2 GiB), or, with RobustResidualTest::groups, a closure group whose Q_G and the
+/// blocks of P behind it could take more than 2 GiB together (naming group_window); std::runtime_error when a
+/// solve fails.
 [[nodiscard]] RobustRun2 robust(const std::vector<graph::PoseGraph2D>& robots,
                                 const std::vector<graph::Edge2>& inter_robot = {},
                                 const RobustOptions& options = {}, const RobustProgress& progress = {});
@@ -218,8 +219,9 @@ using RobustRun3 = RobustRun<lie::SE3>;
 /// RobustResidualTest::groups' statistic of `tested` as one group (edges of `graph`, ids those of its poses)
 /// at `poses`, a maximum-likelihood solution of `graph`: T_G = r_Gᵀ Q_G⁻¹ r_G and its degrees of freedom
 /// (m·dof when Q_G is well conditioned; otherwise the eigenvalues of Q_G above 1e-10 of its largest, T over
-/// them; NaN and 0 when there are none). Throws std::invalid_argument, before forming them, when P and Q_G
-/// would take more than 2 GiB together ((dof · poses touched)² + (dof · edges)² numbers).
+/// them; NaN and 0 when there are none). Throws std::invalid_argument, before forming them, when Q_G and the
+/// blocks of P behind it could take more than 2 GiB together ((dof · edges)² + (dof · poses touched)²
+/// numbers).
 struct GroupStatistic {
   double t = 0.0;
   int dof = 0;

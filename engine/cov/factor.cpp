@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cov/factor.hpp"
+#include "core/blas.hpp"
 
 namespace keel::cov {
 
@@ -46,7 +47,13 @@ MarginalCovariance::MarginalCovariance(const SparseInformation& H, const Covaria
   linalg::SparseCholesky& F = *I.factor;
   std::copy(H.value.begin(), H.value.end(), F.values().begin());
   t0 = std::chrono::steady_clock::now();
-  const bool ok = F.factorize();
+  bool ok = false;
+  {
+    // One BLAS thread, CHOLMOD's OpenMP teams serialized, as the certified solver (core/blas.hpp).
+    const core::SingleThreadedBlas one_blas_thread;
+    const core::SerialOpenMp serial_openmp;
+    ok = F.factorize();
+  }
   I.summary.factorize_time_s = seconds_since(t0);
   if (!ok) {
     std::string msg = "MarginalCovariance: the information matrix is not positive definite";

@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/blas.hpp"
 #include "core/names.hpp"
 #include "core/timing.hpp"
 #include "cov/chain.hpp"
@@ -401,6 +402,12 @@ template <class G, class Graph, class Edge>
 RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edge>& inter,
                          const RobustOptions& o, const RobustProgress& progress) {
   o.validate();
+  // The whole run on one BLAS thread and with CHOLMOD's OpenMP teams serialized (core/blas.hpp): the
+  // Levenberg–Marquardt re-solves and marginals factor small graphs many times, where OpenBLAS's own threads
+  // spin against o.threads' workers (and against any other process), and the answer must not depend on the
+  // machine's core count. o.threads is the only parallelism.
+  const core::SingleThreadedBlas one_blas_thread;
+  const core::SerialOpenMp serial_openmp;
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/blas.hpp"
 #include "core/parallel.hpp"
 #include "pgo/ceres_factors.hpp"
 #include "pgo/internal.hpp"
@@ -218,7 +219,13 @@ typename ResultOf<D>::type solve_view(const RobotsView<D>& view,
   if (view.with_anchors && !anchors.empty()) problem.SetParameterBlockConstant(anchors[0].data());
 
   ceres::Solver::Summary cs;
-  ceres::Solve(solver_options(o), &problem, &cs);
+  {
+    // CHOLMOD's supernodal factorizations inside Ceres call the BLAS: on one BLAS thread and without
+    // CHOLMOD's OpenMP teams, as the certified solver (core/blas.hpp); Options::threads is Ceres's own.
+    const core::SingleThreadedBlas one_blas_thread;
+    const core::SerialOpenMp serial_openmp;
+    ceres::Solve(solver_options(o), &problem, &cs);
+  }
   if (o.verbose) fmt::print("{}\n", cs.FullReport());
 
   typename ResultOf<D>::type result;

@@ -10,10 +10,14 @@
 //   loop_closures  loop closures Kimera-RPGO saw; kept: those in its final graph with a GNC weight ≥ 0.5
 //   kept_edges     the kept closures as "i-j" in global ids (robot r's pose k is k plus the poses before it)
 //
+// With --poses FILE it also writes Kimera-RPGO's estimate there, one line "id x y [z]" per pose in global ids
+// (the positions, for the ATE against a reference), after the timed part.
+//
 // keel's own file; it includes only Kimera-RPGO's and GTSAM's public headers and is built outside the
 // repository against externally built copies (docs/PEERS.md has the commands).
 //
-//   kimera_measure [--threshold T] [--no-gnc] [--gnc-probability P] GRAPH... [--candidates FILE]
+//   kimera_measure [--threshold T] [--no-gnc] [--gnc-probability P] [--poses FILE] GRAPH... [--candidates
+//   FILE]
 //
 // T is the Mahalanobis NORM Kimera-RPGO compares (not its square): √γ of keel's γ(p) for the same test, which
 // robust.sh passes. Robots get GTSAM symbols 'a', 'b', … so that Kimera-RPGO groups their closures as keel
@@ -55,7 +59,7 @@ bool is_3d(const std::string& file) {
 
 template <class Pose>
 int run(const std::vector<std::string>& graphs, const std::string& candidates, double threshold, bool gnc,
-        double gnc_probability, Clock::time_point start) {
+        double gnc_probability, const std::string& poses_file, Clock::time_point start) {
   constexpr bool k3d = std::is_same_v<Pose, gtsam::Pose3>;
   gtsam::NonlinearFactorGraph nfg;
   gtsam::Values values;
@@ -123,6 +127,25 @@ int run(const std::vector<std::string>& graphs, const std::string& candidates, d
     if (!seen.insert({i, j}).second) continue;
     kept << (n_kept++ ? " " : "") << i << "-" << j;
   }
+  if (!poses_file.empty()) {
+    const gtsam::Values estimate = solver.calculateEstimate();
+    std::FILE* f = std::fopen(poses_file.c_str(), "w");
+    if (f == nullptr) {
+      std::fprintf(stderr, "kimera_measure: cannot write %s\n", poses_file.c_str());
+      return 1;
+    }
+    for (std::size_t r = 0; r < graphs.size(); ++r) {
+      const std::size_t n = (r + 1 < offsets.size() ? offsets[r + 1] : total) - offsets[r];
+      for (std::size_t k = 0; k < n; ++k) {
+        const auto t = estimate.at<Pose>(key(r, k)).translation();
+        if constexpr (k3d)
+          std::fprintf(f, "%zu %.17g %.17g %.17g\n", offsets[r] + k, t.x(), t.y(), t.z());
+        else
+          std::fprintf(f, "%zu %.17g %.17g\n", offsets[r] + k, t.x(), t.y());
+      }
+    }
+    std::fclose(f);
+  }
   std::printf("rpgo_s=%.6f\nprocess_s=%.6f\nposes=%zu\nloop_closures=%zu\nkept=%zu\nkept_edges=%s\n", rpgo_s,
               process_s, total, solver.getNumLC(), n_kept, kept.str().c_str());
   return 0;
@@ -135,7 +158,7 @@ int main(int argc, char** argv) {
   double threshold = 0.0, gnc_probability = 0.99;
   bool gnc = true;
   std::vector<std::string> graphs;
-  std::string candidates;
+  std::string candidates, poses_file;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     if (a == "--threshold" && k + 1 < argc)
@@ -146,15 +169,19 @@ int main(int argc, char** argv) {
       gnc_probability = std::atof(argv[++k]);
     else if (a == "--candidates" && k + 1 < argc)
       candidates = argv[++k];
+    else if (a == "--poses" && k + 1 < argc)
+      poses_file = argv[++k];
     else
       graphs.push_back(a);
   }
   if (graphs.empty() || !(threshold > 0.0)) {
     std::fprintf(
         stderr,
-        "usage: kimera_measure --threshold T [--no-gnc] [--gnc-probability P] GRAPH... [--candidates F]\n");
+        "usage: kimera_measure --threshold T [--no-gnc] [--gnc-probability P] [--poses FILE] GRAPH... "
+        "[--candidates F]\n");
     return 2;
   }
-  return is_3d(graphs[0]) ? run<gtsam::Pose3>(graphs, candidates, threshold, gnc, gnc_probability, start)
-                          : run<gtsam::Pose2>(graphs, candidates, threshold, gnc, gnc_probability, start);
+  return is_3d(graphs[0])
+             ? run<gtsam::Pose3>(graphs, candidates, threshold, gnc, gnc_probability, poses_file, start)
+             : run<gtsam::Pose2>(graphs, candidates, threshold, gnc, gnc_probability, poses_file, start);
 }

@@ -17,6 +17,12 @@ each, timing each whole process (file reading and set-up included, the same for 
               at probability 0.99, odometry and a prior on pose 0 known inliers, no PCM), labelled gtsam_gnc.
 
 A kept closure is scored against the truth: precision = true kept / kept, recall = true kept / true closures.
+With --prepared lists that name a reference (keel_robust_graphs: the certified optimum of the graph without wrong
+closures, ext_robust_backend's ATE reference) and --keel-python, each tool's ATE against it is scored too (the
+root mean square position error after the best rigid motion, graph/trajectory_error.hpp's definition): Kimera-RPGO's
+estimate from kimera_measure --poses, keel's from its Python module (keel.robust, the same run as the command, bit for
+bit, which the CLI's own outputs cannot give for answers that are not certified; the kept closures of the two are
+checked to be the same). The Python run is not timed.
 Writes one TSV row per run and prints a summary per data set and rate (medians over trials), then each keel variant
 paired with Kimera-RPGO file by file: per cell the mean difference of precision, recall and process time with a 95 %
 t interval over the trials, and the cells where the interval lies above, straddles or lies below zero.
@@ -25,6 +31,7 @@ t interval over the trials, and the cells where the interval lies above, straddl
             NAME=FILE.g2o ...
 """
 import argparse
+import importlib
 import json
 import math
 import os
@@ -128,58 +135,152 @@ def timed(cmd, limit):
     return r, time.monotonic() - t0
 
 
-def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out):
-    """Runs keel robust and Kimera-RPGO on file f, scores both and appends their rows to rows and out."""
+def read_positions(path):
+    """{id: position} of a positions file ("id x y [z]" lines; a first "certified" line is skipped)."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if t and t[0] != "certified":
+                out[int(t[0])] = [float(v) for v in t[1:]]
+    return out
+
+
+def ate(reference, estimate):
+    """The root mean square of ‖p_k − (R p̂_k + t)‖ after the rigid motion (R, t) that minimizes it (Umeyama 1991
+    without scale, det R = +1), as graph::absolute_trajectory_error."""
+    import numpy as np
+    ids = sorted(reference)
+    if sorted(estimate) != ids:
+        sys.exit("robust.py: an estimate's poses are not the reference's")
+    P = np.array([reference[k] for k in ids])
+    Q = np.array([estimate[k] for k in ids])
+    mp, mq = P.mean(axis=0), Q.mean(axis=0)
+    U, _, Vt = np.linalg.svd((P - mp).T @ (Q - mq))
+    D = np.eye(P.shape[1])
+    D[-1, -1] = np.sign(np.linalg.det(U @ Vt)) or 1.0
+    R = U @ D @ Vt
+    E = P - (Q - mq) @ R.T - mp
+    return float(np.sqrt((E * E).sum(axis=1).mean()))
+
+
+def python_kwargs(extra):
+    """keel robust's extra command-line arguments ("--residual-test edge") as keel.robust's keywords."""
+    out = {}
+    for k in range(0, len(extra), 2):
+        if not extra[k].startswith("--") or k + 1 >= len(extra):
+            sys.exit(f"robust.py: cannot pass {' '.join(extra)} to keel.robust (pairs '--name value' only)")
+        v = extra[k + 1]
+        try:
+            v = int(v)
+        except ValueError:
+            try:
+                v = float(v)
+            except ValueError:
+                pass
+        out[extra[k][2:].replace("-", "_")] = v
+    return out
+
+
+def keel_estimate(a, files, candidates, extra):
+    """keel.robust on the same inputs: {global id: position} of its answer and its kept pairs (global ids)."""
+    keel = a.keel_module
+    graphs = [keel.read_graph(f) for f in files]
+    dim = 3 if type(graphs[0]).__name__ == "Graph3D" else 2
+    cands = keel.read_candidates(candidates, dim=dim) if candidates else None
+    r = keel.robust(graphs if len(graphs) > 1 else graphs[0], cands, p=a.p, **python_kwargs(extra))
+    sol = r["solution"]
+    offsets = [0]
+    for g in graphs[:-1]:
+        offsets.append(offsets[-1] + len(g.poses))
+    kept = sorted((offsets[c["robot_a"]] + c["i"], offsets[c["robot_b"]] + c["j"])
+                  for c in r["candidate_list"] if c["kept"])
+    return {k: [float(v) for v in sol[k][:dim]] for k in range(len(sol))}, kept
+
+
+def vertex_count(path):
+    with open(path) as f:
+        return sum(1 for line in f if line.startswith("VERTEX_SE"))
+
+
+def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out, candidates=None, reference=None):
+    """Runs keel robust and Kimera-RPGO on the graph f (a file, or a list of one file per robot with the
+    inter-robot candidates in `candidates`, global ids), scores both and appends their rows to rows and out.
+    Kept closures are scored in global ids: robot r's pose k is k plus the poses of the robots before it."""
     result = []
     gamma = gammas.get(name)
+    files = f if isinstance(f, list) else [f]
+    inputs = files + (["--candidates", candidates] if candidates else [])
+    offsets = [0]
+    for g in files[:-1]:
+        offsets.append(offsets[-1] + vertex_count(g))
+    f = files[0] if len(files) == 1 else " ".join(inputs)  # for messages
     for label, extra in a.variants:
-        r, keel_s = timed([a.keel, "robust", f, "--json", "-q", "--p", str(a.p), *extra], a.timeout)
+        r, keel_s = timed([a.keel, "robust", *inputs, "--json", "-q", "--p", str(a.p), *extra], a.timeout)
         if r is not None and r.returncode not in (0, 1):
             sys.exit(f"robust.py: keel robust {f} {' '.join(extra)} exited {r.returncode}: {r.stderr}")
         if r is None:
-            result.append((label, None, keel_s, float("nan"), "timeout"))
+            result.append((label, None, keel_s, float("nan"), "timeout", float("nan")))
         else:
             j = json.loads(r.stdout)
             gamma = gammas.setdefault(name, j["gamma"])
-            kept = [(c["i"], c["j"]) for c in j["candidate_list"] if c["kept"]]
+            kept = [(offsets[c["robot_a"]] + c["i"], offsets[c["robot_b"]] + c["j"])
+                    for c in j["candidate_list"] if c["kept"]]
             own = sum(v for v in j["times_s"].values())
-            result.append((label, kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no"))
+            err = float("nan")
+            if reference is not None:
+                est, kept_py = keel_estimate(a, files, candidates, extra)
+                if kept_py != sorted(kept):
+                    sys.exit(f"robust.py: keel.robust kept other closures than keel robust on {f}")
+                err = ate(reference, est)
+            result.append((label, kept, keel_s, own, "yes" if j["certificate"]["certified"] else "no", err))
     if gamma is None:
         sys.exit(f"robust.py: keel timed out on {name}'s first file, so there is no gamma for "
                  "Kimera-RPGO's threshold")
-    def peer(tool, driver, command, timer):
-        """A peer's driver on f: its key=value lines, kept_edges as "i-j" and its own timer `timer`."""
+    def peer(tool, driver, command, timer, poses=None):
+        """A peer's driver on f: its key=value lines, kept_edges as "i-j" and its own timer `timer`; with `poses`
+        (a file its command writes the estimate to) the ATE against the reference."""
         r, seconds = timed(command, a.timeout)
         if r is None:
-            result.append((tool, None, seconds, float("nan"), "timeout"))
+            result.append((tool, None, seconds, float("nan"), "timeout", float("nan")))
             return
         if r.returncode != 0:
             sys.exit(f"robust.py: {driver} {f} exited {r.returncode}: {r.stderr}")
         kv = dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
         kept_p = [tuple(map(int, e.split("-"))) for e in kv["kept_edges"].split()]
-        result.append((tool, kept_p, seconds, float(kv[timer]), ""))
+        err = ate(reference, read_positions(poses)) if poses else float("nan")
+        result.append((tool, kept_p, seconds, float(kv[timer]), "", err))
 
-    peer("kimera", "kimera_measure", [a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}", f]
-         + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), "rpgo_s")
+    kimera_poses = None
+    if reference is not None:
+        kimera_poses = os.path.join(a.work, "kimera_poses.txt")
+    peer("kimera", "kimera_measure", [a.kimera, "--threshold", f"{math.sqrt(gamma):.12g}",
+                                      *(["--poses", kimera_poses] if kimera_poses else []), *inputs]
+         + (["--no-gnc"] if os.environ.get("NO_GNC") == "1" else []), "rpgo_s", kimera_poses)
     if a.gtsam_gnc:
-        peer("gtsam_gnc", "gtsam_gnc_measure", [a.gtsam_gnc, f], "gnc_s")
-    for tool, kept_pairs, proc, own_s, cert in result:
+        if len(files) > 1:
+            sys.exit("robust.py: gtsam_gnc_measure takes one robot's graph; leave --gtsam-gnc out for several")
+        peer("gtsam_gnc", "gtsam_gnc_measure", [a.gtsam_gnc, files[0]], "gnc_s")
+    for tool, kept_pairs, proc, own_s, cert, err in result:
         if kept_pairs is None:  # timed out
             row = (name, rate, trial, tool, "", n_true, "", len(wrong_pairs), float("nan"), float("nan"),
-                   proc, own_s, cert)
+                   proc, own_s, cert, float("nan"))
             rows.append(row)
             out.write("\t".join(str(v) for v in row) + "\n")
             continue
-        kw = sum(1 for p in kept_pairs if p in wrong_pairs)
+        # Pairs unordered: keel reports an inter-robot candidate from the lower robot's side.
+        wrong_set = {(min(p), max(p)) for p in wrong_pairs}
+        kw = sum(1 for p in kept_pairs if (min(p), max(p)) in wrong_set)
         kt = len(kept_pairs) - kw
         prec = kt / len(kept_pairs) if kept_pairs else 1.0
         rec = kt / n_true if n_true else 1.0
-        row = (name, rate, trial, tool, kt, n_true, kw, len(wrong_pairs), prec, rec, proc, own_s, cert)
+        row = (name, rate, trial, tool, kt, n_true, kw, len(wrong_pairs), prec, rec, proc, own_s, cert, err)
         rows.append(row)
         out.write("\t".join(str(v) for v in row) + "\n")
         out.flush()
     print(f"{name} {rate:g}% trial {trial}: " + "; ".join(
-        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} {row[10]:.2f} s {row[12]}" for row in rows[-len(result):]),
+        f"{row[3]} P {row[8]:.3f} R {row[9]:.3f} ATE {row[13]:.3g} {row[10]:.2f} s {row[12]}"
+        for row in rows[-len(result):]),
           file=sys.stderr)
 
 
@@ -197,6 +298,8 @@ def main():
                     "by ';' (default: one run labelled keel, no extra arguments)")
     ap.add_argument("--wrong-t", type=float, default=5.0)
     ap.add_argument("--workdir", default=None)
+    ap.add_argument("--keel-python", default=None, help="the folder holding keel's Python module (build/release/"
+                    "python): with a --prepared list naming references, each tool's ATE is scored")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per tool and file (a run past it is "
                     "recorded as 'timeout', its time as the limit)")
     ap.add_argument("--prepared", default=None, help="a list written by keel_robust_graphs (lines 'KEY=FILE "
@@ -212,24 +315,50 @@ def main():
     if bool(a.prepared) == bool(a.datasets):
         sys.exit("robust.py: give data sets or --prepared LIST, not both or neither")
     work = a.workdir or tempfile.mkdtemp(prefix="keel_robust_")
+    a.work = work
+    a.keel_module = None
+    if a.keel_python:
+        sys.path.insert(0, a.keel_python)
+        a.keel_module = importlib.import_module("keel")
+    references = {}  # path: {id: position}, read once
     rates = [float(r) for r in a.rates.split(",")]
     rows = []
     gammas = {}  # γ(p) of a data set's dimension, from its first keel run (Kimera-RPGO's threshold is √γ)
     with open(a.out, "w") as out:
         out.write("dataset\trate\ttrial\ttool\tkept_true\ttrue\tkept_wrong\twrong\tprecision\trecall\tprocess_s\t"
-                  "own_s\tcertified\n")
+                  "own_s\tcertified\tate\n")
         for line in open(a.prepared) if a.prepared else []:
-            # <graph>.r1.<kind>.out<percent>.t<trial> or <graph>.r1.clean.t<trial> (ext_robust_backend's cells)
+            # <graph>.r<R>.<kind>.out<percent>.t<trial> or <graph>.r<R>.clean.t<trial> (ext_robust_backend's
+            # cells); a data set's name carries its robot count when it is above one (manhattan.r2.random)
             key, rest = line.strip().split("=", 1)
-            f, true_edges = rest.rsplit(" ", 1)
             parts = key.split(".")
-            name = parts[0] if parts[2] == "clean" else f"{parts[0]}.{parts[2]}"
+            robots = int(parts[1][1:])
+            graph = parts[0] if robots == 1 else f"{parts[0]}.{parts[1]}"
+            name = graph if parts[2] == "clean" else f"{graph}.{parts[2]}"
             rate = 0.0 if parts[2] == "clean" else float(parts[3][3:])
             trial = int(parts[-1][1:])
+            fields = rest.split(" ")
+            reference = None  # the positions of the ATE reference, when the list names one and ATE is scored
+            if a.keel_module and len(fields) == (5 if robots > 1 else 3):
+                if fields[-1] not in references:
+                    with open(fields[-1]) as r:
+                        if r.readline().split() != ["certified", "1"]:
+                            sys.exit(f"robust.py: the reference {fields[-1]} is not certified")
+                    references[fields[-1]] = read_positions(fields[-1])
+                reference = references[fields[-1]]
+            if robots > 1:  # "F0,F1,... CANDIDATES TRUE WRONG_FILE [REFERENCE]" (keel_robust_graphs)
+                files, candidates, n_true, wrong_file = fields[:4]
+                with open(wrong_file) as w:
+                    wrong_pairs = {tuple(map(int, l.split())) for l in w if l.strip()}
+                run_file(a, name, rate, trial, files.split(","), int(n_true), wrong_pairs, gammas, rows, out,
+                         candidates, reference)
+                continue
+            f, true_edges = fields[:2]
             edges = read_edges(f)
             clean, wrong = edges[:int(true_edges)], edges[int(true_edges):]
             n_true = sum(1 for t in clean if abs(int(t[2]) - int(t[1])) != 1)
-            run_file(a, name, rate, trial, f, n_true, {(int(t[1]), int(t[2])) for t in wrong}, gammas, rows, out)
+            run_file(a, name, rate, trial, f, n_true, {(int(t[1]), int(t[2])) for t in wrong}, gammas, rows, out,
+                     None, reference)
         for spec in a.datasets:
             name, path = spec.split("=", 1)
             edges = read_edges(path)
@@ -245,8 +374,8 @@ def main():
                     wrong_pairs = {(int(t[1]), int(t[2])) for t in wrong}
                     run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out)
     print("| data set | outliers | tool | precision (median) | recall (median) | wrong kept (median) | "
-          "process s (median) | keel certified |")
-    print("|---|---|---|---|---|---|---|---|")
+          "ATE (median) | process s (median) | keel certified |")
+    print("|---|---|---|---|---|---|---|---|---|")
     peers = ("kimera", "gtsam_gnc")
     keys = sorted({(r[0], r[1], r[3]) for r in rows}, key=lambda k: (k[0], k[1], k[2] in peers, k[2]))
     for name, rate, tool in keys:
@@ -255,10 +384,13 @@ def main():
         done = [r for r in sel if r[12] != "timeout"]
         late = len(sel) - len(done)
         if not done:
-            print(f"| {name} | {rate:g} % | {tool} | — | — | — | > {a.timeout:g} (all {late} timed out) | {cert} |")
+            print(f"| {name} | {rate:g} % | {tool} | — | — | — | — | > {a.timeout:g} (all {late} timed out) | "
+                  f"{cert} |")
             continue
+        errs = [r[13] for r in done if not math.isnan(r[13])]
         print(f"| {name} | {rate:g} % | {tool} | {statistics.median(r[8] for r in done):.3f} | "
               f"{statistics.median(r[9] for r in done):.3f} | {statistics.median(r[6] for r in done):g} | "
+              f"{f'{statistics.median(errs):.3g}' if errs else '—'} | "
               f"{statistics.median(r[10] for r in done):.2f}{f' ({late} timed out)' if late else ''} | {cert} |")
     labels = [label for label, _ in a.variants]
     for label in labels:
@@ -293,31 +425,46 @@ def sign_test(up, down):
 
 def paired(rows, label, ref):
     """Tool `label` against tool `ref` on the same files: per cell (data set, rate) the mean difference label − ref
-    of precision, recall and process seconds with its 95 % interval over the trials where both finished; per metric
-    the cells whose interval lies on either side of 0 or contains it, and a sign test over the cells."""
+    of precision, recall, ATE (when scored) and process seconds with its 95 % interval over the trials where both
+    finished; per metric the cells whose interval lies on either side of 0 or contains it, and a sign test over the
+    cells; then the cells where no metric's interval shows label worse."""
     by = {(r[0], r[1], r[2], r[3]): r for r in rows if r[12] != "timeout"}
     cells = sorted({(r[0], r[1]) for r in rows})
+    with_ate = any(not math.isnan(r[13]) for r in by.values())
+    metrics = [("precision", 8), ("recall", 9)] + ([("ATE", 13)] if with_ate else []) + [("time", 10)]
+    lower_better = {"ATE", "time"}
     print(f"\n{label} − {ref}, paired by file (mean [95 % interval]):\n")
-    print("| data set | outliers | files | Δ precision | Δ recall | Δ process s |")
-    print("|---|---|---|---|---|---|")
-    tally = {m: [0, 0, 0] for m in ("precision", "recall", "time")}
+    print("| data set | outliers | files | " + " | ".join(
+        f"Δ {'process s' if m == 'time' else m}" for m, _ in metrics) + " |")
+    print("|---|---|---|" + "---|" * len(metrics))
+    tally = {m: [0, 0, 0] for m, _ in metrics}
     signs = {m: [0, 0] for m in tally}  # cells whose mean difference favours label, and ref
+    none_worse = 0
     for name, rate in cells:
         pairs = [(by[k], by[(k[0], k[1], k[2], ref)]) for k in by
                  if k[0] == name and k[1] == rate and k[3] == label and (k[0], k[1], k[2], ref) in by]
         if not pairs:
             continue
         out = []
-        for m, col in (("precision", 8), ("recall", 9), ("time", 10)):
-            mean, lo, hi = interval([x[col] - y[col] for x, y in pairs])
-            # For time, lower is better: an interval below 0 is label's win.
-            win, loss = (lo > 0, hi < 0) if m != "time" else (hi < 0, lo > 0)
+        worse = False
+        for m, col in metrics:
+            d = [x[col] - y[col] for x, y in pairs if not (math.isnan(x[col]) or math.isnan(y[col]))]
+            if not d:
+                out.append("—")
+                continue
+            mean, lo, hi = interval(d)
+            # For time and ATE, lower is better: an interval below 0 is label's win.
+            win, loss = (lo > 0, hi < 0) if m not in lower_better else (hi < 0, lo > 0)
             tally[m][0 if win else 2 if loss else 1] += 1
+            worse = worse or loss
             if mean != 0:
-                signs[m][0 if (mean > 0) == (m != "time") else 1] += 1
-            out.append(f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
+                signs[m][0 if (mean > 0) == (m not in lower_better) else 1] += 1
+            out.append(f"{mean:+.3g} [{lo:+.3g}, {hi:+.3g}]" if m == "ATE" else f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
+        none_worse += not worse
         print(f"| {name} | {rate:g} % | {len(pairs)} | " + " | ".join(out) + " |")
     print()
+    print(f"{label} vs {ref}: no metric shows {label} worse (95 % intervals) in {none_worse} of "
+          f"{sum(1 for c in cells if any(k[0] == c[0] and k[1] == c[1] and k[3] == label for k in by))} cells")
     for m, (w, tie, l) in tally.items():
         up, down = signs[m]
         print(f"{label} vs {ref}, {m}: {label} better in {w} cells, no difference shown in {tie}, worse in {l} "

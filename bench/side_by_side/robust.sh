@@ -10,8 +10,11 @@
 # TRIALS (default 3), SEED (default 1), P (default 0.11), NO_GNC=1 (Kimera-RPGO's PCM alone), TIMEOUT
 # (seconds per tool and file, default 600). Without data sets
 # given: Intel, MIT, Manhattan (M3500) and the parking garage from ../shared/datasets. PREPARED=N instead runs the
-# single-robot graphs of ext_robust_backend's full profile, its first N trials per cell (keel_robust_graphs writes
-# them with the experiment's own generator and seed, or with SEED when set: graphs drawn fresh). KEEL_VARIANTS
+# graphs of ext_robust_backend's full profile, its first N trials per cell (keel_robust_graphs writes them with the
+# experiment's own generator and seed, or with SEED when set: graphs drawn fresh); ROBOTS (default 1; e.g. 1,2,4)
+# names the robot counts whose cells are run, each robot's graph a file and the inter-robot candidates another,
+# given to both tools; each tool's ATE against the experiment's reference is scored (robust.py).
+# GTSAM_GNC_MEASURE takes single-robot cells only. KEEL_VARIANTS
 # (";"-separated LABEL=ARGS, e.g. "edge=;snooping=--residual-test snooping") runs keel robust once per variant
 # with those extra arguments (default: one run, no extra arguments, labelled keel).
 set -euo pipefail
@@ -29,10 +32,15 @@ if [[ -n ${PREPARED:-} ]]; then
   B=$(dirname "$KEEL")/bench/keel_robust_graphs
   [[ -x $B ]] || { echo "robust.sh: $B not built (scripts/build release)" >&2; exit 2; }
   work=$(mktemp -d)
-  "$B" experiments/ext_robust_backend/experiment.toml full "$work" "$PREPARED" ${SEED:+"$SEED"} >"$work/list.txt"
-  exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
+  seed=${SEED:-$(sed -nE 's/^seed *= *([0-9]+).*/\1/p' experiments/ext_robust_backend/experiment.toml)}
+  "$B" experiments/ext_robust_backend/experiment.toml full "$work" "$PREPARED" "$seed" "${ROBOTS:-1}" \
+    >"$work/list.txt"
+  # ATE is scored with keel's Python module (robust.py), which needs numpy: Debian's python3 (a python3 on PATH
+  # may be a pyenv shim without it), as scripts/plot chooses.
+  py=${KEEL_PYTHON:-$([[ -x /usr/bin/python3 ]] && echo /usr/bin/python3 || echo python3)}
+  exec "$py" bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
     --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} \
-    --prepared "$work/list.txt"
+    --keel-python "$(dirname "$KEEL")/python" --prepared "$work/list.txt"
 fi
 [[ ${#sets[@]} -gt 0 ]] || sets=(intel=$D/intel/se-sync/intel.g2o mit=$D/se-sync-benchmarks/MIT.g2o
   manhattan=$D/manhattan3500/se-sync/manhattan.g2o garage=$D/parking-garage/se-sync/parking-garage.g2o)

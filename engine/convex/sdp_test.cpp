@@ -7,6 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <future>
+#include <optional>
+#include <thread>
 #include <vector>
 
 #include "convex/sdp.hpp"
@@ -152,6 +155,23 @@ TEST_CASE("trial loops run OpenBLAS on one thread and give its thread count back
   {
     const core::SingleThreadedBlas guard;
     CHECK(core::blas_threads() == 1);
+  }
+  CHECK(core::blas_threads() == 2);
+  // Guards on two threads that overlap: the count stays 1 until the last of them ends, whichever began first.
+  {
+    std::optional<core::SingleThreadedBlas> first(std::in_place);
+    std::promise<void> second_began, first_ended;
+    std::thread other([&] {
+      const core::SingleThreadedBlas second;
+      second_began.set_value();
+      first_ended.get_future().wait();
+      CHECK(core::blas_threads() == 1);  // the first guard ended; this one still holds
+    });
+    second_began.get_future().wait();
+    first.reset();
+    CHECK(core::blas_threads() == 1);
+    first_ended.set_value();
+    other.join();
   }
   CHECK(core::blas_threads() == 2);
   core::set_blas_threads(before);

@@ -2,6 +2,8 @@
 
 #include <dlfcn.h>
 
+#include <mutex>
+
 namespace keel::core {
 
 namespace {
@@ -44,6 +46,31 @@ SerialOpenMp::SerialOpenMp() {
 
 SerialOpenMp::~SerialOpenMp() {
   if (previous_ >= 0) openmp().set_levels(previous_);
+}
+
+namespace {
+// The live SingleThreadedBlas guards and the count OpenBLAS had before the first of them.
+struct Guards {
+  std::mutex mutex;
+  int live = 0;
+  int previous = 0;
+};
+Guards& guards() {
+  static Guards g;
+  return g;
+}
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+  Guards& g = guards();
+  const std::lock_guard lock(g.mutex);
+  if (g.live++ == 0) g.previous = set_blas_threads(1);
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  Guards& g = guards();
+  const std::lock_guard lock(g.mutex);
+  if (--g.live == 0 && g.previous > 1) set_blas_threads(g.previous);
 }
 
 int blas_threads() {

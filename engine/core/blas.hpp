@@ -23,18 +23,16 @@ int blas_threads();
 // process-wide setting: call it while no BLAS call is in flight.
 int set_blas_threads(int n);
 
-// One BLAS thread for the lifetime of the guard, then the previous count again.
+// One BLAS thread while any guard lives, in any thread, then the count from before the first of them again.
+// The guards are counted process-wide: engine calls that each hold one (merge::robust, pgo::optimize, cov's
+// factorization, the certified solver) may overlap on several threads (Python callers release the GIL), and
+// the count OpenBLAS had is given back only when the last of them ends, never while another still runs.
 class SingleThreadedBlas {
  public:
-  SingleThreadedBlas() : previous_(set_blas_threads(1)) {}
-  ~SingleThreadedBlas() {
-    if (previous_ > 1) set_blas_threads(previous_);
-  }
+  SingleThreadedBlas();
+  ~SingleThreadedBlas();
   SingleThreadedBlas(const SingleThreadedBlas&) = delete;
   SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
- private:
-  int previous_;
 };
 
 // OpenMP's parallel regions of the libraries keel calls, serialized for the lifetime of the guard (OpenMP's

@@ -62,24 +62,28 @@ TEST_CASE("ext_robust_backend's config: bad values are refused, naming the key")
                                     "p must be in (0, 1)"));
 }
 
-TEST_CASE("ext_robust_backend's residual test: the registered edge test unless the config names another") {
+TEST_CASE(
+    "ext_robust_backend's residual test: keel robust's defaults as re-registered; absent keys, the first "
+    "registration") {
   const auto full =
       RobustBackend::Options::read(keel::repro::ExperimentConfig::load(kRobustConfig, "full").params);
-  CHECK(full.robust.residual_test == keel::merge::RobustResidualTest::edge);
-  CHECK_FALSE(full.robust.first_solve_rank_d);  // the certified solve first, as registered
-  const auto groups = read_robust_with("residual_p = 0.01",
-                                       "residual_p = 0.01\nresidual_test = \"groups\"\ngroup_window = 3");
+  CHECK(full.robust.residual_test == keel::merge::RobustResidualTest::groups);
+  CHECK(full.robust.group_window == 5);
+  CHECK(full.robust.first_solve_rank_d);
+  // The keys the re-registration added, as a config names them; without them, the pipeline first registered:
+  // the edge χ² test from the certified solve.
+  const std::string keys = "residual_test = \"groups\"\ngroup_window = 5\nfirst_solve = \"rank-d\"";
+  const auto first = read_robust_with(keys, "");
+  CHECK(first.robust.residual_test == keel::merge::RobustResidualTest::edge);
+  CHECK_FALSE(first.robust.first_solve_rank_d);
+  const auto groups = read_robust_with(keys, "residual_test = \"groups\"\ngroup_window = 3");
   CHECK(groups.robust.residual_test == keel::merge::RobustResidualTest::groups);
   CHECK(groups.robust.group_window == 3);
-  CHECK(read_robust_with("residual_p = 0.01", "residual_p = 0.01\nfirst_solve = \"rank-d\"")
-            .robust.first_solve_rank_d);
-  CHECK(throws_with<std::exception>(
-      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\nfirst_solve = \"rank-3\""); },
-      "first_solve"));
-  CHECK(throws_with<std::exception>(
-      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\nresidual_test = \"chi\""); },
-      "residual_test"));
-  CHECK(throws_with<std::exception>(
-      [] { (void)read_robust_with("residual_p = 0.01", "residual_p = 0.01\ngroup_window = 0"); },
-      "group_window"));
+  CHECK(read_robust_with(keys, "first_solve = \"rank-d\"").robust.first_solve_rank_d);
+  CHECK(throws_with<std::exception>([&] { (void)read_robust_with(keys, "first_solve = \"rank-3\""); },
+                                    "first_solve"));
+  CHECK(throws_with<std::exception>([&] { (void)read_robust_with(keys, "residual_test = \"chi\""); },
+                                    "residual_test"));
+  CHECK(
+      throws_with<std::exception>([&] { (void)read_robust_with(keys, "group_window = 0"); }, "group_window"));
 }

@@ -26,14 +26,12 @@
 // solver options, of every robot's odometry and every true loop closure, without the odometry that joins two
 // robots), one line "id x y [z]" per pose in global ids, after a first line "certified 1|0".
 import keel.core;
-import keel.pgo;
 import keel.graph;
 import keel.repro;
 import keel.sim;
 import keel.study;
 
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -85,31 +83,30 @@ void write_split(const Corrupted& corrupted, int robots, std::size_t clean_edges
   std::printf("%s\n", line.str().c_str());
 }
 
-// The ATE reference of a graph cut into `robots` robots (the study's backend_reference): the clean graph
-// without the odometry edges that join two robots, solved with the certificate.
-template <class Graph>
-std::filesystem::path write_reference(const Graph& clean, int robots,
-                                      const keel::pgo::CertifiedOptions& solve,
-                                      const std::filesystem::path& dir, const std::string& name) {
-  Graph h = clean;
-  const int n = static_cast<int>(h.poses.size());
-  std::erase_if(h.edges, [&](const auto& e) {
-    return std::abs(e.i - e.j) == 1 &&
-           keel::sim::robot_of_pose(e.i, n, robots) != keel::sim::robot_of_pose(e.j, n, robots);
-  });
-  const auto r = keel::pgo::solve_certified(h, solve);
+// The ATE reference of graph g cut into `robots` robots (the study's own, RobustBackend::reference), written
+// as the header says.
+std::filesystem::path write_reference(const keel::study::ch4::RobustBackend::CleanGraph& clean,
+                                      const keel::study::ch4::RobustBackend::Options& options, std::size_t g,
+                                      int robots, const std::filesystem::path& dir, const std::string& name) {
+  const auto ref = keel::study::ch4::RobustBackend::reference(clean, options, g, robots);
   const auto path = dir / (name + ".r" + std::to_string(robots) + ".reference.txt");
   std::ofstream out(path);
-  out << "certified " << (r.summary.certificate.certified ? 1 : 0) << "\n";
+  out << "certified " << (ref.certified ? 1 : 0) << "\n";
   char buffer[128];
-  for (std::size_t k = 0; k < r.poses.size(); ++k) {
-    const auto& t = r.poses[k].translation();
-    if (t.size() == 2)
-      std::snprintf(buffer, sizeof buffer, "%zu %.17g %.17g\n", k, t[0], t[1]);
-    else
-      std::snprintf(buffer, sizeof buffer, "%zu %.17g %.17g %.17g\n", k, t[0], t[1], t[2]);
-    out << buffer;
-  }
+  auto write = [&](const auto& poses) {
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const auto& t = poses[k].translation();
+      if (t.size() == 2)
+        std::snprintf(buffer, sizeof buffer, "%zu %.17g %.17g\n", k, t[0], t[1]);
+      else
+        std::snprintf(buffer, sizeof buffer, "%zu %.17g %.17g %.17g\n", k, t[0], t[1], t[2]);
+      out << buffer;
+    }
+  };
+  if (options.graphs[g].dimension == 2)
+    write(ref.poses2);
+  else
+    write(ref.poses3);
   if (!out) throw std::runtime_error("cannot write " + path.string());
   return path;
 }
@@ -148,8 +145,7 @@ int main(int argc, char** argv) {
       auto& reference = references[{cell.graph, cell.robots}];
       if (reference.empty()) {
         const std::string name = cell.key.name().substr(0, cell.key.name().find('.'));
-        reference = two_d ? write_reference(c.g2, cell.robots, options.robust.solve, dir, name)
-                          : write_reference(c.g3, cell.robots, options.robust.solve, dir, name);
+        reference = write_reference(c, options, cell.graph, cell.robots, dir, name);
       }
       for (int t = 0; t < trials && t < options.trials; ++t) {
         const std::string key = cell.key.name() + ".t" + std::to_string(t);

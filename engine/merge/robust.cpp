@@ -405,7 +405,8 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   // The whole run on one BLAS thread and with CHOLMOD's OpenMP teams serialized (core/blas.hpp): the
   // Levenberg–Marquardt re-solves and marginals factor small graphs many times, where OpenBLAS's own threads
   // spin against o.threads' workers (and against any other process), and the answer must not depend on the
-  // machine's core count. o.threads is the only parallelism.
+  // machine's core count. o.threads is the only parallelism. The calls below hold their own guards too; this
+  // one keeps OpenBLAS's count at 1 between them instead of switching it back and forth at each.
   const core::SingleThreadedBlas one_blas_thread;
   const core::SerialOpenMp serial_openmp;
   auto say = [&](const std::string& s) {

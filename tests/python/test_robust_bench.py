@@ -35,14 +35,8 @@ def load_robust_py():
 
 
 def edges_of(path):
-    """The file's EDGE records as tuples of their fields (ids as ints, the rest as written)."""
-    out = []
-    with open(path) as f:
-        for line in f:
-            t = line.split()
-            if t and t[0].startswith("EDGE"):
-                out.append((t[0], int(t[1]), int(t[2]), tuple(t[3:])))
-    return out
+    """The file's EDGE records (robust.py's reader) as tuples of their fields (ids as ints, the rest as written)."""
+    return [(t[0], int(t[1]), int(t[2]), tuple(t[3:])) for t in load_robust_py().read_edges(path)]
 
 
 class RobustGraphs(unittest.TestCase):

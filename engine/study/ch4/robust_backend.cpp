@@ -204,6 +204,12 @@ RobustBackend::CleanGraph RobustBackend::clean_graph(const Options& o, std::size
   return out;
 }
 
+RobustBackendReference RobustBackend::reference(const CleanGraph& clean, const Options& options,
+                                                std::size_t g, int robots) {
+  return options.graphs[g].dimension == 2 ? backend_reference(clean.g2, g, robots, options.robust.solve)
+                                          : backend_reference(clean.g3, g, robots, options.robust.solve);
+}
+
 sim::CorruptedGraph2 RobustBackend::trial_graph(const graph::PoseGraph2D& clean, const Options& o,
                                                 const RobustBackendCell& cell, int trial,
                                                 const core::Streams& streams) {
@@ -223,10 +229,7 @@ RobustBackend::Outcome RobustBackend::run(const Options& o, const RunContext& co
   std::vector<CleanGraph> clean;
   for (std::size_t g = 0; g < o.graphs.size(); ++g) {
     clean.push_back(clean_graph(o, g));
-    for (const int robots : o.robots)
-      out.references.push_back(o.graphs[g].dimension == 2
-                                   ? backend_reference(clean[g].g2, g, robots, o.robust.solve)
-                                   : backend_reference(clean[g].g3, g, robots, o.robust.solve));
+    for (const int robots : o.robots) out.references.push_back(reference(clean[g], o, g, robots));
   }
   const auto reference = [&](const RobustBackendCell& c) -> const RobustBackendReference& {
     for (const auto& r : out.references)

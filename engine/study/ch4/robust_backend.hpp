@@ -96,6 +96,10 @@ struct RobustBackend {
     graph::PoseGraph3D g3;
   };
   static CleanGraph clean_graph(const Options& options, std::size_t g);
+  // The ATE and RPE reference of graph g cut into `robots` robots (RobustBackendReference), from its clean
+  // subset; bench/side_by_side/robust_graphs.cpp writes it for the side-by-side.
+  static RobustBackendReference reference(const CleanGraph& clean, const Options& options, std::size_t g,
+                                          int robots);
   // Trial t of `cell`: its graph's clean subset with the wrong closures the experiment draws appended (from
   // `streams`, the experiment's seed at base 0), so bench/side_by_side/robust_graphs.cpp writes the graphs
   // the experiment runs.

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -110,21 +113,47 @@ void AlignmentWorldOptions::validate() const {
     fail("AlignmentWorldOptions.max_rotation = {:g}: must be in [0, pi]", max_rotation);
 }
 
-// A bump whose exponent |p − c|² / (2σ²) exceeds kUnderflow adds exactly zero: exp(−746) ≈ 1e−324 is below
-// half the smallest subnormal (4.94e−324), so exp rounds it to +0 and a·(+0) = ±0 leaves the sum as it is.
-// Such bumps are skipped without calling exp, whose underflow path (it also sets errno) is its slowest; the
-// sum is bit for bit the one over every bump (alignment_world_test checks it against the plain loop). A fine
-// field (σ ≤ 1 m on a 60 m square) skips most of its bumps at every position.
+// The field sums Σ a exp(−q), q = |p − c|² / (2σ²), over the bumps in their order, and skips a bump only when
+// adding it could not change the partial sum v, so the result is bit for bit the plain loop's
+// (alignment_world_test checks it against that loop):
+// - q > kUnderflow: exp(−746) ≈ 1e−324 is below half the smallest subnormal (4.94e−324), so exp rounds it to
+//   +0 and a·(+0) = ±0 leaves v as it is (without calling exp, whose underflow path is its slowest).
+// - v finite and normal, v ∈ [2^(kv−1), 2^kv) in magnitude, |a| < 2^ka: round-to-nearest returns v for v + x
+//   whenever |x| < ulp(v)/4 = 2^(kv−55) (a quarter: below a power of two the spacing halves). The computed
+//   term is at most |a|·exp(−q)·(1 + 2⁻⁵¹) < 2^(ka+1)·exp(−q) (exp within an ulp, one rounded product), so
+//   q > (56 + ka − kv)·ln 2 suffices; the test asks q > (57 + ka − kv)·ln 2, a factor of two to spare.
+// Once the nearest bumps are in v, the far ones (all but a few tens of a fine field's thousands of bumps
+// per component) are skipped without calling exp.
 constexpr double kUnderflow = 746.0;
 
+namespace {
+// The binary exponent e of a finite x with |x| < 2^e (the IEEE field minus the bias, plus one; 2^−1022
+// bounds the subnormals and zero); 1025 for ±inf and NaN.
+int exponent_bound(double x) {
+  return static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1022;
+}
+}  // namespace
+
 void FeatureField::value_into(double x, double y, double* out) const {
+  constexpr double kLn2 = 0.6931471805599453;
   for (int k = 0; k < dim; ++k) {
     double v = offset;
+    // q above `skip_from` + ka·ln 2 cannot move v (ka: the bump's exponent_bound(a)); +inf while v is zero,
+    // subnormal or not finite (no bump skipped on that ground).
+    auto bound = [&](double sum) {
+      const int kv = exponent_bound(sum);
+      return kv > -1022 && kv < 1025 ? (57 - kv) * kLn2 : std::numeric_limits<double>::infinity();
+    };
+    double skip_from = bound(v);
     for (int b = k * per_component; b < (k + 1) * per_component; ++b) {
       const double dx = x - cx[b], dy = y - cy[b];
       const double d2 = dx * dx + dy * dy, s2 = 2.0 * sigma[b] * sigma[b];
-      if (d2 > kUnderflow * s2) continue;  // d2 / s2 > 746 (1 − 2ε): exp(−d2 / s2) is +0
+      // d2 > 746·s2: q > 746 (1 − 2ε), exp(−q) is +0. d2 > t·s2 with t = skip_from + ka·ln 2 below 746:
+      // q > t (1 − 3ε), above (56 + ka − kv)·ln 2 with ln 2 to spare: |term| < ulp(v) / 4.
+      const double t = std::min(kUnderflow, skip_from + exponent_bound(amplitude[b]) * kLn2);
+      if (d2 > t * s2) continue;
       v += amplitude[b] * std::exp(-d2 / s2);
+      skip_from = bound(v);
     }
     out[k] = v;
   }

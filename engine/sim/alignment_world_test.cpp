@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/random.hpp"
 #include "kit/test_kit.hpp"
 #include "sim/alignment_world.hpp"
 
@@ -238,7 +239,7 @@ TEST_CASE("features: the field at the true position plus N(0, feature_noise²); 
   }
 }
 
-TEST_CASE("the field skips only bumps that add exactly zero: bit for bit the sum over every bump") {
+TEST_CASE("the field skips only bumps that cannot change the sum: bit for bit the sum over every bump") {
   // exp(−x) is +0 from x = 746 (1 − 4ε) on, the bound value_into relies on to skip a far bump.
   const double from = 746.0 * (1.0 - 4.0 * 2.220446049250313e-16);
   for (int i = 0; i <= 100000; ++i) {
@@ -251,7 +252,7 @@ TEST_CASE("the field skips only bumps that add exactly zero: bit for bit the sum
   o.bump_sigma_min = 0.3;
   o.bump_sigma_max = 1.0;
   o.bumps = 2000;
-  int far_bumps = 0;
+  int far_bumps = 0, tiny_bumps = 0;
   for (int s = 0; s < 3; ++s) {
     const auto w = make_alignment_world(o, 17, s);
     const FeatureField& f = w.field;
@@ -265,13 +266,51 @@ TEST_CASE("the field skips only bumps that add exactly zero: bit for bit the sum
           const double dx = x - f.cx[b], dy = y - f.cy[b];
           const double e = (dx * dx + dy * dy) / (2.0 * f.sigma[b] * f.sigma[b]);
           far_bumps += e > 746.0 ? 1 : 0;
+          tiny_bumps += e > 60.0 && e <= 746.0 ? 1 : 0;  // a nonzero term below 1e−26: skipped against v
           v += f.amplitude[b] * std::exp(-e);
         }
         REQUIRE(std::bit_cast<std::uint64_t>(got[k]) == std::bit_cast<std::uint64_t>(v));
       }
     }
   }
-  CHECK(far_bumps > 3 * 400 * 3 * 2000 / 2);  // most bumps are skipped: the test exercises the skip
+  CHECK(far_bumps > 3 * 400 * 3 * 2000 / 2);    // most bumps underflow: the test exercises that skip
+  CHECK(tiny_bumps > 3 * 400 * 3 * 2000 / 10);  // and many more add less than an ulp of the sum
+}
+
+TEST_CASE("the field's skip against the sum is exact for amplitudes, offsets and sums of any magnitude") {
+  // Adversarial fields: amplitudes from 1e−200 to 1e200 of either sign (and zero), offsets that make the sum
+  // zero, subnormal, huge or negative, σ over four decades; value_into against the plain loop by bits.
+  keel::core::Rng rng(20261207);
+  const double offsets[] = {0.0, 4e-320, -3.5, 1e30, -1e-300, 0.25};
+  int terms = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    FeatureField f;
+    f.dim = 2;
+    f.per_component = 1 + static_cast<int>(rng.uniform() * 300);
+    f.offset = offsets[trial % 6];
+    for (int b = 0; b < f.dim * f.per_component; ++b) {
+      f.cx.push_back(rng.uniform(-30.0, 30.0));
+      f.cy.push_back(rng.uniform(-30.0, 30.0));
+      f.sigma.push_back(std::pow(10.0, rng.uniform(-2.0, 2.0)));
+      const double a = std::pow(10.0, rng.uniform(-200.0, 200.0));
+      f.amplitude.push_back(rng.uniform() < 0.05 ? 0.0 : rng.uniform() < 0.5 ? -a : a);
+    }
+    std::vector<double> got(2);
+    for (int i = 0; i < 50; ++i) {
+      const double x = rng.uniform(-40.0, 40.0), y = rng.uniform(-40.0, 40.0);
+      f.value_into(x, y, got.data());
+      for (int k = 0; k < f.dim; ++k) {
+        double v = f.offset;
+        for (int b = k * f.per_component; b < (k + 1) * f.per_component; ++b) {
+          const double dx = x - f.cx[b], dy = y - f.cy[b];
+          v += f.amplitude[b] * std::exp(-(dx * dx + dy * dy) / (2.0 * f.sigma[b] * f.sigma[b]));
+          ++terms;
+        }
+        REQUIRE(std::bit_cast<std::uint64_t>(got[k]) == std::bit_cast<std::uint64_t>(v));
+      }
+    }
+  }
+  CHECK(terms > 100000);
 }
 
 TEST_CASE("position noise: N(0, position_noise²) per coordinate on both trajectories") {

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/parallel.hpp"
 #include "core/progress.hpp"
@@ -33,7 +35,12 @@ double corr(const Mat6& S, int a, int b) {
   return d > 0 ? S(a, b) / d : 0.0;
 }
 
-PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t samples, core::Rng& rng) {
+// The study of one pair at each sample size of `sizes` (ascending, ≥ 2): M samples drawn from `rng` in turn,
+// and after the M-th the record at M = sizes[s]. The first M draws are those of a run at M alone, and the
+// accumulators at the M-th sample are that run's, so record s is bit for bit the record of a run with
+// samples = sizes[s] on the same stream.
+std::vector<PairRecord> study_one(const SE2& Ti, const SE2& Tj, const Mat6& S,
+                                  const std::vector<std::size_t>& sizes, core::Rng& rng) {
   PairRecord rec;
   rec.corr_x = corr(S, 0, 3);
   rec.corr_y = corr(S, 1, 4);
@@ -58,7 +65,9 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
   const Mat6 L = Mat6(covariance_square_root(S));
   Mat3 lie_acc = Mat3::Zero(), ssc_acc = Mat3::Zero(), raw_acc = Mat3::Zero();
   Vec3 ssc_sum = Vec3::Zero(), raw_sum = Vec3::Zero();
-  for (std::size_t m = 0; m < samples; ++m) {
+  std::vector<PairRecord> out;
+  out.reserve(sizes.size());
+  for (std::size_t m = 0; out.size() < sizes.size(); ++m) {
     Vec6 z;
     for (int k = 0; k < 6; ++k) z(k) = rng.normal();
     const Vec6 xi = L * z;
@@ -74,30 +83,40 @@ PairRecord study_one(const SE2& Ti, const SE2& Tj, const Mat6& S, std::size_t sa
     x(2) = wrap_angle(x(2));
     ssc_sum += x;
     ssc_acc += x * x.transpose();
+    if (m + 1 != sizes[out.size()]) continue;
+    const double M = static_cast<double>(m + 1);
+    const Mat3 lie_mc = lie_acc / M;  // eq. 5.57
+    const Vec3 ssc_mean = ssc_sum / M;
+    const Mat3 ssc_mc = (ssc_acc - M * ssc_mean * ssc_mean.transpose()) / (M - 1.0);
+    rec.error_joint = covariance_error(joint.cov, lie_mc);
+    rec.error_independent = covariance_error(ind.cov, lie_mc);
+    rec.normalized_error_lie = normalized_covariance_error(joint.cov, lie_mc);
+    rec.normalized_error_ssc = normalized_covariance_error(ssc_pred.cov, ssc_mc);
+    const Vec3 raw_mean = raw_sum / M;
+    const Mat3 raw_mc = (raw_acc - M * raw_mean * raw_mean.transpose()) / (M - 1.0);
+    rec.normalized_error_ssc_raw_angles = normalized_covariance_error(ssc_pred.cov, raw_mc);
+    const double tr = joint.cov.trace();
+    rec.normalized_mc_floor = std::sqrt((tr * tr + (joint.cov * joint.cov).trace()) / M) / joint.cov.norm();
+    out.push_back(rec);
   }
-  const double M = static_cast<double>(samples);
-  const Mat3 lie_mc = lie_acc / M;  // eq. 5.57
-  const Vec3 ssc_mean = ssc_sum / M;
-  const Mat3 ssc_mc = (ssc_acc - M * ssc_mean * ssc_mean.transpose()) / (M - 1.0);
-  rec.error_joint = covariance_error(joint.cov, lie_mc);
-  rec.error_independent = covariance_error(ind.cov, lie_mc);
-  rec.normalized_error_lie = normalized_covariance_error(joint.cov, lie_mc);
-  rec.normalized_error_ssc = normalized_covariance_error(ssc_pred.cov, ssc_mc);
-  const Vec3 raw_mean = raw_sum / M;
-  const Mat3 raw_mc = (raw_acc - M * raw_mean * raw_mean.transpose()) / (M - 1.0);
-  rec.normalized_error_ssc_raw_angles = normalized_covariance_error(ssc_pred.cov, raw_mc);
-  const double tr = joint.cov.trace();
-  rec.normalized_mc_floor = std::sqrt((tr * tr + (joint.cov * joint.cov).trace()) / M) / joint.cov.norm();
-  return rec;
+  return out;
 }
 
 }  // namespace
 
-std::vector<PairRecord> simulate_pairs_2d(const std::vector<SE2>& poses,
-                                          const std::vector<std::pair<int, int>>& pairs,
-                                          const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
-                                          const repro::RunContext& context, core::Progress* progress) {
-  setup.validate();
+std::vector<std::vector<PairRecord>> simulate_pairs_2d_sizes(const std::vector<SE2>& poses,
+                                                             const std::vector<std::pair<int, int>>& pairs,
+                                                             const std::vector<Mat6>& joint_covs,
+                                                             const std::vector<std::size_t>& sizes,
+                                                             const repro::RunContext& context,
+                                                             core::Progress* progress) {
+  if (sizes.empty()) throw std::invalid_argument("simulate_pairs_2d: no sample size given");
+  for (std::size_t s = 0; s < sizes.size(); ++s) {
+    if (sizes[s] < 2 || (s > 0 && sizes[s] <= sizes[s - 1]))
+      throw std::invalid_argument(
+          fmt::format("simulate_pairs_2d: sample sizes must be >= 2 and ascending (got {} after {})",
+                      sizes[s], s > 0 ? fmt::format("{}", sizes[s - 1]) : std::string("nothing")));
+  }
   if (pairs.size() != joint_covs.size()) {
     throw std::invalid_argument(
         fmt::format("simulate_pairs_2d: {} pairs but {} covariances", pairs.size(), joint_covs.size()));
@@ -109,23 +128,34 @@ std::vector<PairRecord> simulate_pairs_2d(const std::vector<SE2>& poses,
           fmt::format("simulate_pairs_2d: pair ({}, {}) refers to a pose outside [0, {})", i, j, n));
     }
   }
-  std::vector<PairRecord> out(pairs.size());
-  context.trials(  // one trial per pair; its record is the PairRecord
+  std::vector<std::vector<PairRecord>> per_pair(pairs.size());  // per_pair[k][s]: pair k at sizes[s]
+  context.trials(  // one trial per pair; its record is its PairRecord at every size
       pairs.size(),
       [&](std::size_t k) {
         core::Rng rng = context.streams().stream(k);
         const auto [i, j] = pairs[k];
         try {
-          out[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)],
-                             joint_covs[k], setup.samples, rng);
+          per_pair[k] = study_one(poses[static_cast<std::size_t>(i)], poses[static_cast<std::size_t>(j)],
+                                  joint_covs[k], sizes, rng);
         } catch (const std::exception& e) {
           throw std::runtime_error(fmt::format("pair ({}, {}): {}", i, j, e.what()));
         }
-        out[k].i = i;
-        out[k].j = j;
+        for (auto& r : per_pair[k]) r.i = i, r.j = j;
       },
-      progress, out);
+      progress, per_pair);
+  std::vector<std::vector<PairRecord>> out(sizes.size(), std::vector<PairRecord>(pairs.size()));
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    for (std::size_t s = 0; s < sizes.size(); ++s) out[s][k] = per_pair[k][s];
   return out;
+}
+
+std::vector<PairRecord> simulate_pairs_2d(const std::vector<SE2>& poses,
+                                          const std::vector<std::pair<int, int>>& pairs,
+                                          const std::vector<Mat6>& joint_covs, const PairStudySetup& setup,
+                                          const repro::RunContext& context, core::Progress* progress) {
+  setup.validate();
+  return std::move(
+      simulate_pairs_2d_sizes(poses, pairs, joint_covs, {setup.samples}, context, progress).front());
 }
 
 PairStatistics pair_statistics(const std::vector<PairRecord>& records, double PairRecord::* field,

@@ -53,6 +53,14 @@ struct PairRecord {
                                                         const repro::RunContext& context,
                                                         core::Progress* progress = nullptr);
 
+// The same study at several sample sizes M in one pass over each pair's stream: `sizes` ascending, each ≥ 2;
+// out[s][k] is pairs[k]'s record at M = sizes[s], bit for bit simulate_pairs_2d's with samples = sizes[s]
+// (a run at M draws the first M samples of the stream). The work is that of the largest M alone.
+[[nodiscard]] std::vector<std::vector<PairRecord>> simulate_pairs_2d_sizes(
+    const std::vector<SE2>& poses, const std::vector<std::pair<int, int>>& pairs,
+    const std::vector<Mat6>& joint_covs, const std::vector<std::size_t>& sizes,
+    const repro::RunContext& context, core::Progress* progress = nullptr);
+
 // Mean and (population) standard deviation of one field over the records, optionally only pairs with j − i =
 // offset.
 struct PairStatistics {

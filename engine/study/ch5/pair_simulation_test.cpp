@@ -1,9 +1,16 @@
 #include <doctest/doctest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 #include "kit/test_kit.hpp"
 #include "lie/euler.hpp"
+#include "core/config.hpp"
+#include "study/ch5/pair_sample_size.hpp"
 #include "study/ch5/pair_simulation.hpp"
 
 using namespace keel::lie;
@@ -60,4 +67,78 @@ TEST_CASE("pair study: bad inputs are rejected with clear messages") {
   setup.samples = 1;
   CHECK_THROWS_AS((void)simulate_pairs_2d(poses, {{0, 1}}, {Mat6::Identity()}, setup, RunContext(Streams(1))),
                   std::invalid_argument);
+}
+
+TEST_CASE(
+    "pair study at several sample sizes in one pass: each record bit for bit a run at that size alone") {
+  std::vector<SE2> poses = {SE2(0, 0, 0), SE2(10, 5, 1.0), SE2(-4, 8, -2.0), SE2(3, -2, 3.0)};
+  Mat6 S = Mat6::Zero();
+  const Vec3 sd(0.3, 0.2, 0.4);  // large enough that θ wraps in some samples
+  for (int a = 0; a < 3; ++a) {
+    S(a, a) = S(a + 3, a + 3) = sd(a) * sd(a);
+    S(a, a + 3) = S(a + 3, a) = 0.5 * sd(a) * sd(a);
+  }
+  const std::vector<std::pair<int, int>> pairs = {{1, 2}, {0, 1}, {3, 1}};
+  const std::vector<std::size_t> sizes = {2, 3, 50, 401};
+  const auto all = simulate_pairs_2d_sizes(poses, pairs, {S, S, S}, sizes, RunContext(Streams(11), 2));
+  REQUIRE(all.size() == sizes.size());
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  for (std::size_t s = 0; s < sizes.size(); ++s) {
+    PairStudySetup setup;
+    setup.samples = sizes[s];
+    const auto alone = simulate_pairs_2d(poses, pairs, {S, S, S}, setup, RunContext(Streams(11), 1));
+    REQUIRE(all[s].size() == pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const PairRecord &a = all[s][k], &b = alone[k];
+      CHECK(a.i == b.i);
+      CHECK(a.j == b.j);
+      for (double PairRecord::* f :
+           {&PairRecord::corr_x, &PairRecord::corr_y, &PairRecord::corr_theta, &PairRecord::error_joint,
+            &PairRecord::error_independent, &PairRecord::normalized_error_lie,
+            &PairRecord::normalized_error_ssc, &PairRecord::normalized_error_ssc_raw_angles,
+            &PairRecord::normalized_mc_floor})
+        CHECK(bits(a.*f) == bits(b.*f));
+    }
+  }
+  // The sizes see different samples: the estimates move between them.
+  CHECK(all[2][0].error_joint != all[3][0].error_joint);
+}
+
+TEST_CASE("pair study at several sample sizes: sizes must be >= 2 and ascending") {
+  std::vector<SE2> poses = {SE2(0, 0, 0), SE2(1, 0, 0)};
+  const std::vector<Mat6> covs = {Mat6::Identity()};
+  for (const std::vector<std::size_t>& bad :
+       {std::vector<std::size_t>{}, {1, 10}, {10, 10}, {20, 10}, {5, 50, 40}})
+    CHECK_THROWS_AS((void)simulate_pairs_2d_sizes(poses, {{0, 1}}, covs, bad, RunContext(Streams(1))),
+                    std::invalid_argument);
+  CHECK_THROWS_WITH_AS((void)simulate_pairs_2d_sizes(poses, {{0, 1}}, covs, {30, 20}, RunContext(Streams(1))),
+                       doctest::Contains("ascending (got 20 after 30)"), std::invalid_argument);
+}
+
+TEST_CASE("pair sample-size study: its sample sizes must be whole, >= 2 and ascending, the key named") {
+  const auto dir = std::filesystem::temp_directory_path() / "keel_pair_sample_size_test";
+  std::filesystem::create_directories(dir);
+  const auto refused = [&](const std::string& samples) {
+    const auto file = dir / "experiment.toml";
+    std::ofstream(file) << "[params]\ndataset = \"manhattan3500\"\nfile = \"isam/manhattanOlson3500.txt\"\n"
+                           "initial_guess = \"odometry\"\noffsets = [5]\nfigure_offsets = [5]\n"
+                           "match_cov_error_joint = 0.1\nmatch_norm_cov_error_lie = 0.1\npair_stride = 25\n"
+                           "samples = "
+                        << samples << "\n";
+    try {
+      (void)PairSampleSize::Options::read(keel::core::load_toml(file).table("params"));
+    } catch (const keel::core::ConfigError& e) {
+      const std::string what = e.what();
+      CHECK_MESSAGE(what.find("samples") != std::string::npos, what);
+      return true;
+    }
+    return false;
+  };
+  CHECK(refused("[500]"));
+  CHECK(refused("[1000, 500]"));
+  CHECK(refused("[500, 500]"));
+  CHECK(refused("[500.5, 1000]"));
+  CHECK(refused("[1, 1000]"));
+  CHECK_FALSE(refused("[250, 500, 1000]"));
+  std::filesystem::remove_all(dir);
 }

@@ -74,6 +74,69 @@ struct Section {
   double wall = 0;
 };
 
+// results/<id>/side_by_side.json (report.hpp): a measurement beside other tools, made outside the run by a
+// bench script and committed; rendered as its tables under its provenance. Empty when the file does not
+// exist; a malformed file is an error naming the file and the field.
+std::string side_by_side_text(const std::filesystem::path& results_dir, const std::string& id) {
+  const std::filesystem::path file = results_dir / id / "side_by_side.json";
+  std::ifstream in(file);
+  if (!in) return {};
+  const std::string where = file.string();
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: not JSON: {}", where, e.what()));
+  }
+  auto text_of = [&](const json& v, const std::string& what) {
+    if (!v.is_string()) throw std::runtime_error(fmt::format("{}: {} must be a string", where, what));
+    return v.get<std::string>();
+  };
+  if (!doc.is_object() || !doc.contains("title") || !doc.contains("tables") || !doc["tables"].is_array() ||
+      doc["tables"].empty())
+    throw std::runtime_error(
+        fmt::format("{}: needs an object with \"title\" and a non-empty array \"tables\"", where));
+  std::string out =
+      fmt::format("**Side by side, measured outside this run: {}.**", text_of(doc["title"], "title"));
+  if (doc.contains("what")) out += " " + text_of(doc["what"], "what");
+  out += "\n\n";
+  if (doc.contains("provenance")) {
+    if (!doc["provenance"].is_object())
+      throw std::runtime_error(fmt::format("{}: provenance must be an object of strings", where));
+    std::vector<std::string> parts;
+    for (auto it = doc["provenance"].begin(); it != doc["provenance"].end(); ++it)
+      parts.push_back(fmt::format("{}: {}", it.key(), text_of(it.value(), "provenance." + it.key())));
+    if (!parts.empty())
+      out += fmt::format("<sub>{}</sub>\n\n", escape_cell(fmt::format("{}", fmt::join(parts, "; "))));
+  }
+  for (std::size_t t = 0; t < doc["tables"].size(); ++t) {
+    const json& table = doc["tables"][t];
+    const std::string name = fmt::format("tables[{}]", t);
+    if (!table.is_object() || !table.contains("header") || !table["header"].is_array() ||
+        table["header"].empty() || !table.contains("rows") || !table["rows"].is_array())
+      throw std::runtime_error(
+          fmt::format("{}: {} needs a non-empty array \"header\" and an array \"rows\"", where, name));
+    if (table.contains("caption")) out += text_of(table["caption"], name + ".caption") + ":\n\n";
+    std::vector<std::string> header;
+    for (const json& h : table["header"]) header.push_back(escape_cell(text_of(h, name + ".header")));
+    std::string rule;
+    for (std::size_t k = 0; k < header.size(); ++k) rule += "---|";
+    out += fmt::format("| {} |\n|{}\n", fmt::join(header, " | "), rule);
+    for (std::size_t r = 0; r < table["rows"].size(); ++r) {
+      const json& row = table["rows"][r];
+      const std::string rname = fmt::format("{}.rows[{}]", name, r);
+      if (!row.is_array() || row.size() != header.size())
+        throw std::runtime_error(fmt::format("{}: {} must be an array of {} strings (the header's width)",
+                                             where, rname, header.size()));
+      std::vector<std::string> cells;
+      for (const json& c : row) cells.push_back(escape_cell(text_of(c, rname)));
+      out += fmt::format("| {} |\n", fmt::join(cells, " | "));
+    }
+    out += "\n";
+  }
+  return out;
+}
+
 // The results of experiment `id` a report section reads: `file_name` (latest.json, or a baseline) and, for a
 // report of this machine's runs, the committed baseline of the profile standing in where the experiment was
 // not run here at that profile (`stand_in` set). Null (json()) where neither exists.
@@ -415,6 +478,7 @@ Section render(const ExperimentConfig& cfg, const std::filesystem::path& results
                    "<sub>Numbers quoted above from {} come from the committed `baseline.{}.json`: not run "
                    "here.</sub>\n\n",
                    fmt::join(*stand_ins, ", "), cfg.profile);
+  text += side_by_side_text(results_dir, cfg.id);
 
   // Key metrics not covered above.
   if (r.contains("metrics") && !r["metrics"].empty()) {

@@ -21,7 +21,17 @@ struct ReportOptions {
   bool from_baseline = false;
 };
 
-// Writes <paper_dir>/REPRODUCTION.md atomically and returns its path. Throws on malformed [thesis] tables.
+// A section also shows results/<id>/side_by_side.json where it exists: a measurement beside other tools
+// (peers built outside the repository), made by a bench script and committed, e.g.
+// bench/side_by_side/robust.py
+// --summary-json for ext_robust_backend. Its format, every value a string written by that script:
+//   {"title": "...", "what": "how it was measured", "provenance": {"keel_commit": "...", ...},
+//    "tables": [{"caption": "...", "header": ["...", ...], "rows": [["...", ...], ...]}, ...]}
+// "title" and a non-empty "tables" are required, each row as wide as its header; "what", "provenance" and
+// "caption" are optional.
+//
+// Writes <paper_dir>/REPRODUCTION.md atomically and returns its path. Throws on malformed [thesis] tables and
+// on a malformed side_by_side.json, naming the file and the field.
 std::filesystem::path write_report(const ReportOptions& options);
 
 // The literal numbers of an experiment's `discussion` that are neither a thesis number ([thesis] values, or a

@@ -369,6 +369,57 @@ TEST_CASE("a report of some experiments shows the others from their baselines an
   CHECK(error_of([&] { (void)write_report(o); }).find("no metric 'xx' in b") != std::string::npos);
 }
 
+TEST_CASE(
+    "a committed side-by-side measurement is rendered under its provenance; a malformed one is refused") {
+  Scratch s("side_by_side");
+  s.write("experiments/a/experiment.toml",
+          "id = \"a\"\ntitle = \"T a\"\nreproduces = \"Fig. a\"\nseed = 1\n[params]\nn = 2\n"
+          "[profiles.quick]\n[profiles.full]\n[tolerance]\ndefault = { rel = 1e-6 }\n");
+  const fs::path results = s.root / "results";
+  {
+    Results r;
+    r.metric("x", 1.0);
+    Results::Provenance p;
+    p.id = "a";
+    p.profile = "full";
+    p.git_sha = "0123456789ab";
+    p.config_hash = ExperimentConfig::load(s.root / "experiments/a/experiment.toml", "full").hash;
+    r.write(latest_path(results, "a"), p);
+  }
+  ReportOptions o;
+  o.experiments_dir = s.root / "experiments";
+  o.results_dir = results;
+  o.paper_dir = s.root / "paper";
+  auto report = [&] {
+    std::ifstream in(write_report(o));
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  CHECK(report().find("Side by side") == std::string::npos);  // no file: nothing shown
+  const std::string good =
+      R"({"title": "A and B", "what": "one run each.", "provenance": {"keel_commit": "abc1234", "peers": "B 1.0"},
+          "tables": [{"caption": "Totals", "header": ["tool", "s"], "rows": [["A", "1.5"], ["B|x", "2.0"]]}]})";
+  s.write("results/a/side_by_side.json", good);
+  const std::string md = report();
+  CHECK(md.find("**Side by side, measured outside this run: A and B.** one run each.") != std::string::npos);
+  CHECK(md.find("<sub>keel_commit: abc1234; peers: B 1.0</sub>") != std::string::npos);
+  CHECK(md.find("Totals:\n\n| tool | s |\n|---|---|\n| A | 1.5 |\n| B\\|x | 2.0 |\n") != std::string::npos);
+  for (const auto& [bad, message] : std::vector<std::pair<std::string, std::string>>{
+           {"{", "not JSON"},
+           {R"({"title": "t", "tables": []})", "non-empty array \"tables\""},
+           {R"({"title": "t", "tables": [{"header": ["a", "b"], "rows": [["1"]]}]})",
+            "tables[0].rows[0] must be an array of 2 strings"},
+           {R"({"title": "t", "tables": [{"header": ["a"], "rows": [[1]]}]})",
+            "tables[0].rows[0] must be a string"},
+           {R"({"title": "t", "provenance": {"k": 2}, "tables": [{"header": ["a"], "rows": []}]})",
+            "provenance.k must be a string"}}) {
+    CAPTURE(bad);
+    s.write("results/a/side_by_side.json", bad);
+    const std::string e = error_of([&] { (void)report(); });
+    CHECK(e.find("side_by_side.json") != std::string::npos);
+    CHECK(e.find(message) != std::string::npos);
+  }
+}
+
 TEST_CASE("a figure's x tick labels must match its ticks one to one") {
   Scratch s("ticks");
   Results r;

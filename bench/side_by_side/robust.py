@@ -29,6 +29,13 @@ t interval over the trials, and the cells where the interval lies above, straddl
 
   robust.py --keel K --kimera M --out OUT.tsv [--rates 0,10,20,40] [--trials 3] [--seed 1] [--p 0.11]
             NAME=FILE.g2o ...
+  robust.py --from-tsv OUT.tsv [--summary-json FILE ...]   scores an earlier run's rows again, running nothing
+
+--summary-json FILE writes the comparison of the first keel variant with Kimera-RPGO as the tables the report
+renders beside ext_robust_backend (results/ext_robust_backend/side_by_side.json; repro/report.hpp gives the format):
+per robot count the cells where each rule shows keel better, no different or worse, the sign tests over the cells,
+the totals per tool, and the cells where keel is worse. --provenance KEY=VALUE (repeatable) names what made the rows
+(keel_commit, peers, machine, date, command, record): text the rows cannot carry, shown as given.
 """
 import argparse
 import importlib
@@ -36,6 +43,7 @@ import json
 import math
 import os
 import random
+import re
 import statistics
 import subprocess
 import sys
@@ -286,10 +294,13 @@ def run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out, ca
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--keel", required=True)
-    ap.add_argument("--kimera", required=True)
+    ap.add_argument("--keel", default=None)
+    ap.add_argument("--kimera", default=None)
     ap.add_argument("--gtsam-gnc", default=None, help="gtsam_gnc_measure, run as a further tool (gtsam_gnc)")
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--from-tsv", default=None, help="score the rows of an earlier run's TSV; run nothing")
+    ap.add_argument("--summary-json", default=None, help="write the tables the report renders (see above)")
+    ap.add_argument("--provenance", action="append", default=[], help="KEY=VALUE for --summary-json")
     ap.add_argument("--rates", default="0,10,20,40")
     ap.add_argument("--trials", type=int, default=3)
     ap.add_argument("--seed", type=int, default=1)
@@ -312,6 +323,18 @@ def main():
         sys.exit("robust.py: --variants needs 'LABEL=ARGS' entries with labels other than kimera")
     if any(label == "gtsam_gnc" for label, _ in a.variants):
         sys.exit("robust.py: gtsam_gnc is the label of --gtsam-gnc's runs")
+    provenance = {}
+    for kv in a.provenance:
+        if "=" not in kv or not kv.split("=", 1)[0]:
+            sys.exit(f"robust.py: --provenance takes KEY=VALUE (got {kv!r})")
+        provenance[kv.split("=", 1)[0]] = kv.split("=", 1)[1]
+    if a.from_tsv:
+        if a.prepared or a.datasets:
+            sys.exit("robust.py: --from-tsv scores an earlier run; give no data sets or --prepared with it")
+        report(a, read_tsv(a.from_tsv), provenance)
+        return
+    if not (a.keel and a.kimera and a.out):
+        sys.exit("robust.py: --keel, --kimera and --out are needed to run (or --from-tsv to score a run)")
     if bool(a.prepared) == bool(a.datasets):
         sys.exit("robust.py: give data sets or --prepared LIST, not both or neither")
     work = a.workdir or tempfile.mkdtemp(prefix="keel_robust_")
@@ -373,6 +396,31 @@ def main():
                         g.write("\n".join(verts + [" ".join(t) for t in edges + wrong]) + "\n")
                     wrong_pairs = {(int(t[1]), int(t[2])) for t in wrong}
                     run_file(a, name, rate, trial, f, n_true, wrong_pairs, gammas, rows, out)
+    report(a, rows, provenance)
+
+
+def read_tsv(path):
+    """The rows of a TSV this script wrote, typed as run_file makes them."""
+    rows = []
+    with open(path) as f:
+        header = f.readline().rstrip("\n").split("\t")
+        if header[:4] != ["dataset", "rate", "trial", "tool"] or len(header) != 14:
+            sys.exit(f"robust.py: {path} is not a TSV of robust.py (header {header})")
+        for n, line in enumerate(f, start=2):
+            v = line.rstrip("\n").split("\t")
+            if len(v) != 14:
+                sys.exit(f"robust.py: {path}:{n}: {len(v)} fields, expected 14")
+            try:
+                rows.append((v[0], float(v[1]), int(v[2]), v[3], int(v[4]) if v[4] else "", int(v[5]),
+                             int(v[6]) if v[6] else "", int(v[7]), float(v[8]), float(v[9]), float(v[10]),
+                             float(v[11]), v[12], float(v[13])))
+            except ValueError as e:
+                sys.exit(f"robust.py: {path}:{n}: {e}")
+    return rows
+
+
+def report(a, rows, provenance):
+    """The summary table, each keel variant paired with the peers, and the --summary-json tables."""
     print("| data set | outliers | tool | precision (median) | recall (median) | wrong kept (median) | "
           "ATE (median) | process s (median) | keel certified |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -392,13 +440,95 @@ def main():
               f"{statistics.median(r[9] for r in done):.3f} | {statistics.median(r[6] for r in done):g} | "
               f"{f'{statistics.median(errs):.3g}' if errs else '—'} | "
               f"{statistics.median(r[10] for r in done):.2f}{f' ({late} timed out)' if late else ''} | {cert} |")
-    labels = [label for label, _ in a.variants]
+    tools = {r[3] for r in rows}
+    labels = [label for label, _ in a.variants] if not a.from_tsv else sorted(tools - set(peers))
+    first = {}
     for label in labels:
-        paired(rows, label, "kimera")
-        if a.gtsam_gnc:
+        first.setdefault(label, paired(rows, label, "kimera"))
+        if "gtsam_gnc" in tools:
             paired(rows, label, "gtsam_gnc")
     for label in labels[1:]:  # each further variant against the first
         paired(rows, label, labels[0])
+    if a.summary_json:
+        if not labels or "kimera" not in tools:
+            sys.exit("robust.py: --summary-json needs keel's rows and Kimera-RPGO's")
+        write_summary(a.summary_json, rows, labels[0], first[labels[0]], provenance)
+
+
+def robots_of(name):
+    """A data set's robot count: its name carries .r<R> after the graph when R is above one."""
+    parts = name.split(".")
+    return int(parts[1][1:]) if len(parts) > 1 and re.fullmatch(r"r[0-9]+", parts[1]) else 1
+
+
+def write_summary(path, rows, label, cmp, provenance):
+    """The tables of keel (tool `label`) against Kimera-RPGO that the report shows beside the experiment
+    (repro/report.hpp, the side-by-side file): every number in them comes from the rows."""
+    metrics = cmp["metrics"]
+    names = {"precision": "precision", "recall": "recall", "ATE": "ATE", "time": "process time"}
+    robot_counts = sorted({robots_of(c["name"]) for c in cmp["cells"]})
+    by_robots = []
+    for R in robot_counts + [None]:
+        cells = [c for c in cmp["cells"] if R is None or robots_of(c["name"]) == R]
+        row = ["all" if R is None else str(R), str(len(cells)), str(sum(not c["worse"] for c in cells))]
+        for m in metrics:
+            v = [c["verdict"][m] for c in cells if m in c["verdict"]]
+            row.append(f"{v.count('better')} / {v.count('same')} / {v.count('worse')}")
+        by_robots.append(row)
+    signs = [[names[m], f"{cmp['tally'][m][0]} / {cmp['tally'][m][1]} / {cmp['tally'][m][2]}",
+              f"{cmp['signs'][m][0]} / {cmp['signs'][m][1]}", f"{sign_test(*cmp['signs'][m]):.2g}"]
+             for m in metrics]
+    totals = []
+    for tool in (label, "kimera"):
+        for R in robot_counts:
+            mine = [r for r in rows if r[3] == tool and robots_of(r[0]) == R]
+            sel = [r for r in mine if r[12] != "timeout"]
+            errs = [r[13] for r in sel if not math.isnan(r[13])]
+            totals.append([
+                "keel" if tool == label else "Kimera-RPGO", str(R), str(len(mine)),
+                str(sum(r[6] for r in sel)), f"{sum(r[4] for r in sel)} of {sum(r[5] for r in sel)}",
+                f"{statistics.median(errs):.3g}" if errs else "—",
+                f"{sum(r[12] == 'yes' for r in sel)} of {len(sel)}" if tool == label else "—",
+                f"{sum(r[10] for r in sel):.1f}", str(len(mine) - len(sel))])
+    worse = []
+    for m in metrics:
+        for c in cmp["cells"]:
+            if c["verdict"].get(m) == "worse":
+                mean, lo, hi = c["interval"][m]
+                f = ".3g" if m == "ATE" else ".3f"
+                worse.append([names[m], c["name"], f"{c['rate']:g} %", str(c["files"]),
+                              f"{mean:+{f}} [{lo:+{f}}, {hi:+{f}}]"])
+    doc = {
+        "title": "keel robust and Kimera-RPGO on the same files",
+        "what": (f"{len(rows)} runs over {len(cmp['cells'])} cells (data set, robot count, kind and rate of wrong "
+                 "closures), each tool once per file, one thread each, the whole process timed for both. A cell "
+                 "shows keel better, no different or worse by the 95 % t interval of the mean paired difference "
+                 "over its files; keel's acceptance rules ask for precision and recall at least Kimera-RPGO's, and "
+                 "ATE and time at most. The sign test is two-sided, over the cells' mean differences."),
+        "provenance": provenance,
+        "tables": [
+            {"caption": "Cells where keel is better / shows no difference / is worse, by robot count",
+             "header": ["robots", "cells", "no rule shows keel worse"] +
+                       [f"{names[m]}: better / same / worse" for m in metrics],
+             "rows": by_robots},
+            {"caption": "Over all cells: the cells' mean differences and the sign test",
+             "header": ["rule", "cells better / same / worse", "cell means favour keel / Kimera-RPGO",
+                        "sign test p"],
+             "rows": signs},
+            {"caption": "Totals per tool and robot count",
+             "header": ["tool", "robots", "files", "wrong closures kept", "true closures kept", "median ATE",
+                        "certified", "process s (sum)", "timed out"],
+             "rows": totals},
+            {"caption": "The cells where keel is worse: mean difference keel − Kimera-RPGO [95 % interval]",
+             "header": ["rule", "cell", "wrong closures", "files", "difference"],
+             "rows": worse or [["none", "", "", "", ""]]},
+        ],
+    }
+    with open(path, "w") as out:
+        json.dump(doc, out, indent=1, ensure_ascii=False)
+        out.write("\n")
+
+
 
 
 # Two-sided 97.5 % quantiles of Student's t for 1 … 30 degrees of freedom (the 95 % interval of a mean).
@@ -440,6 +570,7 @@ def paired(rows, label, ref):
     tally = {m: [0, 0, 0] for m, _ in metrics}
     signs = {m: [0, 0] for m in tally}  # cells whose mean difference favours label, and ref
     none_worse = 0
+    result = {"metrics": [m for m, _ in metrics], "cells": [], "tally": tally, "signs": signs}
     for name, rate in cells:
         pairs = [(by[k], by[(k[0], k[1], k[2], ref)]) for k in by
                  if k[0] == name and k[1] == rate and k[3] == label and (k[0], k[1], k[2], ref) in by]
@@ -447,6 +578,7 @@ def paired(rows, label, ref):
             continue
         out = []
         worse = False
+        cell = {"name": name, "rate": rate, "files": len(pairs), "verdict": {}, "interval": {}}
         for m, col in metrics:
             d = [x[col] - y[col] for x, y in pairs if not (math.isnan(x[col]) or math.isnan(y[col]))]
             if not d:
@@ -456,11 +588,15 @@ def paired(rows, label, ref):
             # For time and ATE, lower is better: an interval below 0 is label's win.
             win, loss = (lo > 0, hi < 0) if m not in lower_better else (hi < 0, lo > 0)
             tally[m][0 if win else 2 if loss else 1] += 1
+            cell["verdict"][m] = "better" if win else "worse" if loss else "same"
+            cell["interval"][m] = (mean, lo, hi)
             worse = worse or loss
             if mean != 0:
                 signs[m][0 if (mean > 0) == (m not in lower_better) else 1] += 1
             out.append(f"{mean:+.3g} [{lo:+.3g}, {hi:+.3g}]" if m == "ATE" else f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
         none_worse += not worse
+        cell["worse"] = worse
+        result["cells"].append(cell)
         print(f"| {name} | {rate:g} % | {len(pairs)} | " + " | ".join(out) + " |")
     print()
     print(f"{label} vs {ref}: no metric shows {label} worse (95 % intervals) in {none_worse} of "
@@ -470,6 +606,7 @@ def paired(rows, label, ref):
         print(f"{label} vs {ref}, {m}: {label} better in {w} cells, no difference shown in {tie}, worse in {l} "
               f"(95 % intervals, each cell alone); the mean difference favours {label} in {up} cells, {ref} in "
               f"{down}: two-sided sign test over the cells p = {sign_test(up, down):.3g}")
+    return result
 
 
 if __name__ == "__main__":

@@ -16,7 +16,10 @@
 # given to both tools; each tool's ATE against the experiment's reference is scored (robust.py).
 # GTSAM_GNC_MEASURE takes single-robot cells only. KEEL_VARIANTS
 # (";"-separated LABEL=ARGS, e.g. "edge=;snooping=--residual-test snooping") runs keel robust once per variant
-# with those extra arguments (default: one run, no extra arguments, labelled keel).
+# with those extra arguments (default: one run, no extra arguments, labelled keel). SUMMARY_JSON=FILE also writes
+# the tables the report renders beside ext_robust_backend (robust.py --summary-json; commit it as
+# results/ext_robust_backend/side_by_side.json), with the keel commit, the date, the machine and the command as its
+# provenance; PEERS names the peers' versions there (e.g. "Kimera-RPGO d28b4df over GTSAM 0ffe6c930").
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 KEEL=${KEEL:-build/release/keel}
@@ -28,6 +31,16 @@ out=$1
 shift
 D=../shared/datasets
 sets=("$@")
+summary=()
+if [[ -n ${SUMMARY_JSON:-} ]]; then
+  sha=$(git rev-parse --short=7 HEAD)
+  git diff --quiet HEAD -- engine bench || sha+=" with uncommitted changes"
+  summary=(--summary-json "$SUMMARY_JSON" --provenance "keel_commit=$sha" --provenance "date=$(date -u +%F)"
+    --provenance "machine=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), $(nproc) CPUs"
+    --provenance "command=$(for v in PREPARED SEED ROBOTS RATES TRIALS P NO_GNC TIMEOUT KEEL_VARIANTS; do
+      [[ -n ${!v:-} ]] && printf '%s=%q ' "$v" "${!v}"; done)bench/side_by_side/robust.sh OUT.tsv $*")
+  [[ -n ${PEERS:-} ]] && summary+=(--provenance "peers=$PEERS")
+fi
 if [[ -n ${PREPARED:-} ]]; then
   B=$(dirname "$KEEL")/bench/keel_robust_graphs
   [[ -x $B ]] || { echo "robust.sh: $B not built (scripts/build release)" >&2; exit 2; }
@@ -40,11 +53,11 @@ if [[ -n ${PREPARED:-} ]]; then
   py=${KEEL_PYTHON:-$([[ -x /usr/bin/python3 ]] && echo /usr/bin/python3 || echo python3)}
   exec "$py" bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
     --p "${P:-0.11}" --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} \
-    --keel-python "$(dirname "$KEEL")/python" --prepared "$work/list.txt"
+    --keel-python "$(dirname "$KEEL")/python" --prepared "$work/list.txt" "${summary[@]}"
 fi
 [[ ${#sets[@]} -gt 0 ]] || sets=(intel=$D/intel/se-sync/intel.g2o mit=$D/se-sync-benchmarks/MIT.g2o
   manhattan=$D/manhattan3500/se-sync/manhattan.g2o garage=$D/parking-garage/se-sync/parking-garage.g2o)
 exec python3 bench/side_by_side/robust.py --keel "$KEEL" --kimera "$KIMERA_MEASURE" --out "$out" \
   --rates "${RATES:-0,10,20,40}" --trials "${TRIALS:-3}" --seed "${SEED:-1}" --p "${P:-0.11}" \
   --timeout "${TIMEOUT:-600}" --variants "${KEEL_VARIANTS:-keel=}" \
-  ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} "${sets[@]}"
+  ${GTSAM_GNC_MEASURE:+--gtsam-gnc "$GTSAM_GNC_MEASURE"} "${summary[@]}" "${sets[@]}"

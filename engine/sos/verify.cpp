@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "core/timing.hpp"
 #include "graph/io.hpp"
@@ -243,6 +245,19 @@ RefineReport refine_solution(const PlanarProblem& p, Eigen::VectorXd& z, const R
   // linear for a non-zero residual. Where that Hessian is not positive definite, the Gauss–Newton step is
   // used.
   Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+  // The pattern llt was last analyzed for (outer starts and inner indices of a compressed matrix).
+  std::vector<int> analyzed_outer, analyzed_inner;
+  auto factorize = [&](const SpMat& m) {
+    const std::span<const int> outer(m.outerIndexPtr(), static_cast<std::size_t>(m.outerSize()) + 1);
+    const std::span<const int> inner(m.innerIndexPtr(), static_cast<std::size_t>(m.nonZeros()));
+    if (!m.isCompressed() || !std::ranges::equal(outer, analyzed_outer) ||
+        !std::ranges::equal(inner, analyzed_inner)) {
+      llt.analyzePattern(m);
+      analyzed_outer.assign(outer.begin(), outer.end());
+      analyzed_inner.assign(inner.begin(), inner.end());
+    }
+    llt.factorize(m);
+  };
   Eigen::VectorXd gp(n), lam = Eigen::VectorXd::Zero(n);
   std::vector<Triplet> dt, lt;
   while (true) {
@@ -274,8 +289,11 @@ RefineReport refine_solution(const PlanarProblem& p, Eigen::VectorXd& z, const R
     SpMat multipliers(n, n);
     multipliers.setFromTriplets(mt.begin(), mt.end());
     const SpMat newton = gn + multipliers;
-    llt.compute(newton);
-    if (llt.info() != Eigen::Success) llt.compute(gn);
+    // The same pattern every iteration (every triplet above is inserted whatever its value): the
+    // fill-reducing ordering is computed once per pattern and each iteration only factorizes, which is what
+    // compute() does after its own analyzePattern, so the factor is the same to the bit.
+    factorize(newton);
+    if (llt.info() != Eigen::Success) factorize(gn);
     if (llt.info() != Eigen::Success) break;
     const Eigen::VectorXd step = llt.solve(-gp);
     // Backtracking: accept the first step that does not raise the cost beyond its rounding.

@@ -12,7 +12,10 @@
 #    are its gap tolerance, rank limit, iterations and stationarity test, and --time-limit is its time_limit_s.
 #
 # keel reads the files back, so its costs are the experiment's (the round trip is exact); its times are a second
-# measurement of the same solves.
+# measurement of the same solves. SUMMARY_JSON=FILE (with OUT.tsv given) also writes the tables the report renders
+# beside ext_certified_noise (certified_summary.py; commit it as
+# results/ext_certified_noise/side_by_side.json), with the keel commit, the date, the machine, the command and
+# SESYNC_VERSION (e.g. "SE-Sync 9b631b6") as its provenance.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 PROFILE=${PROFILE:-full}
@@ -24,4 +27,19 @@ limit=$(sed -n 's/^time_limit_s *= *\([0-9.]*\).*/\1/p' "$CONFIG")
 [[ -n $limit ]] || { echo "noise.sh: no time_limit_s in $CONFIG" >&2; exit 2; }
 files=$("$GEN" "$CONFIG" "$PROFILE" "$DIR" | tr '\n' ' ')
 echo "noise.sh: $(wc -w <<<"$files") graphs in $DIR, keel --time-limit $limit" >&2
-FILES="$files" KEEL_ARGS="--time-limit $limit" exec bench/side_by_side/certified.sh "$@"
+if [[ -z ${SUMMARY_JSON:-} ]]; then
+  FILES="$files" KEEL_ARGS="--time-limit $limit" exec bench/side_by_side/certified.sh "$@"
+fi
+[[ $# -ge 1 ]] || { echo "noise.sh: SUMMARY_JSON needs OUT.tsv" >&2; exit 2; }
+FILES="$files" KEEL_ARGS="--time-limit $limit" bench/side_by_side/certified.sh "$@"
+sha=$(git rev-parse --short=7 HEAD)
+git diff --quiet HEAD -- engine bench || sha+=" with uncommitted changes"
+peers=()
+[[ -n ${SESYNC_VERSION:-} ]] &&
+  peers=(--provenance "peers=$SESYNC_VERSION, driven by bench/side_by_side/sesync_measure.cpp")
+python3 bench/side_by_side/certified_summary.py "$1" "$SUMMARY_JSON" --provenance "keel_commit=$sha" \
+  --provenance "date=$(date -u +%F)" \
+  --provenance "machine=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), $(nproc) CPUs" \
+  --provenance "command=PROFILE=$PROFILE REPEAT=${REPEAT:-1} bench/side_by_side/noise.sh OUT.tsv" \
+  --provenance "inputs=ext_certified_noise's $PROFILE-profile graphs (keel_noise_graphs: its generator and seed)" \
+  "${peers[@]}"

@@ -12,7 +12,7 @@ robots, into a scratch folder, then checks with the keel module:
 - robust.py's ate() is 0 for a rigidly moved copy and matches a hand-computed value (a translation of every point
   by a known offset after the best alignment is removed);
 - robust.py --from-tsv --summary-json gives the report's tables from rows whose verdicts are known, and refuses a
-  malformed row naming its line.
+  malformed row naming its line; certified_summary.py does the same for certified.sh's rows.
 """
 import importlib.util
 import json
@@ -207,3 +207,60 @@ class RobustSummary(unittest.TestCase):
         self.assertIn("rows.tsv:3: 4 fields, expected 14", r.stderr)
         r = self.run_robust(tsv, "--provenance", "novalue")
         self.assertIn("--provenance takes KEY=VALUE", r.stderr)
+
+
+class CertifiedSummary(unittest.TestCase):
+    """certified_summary.py: certified.sh's rows as the report's tables, with levels, ratios and cross-checks."""
+
+    HEADER = ("dataset\tkeel_F\tkeel_lower\tkeel_gap\tkeel_status\tkeel_rank\tkeel_iterations\tkeel_own_s\t"
+              "keel_process_s\tsesync_F\tsesync_SDPval\tsesync_status\tsesync_rank\tsesync_own_s\t"
+              "sesync_process_s\tfaster_own\tfaster_process\n")
+    ROWS = [
+        # certified, faster by both rules
+        "intel.rot0p1.d0\t10.0\t9.9999\t1e-05\tcertified\t2\t5\t0.03\t0.06\t10.0\t10.0\tGlobalOpt\t5\t0.02\t0.08\t\t\n",
+        # not certified, 3× slower by process time, keel's F lower, bound below SE-Sync's SDP value
+        "intel.rot2.d0\t50.0\t48.0\t0.04\tnot_certified\t5\t90\t1.5\t1.5\t51.0\t48.5\tGlobalOpt\t9\t0.4\t0.5\t\t\n",
+        # keel's F above SE-Sync's (a failed cross-check), no proven bound
+        "intel.out10.d1\t20.0\tnone\t\trank_limit\t10\t40\t1.0\t1.0\t19.0\t18.0\tMaxRank\t10\t0.5\t0.6\t\t\n",
+    ]
+
+    def run_summary(self, rows, *extra):
+        d = tempfile.mkdtemp(prefix="keel_certified_summary_")
+        tsv, js = os.path.join(d, "rows.tsv"), os.path.join(d, "summary.json")
+        with open(tsv, "w") as f:
+            f.write(self.HEADER + "".join(rows))
+        r = subprocess.run([sys.executable, str(ROOT / "bench/side_by_side/certified_summary.py"), tsv, js, *extra],
+                           capture_output=True, text=True)
+        return r, js
+
+    def test_tables(self):
+        r, js = self.run_summary(self.ROWS, "--provenance", "keel_commit=abc1234")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(js) as f:
+            doc = json.load(f)
+        self.assertEqual(doc["provenance"], {"keel_commit": "abc1234"})
+        levels, graphs = doc["tables"]
+        rows = {row[0]: dict(zip(levels["header"], row)) for row in levels["rows"]}
+        self.assertEqual(list(rows), ["σ = 0.1 rad", "σ = 2 rad", "10 % outliers", "all"])
+        total = rows["all"]
+        self.assertEqual(total["graphs"], "3")
+        self.assertEqual(total["keel certified"], "1")
+        self.assertEqual(total["SE-Sync GlobalOpt"], "2")
+        self.assertEqual(total["within 2×"], "2")  # ratios 0.75, 3.0, 1.67
+        self.assertEqual(total["keel faster"], "1")
+        self.assertEqual(total["process ratio: median"], "1.67")
+        self.assertEqual(total["process ratio: max"], "3.00")
+        self.assertEqual(total["own-timer ratio: max"], "3.75")
+        self.assertEqual(total["keel F ≤ SE-Sync F"], "2 of 3")
+        self.assertEqual(total["keel bound ≤ SE-Sync SDPval (GlobalOpt)"], "2 of 2")
+        self.assertEqual([g[0] for g in graphs["rows"]], ["intel.rot0p1.d0", "intel.rot2.d0", "intel.out10.d1"])
+        self.assertEqual(graphs["rows"][1][-1], "3.00")
+
+    def test_refuses_rows_without_se_sync_or_with_failures(self):
+        no_sesync = self.ROWS[0].split("\t")
+        no_sesync[9:15] = [""] * 6
+        r, _ = self.run_summary(["\t".join(no_sesync)])
+        self.assertIn("rows.tsv:2: no SE-Sync result", r.stderr)
+        failed = self.ROWS[0].replace("\t0.03\t0.06\t", "\t\t\t")
+        r, _ = self.run_summary([failed])
+        self.assertIn("rows.tsv:2: keel_own_s is '', not a number", r.stderr)

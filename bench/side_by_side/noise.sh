@@ -35,8 +35,9 @@ FILES="$files" KEEL_ARGS="--time-limit $limit" bench/side_by_side/certified.sh "
 sha=$(git rev-parse --short=7 HEAD)
 git diff --quiet HEAD -- engine bench || sha+=" with uncommitted changes"
 peers=()
-[[ -n ${SESYNC_VERSION:-} ]] &&
+if [[ -n ${SESYNC_VERSION:-} ]]; then
   peers=(--provenance "peers=$SESYNC_VERSION, driven by bench/side_by_side/sesync_measure.cpp")
+fi
 python3 bench/side_by_side/certified_summary.py "$1" "$SUMMARY_JSON" --provenance "keel_commit=$sha" \
   --provenance "date=$(date -u +%F)" \
   --provenance "machine=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), $(nproc) CPUs" \

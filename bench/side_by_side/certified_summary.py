@@ -2,7 +2,7 @@
 """The rows of bench/side_by_side/certified.sh (keel's certified solve and SE-Sync, one thread each) as the tables
 the report renders beside an experiment: results/<id>/side_by_side.json (repro/report.hpp gives the format).
 
-  certified_summary.py ROWS.tsv OUT.json [--provenance KEY=VALUE ...]
+  certified_summary.py ROWS.tsv OUT.json [--stamp] [--provenance KEY=VALUE ...]
 
 A graph's level is its name's second field (ext_certified_noise's <graph>.<level>.d<k>: rot0p1 is rotation noise
 σ = 0.1 rad on the loop closures, out10 is 10 % of them replaced by outliers); names without one form one level.
@@ -12,10 +12,13 @@ and the two cross-checks of the answers (keel's F at most SE-Sync's, to 1e-9 rel
 most SE-Sync's SDP value where SE-Sync reports GlobalOpt); then every graph. Every number comes from the rows.
 """
 import argparse
-import json
+import os
 import re
 import statistics
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import side_by_side  # noqa: E402  (beside this file)
 
 COLUMNS = ["dataset", "keel_F", "keel_lower", "keel_gap", "keel_status", "keel_rank", "keel_iterations", "keel_own_s",
            "keel_process_s", "sesync_F", "sesync_SDPval", "sesync_status", "sesync_rank", "sesync_own_s",
@@ -46,12 +49,9 @@ def main():
     ap.add_argument("rows")
     ap.add_argument("out")
     ap.add_argument("--provenance", action="append", default=[], help="KEY=VALUE, shown as given")
+    ap.add_argument("--stamp", action="store_true", help="also name the keel commit, the date and the machine")
     a = ap.parse_args()
-    provenance = {}
-    for kv in a.provenance:
-        if "=" not in kv or not kv.split("=", 1)[0]:
-            sys.exit(f"certified_summary.py: --provenance takes KEY=VALUE (got {kv!r})")
-        provenance[kv.split("=", 1)[0]] = kv.split("=", 1)[1]
+    provenance = side_by_side.provenance(a.provenance, "certified_summary.py", a.stamp)
     graphs = []
     with open(a.rows) as f:
         header = f.readline().rstrip("\n").split("\t")
@@ -98,33 +98,25 @@ def main():
             g["name"], r["keel_F"], r["keel_lower"], f"{r['keel_status']} ({r['keel_rank']})", r["keel_own_s"],
             r["keel_process_s"], r["sesync_F"], r["sesync_SDPval"], f"{r['sesync_status']} ({r['sesync_rank']})",
             r["sesync_own_s"], r["sesync_process_s"], f"{g['process_ratio']:.2f}"])
-    doc = {
-        "title": "keel's certified solve and SE-Sync on the same files",
-        "what": (f"{len(graphs)} graphs, each tool on each file, one thread each (OpenMP serialized in both). Two "
-                 "timing rules for both tools: the whole process from exec to exit (file reading and problem "
-                 "construction included, timed the same way for both), and each tool's own timer (keel's "
-                 "times_s.total; SE-Sync's total_computation_time, which leaves out its problem construction). "
-                 "\"Certified\" is keel's proven bound within its gap tolerance; SE-Sync's GlobalOpt says its "
-                 "rank-r point is optimal for the relaxation, not that its rounded answer is. The acceptance rule "
-                 "asks keel within 2× of SE-Sync's process time on every graph."),
-        "provenance": provenance,
-        "tables": [
-            {"caption": "Per level: certificates, time ratios keel / SE-Sync, and the answers cross-checked",
-             "header": ["level", "graphs", "keel certified", "SE-Sync GlobalOpt", "process ratio: median",
-                        "process ratio: max", "within 2×", "keel faster", "own-timer ratio: median",
-                        "own-timer ratio: max",
-                        "keel F ≤ SE-Sync F", "keel bound ≤ SE-Sync SDPval (GlobalOpt)"],
-             "rows": per_level},
-            {"caption": "Per graph (seconds are medians over the runs of each tool)",
-             "header": ["graph", "keel F", "keel bound", "keel status (rank)", "keel own s", "keel process s",
-                        "SE-Sync F", "SE-Sync SDPval", "SE-Sync status (rank)", "SE-Sync own s",
-                        "SE-Sync process s", "process ratio"],
-             "rows": per_graph},
-        ],
-    }
-    with open(a.out, "w") as out:
-        json.dump(doc, out, indent=1, ensure_ascii=False)
-        out.write("\n")
+    what = (f"{len(graphs)} graphs, each tool on each file, one thread each (OpenMP serialized in both). Two timing "
+            "rules for both tools: the whole process from exec to exit (file reading and problem construction "
+            "included, timed the same way for both), and each tool's own timer (keel's times_s.total; SE-Sync's "
+            "total_computation_time, which leaves out its problem construction). \"Certified\" is keel's proven "
+            "bound within its gap tolerance; SE-Sync's GlobalOpt says its rank-r point is optimal for the "
+            "relaxation, not that its rounded answer is. The acceptance rule asks keel within 2× of SE-Sync's "
+            "process time on every graph.")
+    side_by_side.write(a.out, "keel's certified solve and SE-Sync on the same files", what, provenance, [
+        {"caption": "Per level: certificates, time ratios keel / SE-Sync, and the answers cross-checked",
+         "header": ["level", "graphs", "keel certified", "SE-Sync GlobalOpt", "process ratio: median",
+                    "process ratio: max", "within 2×", "keel faster", "own-timer ratio: median",
+                    "own-timer ratio: max", "keel F ≤ SE-Sync F", "keel bound ≤ SE-Sync SDPval (GlobalOpt)"],
+         "rows": per_level},
+        {"caption": "Per graph (seconds are medians over the runs of each tool)",
+         "header": ["graph", "keel F", "keel bound", "keel status (rank)", "keel own s", "keel process s",
+                    "SE-Sync F", "SE-Sync SDPval", "SE-Sync status (rank)", "SE-Sync own s", "SE-Sync process s",
+                    "process ratio"],
+         "rows": per_graph},
+    ])
 
 
 if __name__ == "__main__":

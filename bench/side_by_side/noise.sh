@@ -32,15 +32,11 @@ if [[ -z ${SUMMARY_JSON:-} ]]; then
 fi
 [[ $# -ge 1 ]] || { echo "noise.sh: SUMMARY_JSON needs OUT.tsv" >&2; exit 2; }
 FILES="$files" KEEL_ARGS="--time-limit $limit" bench/side_by_side/certified.sh "$@"
-sha=$(git rev-parse --short=7 HEAD)
-git diff --quiet HEAD -- engine bench || sha+=" with uncommitted changes"
 peers=()
 if [[ -n ${SESYNC_VERSION:-} ]]; then
   peers=(--provenance "peers=$SESYNC_VERSION, driven by bench/side_by_side/sesync_measure.cpp")
 fi
-python3 bench/side_by_side/certified_summary.py "$1" "$SUMMARY_JSON" --provenance "keel_commit=$sha" \
-  --provenance "date=$(date -u +%F)" \
-  --provenance "machine=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), $(nproc) CPUs" \
+python3 bench/side_by_side/certified_summary.py "$1" "$SUMMARY_JSON" --stamp \
   --provenance "command=PROFILE=$PROFILE REPEAT=${REPEAT:-1} bench/side_by_side/noise.sh OUT.tsv" \
   --provenance "inputs=ext_certified_noise's $PROFILE-profile graphs (keel_noise_graphs: its generator and seed)" \
   "${peers[@]}"

@@ -35,7 +35,8 @@ t interval over the trials, and the cells where the interval lies above, straddl
 renders beside ext_robust_backend (results/ext_robust_backend/side_by_side.json; repro/report.hpp gives the format):
 per robot count the cells where each rule shows keel better, no different or worse, the sign tests over the cells,
 the totals per tool, and the cells where keel is worse. --provenance KEY=VALUE (repeatable) names what made the rows
-(keel_commit, peers, machine, date, command, record): text the rows cannot carry, shown as given.
+(keel_commit, peers, machine, date, command, record): text the rows cannot carry, shown as given; --stamp fills in
+the keel commit, the date and the machine from this checkout (side_by_side.py).
 """
 import argparse
 import importlib
@@ -49,6 +50,9 @@ import subprocess
 import sys
 import tempfile
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import side_by_side  # noqa: E402  (beside this file)
 
 
 def qmul(a, b):
@@ -301,6 +305,8 @@ def main():
     ap.add_argument("--from-tsv", default=None, help="score the rows of an earlier run's TSV; run nothing")
     ap.add_argument("--summary-json", default=None, help="write the tables the report renders (see above)")
     ap.add_argument("--provenance", action="append", default=[], help="KEY=VALUE for --summary-json")
+    ap.add_argument("--stamp", action="store_true", help="--summary-json's provenance also names the keel commit, "
+                    "the date and the machine (side_by_side.py)")
     ap.add_argument("--rates", default="0,10,20,40")
     ap.add_argument("--trials", type=int, default=3)
     ap.add_argument("--seed", type=int, default=1)
@@ -323,11 +329,7 @@ def main():
         sys.exit("robust.py: --variants needs 'LABEL=ARGS' entries with labels other than kimera")
     if any(label == "gtsam_gnc" for label, _ in a.variants):
         sys.exit("robust.py: gtsam_gnc is the label of --gtsam-gnc's runs")
-    provenance = {}
-    for kv in a.provenance:
-        if "=" not in kv or not kv.split("=", 1)[0]:
-            sys.exit(f"robust.py: --provenance takes KEY=VALUE (got {kv!r})")
-        provenance[kv.split("=", 1)[0]] = kv.split("=", 1)[1]
+    provenance = side_by_side.provenance(a.provenance, "robust.py", a.stamp)
     if a.from_tsv:
         if a.prepared or a.datasets:
             sys.exit("robust.py: --from-tsv scores an earlier run; give no data sets or --prepared with it")
@@ -498,37 +500,27 @@ def write_summary(path, rows, label, cmp, provenance):
                 f = ".3g" if m == "ATE" else ".3f"
                 worse.append([names[m], c["name"], f"{c['rate']:g} %", str(c["files"]),
                               f"{mean:+{f}} [{lo:+{f}}, {hi:+{f}}]"])
-    doc = {
-        "title": "keel robust and Kimera-RPGO on the same files",
-        "what": (f"{len(rows)} runs over {len(cmp['cells'])} cells (data set, robot count, kind and rate of wrong "
-                 "closures), each tool once per file, one thread each, the whole process timed for both. A cell "
-                 "shows keel better, no different or worse by the 95 % t interval of the mean paired difference "
-                 "over its files; keel's acceptance rules ask for precision and recall at least Kimera-RPGO's, and "
-                 "ATE and time at most. The sign test is two-sided, over the cells' mean differences."),
-        "provenance": provenance,
-        "tables": [
-            {"caption": "Cells where keel is better / shows no difference / is worse, by robot count",
-             "header": ["robots", "cells", "no rule shows keel worse"] +
-                       [f"{names[m]}: better / same / worse" for m in metrics],
-             "rows": by_robots},
-            {"caption": "Over all cells: the cells' mean differences and the sign test",
-             "header": ["rule", "cells better / same / worse", "cell means favour keel / Kimera-RPGO",
-                        "sign test p"],
-             "rows": signs},
-            {"caption": "Totals per tool and robot count",
-             "header": ["tool", "robots", "files", "wrong closures kept", "true closures kept", "median ATE",
-                        "certified", "process s (sum)", "timed out"],
-             "rows": totals},
-            {"caption": "The cells where keel is worse: mean difference keel − Kimera-RPGO [95 % interval]",
-             "header": ["rule", "cell", "wrong closures", "files", "difference"],
-             "rows": worse or [["none", "", "", "", ""]]},
-        ],
-    }
-    with open(path, "w") as out:
-        json.dump(doc, out, indent=1, ensure_ascii=False)
-        out.write("\n")
-
-
+    what = (f"{len(rows)} runs over {len(cmp['cells'])} cells (data set, robot count, kind and rate of wrong "
+            "closures), each tool once per file, one thread each, the whole process timed for both. A cell shows keel "
+            "better, no different or worse by the 95 % t interval of the mean paired difference over its files; "
+            "keel's acceptance rules ask for precision and recall at least Kimera-RPGO's, and ATE and time at most. "
+            "The sign test is two-sided, over the cells' mean differences.")
+    side_by_side.write(path, "keel robust and Kimera-RPGO on the same files", what, provenance, [
+        {"caption": "Cells where keel is better / shows no difference / is worse, by robot count",
+         "header": ["robots", "cells", "no rule shows keel worse"] +
+                   [f"{names[m]}: better / same / worse" for m in metrics],
+         "rows": by_robots},
+        {"caption": "Over all cells: the cells' mean differences and the sign test",
+         "header": ["rule", "cells better / same / worse", "cell means favour keel / Kimera-RPGO", "sign test p"],
+         "rows": signs},
+        {"caption": "Totals per tool and robot count",
+         "header": ["tool", "robots", "files", "wrong closures kept", "true closures kept", "median ATE",
+                    "certified", "process s (sum)", "timed out"],
+         "rows": totals},
+        {"caption": "The cells where keel is worse: mean difference keel − Kimera-RPGO [95 % interval]",
+         "header": ["rule", "cell", "wrong closures", "files", "difference"],
+         "rows": worse or [["none", "", "", "", ""]]},
+    ])
 
 
 # Two-sided 97.5 % quantiles of Student's t for 1 … 30 degrees of freedom (the 95 % interval of a mean).

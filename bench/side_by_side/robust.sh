@@ -33,15 +33,11 @@ D=../shared/datasets
 sets=("$@")
 summary=()
 if [[ -n ${SUMMARY_JSON:-} ]]; then
-  sha=$(git rev-parse --short=7 HEAD)
-  git diff --quiet HEAD -- engine bench || sha+=" with uncommitted changes"
   command=""
   for v in PREPARED SEED ROBOTS RATES TRIALS P NO_GNC TIMEOUT KEEL_VARIANTS; do
     if [[ -n ${!v:-} ]]; then command+="$v=$(printf '%q' "${!v}") "; fi
   done
-  summary=(--summary-json "$SUMMARY_JSON" --provenance "keel_commit=$sha" --provenance "date=$(date -u +%F)"
-    --provenance "machine=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1), $(nproc) CPUs"
-    --provenance "command=${command}bench/side_by_side/robust.sh OUT.tsv $*")
+  summary=(--summary-json "$SUMMARY_JSON" --stamp --provenance "command=${command}bench/side_by_side/robust.sh OUT.tsv $*")
   if [[ -n ${PEERS:-} ]]; then summary+=(--provenance "peers=$PEERS"); fi
 fi
 if [[ -n ${PREPARED:-} ]]; then

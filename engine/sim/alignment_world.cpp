@@ -136,14 +136,14 @@ int exponent_bound(double x) {
 
 void FeatureField::value_into(double x, double y, double* out) const {
   constexpr double kLn2 = 0.6931471805599453;
+  // q above bound(v) + ka·ln 2 cannot move v (ka: the bump's exponent_bound(a)); +inf while v is zero,
+  // subnormal or not finite (no bump skipped on that ground).
+  auto bound = [](double sum) {
+    const int kv = exponent_bound(sum);
+    return kv > -1022 && kv < 1025 ? (57 - kv) * kLn2 : std::numeric_limits<double>::infinity();
+  };
   for (int k = 0; k < dim; ++k) {
     double v = offset;
-    // q above `skip_from` + ka·ln 2 cannot move v (ka: the bump's exponent_bound(a)); +inf while v is zero,
-    // subnormal or not finite (no bump skipped on that ground).
-    auto bound = [&](double sum) {
-      const int kv = exponent_bound(sum);
-      return kv > -1022 && kv < 1025 ? (57 - kv) * kLn2 : std::numeric_limits<double>::infinity();
-    };
     double skip_from = bound(v);
     for (int b = k * per_component; b < (k + 1) * per_component; ++b) {
       const double dx = x - cx[b], dy = y - cy[b];

@@ -12,8 +12,9 @@
 //   SCGP    (Olson, Walter, Teller, Leonard, "Single-cluster spectral graph partitioning for robotics
 //   applications",
 //           RSS 2005; thesis §2.7 computes the eigenvectors with an off-the-shelf solver instead of the power
-//           method, as done here with Eigen's SelfAdjointEigenSolver). See ScgpOptions for the exact
-//           definition used.
+//           method, as done here with Spectra's Lanczos solver for the two leading eigenpairs, Eigen's
+//           SelfAdjointEigenSolver where it does not converge). See ScgpOptions for the exact definition
+//           used.
 #pragma once
 
 #include <tuple>

@@ -3,6 +3,7 @@
 // SCGP's dominant cluster, its λ₁/λ₂ confidence test, and bad inputs.
 #include <doctest/doctest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -249,6 +250,49 @@ TEST_CASE("SCGP: the λ1/λ2 confidence test rejects two equally strong clusters
   const auto u = scgp(U, o);
   CHECK(u.confident);
   CHECK(u.selection.selected == std::vector<int>{0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("SCGP's two leading eigenpairs agree with the full decomposition (Lanczos and its fallback)") {
+  // 1D worlds as in §2.7.1: half inliers at 0, a quarter in one aliased group, the rest scattered; n from 1
+  // (no Lanczos) to 600. λ₁, λ₂ and v₁ against Eigen's full SelfAdjointEigenSolver of the same A.
+  keel::core::Rng rng(11);
+  for (const int n : {1, 2, 3, 4, 7, 20, 64, 150, 600}) {
+    std::vector<double> z(static_cast<std::size_t>(n));
+    for (int u = 0; u < n; ++u)
+      z[static_cast<std::size_t>(u)] = u < n / 2       ? rng.normal()
+                                       : u < 3 * n / 4 ? 7.0 + rng.normal()
+                                                       : 40.0 * rng.uniform() - 20.0;
+    const auto Q = points(z);
+    const ScgpOptions o;
+    Eigen::MatrixXd A(n, n);
+    for (int u = 0; u < n; ++u)
+      for (int v = 0; v < n; ++v)
+        A(u, v) = u == v ? 1.0 : std::exp(-std::max(Q.at(u, v), Q.at(v, u)) / o.affinity_scale);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> full(A);
+    const double l1 = full.eigenvalues()(n - 1), l2 = n >= 2 ? full.eigenvalues()(n - 2) : 0.0;
+    Eigen::VectorXd v1 = full.eigenvectors().col(n - 1);
+    if (v1.sum() < 0.0) v1 = -v1;
+    const auto r = scgp(Q, o);
+    CAPTURE(n);
+    CHECK(std::abs(r.lambda1 - l1) <= 1e-12 * l1);
+    CHECK(std::abs(r.lambda2 - l2) <= 1e-12 * l1);
+    REQUIRE(r.eigenvector.size() == static_cast<std::size_t>(n));
+    double diff = 0.0;
+    for (int u = 0; u < n; ++u)
+      diff = std::max(diff, std::abs(r.eigenvector[static_cast<std::size_t>(u)] - v1(u)));
+    CHECK(diff <= 1e-10);
+  }
+  // A degenerate top (two identical blocks, λ₁ = λ₂): v₁ is any vector of the eigenspace, but it is one.
+  const int n = 40;
+  const auto Q = make_q(n, [](int u, int v) { return (u / 20 == v / 20) ? 0.3 : 60.0; });
+  const auto r = scgp(Q);
+  Eigen::VectorXd v(n);
+  for (int u = 0; u < n; ++u) v(u) = r.eigenvector[static_cast<std::size_t>(u)];
+  Eigen::MatrixXd A(n, n);
+  for (int u = 0; u < n; ++u)
+    for (int w = 0; w < n; ++w) A(u, w) = u == w ? 1.0 : std::exp(-Q.at(u, w) / 2.0);
+  CHECK((A * v - r.lambda1 * v).norm() <= 1e-10 * r.lambda1);
+  CHECK(r.eigen_ratio == doctest::Approx(1.0).epsilon(1e-9));
 }
 
 TEST_CASE("SCGP does not enforce pairwise consistency (a smooth chain is one cluster)") {

@@ -584,6 +584,7 @@ RobustRun<G> robust_impl(const std::vector<Graph>& robots, const std::vector<Edg
   pcm::ConsistencyOptions co;
   co.composition = o.composition;
   co.threads = o.threads;
+  co.cutoff = run.gamma;  // only the consistency graph at γ is used: q_vu is not needed where q_uv > γ
   pcm::CliqueOptions clique;
   clique.time_limit_s = o.time_limit_s;
   for (auto& grp : run.groups) {

@@ -154,7 +154,7 @@ struct RobustGroup {
   int robot_a = 0, robot_b = 0;
   RobustSelector selector = RobustSelector::exact;  // the one that chose (never automatic)
   std::vector<int> members;                         // indices into RobustRun::candidates, in the order of Q
-  pcm::ConsistencyMatrix q;
+  pcm::ConsistencyMatrix q;  // with ConsistencyOptions::cutoff = γ: q_vu is +∞ (not evaluated) where q_uv > γ
   pcm::Selection selection;  // indices into `members`; selection.search holds the clique search
   double consistency_time_s = 0.0;
 };

@@ -225,6 +225,9 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
   using J = typename G::Jacobian;
   constexpr int d = G::DoF;
   if (candidates.empty()) throw std::invalid_argument("consistency_matrix: the candidate set is empty");
+  if (!(options.cutoff > 0.0))
+    throw std::invalid_argument(fmt::format(
+        "consistency_matrix: ConsistencyOptions::cutoff must be > 0 (+inf: none; got {})", options.cutoff));
   const auto ia = index_map(a, same_map ? "" : "a");
   const auto ib = same_map ? ia : index_map(b, "b");
   const char* robot_a = same_map ? "the map (its end i)" : "robot a";
@@ -267,39 +270,47 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
     Tl_inv[v] = b.poses[candidates[v].pose_b].inverse();
     Al[v] = Tl_inv[v].adjoint();
   }
-  core::parallel_for(
-      static_cast<std::size_t>(n),
-      [&](std::size_t row) {
-        const int u = static_cast<int>(row);
-        const auto& cu = candidates[u];
-        const int i = cu.pose_a, k = cu.pose_b;
-        const int si = ia[i], sk = ib[k];
-        const J Sii = block(a, si, si), Skk = block(b, sk, sk);
-        const G Ti_inv = a.poses[i].inverse();
-        const J Ai = Ti_inv.adjoint();
-        for (int v = 0; v < n; ++v) {
-          if (v == u) continue;
-          const auto& cv = candidates[v];
-          const int j = cv.pose_a, l = cv.pose_b;
-          const int sj = ia[j], sl = ib[l];
-          const auto xij = relative_pose_from(Ti_inv, Ai, a.poses[j], Sii, block(a, sj, sj), block(a, si, sj),
-                                              options.composition);
-          const auto xlk = relative_pose_from(Tl_inv[v], Al[v], b.poses[k], block(b, sl, sl), Skk,
-                                              block(b, sl, sk), options.composition);
-          bool ok = false;
-          J cross;
-          const bool correlated = same_map && options.composition == Composition::joint;
-          if (correlated)  // Ad(T_i⁻¹)(Σ_jk − Σ_jl − Σ_ik + Σ_il)Ad(T_l⁻¹)ᵀ (one map: b is a)
-            cross = Ai * (block(a, sj, sk) - block(a, sj, sl) - block(a, si, sk) + block(a, si, sl)) *
-                    Al[v].transpose();
-          const auto e = loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance,
-                                              xlk.x, xlk.covariance, &ok, correlated ? &cross : nullptr);
-          const std::size_t at = static_cast<std::size_t>(u) * n + v;
-          if (!ok) failed[at] = 1;
-          Q.q[at] = e.q;
-        }
-      },
-      options.threads);
+  // Two passes, each row by row: q_uv for v > u, then q_uv for v < u, skipped (+∞) where q_vu exceeds the
+  // cutoff (ConsistencyOptions::cutoff). With no cutoff both passes evaluate every pair, as one pass would.
+  const bool cut = std::isfinite(options.cutoff);
+  for (const bool upper : {true, false})
+    core::parallel_for(
+        static_cast<std::size_t>(n),
+        [&](std::size_t row) {
+          const int u = static_cast<int>(row);
+          const auto& cu = candidates[u];
+          const int i = cu.pose_a, k = cu.pose_b;
+          const int si = ia[i], sk = ib[k];
+          const J Sii = block(a, si, si), Skk = block(b, sk, sk);
+          const G Ti_inv = a.poses[i].inverse();
+          const J Ai = Ti_inv.adjoint();
+          for (int v = upper ? u + 1 : 0; v < (upper ? n : u); ++v) {
+            const std::size_t at = static_cast<std::size_t>(u) * n + v;
+            if (!upper && cut && Q.q[static_cast<std::size_t>(v) * n + u] > options.cutoff) {
+              Q.q[at] = std::numeric_limits<double>::infinity();
+              continue;
+            }
+            const auto& cv = candidates[v];
+            const int j = cv.pose_a, l = cv.pose_b;
+            const int sj = ia[j], sl = ib[l];
+            const auto xij = relative_pose_from(Ti_inv, Ai, a.poses[j], Sii, block(a, sj, sj),
+                                                block(a, si, sj), options.composition);
+            const auto xlk = relative_pose_from(Tl_inv[v], Al[v], b.poses[k], block(b, sl, sl), Skk,
+                                                block(b, sl, sk), options.composition);
+            bool ok = false;
+            J cross;
+            const bool correlated = same_map && options.composition == Composition::joint;
+            if (correlated)  // Ad(T_i⁻¹)(Σ_jk − Σ_jl − Σ_ik + Σ_il)Ad(T_l⁻¹)ᵀ (one map: b is a)
+              cross = Ai * (block(a, sj, sk) - block(a, sj, sl) - block(a, si, sk) + block(a, si, sl)) *
+                      Al[v].transpose();
+            const auto e =
+                loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x,
+                                     xlk.covariance, &ok, correlated ? &cross : nullptr);
+            if (!ok) failed[at] = 1;
+            Q.q[at] = e.q;
+          }
+        },
+        options.threads);
   for (int u = 0; u < n; ++u)
     for (int v = 0; v < n; ++v)
       if (failed[static_cast<std::size_t>(u) * n + v])

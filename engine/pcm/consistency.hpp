@@ -37,6 +37,7 @@
 // here.
 #pragma once
 
+#include <limits>
 #include <tuple>
 #include <string>
 #include <string_view>
@@ -138,6 +139,12 @@ double consistency_threshold(double p, int dof);
 struct ConsistencyOptions {
   Composition composition = Composition::joint;
   unsigned threads = 1;  // 0 = keel::core::default_threads(); the result does not depend on it
+  // +∞: every ordered pair is evaluated. Finite (a consistency threshold γ, > 0): q_vu (v > u) is not
+  // evaluated where q_uv > cutoff, and is set to +∞ there. The pair is inconsistent at every γ ≤ cutoff
+  // either way (the graph keeps {u, v} only if q_uv ≤ γ and q_vu ≤ γ), so the consistency graph at such a γ,
+  // and every selection made from it, are those of the full matrix; an unevaluated loop's covariance is not
+  // checked.
+  double cutoff = std::numeric_limits<double>::infinity();
 };
 
 // Q for every ordered pair of candidates (eq. 2.4 for each u ≠ v). Throws std::invalid_argument for an empty

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "lie/metrics.hpp"
 #include "lie/uncertain.hpp"
 #include "pcm/consistency.hpp"
+#include "pcm/consistency_graph.hpp"
 #include "kit/test_kit.hpp"
 
 using namespace keel;
@@ -328,6 +330,51 @@ TEST_CASE_TEMPLATE("consistency_matrix: equals per-pair loop errors, symmetric, 
   ConsistencyOptions ind;
   ind.composition = Composition::independent;
   CHECK(consistency_matrix(f.a, f.b, f.c, ind).q != Q1.q);
+}
+
+TEST_CASE_TEMPLATE(
+    "consistency_matrix with a cutoff: the same graph at every γ up to it, q_vu skipped only "
+    "where q_uv exceeds it",
+    G, SE2, SE3) {
+  const auto f = make_fixture<G>(99, 17);
+  const auto full = consistency_matrix(f.a, f.b, f.c);
+  const int n = full.n;
+  // Cutoffs at quantiles of the matrix's own entries, so that some pairs are cut and some are not.
+  std::vector<double> sorted = full.q;
+  std::sort(sorted.begin(), sorted.end());
+  for (const double quantile : {0.2, 0.5, 0.8}) {
+    const double cutoff = sorted[static_cast<std::size_t>(quantile * static_cast<double>(sorted.size()))];
+    CAPTURE(cutoff);
+    for (const unsigned threads : {1u, 2u}) {
+      ConsistencyOptions o;
+      o.cutoff = cutoff;
+      o.threads = threads;
+      const auto cut = consistency_matrix(f.a, f.b, f.c, o);
+      int skipped = 0;
+      for (int u = 0; u < n; ++u)
+        for (int v = 0; v < n; ++v) {
+          if (u < v || u == v || full.at(v, u) <= cutoff) {
+            CHECK(cut.at(u, v) == full.at(u, v));  // evaluated: bit for bit the full matrix's entry
+          } else {
+            CHECK(cut.at(u, v) == std::numeric_limits<double>::infinity());
+            ++skipped;
+          }
+        }
+      CHECK(skipped > 0);
+      for (const double gamma : {0.5 * cutoff, cutoff}) {
+        const auto a = ConsistencyGraph::from_threshold(n, full.q, gamma);
+        const auto b = ConsistencyGraph::from_threshold(n, cut.q, gamma);
+        for (int u = 0; u < n; ++u)
+          for (int v = 0; v < n; ++v)
+            if (u != v) CHECK(a.adjacent(u, v) == b.adjacent(u, v));
+      }
+    }
+  }
+  for (const double bad : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    ConsistencyOptions o;
+    o.cutoff = bad;
+    CHECK(contains(message_of([&] { (void)consistency_matrix(f.a, f.b, f.c, o); }), "cutoff must be > 0"));
+  }
 }
 
 TEST_CASE_TEMPLATE("one-map consistency: the cross term is the only difference from the two-map form", G, SE2,

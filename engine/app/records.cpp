@@ -84,6 +84,7 @@ void write_record(const pgo::RankRecord& r, FieldWriter& w) {
   w.number("gradient_norm", r.gradient_norm);
   w.boolean("certified", r.certified);  // the certificate held at this point (optimal for the relaxation)
   w.number("lambda_min_estimate", r.lambda_min_estimate);
+  w.boolean("loose", r.loose);  // stopped at the staircase's loose stationarity
   w.number("time_s", r.time_s);
 }
 

@@ -157,6 +157,12 @@ void add_solve_command(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--max-rank", certified.max_rank, "--certify: the staircase's last rank")
       ->capture_default_str();
+  c->add_option(
+       "--staircase-stationarity", certified.staircase_stationarity,
+       "--certify: above rank d, each rank is first solved until ‖grad‖·‖X‖ ≤ this × max(F, 1), and "
+       "solved on only where its rounded answer could still be certified (in [0, 1); 0: every rank to "
+       "the full tolerance)")
+      ->capture_default_str();
   auto* time_limit = c->add_option(
       "--time-limit", certified.time_limit_s,
       "--certify: stop after this many seconds (> 0; left out: no limit); the point reached and its rounding "
@@ -169,7 +175,8 @@ void add_solve_command(CLI::App& app) {
     // iteration cap of its own. Given, it is a bad command line (exit 2).
     constexpr const char* kSolveOnly[] = {"--init",         "--seed",    "--robust",
                                           "--robust-param", "--threads", "--max-iterations"};
-    constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit"};
+    constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit",
+                                            "--staircase-stationarity"};
     for (const char* name :
          a->certify ? std::span<const char* const>(kSolveOnly) : std::span<const char* const>(kCertifyOnly))
       if (c->get_option(name)->count() > 0)

@@ -200,6 +200,9 @@ inline void check_solve_options(SolveArgs& a) {
                   [&](pgo::CertifiedOptions& o) { o.gap_tolerance = certified.gap_tolerance; });
   alone_certified("--max-rank", [&](pgo::CertifiedOptions& o) { o.max_rank = certified.max_rank; });
   alone_certified("--time-limit", [&](pgo::CertifiedOptions& o) { o.time_limit_s = certified.time_limit_s; });
+  alone_certified("--staircase-stationarity", [&](pgo::CertifiedOptions& o) {
+    o.staircase_stationarity = certified.staircase_stationarity;
+  });
 }
 
 inline void print_certified_summary(const std::string& file, const pgo::CertifiedSummary& s,

@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -108,33 +109,85 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     ++tested;
   };
   bool rank_limited = false, timed_out = false;
+  // Above rank d each rank is first solved loosely (CertifiedOptions::staircase_stationarity). `polished`
+  // receives the rank-d answer when a loose point shows that no bound can certify it (below).
+  const bool staged = o.staircase_stationarity > 0.0;
+  CertifiedOptions loose = o;
+  if (staged) loose.stationarity_tolerance = o.staircase_stationarity / o.gap_tolerance;
+  std::optional<Point> polished;
+  std::string uncertifiable;  // why the staircase stopped early (empty: it did not)
   for (;;) {
     const auto t_rank = core::Clock::now();
-    t0 = core::Clock::now();
-    const LocalOutcome local = local_solve(P, X, o, pre, deadline);
-    S.local_time_s += core::seconds_since(t0);
-    local.add_to(S);
-    if (S.ordering.empty()) S.ordering = local.ordering;
     RankRecord rec;
     rec.rank = X.r;
-    rec.iterations = local.iterations;
-    rec.factorizations = local.factorizations;
-    rec.cg_steps = local.cg_steps;
-    rec.tcg_iterations = local.tcg_iterations;
-    rec.cost = local.cost;
-    rec.gradient_norm = local.gradient_norm;
+    LocalOutcome local;
+    auto solve_at_rank = [&](const CertifiedOptions& with) {
+      t0 = core::Clock::now();
+      local = local_solve(P, X, with, pre, deadline);
+      S.local_time_s += core::seconds_since(t0);
+      local.add_to(S);
+      if (S.ordering.empty()) S.ordering = local.ordering;
+      rec.iterations += local.iterations;
+      rec.factorizations += local.factorizations;
+      rec.cg_steps += local.cg_steps;
+      rec.tcg_iterations += local.tcg_iterations;
+      rec.cost = local.cost;
+      rec.gradient_norm = local.gradient_norm;
+    };
     EscapeDirection esc;
-    t0 = core::Clock::now();
-    const Certificate C = certificate_at(P, X, o.gap_tolerance, X.r < o.max_rank ? &esc : nullptr);
-    S.certificate_time_s += core::seconds_since(t0);
-    keep(C);
+    auto test = [&] {
+      esc = EscapeDirection{};
+      t0 = core::Clock::now();
+      Certificate c = certificate_at(P, X, o.gap_tolerance, X.r < o.max_rank ? &esc : nullptr);
+      S.certificate_time_s += core::seconds_since(t0);
+      keep(c);
+      return c;
+    };
+    const bool loose_first = staged && X.r > d;
+    solve_at_rank(loose_first ? loose : o);
+    Certificate C = test();
+    rec.loose = loose_first;
+    if (loose_first && !C.certified && !local.timed_out && !deadline.passed()) {
+      // At the loose point: S's curvature below −(η* + ‖grad‖) is taken as the saddle's own (the multipliers
+      // of a point that far from stationarity are off by about ‖grad‖), and the staircase climbs at once.
+      const bool descend =
+          esc.found && esc.rayleigh < -(std::max(C.tolerance_shift, 0.0) + local.gradient_norm);
+      if (!descend) {
+        // Otherwise the point is near a minimizer of this rank. F there bounds the relaxation's optimum from
+        // above, and so every lower bound that any point can prove: when the rank-d answer rounded from it
+        // and polished costs more than that by kUncertifiable × the gap tolerance, no tighter solve of this
+        // rank could certify it, and the answer and the bound proven so far are returned.
+        const auto t_round = core::Clock::now();
+        Point R = round_to_rotations(P, X);
+        S.rounding_time_s += core::seconds_since(t_round);
+        t0 = core::Clock::now();
+        const LocalOutcome polish = local_solve(P, R, o, pre, deadline);
+        S.local_time_s += core::seconds_since(t0);
+        polish.add_to(S);
+        if (polish.timed_out ||
+            polish.cost - local.cost > kUncertifiable * o.gap_tolerance * std::max(polish.cost, 1.0)) {
+          timed_out = polish.timed_out;
+          if (!timed_out)
+            uncertifiable = fmt::format(
+                "; the staircase stopped at rank {}: the answer rounded from its loose point costs {:.10g}, "
+                "above "
+                "F = {:.10g} there, which bounds every lower bound from above",
+                X.r, polish.cost, local.cost);
+          polished = std::move(R);
+        } else {
+          rec.loose = false;
+          solve_at_rank(o);
+          C = test();
+        }
+      }
+    }
     rec.certified = C.certified;
     rec.lambda_min_estimate = esc.found ? esc.rayleigh : 0.0;
     rec.time_s = core::seconds_since(t_rank);
     S.staircase.push_back(rec);
     S.final_rank = X.r;
     S.certificate = C;
-    if (C.certified) break;
+    if (C.certified || polished) break;
     if (local.timed_out || deadline.passed()) {
       timed_out = true;
       break;
@@ -152,9 +205,15 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   }
   // Back to SO(d)ⁿ, polish at rank d, certify the returned point.
   t0 = core::Clock::now();
-  if (X.r > d) {
+  if (polished) {  // rounded and polished already
+    X = std::move(*polished);
+    Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
+    S.certificate_time_s += core::seconds_since(t0);
+    keep(C);
+    S.certificate = C;
+  } else if (X.r > d) {
     X = round_to_rotations(P, X);
-    S.rounding_time_s = core::seconds_since(t0);
+    S.rounding_time_s += core::seconds_since(t0);
     t0 = core::Clock::now();
     const LocalOutcome local = local_solve(P, X, o, pre, deadline);
     S.local_time_s += core::seconds_since(t0);
@@ -170,7 +229,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     // orthonormal; F changes in the last bits only.
     Point R = round_to_rotations(P, X);
     if (cost(P, R) <= S.certificate.bound.upper * (1.0 + 1e-12)) X = std::move(R);
-    S.rounding_time_s = core::seconds_since(t0);
+    S.rounding_time_s += core::seconds_since(t0);
   }
   S.final_cost = cost(P, X);
   // The reported certificate is the proof behind the best lower bound, every field its own; the upper end is
@@ -214,7 +273,8 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
                             "not certified: the best lower bound (multipliers of the rank-{} point) leaves a "
                             "relative gap of {} > {:.3g}{}",
                             S.certificate.rank, core::format_lower(gap, 3), o.gap_tolerance,
-                            S.bound_from_staircase ? "; the returned point's own test failed" : "");
+                            S.bound_from_staircase ? "; the returned point's own test failed" : "") +
+                            uncertifiable;
   }
   poses.resize(static_cast<std::size_t>(P.n));
   for (int v = 0; v < P.n; ++v)
@@ -272,6 +332,9 @@ IsotropicWeights isotropic_weights(const graph::Edge3& e) {
 void CertifiedOptions::validate() const {
   if (!(gap_tolerance > 0.0 && gap_tolerance < 1.0))
     fail(fmt::format("CertifiedOptions: gap_tolerance must be in (0, 1) (got {})", gap_tolerance));
+  if (!(staircase_stationarity >= 0.0 && staircase_stationarity < 1.0))
+    fail(fmt::format("CertifiedOptions: staircase_stationarity must be in [0, 1) (0: off; got {})",
+                     staircase_stationarity));
   if (max_rank > kMaxRank)
     fail(fmt::format("CertifiedOptions: max_rank must be <= {} (got {})", kMaxRank, max_rank));
   if (max_iterations < 1)

@@ -96,6 +96,15 @@ struct CertifiedOptions {
   // forming it, preconditioned by the factor of the data matrix (SE-Sync's local solver). false: the damped
   // Newton steps of rank d, with factorized blocks that grow as r² (kept to compare the two in tests).
   bool trust_region_above_d = true;
+  // Above rank d, each rank's local solve first stops once ‖grad‖·‖X‖ ≤ this × max(F, 1) (SE-Sync's staircase
+  // stops every rank loosely). At that point the staircase climbs when S has curvature below
+  // −(η* + ‖grad‖); otherwise, when the rank-d answer rounded from it and polished costs more than F there by
+  // 10 × gap_tolerance (F at any point of the lift bounds the relaxation's optimum, and so every provable
+  // lower bound, from above), no solve of that rank could certify the answer and the staircase stops with the
+  // bound proven so far; only a point that could certify is solved on to stationarity_tolerance. It trades
+  // the tightness of the bound of an answer that cannot be certified (the loose point's multipliers prove
+  // less) for time. 0: every rank solved to stationarity_tolerance. In [0, 1).
+  double staircase_stationarity = 1e-3;
   // Seconds of wall time (0: no limit). At the limit the local solve in progress stops; the point it reached
   // is tested (so the bound holds whatever the point), rounded and tested again, and the result says
   // time_limit. Those two tests run after the limit, so a run can exceed it by their time.
@@ -147,6 +156,8 @@ struct RankRecord {
   double gradient_norm = 0.0;        // ‖Riemannian gradient‖₂ there
   bool certified = false;            // whether the certificate held at that point
   double lambda_min_estimate = 0.0;  // when not certified: the Rayleigh quotient of the escape direction
+  bool loose =
+      false;  // the rank ended at CertifiedOptions::staircase_stationarity (no tighter solve followed)
   double time_s = 0.0;
 };
 

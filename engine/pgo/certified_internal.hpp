@@ -38,6 +38,9 @@
 namespace keel::pgo::certified {
 
 constexpr int kMaxRank = 12;
+// CertifiedOptions::staircase_stationarity: the staircase stops at a loose point whose rounded answer costs
+// more than F there by this many gap tolerances (relative).
+constexpr double kUncertifiable = 10.0;
 using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxRank, kMaxRank>;
 using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxRank, 1>;
 constexpr int kMaxTangent = kMaxRank * 3 + kMaxRank;  // p_rot ≤ r·d with d ≤ 3, plus r translations

@@ -576,9 +576,12 @@ graph::PoseGraph3D noisy_helix(int n, core::Rng& rng) { return helix_graph(n, 1.
 
 template <class Graph>
 void check_hard_instance(const Graph& g, int d) {
-  CertifiedOptions newton;
+  // Every rank to the full tolerance (the local solvers' convergence is what is compared here).
+  CertifiedOptions full;
+  full.staircase_stationarity = 0.0;
+  CertifiedOptions newton = full;
   newton.trust_region_above_d = false;
-  const auto tr = solve_certified(g).summary;
+  const auto tr = solve_certified(g, full).summary;
   const auto nw = solve_certified(g, newton).summary;
   INFO("trust region: final rank " << tr.final_rank << ", " << tr.iterations << " iterations, "
                                    << tr.tcg_iterations << " tCG; Newton: final rank " << nw.final_rank
@@ -617,9 +620,11 @@ TEST_CASE(
 }
 
 TEST_CASE("the matrix-free trust region and damped Newton reach the same K4 relaxation value") {
-  CertifiedOptions newton;
+  CertifiedOptions full;
+  full.staircase_stationarity = 0.0;
+  CertifiedOptions newton = full;
   newton.trust_region_above_d = false;
-  const auto tr = solve_certified(exactness_counterexample()).summary;
+  const auto tr = solve_certified(exactness_counterexample(), full).summary;
   const auto nw = solve_certified(exactness_counterexample(), newton).summary;
   REQUIRE(tr.certificate.proven);
   REQUIRE(nw.certificate.proven);
@@ -627,6 +632,59 @@ TEST_CASE("the matrix-free trust region and damped Newton reach the same K4 rela
   CHECK(tr.certificate.bound.lower == doctest::Approx(nw.certificate.bound.lower).epsilon(1e-7));
   CHECK(tr.final_cost == doctest::Approx(nw.final_cost).epsilon(1e-9));
   CHECK(tr.tcg_iterations > 0);
+}
+
+namespace {
+
+// The staged staircase (CertifiedOptions::staircase_stationarity, the default) against every rank solved to
+// the full tolerance, on an instance whose relaxation is not exact: the full staircase ends at the
+// relaxation's optimum, whose F bounds every provable lower bound from above, and its rounded answer is not
+// certified.
+template <class Graph>
+void check_staged_staircase(const Graph& g, int d) {
+  CertifiedOptions full;
+  full.staircase_stationarity = 0.0;
+  const auto f = solve_certified(g, full).summary;
+  const auto s = solve_certified(g).summary;
+  INFO("full: rank " << f.final_rank << ", " << f.tcg_iterations << " tCG, F " << f.final_cost << ", bound "
+                     << f.certificate.bound.lower << "; staged: rank " << s.final_rank << ", "
+                     << s.tcg_iterations << " tCG, F " << s.final_cost << ", bound "
+                     << s.certificate.bound.lower << "; " << s.message);
+  REQUIRE(f.staircase.back().certified);  // the full staircase reached the relaxation's optimum ...
+  REQUIRE(!f.certificate.certified);      // ... and its answer is not certified: not exact
+  const double relaxation = f.staircase.back().cost;
+  // Nothing is certified that the relaxation cannot certify, and the staged bound is a bound.
+  CHECK(!s.certificate.certified);
+  CHECK(s.termination == CertifiedTermination::not_certified);
+  REQUIRE(s.certificate.proven);
+  CHECK(s.certificate.bound.lower <= relaxation);
+  CHECK(s.certificate.bound.lower <= s.final_cost);
+  CHECK(s.certificate.bound.lower <= f.final_cost);
+  // It stopped at a loose point above rank d, said why, and spent less of the trust region's inner work.
+  REQUIRE(s.staircase.size() > 1);
+  CHECK(s.staircase.front().rank == d);
+  CHECK(!s.staircase.front().loose);  // rank d is always solved to the full tolerance
+  CHECK(s.staircase.back().loose);
+  CHECK(s.message.find("the staircase stopped at rank") != std::string::npos);
+  CHECK(s.tcg_iterations < f.tcg_iterations);
+  // Its bound trades tightness for time, by no more than the loose stationarity allows for (relative to F).
+  CHECK(s.certificate.bound.lower >= f.certificate.bound.lower - 1e-2 * std::max(1.0, relaxation));
+}
+
+}  // namespace
+
+TEST_CASE("the staged staircase stops where no bound can certify the answer, and never certifies more") {
+  core::Rng rng(41);
+  SUBCASE("2D") { check_staged_staircase(noisy_circle(40, rng), 2); }
+  SUBCASE("3D") { check_staged_staircase(noisy_helix(24, rng), 3); }
+}
+
+TEST_CASE("staircase_stationarity outside [0, 1) is refused") {
+  for (const double bad : {-1e-3, 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    CertifiedOptions o;
+    o.staircase_stationarity = bad;
+    CHECK_THROWS_WITH_AS(o.validate(), doctest::Contains("staircase_stationarity"), std::invalid_argument);
+  }
 }
 
 TEST_CASE("time_limit_s: the solve stops, says so, and reports only what was proven") {

@@ -414,7 +414,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
       [](const py::object& g, const py::object& init, const std::string& robust, double robust_param,
          const py::object& seed_obj, const py::object& threads_obj, const py::object& max_iterations_obj,
          bool certify, double gap_tolerance, const py::object& max_rank_obj,
-         const std::optional<double>& time_limit_s) -> py::object {
+         const std::optional<double>& time_limit_s, double staircase_stationarity) -> py::object {
         // Integers named in errors (TypeError for a float or a bool, OverflowError beyond the C++ type).
         const std::uint64_t seed = uint_arg(seed_obj, "solve", "seed", UINT64_MAX);
         const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "solve", "threads", UINT_MAX));
@@ -444,7 +444,9 @@ each edge's information) and its certificate: a lower bound on the global minimu
           for (const auto& [name, given] :
                {std::pair{"gap_tolerance", gap_tolerance != certified_defaults.gap_tolerance},
                 std::pair{"max_rank", max_rank != certified_defaults.max_rank},
-                std::pair{"time_limit_s", time_limit_s.has_value()}})
+                std::pair{"time_limit_s", time_limit_s.has_value()},
+                std::pair{"staircase_stationarity",
+                          staircase_stationarity != certified_defaults.staircase_stationarity}})
             if (given)
               throw py::value_error(fmt::format(
                   "solve: {} applies only with certify=True (the anisotropic solve has no gap, rank or time "
@@ -455,6 +457,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
           app::Certified o;
           o.options.gap_tolerance = gap_tolerance;
           o.options.max_rank = max_rank;
+          o.options.staircase_stationarity = staircase_stationarity;
           if (time_limit_s) {
             if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
               throw py::value_error(fmt::format(
@@ -485,7 +488,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
       py::arg("graph"), py::arg("init") = "odometry", py::arg("robust") = "none",
       py::arg("robust_param") = 5.0, py::arg("seed") = 0, py::arg("threads") = 1,
       py::arg("max_iterations") = 100, py::arg("certify") = false, py::arg("gap_tolerance") = 1e-6,
-      py::arg("max_rank") = 10, py::arg("time_limit_s") = py::none(), R"doc(
+      py::arg("max_rank") = 10, py::arg("time_limit_s") = py::none(),
+      py::arg("staircase_stationarity") = pgo::CertifiedOptions{}.staircase_stationarity, R"doc(
 Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
 sparse normal Cholesky (CHOLMOD), the graph's gauge_pose (0 by default) held constant at its given value
 (certify=True moves its estimate rigidly so that this pose keeps its value). The options are pgo's defaults
@@ -509,9 +513,11 @@ certify=True solves the isotropic (chordal) model instead, as `keel solve --cert
 (pgo::solve_certified: chordal initialization, Newton on the Burer-Monteiro lift, the Riemannian staircase up
 to `max_rank`, a certificate with a rounding-error margin, certified when the relative gap is within
 `gap_tolerance`; `time_limit_s` seconds of wall time, None for no limit: at the limit the point reached and its
-rounding are tested and termination is 'time_limit'); init, robust, robust_param, seed, threads and max_iterations do
-not apply (ValueError when one differs from its default; likewise gap_tolerance, max_rank and time_limit_s without
-certify=True). Returns a
+rounding are tested and termination is 'time_limit'; `staircase_stationarity`: above rank d each rank is first solved
+until |grad|.|X| <= this x max(F, 1) and solved on only where its rounded answer could still be certified, 0 for every
+rank to the full tolerance, as `--staircase-stationarity`); init, robust, robust_param, seed, threads and max_iterations do
+not apply (ValueError when one differs from its default; likewise gap_tolerance, max_rank, time_limit_s and
+staircase_stationarity without certify=True). Returns a
 CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
 ValueError.)doc");
 

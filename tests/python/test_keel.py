@@ -305,7 +305,11 @@ class TestReference(unittest.TestCase):
             with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} does not apply "
                                                                         "with certify=True"):
                 keel.solve(g2, certify=True, **kw)
-        for kw in ({"gap_tolerance": 1e-5}, {"max_rank": 4}, {"time_limit_s": 10.0}):
+        for bad in (-1e-3, 1.0, float("nan")):
+            with self.assertRaisesRegex(ValueError, "staircase_stationarity must be in"):
+                keel.solve(keel.read_graph(self.file2d), certify=True, staircase_stationarity=bad)
+        for kw in ({"gap_tolerance": 1e-5}, {"max_rank": 4}, {"time_limit_s": 10.0},
+                   {"staircase_stationarity": 0.0}):
             with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} applies only "
                                                                         "with certify=True"):
                 keel.solve(g2, **kw)

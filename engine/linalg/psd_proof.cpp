@@ -142,7 +142,8 @@ PsdProof ShiftedPsdProver::prove(double eta, bool extended) {
   return out;
 }
 
-ShiftSearch ShiftedPsdProver::shift_search(double eta_star, double reference, int escalation) {
+ShiftSearch ShiftedPsdProver::shift_search(double eta_star, double reference, int escalation,
+                                           int refinements) {
   ShiftSearch out;
   auto attempt = [&](double eta, bool extended) {
     ++out.attempts;
@@ -164,7 +165,26 @@ ShiftSearch ShiftedPsdProver::shift_search(double eta_star, double reference, in
   double eta = reference;
   for (int k = 1; k <= escalation; ++k) {
     eta *= 10.0;
-    if (attempt(eta, false)) return out;
+    if (attempt(eta, false)) {
+      // Bisection in log scale between the largest shift that failed (or `reference`, when none did) and the
+      // one proven: each halving of the interval's log width that proves keeps its shift and proof.
+      double lo = std::max(out.largest_failed, reference), hi = eta;
+      PsdProof best = out.proof;
+      for (int r = 0; r < refinements && lo > 0.0 && lo < hi; ++r) {
+        const double mid = std::sqrt(lo * hi);
+        if (!(mid > lo && mid < hi)) break;
+        if (attempt(mid, false)) {
+          hi = mid;
+          best = out.proof;
+        } else {
+          lo = mid;
+        }
+      }
+      out.proven = true;
+      out.shift = hi;
+      out.proof = best;
+      return out;
+    }
   }
   return out;
 }

@@ -55,8 +55,11 @@ class ShiftedPsdProver {
   // that holds on most data sets) and η*/2 (so the rounding of the bound stays inside the tolerance), each
   // with a double factor, then both with a double-double one; when all fail, the shift is raised tenfold at a
   // time from `reference` (η_ref·10^k, k = 1 … `escalation`, double factors) to the tightest bound that can
-  // still be proven. η* ≤ 0 skips the first part.
-  [[nodiscard]] ShiftSearch shift_search(double eta_star, double reference, int escalation);
+  // still be proven. η* ≤ 0 skips the first part. With `refinements` > 0 the decade found is then bisected in
+  // log scale that many times (each a proof attempt; the smallest shift proven is kept), so that the bound is
+  // not up to ten times weaker than the shift that holds.
+  [[nodiscard]] ShiftSearch shift_search(double eta_star, double reference, int escalation,
+                                         int refinements = 0);
   // The factorization (its last values are those of the last attempt), e.g. for inverse iteration.
   [[nodiscard]] SparseCholesky& cholesky() { return chol_; }
   [[nodiscard]] const DoubleDoubleSymmetric& matrix() const { return S_; }

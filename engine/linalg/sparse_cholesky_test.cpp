@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/random.hpp"
+#include "linalg/psd_proof.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 using keel::linalg::CholeskyOptions;
@@ -275,4 +276,59 @@ TEST_CASE(
   SparseCholesky chol(n, p.col_start, p.row_index);
   int ld = 0;
   CHECK_THROWS_AS((void)chol.solve(ws, &ld), std::logic_error);  // no right-hand sides yet
+}
+
+namespace {
+
+// S = L − c·I with L the path graph's Laplacian on n vertices (eigenvalues 2 − 2 cos(πk/n), the smallest 0),
+// so λ_min(S) = −c exactly: S + η·I ⪰ 0 iff η ≥ c. Entries exact in double (c a power of two times an
+// integer).
+keel::linalg::DoubleDoubleSymmetric shifted_path(int n, double c) {
+  keel::linalg::DoubleDoubleSymmetric S;
+  S.n = n;
+  S.col_start.push_back(0);
+  for (int j = 0; j < n; ++j) {
+    if (j > 0) {
+      S.row_index.push_back(j - 1);
+      S.hi.push_back(-1.0);
+    }
+    S.row_index.push_back(j);
+    S.hi.push_back((j == 0 || j == n - 1 ? 1.0 : 2.0) - c);
+    S.col_start.push_back(static_cast<int>(S.row_index.size()));
+  }
+  S.lo.assign(S.hi.size(), 0.0);
+  S.error.assign(S.hi.size(), 0.0);
+  return S;
+}
+
+}  // namespace
+
+TEST_CASE("shift_search: the decade found is bisected; no shift below λ_min's is ever proven") {
+  const int n = 40;
+  const std::vector<char> all(static_cast<std::size_t>(n), 1);
+  for (const double c : {0.0123046875, 0.3359375, 2.75}) {
+    CAPTURE(c);
+    const double reference = 1e-4;  // decades 1e-3, 1e-2, …, 10
+    keel::linalg::ShiftedPsdProver plain(shifted_path(n, c), all), refined(shifted_path(n, c), all);
+    const keel::linalg::ShiftSearch a = plain.shift_search(-1.0, reference, 5);
+    const keel::linalg::ShiftSearch b = refined.shift_search(-1.0, reference, 5, 3);
+    REQUIRE(a.proven);
+    REQUIRE(b.proven);
+    CHECK(!b.within_tolerance);
+    // Sound: every proven shift is at least −λ_min.
+    CHECK(a.shift >= c);
+    CHECK(b.shift >= c);
+    CHECK(b.largest_failed < b.shift);
+    // The decade is bisected three times in log scale: within 10^(1/8) of the smallest provable shift (c, up
+    // to the proof's margin), never above the unrefined one, three attempts more.
+    CHECK(b.shift <= a.shift);
+    CHECK(b.shift <= c * std::pow(10.0, 0.125) * (1 + 1e-6));
+    CHECK(b.attempts == a.attempts + 3);
+    CHECK(b.proof.proven);
+  }
+  // Nothing to refine when no decade is proven.
+  keel::linalg::ShiftedPsdProver none(shifted_path(n, 1e4), all);
+  const keel::linalg::ShiftSearch s = none.shift_search(-1.0, 1e-4, 5, 3);
+  CHECK(!s.proven);
+  CHECK(s.attempts == 5);
 }

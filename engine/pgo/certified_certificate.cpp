@@ -187,8 +187,9 @@ Certificate certificate_at(const Problem& P, const Point& X, double gap_toleranc
   C.max_row_count = chol.max_row_count();
   auto diagonal_index = [&](int col) { return prover.diagonal_index(col); };
   // The proof of S + η·D ⪰ 0 at the smallest shift it can reach (psd_proof.hpp): η*/33 or η*/2 certify;
-  // otherwise up to 10⁵·gap·max(F, 1)/(dn), the tightest bound that can be proven, outside the tolerance.
-  const linalg::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5);
+  // otherwise up to 10⁵·gap·max(F, 1)/(dn), the tightest bound that can be proven, outside the tolerance, its
+  // decade bisected three times (the shift within a factor 10^(1/8) of the smallest that a proof reaches).
+  const linalg::ShiftSearch search = prover.shift_search(eta, gap_tolerance * std::max(F, 1.0) / dn, 5, 3);
   C.attempts = search.attempts;
   C.failed_shift = search.largest_failed;
   C.proven = search.proven;

@@ -116,6 +116,17 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   if (staged) loose.stationarity_tolerance = o.staircase_stationarity / o.gap_tolerance;
   std::optional<Point> polished;
   std::string uncertifiable;  // why the staircase stopped early (empty: it did not)
+  // A lifted point back to SO(d)ⁿ and its optimal translations, then the local solve at rank d.
+  const auto round_and_polish = [&](Point& Y) {
+    t0 = core::Clock::now();
+    Y = round_to_rotations(P, Y);
+    S.rounding_time_s += core::seconds_since(t0);
+    t0 = core::Clock::now();
+    const LocalOutcome polish = local_solve(P, Y, o, pre, deadline);
+    S.local_time_s += core::seconds_since(t0);
+    polish.add_to(S);
+    return polish;
+  };
   for (;;) {
     const auto t_rank = core::Clock::now();
     RankRecord rec;
@@ -157,13 +168,8 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
         // above, and so every lower bound that any point can prove: when the rank-d answer rounded from it
         // and polished costs more than that by kUncertifiable × the gap tolerance, no tighter solve of this
         // rank could certify it, and the answer and the bound proven so far are returned.
-        const auto t_round = core::Clock::now();
-        Point R = round_to_rotations(P, X);
-        S.rounding_time_s += core::seconds_since(t_round);
-        t0 = core::Clock::now();
-        const LocalOutcome polish = local_solve(P, R, o, pre, deadline);
-        S.local_time_s += core::seconds_since(t0);
-        polish.add_to(S);
+        Point R = X;
+        const LocalOutcome polish = round_and_polish(R);
         if (polish.timed_out ||
             polish.cost - local.cost > kUncertifiable * o.gap_tolerance * std::max(polish.cost, 1.0)) {
           timed_out = polish.timed_out;
@@ -205,20 +211,11 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   }
   // Back to SO(d)ⁿ, polish at rank d, certify the returned point.
   t0 = core::Clock::now();
-  if (polished) {  // rounded and polished already
-    X = std::move(*polished);
-    Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
-    S.certificate_time_s += core::seconds_since(t0);
-    keep(C);
-    S.certificate = C;
-  } else if (X.r > d) {
-    X = round_to_rotations(P, X);
-    S.rounding_time_s += core::seconds_since(t0);
-    t0 = core::Clock::now();
-    const LocalOutcome local = local_solve(P, X, o, pre, deadline);
-    S.local_time_s += core::seconds_since(t0);
-    local.add_to(S);
-    timed_out = timed_out || local.timed_out;
+  if (polished || X.r > d) {
+    if (polished)  // rounded and polished already
+      X = std::move(*polished);
+    else
+      timed_out = round_and_polish(X).timed_out || timed_out;
     t0 = core::Clock::now();
     Certificate C = certificate_at(P, X, o.gap_tolerance, nullptr);
     S.certificate_time_s += core::seconds_since(t0);

@@ -163,6 +163,11 @@ void add_solve_command(CLI::App& app) {
        "solved on only where its rounded answer could still be certified (in [0, 1); 0: every rank to "
        "the full tolerance)")
       ->capture_default_str();
+  c->add_option(
+       "--staircase-relative-decrease", certified.staircase_relative_decrease,
+       "--certify: a rank's loose solve also stops at a trust-region step inside its region that lowers "
+       "F by less than this × F (SE-Sync's rule; faster, but an answer may get worse; in [0, 1); 0: off)")
+      ->capture_default_str();
   auto* time_limit = c->add_option(
       "--time-limit", certified.time_limit_s,
       "--certify: stop after this many seconds (> 0; left out: no limit); the point reached and its rounding "
@@ -176,7 +181,7 @@ void add_solve_command(CLI::App& app) {
     constexpr const char* kSolveOnly[] = {"--init",         "--seed",    "--robust",
                                           "--robust-param", "--threads", "--max-iterations"};
     constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit",
-                                            "--staircase-stationarity"};
+                                            "--staircase-stationarity", "--staircase-relative-decrease"};
     for (const char* name :
          a->certify ? std::span<const char* const>(kSolveOnly) : std::span<const char* const>(kCertifyOnly))
       if (c->get_option(name)->count() > 0)

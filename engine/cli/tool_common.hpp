@@ -203,6 +203,9 @@ inline void check_solve_options(SolveArgs& a) {
   alone_certified("--staircase-stationarity", [&](pgo::CertifiedOptions& o) {
     o.staircase_stationarity = certified.staircase_stationarity;
   });
+  alone_certified("--staircase-relative-decrease", [&](pgo::CertifiedOptions& o) {
+    o.staircase_relative_decrease = certified.staircase_relative_decrease;
+  });
 }
 
 inline void print_certified_summary(const std::string& file, const pgo::CertifiedSummary& s,

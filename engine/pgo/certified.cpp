@@ -112,8 +112,9 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
   // Above rank d each rank is first solved loosely (CertifiedOptions::staircase_stationarity). `polished`
   // receives the rank-d answer when a loose point shows that no bound can certify it (below).
   const bool staged = o.staircase_stationarity > 0.0;
-  CertifiedOptions loose = o;
+  CertifiedOptions loose = o, full = o;
   if (staged) loose.stationarity_tolerance = o.staircase_stationarity / o.gap_tolerance;
+  full.staircase_relative_decrease = 0.0;  // the relative-decrease stop belongs to the loose solves only
   std::optional<Point> polished;
   std::string uncertifiable;  // why the staircase stopped early (empty: it did not)
   // A lifted point back to SO(d)ⁿ and its optimal translations, then the local solve at rank d.
@@ -122,7 +123,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
     Y = round_to_rotations(P, Y);
     S.rounding_time_s += core::seconds_since(t0);
     t0 = core::Clock::now();
-    const LocalOutcome polish = local_solve(P, Y, o, pre, deadline);
+    const LocalOutcome polish = local_solve(P, Y, full, pre, deadline);
     S.local_time_s += core::seconds_since(t0);
     polish.add_to(S);
     return polish;
@@ -155,7 +156,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
       return c;
     };
     const bool loose_first = staged && X.r > d;
-    solve_at_rank(loose_first ? loose : o);
+    solve_at_rank(loose_first ? loose : full);
     Certificate C = test();
     rec.loose = loose_first;
     if (loose_first && !C.certified && !local.timed_out && !deadline.passed()) {
@@ -182,7 +183,7 @@ void solve_impl(const Graph& graph, const CertifiedOptions& o, CertifiedSummary&
           polished = std::move(R);
         } else {
           rec.loose = false;
-          solve_at_rank(o);
+          solve_at_rank(full);
           C = test();
         }
       }
@@ -332,6 +333,9 @@ void CertifiedOptions::validate() const {
   if (!(staircase_stationarity >= 0.0 && staircase_stationarity < 1.0))
     fail(fmt::format("CertifiedOptions: staircase_stationarity must be in [0, 1) (0: off; got {})",
                      staircase_stationarity));
+  if (!(staircase_relative_decrease >= 0.0 && staircase_relative_decrease < 1.0))
+    fail(fmt::format("CertifiedOptions: staircase_relative_decrease must be in [0, 1) (0: off; got {})",
+                     staircase_relative_decrease));
   if (max_rank > kMaxRank)
     fail(fmt::format("CertifiedOptions: max_rank must be <= {} (got {})", kMaxRank, max_rank));
   if (max_iterations < 1)

@@ -105,6 +105,15 @@ struct CertifiedOptions {
   // the tightness of the bound of an answer that cannot be certified (the loose point's multipliers prove
   // less) for time. 0: every rank solved to stationarity_tolerance. In [0, 1).
   double staircase_stationarity = 1e-3;
+  // The loose solve of a rank above d also stops at an accepted trust-region step that lowers F by less than
+  // this × |F|, ended inside the trust region (its truncated CG converged) and agreed with the model (ρ ≥
+  // 0.25): near a rank-deficient minimizer the gradient falls slowly while F has all but stopped moving
+  // (SE-Sync stops its levels on the relative decrease alone, at 1e-6). It trades time for the answer and its
+  // bound where the relaxation is not exact: at 1e-7, 17 % less time on ext_certified_noise's graphs, but on
+  // fresh graphs one answer in 60 rounded from a lower rank and cost 2.8 % more, so it is off by default
+  // (docs/measurements/2026-12-07-certified-relative-decrease.md). 0: off. In [0, 1); used only with
+  // staircase_stationarity > 0.
+  double staircase_relative_decrease = 0.0;
   // Seconds of wall time (0: no limit). At the limit the local solve in progress stops; the point it reached
   // is tested (so the bound holds whatever the point), rounded and tested again, and the result says
   // time_limit. Those two tests run after the limit, so a run can exceed it by their time.

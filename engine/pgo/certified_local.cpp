@@ -233,8 +233,14 @@ LocalOutcome trust_region_solve(const Problem& P, Point& X, const CertifiedOptio
     if (accept) {
       stop.last_decrease = f - f_new;
       X = std::move(trial);
+      // CertifiedOptions::staircase_relative_decrease (0 in the tight solves): the model's own minimizer,
+      // predicted well, and F all but unmoved. A small decrease after the radius shrank, or from a step the
+      // model predicted badly, says nothing about F having stopped.
+      const bool slow =
+          end == TcgEnd::converged && rho >= 0.25 && f - f_new < o.staircase_relative_decrease * std::abs(f);
       f = f_new;
       rebuild = true;
+      if (slow) break;
     }
   }
   out.cost = f;

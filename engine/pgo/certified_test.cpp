@@ -684,7 +684,64 @@ TEST_CASE("staircase_stationarity outside [0, 1) is refused") {
     CertifiedOptions o;
     o.staircase_stationarity = bad;
     CHECK_THROWS_WITH_AS(o.validate(), doctest::Contains("staircase_stationarity"), std::invalid_argument);
+    o = CertifiedOptions{};
+    o.staircase_relative_decrease = bad;
+    CHECK_THROWS_WITH_AS(o.validate(), doctest::Contains("staircase_relative_decrease must be in [0, 1)"),
+                         std::invalid_argument);
   }
+}
+
+namespace {
+
+// The relative-decrease stop of the loose solves (CertifiedOptions::staircase_relative_decrease, off by
+// default) against the staged staircase without it. Up to the step where it fires, the first loose rank's
+// trust region takes the same steps from the same point (the rank-d solve before it is untouched), so it
+// cannot take more iterations there; a rule that fires at once (0.5: any accepted step that does not halve F)
+// ends that rank after its first accepted step. Either way every bound stays a bound: below the relaxation's
+// value and both answers' costs, and nothing is certified that the relaxation cannot certify.
+template <class Graph>
+void check_relative_decrease(const Graph& g, int d) {
+  CertifiedOptions full, off, rule, eager;  // off: the default
+  full.staircase_stationarity = 0.0;
+  rule.staircase_relative_decrease = 1e-7;
+  eager.staircase_relative_decrease = 0.5;
+  const auto f = solve_certified(g, full).summary;
+  const auto o = solve_certified(g, off).summary;
+  REQUIRE(f.staircase.back().certified);  // the relaxation's optimum: its F bounds every lower bound
+  const double relaxation = f.staircase.back().cost;
+  for (const CertifiedOptions& with : {rule, eager}) {
+    const auto s = solve_certified(g, with).summary;
+    INFO("relative decrease " << with.staircase_relative_decrease << ": rank " << s.final_rank << ", "
+                              << s.tcg_iterations << " tCG, F " << s.final_cost << ", bound "
+                              << s.certificate.bound.lower << "; without: rank " << o.final_rank << ", "
+                              << o.tcg_iterations << " tCG, F " << o.final_cost << ", bound "
+                              << o.certificate.bound.lower);
+    REQUIRE(s.staircase.size() > 1);
+    REQUIRE(o.staircase.size() > 1);
+    const RankRecord& first = s.staircase[1];
+    CHECK(first.rank == d + 1);
+    CHECK(first.loose);
+    CHECK(s.staircase[0].cost == o.staircase[0].cost);  // rank d is solved alike
+    CHECK(first.iterations <= o.staircase[1].iterations);
+    CHECK(first.tcg_iterations <= o.staircase[1].tcg_iterations);
+    CHECK(!s.certificate.certified);
+    // A bound when one was proven (a point that far from stationary may prove none: lower = −∞).
+    CHECK(s.certificate.bound.lower <= relaxation);
+    CHECK(s.certificate.bound.lower <= s.final_cost);
+    CHECK(s.certificate.bound.lower <= o.final_cost);
+    CHECK(o.certificate.bound.lower <= s.final_cost);
+    CHECK(s.certificate.proven == std::isfinite(s.certificate.bound.lower));
+  }
+  const auto e = solve_certified(g, eager).summary;
+  CHECK(e.staircase[1].iterations < o.staircase[1].iterations);
+}
+
+}  // namespace
+
+TEST_CASE("the loose solves' relative-decrease stop takes no more steps and never certifies more") {
+  core::Rng rng(41);
+  SUBCASE("2D") { check_relative_decrease(noisy_circle(40, rng), 2); }
+  SUBCASE("3D") { check_relative_decrease(noisy_helix(24, rng), 3); }
 }
 
 TEST_CASE("time_limit_s: the solve stops, says so, and reports only what was proven") {

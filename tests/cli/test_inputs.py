@@ -296,12 +296,15 @@ class OptionValues(unittest.TestCase):
         self.usage(self.SOLVE + ("--certify", "--max-rank", "0"), "--max-rank:", "max_rank must be >= 2")
         for s in ("-0.001", "1", "nan"):
             self.usage(self.SOLVE + ("--certify", "--staircase-stationarity", s), "--staircase-stationarity:")
+            self.usage(self.SOLVE + ("--certify", "--staircase-relative-decrease", s),
+                       "--staircase-relative-decrease:",
+                       "not a finite number" if s == "nan" else "staircase_relative_decrease must be in [0, 1)")
         # An option of the other mode is refused, never ignored.
         for option, value in (("--init", "as-read"), ("--seed", "3"), ("--robust", "huber"), ("--robust-param", "2"),
                               ("--threads", "2"), ("--max-iterations", "5")):
             self.usage(self.SOLVE + ("--certify", option, value), f"{option}: does not apply with --certify")
         for option, value in (("--gap-tolerance", "1e-5"), ("--max-rank", "4"), ("--time-limit", "10"),
-                              ("--staircase-stationarity", "0")):
+                              ("--staircase-stationarity", "0"), ("--staircase-relative-decrease", "0")):
             self.usage(self.SOLVE + (option, value), f"{option}: applies only with --certify")
         for t in ("0", "-1", "nan"):
             self.usage(self.SOLVE + ("--certify", "--time-limit", t), "--time-limit:")

@@ -308,8 +308,10 @@ class TestReference(unittest.TestCase):
         for bad in (-1e-3, 1.0, float("nan")):
             with self.assertRaisesRegex(ValueError, "staircase_stationarity must be in"):
                 keel.solve(keel.read_graph(self.file2d), certify=True, staircase_stationarity=bad)
+            with self.assertRaisesRegex(ValueError, "staircase_relative_decrease must be in"):
+                keel.solve(keel.read_graph(self.file2d), certify=True, staircase_relative_decrease=bad)
         for kw in ({"gap_tolerance": 1e-5}, {"max_rank": 4}, {"time_limit_s": 10.0},
-                   {"staircase_stationarity": 0.0}):
+                   {"staircase_stationarity": 0.0}, {"staircase_relative_decrease": 1e-7}):
             with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} applies only "
                                                                         "with certify=True"):
                 keel.solve(g2, **kw)

@@ -23,8 +23,14 @@ const align::AlignmentProblem& problem() {
   return p;
 }
 
+// Arg: the hull back end (0 qhull, 1 CGAL's regular triangulation).
+align::HullBackend backend(const benchmark::State& state, int arg) {
+  return state.range(arg) == 0 ? align::HullBackend::qhull : align::HullBackend::regular_triangulation;
+}
+
 void BM_GlobalHulls(benchmark::State& state) {
   align::AlignOptions o;
+  o.hull.backend = backend(state, 0);
   std::size_t planes = 0;
   for (auto _ : state) {
     const auto reg = align::global_regions(problem(), o);
@@ -33,7 +39,7 @@ void BM_GlobalHulls(benchmark::State& state) {
   }
   state.counters["planes"] = static_cast<double>(planes);
 }
-BENCHMARK(BM_GlobalHulls)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GlobalHulls)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
 // One sector LP (sector = arg) of round 0 with lazy rows, from scratch.
 void BM_SectorLp(benchmark::State& state) {
@@ -56,13 +62,15 @@ void BM_SectorLp(benchmark::State& state) {
 }
 BENCHMARK(BM_SectorLp)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
 
-// A whole alignment (round-0 hulls shared beforehand, as the study does), one thread. Arg: method index.
+// A whole alignment (round-0 hulls shared beforehand, as the study does). Args: method index, threads, hull
+// back end.
 void BM_AlignWorld(benchmark::State& state) {
   const align::Method methods[] = {align::Method::proposed, align::Method::so_conv_hull,
                                    align::Method::symmetric, align::Method::affine};
   align::AlignOptions o;
   o.method = methods[state.range(0)];
   o.threads = static_cast<unsigned>(state.range(1));
+  o.hull.backend = backend(state, 2);
   const auto reg = align::global_regions(problem(), o);
   double hull = 0, lp = 0;
   int rounds = 0, solves = 0;
@@ -80,7 +88,10 @@ void BM_AlignWorld(benchmark::State& state) {
   state.counters["hull_s"] = hull;
   state.counters["lp_s"] = lp;
 }
-BENCHMARK(BM_AlignWorld)->ArgsProduct({{0, 1, 2, 3}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AlignWorld)
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The certificate of round 0 (branch and bound over θ).
 void BM_Certificate(benchmark::State& state) {

@@ -17,6 +17,7 @@ using keel::align::AlignResult;
 using keel::align::dissimilarity_matrix;
 using keel::align::euclidean_dissimilarity;
 using keel::align::feature_scales;
+using keel::align::HullBackend;
 using keel::align::HullCache;
 using keel::align::HullOptions;
 using keel::align::LpSettings;

@@ -14,6 +14,8 @@ extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
+#include "align/hull_cgal.hpp"
+
 namespace keel::align {
 
 void HullOptions::validate() const {
@@ -208,15 +210,27 @@ std::vector<Plane> lower_hull_planes(std::span<const double> x, std::span<const 
   std::string message;
   int code = 1;
   std::vector<double> work;
-  if (options.prefilter && n > 16) {  // qhull on the points that can be lower-hull vertices only
+  if (options.prefilter && n > 16) {  // the hull of the points that can be lower-hull vertices only
     const std::vector<std::size_t> kept = lower_hull_candidates(pts, cmax - cmin);
     if (kept.size() >= 4 && kept.size() < n) {
       work.resize(3 * kept.size());
       for (std::size_t k = 0; k < kept.size(); ++k)
         for (int d = 0; d < 3; ++d) work[3 * k + d] = pts[3 * kept[k] + d];
-      code = run_qhull(work, "qhull Q5", raw, st, message);
+      if (options.backend == HullBackend::regular_triangulation) {
+        if (detail::regular_triangulation_planes(work, raw, st.facets)) code = 0;
+      } else {
+        code = run_qhull(work, "qhull Q5", raw, st, message);
+      }
       st.hull_points = kept.size();
       if (code != 0 || raw.empty()) raw.clear(), st = HullStats{};
+    }
+  }
+  if (code != 0 && options.backend == HullBackend::regular_triangulation) {  // every point
+    if (detail::regular_triangulation_planes(pts, raw, st.facets)) {
+      code = 0;
+      st.hull_points = n;
+    } else {
+      raw.clear(), st = HullStats{};  // no triangle: qhull below, with its joggle
     }
   }
   // 'Q5': qhull skips the outer planes (a check of its own output); the facets are the same.

@@ -1,5 +1,5 @@
-// Lower convex hull of a dissimilarity point cloud (thesis §3.4.1, eqs. 3.3–3.4), from qhull's reentrant
-// interface.
+// Lower convex hull of a dissimilarity point cloud (thesis §3.4.1, eqs. 3.3–3.4), by CGAL's 2D regular
+// triangulation (the default) or qhull's reentrant interface.
 //
 // For one query point j the cloud is {(x_i, y_i, C_ij)} over the reference points i (eq. 3.3). Its lower hull
 // (the facets whose outward normal has a negative C component) is a set of planes C = r x + s y + t, and
@@ -20,6 +20,15 @@ struct Plane {
   [[nodiscard]] double at(double x, double y) const { return r * x + s * y + t; }
 };
 
+// What computes the lower hull of the points the prefilter keeps. The envelopes agree to rounding; the
+// triangulation takes about half qhull's time on Table 3.1's clouds (30–140 points after the prefilter, where
+// qhull's set-up per call dominates: docs/measurements/2026-12-07-hull-regular-triangulation.md).
+enum class HullBackend {
+  qhull,                  // qhull's 3D hull ('Q5'), its lower facets
+  regular_triangulation,  // CGAL's 2D regular triangulation of the positions weighted by x² + y² − C (the
+                          // lower hull's projection); qhull where the positions span no triangle
+};
+
 struct HullOptions {
   // Facets steeper than this (|∇C| = hypot(r, s), dissimilarity units per metre) are dropped: they are the
   // near-vertical walls at the edge of the cloud, badly conditioned as LP rows. Dropping a plane keeps c_j a
@@ -31,6 +40,7 @@ struct HullOptions {
   // others on a straight run of the input (survey lines sampled along x) and points above four lower points
   // around them (a grid test) are dropped; the lower facets are the same. false: every point goes to qhull.
   bool prefilter = true;
+  HullBackend backend = HullBackend::regular_triangulation;
   void validate() const;  // throws std::invalid_argument naming the field
   bool operator==(const HullOptions&) const = default;
 };

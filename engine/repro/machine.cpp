@@ -75,7 +75,8 @@ Machine describe() {
   std::istringstream versions(run_capture(
       "dpkg-query -W -f='${binary:Package} ${Version} ${db:Status-Abbrev}\\n' libc6 libopenblas0-pthread "
       "libopenblas0-openmp libopenblas0-serial libblas3 liblapack3 libatlas3-base libceres3 libcholmod3 "
-      "coinor-libclp1 libdsdp-5.8gf libsdpa-dev libqhull-r8.0 libeigen3-dev 2>/dev/null"));
+      "coinor-libclp1 libdsdp-5.8gf libsdpa-dev libqhull-r8.0 libcgal-dev libgmp10 libmpfr6 libeigen3-dev "
+      "2>/dev/null"));
   while (std::getline(versions, line)) {
     std::istringstream fields(line);
     std::string package, version, status;

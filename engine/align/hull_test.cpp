@@ -15,6 +15,17 @@ using namespace keel::align;
 using namespace keel::align::test;
 using keel::core::Rng;
 
+namespace {
+
+// max over the planes at (x, y): the envelope c_j of eq. 3.4.
+double envelope(const std::vector<Plane>& planes, double x, double y) {
+  double e = -1e300;
+  for (const auto& pl : planes) e = std::max(e, pl.at(x, y));
+  return e;
+}
+
+}  // namespace
+
 TEST_CASE("lower hull planes under-estimate every point and touch the hull vertices") {
   Rng rng(11);
   for (int trial = 0; trial < 5; ++trial) {
@@ -41,14 +52,10 @@ TEST_CASE("lower hull planes under-estimate every point and touch the hull verti
     // The envelope max_m plane_m equals C at the lower-hull vertices: the cloud's minimum is one of them.
     std::size_t imin = 0;
     for (std::size_t i = 0; i < x.size(); ++i) {
-      double env = -1e300;
-      for (const auto& pl : planes) env = std::max(env, pl.at(x[i], y[i]));
-      touching += std::abs(env - c[i]) <= 1e-9;
+      touching += std::abs(envelope(planes, x[i], y[i]) - c[i]) <= 1e-9;
       if (c[i] < c[imin]) imin = i;
     }
-    double env_min = -1e300;
-    for (const auto& pl : planes) env_min = std::max(env_min, pl.at(x[imin], y[imin]));
-    CHECK(env_min == doctest::Approx(c[imin]).epsilon(1e-9));
+    CHECK(envelope(planes, x[imin], y[imin]) == doctest::Approx(c[imin]).epsilon(1e-9));
     CHECK(touching >= 3);
   }
 }
@@ -110,17 +117,6 @@ TEST_CASE("the prefilter drops points above the lower hull and keeps its facets"
       }
     }
 }
-
-namespace {
-
-// max over the planes at (x, y): the envelope c_j of eq. 3.4.
-double envelope(const std::vector<Plane>& planes, double x, double y) {
-  double e = -1e300;
-  for (const auto& pl : planes) e = std::max(e, pl.at(x, y));
-  return e;
-}
-
-}  // namespace
 
 TEST_CASE("the regular triangulation and qhull give the same lower envelope") {
   Rng rng(29);

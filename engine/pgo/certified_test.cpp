@@ -709,6 +709,7 @@ void check_relative_decrease(const Graph& g, int d) {
   const auto o = solve_certified(g, off).summary;
   REQUIRE(f.staircase.back().certified);  // the relaxation's optimum: its F bounds every lower bound
   const double relaxation = f.staircase.back().cost;
+  int eager_iterations = 0;
   for (const CertifiedOptions& with : {rule, eager}) {
     const auto s = solve_certified(g, with).summary;
     INFO("relative decrease " << with.staircase_relative_decrease << ": rank " << s.final_rank << ", "
@@ -731,9 +732,9 @@ void check_relative_decrease(const Graph& g, int d) {
     CHECK(s.certificate.bound.lower <= o.final_cost);
     CHECK(o.certificate.bound.lower <= s.final_cost);
     CHECK(s.certificate.proven == std::isfinite(s.certificate.bound.lower));
+    eager_iterations = first.iterations;  // the last pass is the eager one
   }
-  const auto e = solve_certified(g, eager).summary;
-  CHECK(e.staircase[1].iterations < o.staircase[1].iterations);
+  CHECK(eager_iterations < o.staircase[1].iterations);
 }
 
 }  // namespace

@@ -168,6 +168,11 @@ void add_solve_command(CLI::App& app) {
        "--certify: a rank's loose solve also stops at a trust-region step inside its region that lowers "
        "F by less than this × F (SE-Sync's rule; faster, but an answer may get worse; in [0, 1); 0: off)")
       ->capture_default_str();
+  c->add_option("--preconditioner", a->preconditioner,
+                "--certify: the trust-region steps' preconditioner above rank d: auto (reduced where the "
+                "translations weigh at least F), joint (rotations and translations together) or reduced "
+                "(translations eliminated, as SE-Sync)")
+      ->capture_default_str();
   auto* time_limit = c->add_option(
       "--time-limit", certified.time_limit_s,
       "--certify: stop after this many seconds (> 0; left out: no limit); the point reached and its rounding "
@@ -180,8 +185,12 @@ void add_solve_command(CLI::App& app) {
     // iteration cap of its own. Given, it is a bad command line (exit 2).
     constexpr const char* kSolveOnly[] = {"--init",         "--seed",    "--robust",
                                           "--robust-param", "--threads", "--max-iterations"};
-    constexpr const char* kCertifyOnly[] = {"--gap-tolerance", "--max-rank", "--time-limit",
-                                            "--staircase-stationarity", "--staircase-relative-decrease"};
+    constexpr const char* kCertifyOnly[] = {"--gap-tolerance",
+                                            "--max-rank",
+                                            "--time-limit",
+                                            "--staircase-stationarity",
+                                            "--staircase-relative-decrease",
+                                            "--preconditioner"};
     for (const char* name :
          a->certify ? std::span<const char* const>(kSolveOnly) : std::span<const char* const>(kCertifyOnly))
       if (c->get_option(name)->count() > 0)

@@ -132,6 +132,7 @@ struct SolveArgs {
   Common common;
   std::string file, out;
   std::string init = "odometry", robust = "none";  // names, as given
+  std::string preconditioner = "auto";             // --certify's --preconditioner, as given
   app::MaximumLikelihood likelihood;               // the anisotropic solve (keel solve's default back end)
   app::Certified certified;                        // --certify
   bool certify = false;
@@ -175,6 +176,9 @@ inline void check_solve_options(SolveArgs& a) {
   auto& given = a.likelihood.options;
   check_option("--init", [&] { given.initial_guess = app::initial_guess_from_name(a.init); });
   check_option("--robust", [&] { given.robust_kernel = pgo::robust_kernel_from_string(a.robust); });
+  check_option("--preconditioner", [&] {
+    a.certified.options.preconditioner = pgo::trust_region_preconditioner_from_string(a.preconditioner);
+  });
   const auto alone = [](const char* option, auto set) {
     check_option(option, [&] {
       app::MaximumLikelihood m;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/blas.hpp"
+#include "core/names.hpp"
 #include "core/timing.hpp"
 #include "linalg/double_double.hpp"
 #include "linalg/psd_proof.hpp"
@@ -347,6 +348,19 @@ void CertifiedOptions::validate() const {
     fail(fmt::format(
         "CertifiedOptions: time_limit_s must be a finite number of seconds >= 0 (0: none; got {})",
         time_limit_s));
+}
+
+namespace {
+constexpr core::NameTable<TrustRegionPreconditioner, 3> kTrustRegionPreconditioner{
+    "pgo::TrustRegionPreconditioner",
+    {{{TrustRegionPreconditioner::automatic, "auto"},
+      {TrustRegionPreconditioner::joint, "joint"},
+      {TrustRegionPreconditioner::reduced, "reduced"}}}};
+}  // namespace
+
+std::string_view to_string(TrustRegionPreconditioner p) { return kTrustRegionPreconditioner.name(p); }
+TrustRegionPreconditioner trust_region_preconditioner_from_string(std::string_view s) {
+  return kTrustRegionPreconditioner.parse(s);
 }
 
 std::string_view to_string(CertifiedTermination t) {

@@ -59,6 +59,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/bound.hpp"
@@ -81,6 +82,18 @@ struct IsotropicWeights {
 [[nodiscard]] IsotropicWeights isotropic_weights(const graph::Edge2& e);
 [[nodiscard]] IsotropicWeights isotropic_weights(const graph::Edge3& e);
 
+// The preconditioner of the trust-region steps above rank d (certified_local.cpp).
+//   joint:     the data matrix's inverse on rotations and translations together, projected (Π A⁻¹ Π);
+//   reduced:   translations eliminated exactly (SE-Sync's on the rotations, whose problem has none): more
+//   work
+//              per step, fewer steps where the translations weigh much in the cost;
+//   automatic: reduced where Σ_e τ_e ‖t̃_e‖² ≥ F at the start of the rank's solve (the joint form's spread
+//              of eigenvalues grows with that ratio), joint elsewhere.
+enum class TrustRegionPreconditioner { automatic, joint, reduced };
+[[nodiscard]] std::string_view to_string(TrustRegionPreconditioner p);  // "auto", "joint", "reduced"
+// Inverse of to_string; throws std::invalid_argument naming the valid values.
+[[nodiscard]] TrustRegionPreconditioner trust_region_preconditioner_from_string(std::string_view s);
+
 struct CertifiedOptions {
   double gap_tolerance = 1e-6;  // certified when (F − lower) / max(1, F) ≤ this (> 0)
   int max_rank = 10;            // the staircase stops at this rank (≥ d, ≤ 12)
@@ -96,6 +109,7 @@ struct CertifiedOptions {
   // forming it, preconditioned by the factor of the data matrix (SE-Sync's local solver). false: the damped
   // Newton steps of rank d, with factorized blocks that grow as r² (kept to compare the two in tests).
   bool trust_region_above_d = true;
+  TrustRegionPreconditioner preconditioner = TrustRegionPreconditioner::automatic;
   // Above rank d, each rank's local solve first stops once ‖grad‖·‖X‖ ≤ this × max(F, 1) (SE-Sync's staircase
   // stops every rank loosely). At that point the staircase climbs when S has curvature below
   // −(η* + ‖grad‖); otherwise, when the rank-d answer rounded from it and polished costs more than F there by

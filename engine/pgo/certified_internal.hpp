@@ -340,12 +340,73 @@ class DataPreconditioner {
     for (int c = 0; c < N0; ++c) cs[static_cast<std::size_t>(c) + 1] += cs[static_cast<std::size_t>(c)];
     chol_ = std::make_unique<linalg::SparseCholesky>(N0, cs, ri, linalg::CholeskyOptions{});
     chol_->values() = values;
+    // The translation block A_tt of 2M₀ (rows (v − 1)·w; 2 × the translation Laplacian of τ without pose 0),
+    // for apply_reduced(): its entries are 2M₀'s whose row and column are both
+    // translations, in the same column order.
+    std::vector<int> tcs(static_cast<std::size_t>(n_), 0), tri;
+    std::vector<double> tvalues;
+    for (int c = 0; c < N0; c += w)
+      for (int q = cs[static_cast<std::size_t>(c)]; q < cs[static_cast<std::size_t>(c) + 1]; ++q)
+        if (ri[static_cast<std::size_t>(q)] % w == 0) {
+          tri.push_back(ri[static_cast<std::size_t>(q)] / w);
+          tvalues.push_back(values[static_cast<std::size_t>(q)]);
+          ++tcs[static_cast<std::size_t>(c / w) + 1];
+        }
+    for (int c = 0; c + 1 < n_; ++c) tcs[static_cast<std::size_t>(c) + 1] += tcs[static_cast<std::size_t>(c)];
+    // The coupling block A_yt: the entries with one translation index and one rotation index.
+    for (int c = 0; c < N0; ++c)
+      for (int q = cs[static_cast<std::size_t>(c)]; q < cs[static_cast<std::size_t>(c) + 1]; ++q) {
+        const int row = ri[static_cast<std::size_t>(q)];
+        if ((row % w == 0) == (c % w == 0)) continue;
+        coupling_.push_back(
+            {row % w == 0 ? c : row, (row % w == 0 ? row : c) / w, values[static_cast<std::size_t>(q)]});
+      }
     cs_ = std::move(cs);
     ri_ = std::move(ri);
     m0_ = std::move(values);
+    for (const auto& e : P.edges) translation_energy_ += e.tau * e.t.squaredNorm();
     ok_ = chol_->factorize();
+    if (ok_ && n_ > 1) {
+      tchol_ = std::make_unique<linalg::SparseCholesky>(n_ - 1, tcs, tri, linalg::CholeskyOptions{});
+      tchol_->values() = tvalues;
+      ok_ = tchol_->factorize();
+    }
   }
   [[nodiscard]] bool ok() const { return ok_; }
+  // Σ_e τ_e ‖t̃_e‖²: F's translation terms with every position at 0 (CertifiedOptions::preconditioner).
+  [[nodiscard]] double translation_energy() const { return translation_energy_; }
+
+  // The preconditioner with the translations eliminated exactly (SE-Sync's on the rotations, Rosen et al.
+  // 2019 §5.2, whose problem has no translations): with the joint matrix A = 2M₀ in blocks of translations t
+  // and rotations y, its Schur complement S = A_yy − A_yt A_tt⁻¹ A_ty, and Π the orthogonal projection onto
+  // the rotations' tangent space, the ambient vector u = E G⁻¹ c goes to
+  //     z_y = Π S⁻¹ Π (u_y − A_yt A_tt⁻¹ u_t),     z_t = A_tt⁻¹ (u_t − A_ty z_y),
+  // and back to coordinates by G⁻¹ Eᵀ. That is the block-LDLᵀ inverse of A with S⁻¹ replaced by Π S⁻¹ Π:
+  // symmetric, positive definite on the tangent space. apply() (Π A⁻¹ Π on the joint vector) differs from it
+  // where a normal component of A⁻¹'s rotation part carries translations with it that the projection then
+  // strands: its preconditioned Hessian has eigenvalues of A_yy against S's, large where translations are
+  // long. S⁻¹ v is the rotation part of A⁻¹ (v; 0), from the joint factor.
+  void apply_reduced(const std::vector<Small>& Q, const std::vector<std::pair<int, int>>& gens, int r,
+                     const Eigen::VectorXd& c, Eigen::VectorXd& z) const {
+    const int w = d_ + 1, N0 = (n_ - 1) * w, nt = n_ - 1;
+    embed(Q, gens, r, c, true, B_);  // u
+    Ut_.resize(nt, r);
+    for (int v = 0; v < nt; ++v) Ut_.row(v) = B_.row(v * w);
+    Wt_.resize(nt, r);
+    tchol_->solve(Ut_.data(), Wt_.data(), r);  // A_tt⁻¹ u_t
+    // Π (u_y − A_yt A_tt⁻¹ u_t), translations 0.
+    for (int v = 0; v < nt; ++v) B_.row(v * w).setZero();
+    for (const Coupling& e : coupling_) B_.row(e.y) -= e.value * Wt_.row(e.t);
+    project_ambient(Q, gens, r, B_);
+    Z_.resize(N0, r);
+    chol_->solve(B_.data(), Z_.data(), r);  // rotation rows: S⁻¹ Π (…)
+    for (int v = 0; v < nt; ++v) Z_.row(v * w).setZero();
+    project_ambient(Q, gens, r, Z_);                                            // (0; z_y)
+    for (const Coupling& e : coupling_) Ut_.row(e.t) -= e.value * Z_.row(e.y);  // u_t − A_ty z_y
+    tchol_->solve(Ut_.data(), Wt_.data(), r);                                   // z_t
+    for (int v = 0; v < nt; ++v) Z_.row(v * w) = Wt_.row(v);
+    project(Q, gens, r, Z_, true, z);
+  }
 
   // z = G⁻¹ Eᵀ (2 M₀ ⊗ I_r)⁻¹ E G⁻¹ c at the point whose poses' rotation parts are Q (r × r each).
   void apply(const std::vector<Small>& Q, const std::vector<std::pair<int, int>>& gens, int r,
@@ -396,6 +457,13 @@ class DataPreconditioner {
       B.block(row + 1, 0, d_, r) = Y.transpose();
     }
   }
+  // Z := the orthogonal projection of Z's rotation rows onto the tangent space at Q (E G⁻¹ Eᵀ); translation
+  // rows unchanged.
+  void project_ambient(const std::vector<Small>& Q, const std::vector<std::pair<int, int>>& gens, int r,
+                       Eigen::MatrixXd& Z) const {
+    project(Q, gens, r, Z, true, coords_);
+    embed(Q, gens, r, coords_, false, Z);
+  }
   // z = (G⁻¹) Eᵀ Z.
   void project(const std::vector<Small>& Q, const std::vector<std::pair<int, int>>& gens, int r,
                const Eigen::MatrixXd& Z, bool scaled, Eigen::VectorXd& z) const {
@@ -419,7 +487,15 @@ class DataPreconditioner {
   std::vector<int> cs_, ri_;  // 2M₀'s upper triangle (compressed columns)
   std::vector<double> m0_;
   bool ok_ = false;
-  mutable Eigen::MatrixXd B_, Z_;
+  double translation_energy_ = 0.0;
+  std::unique_ptr<linalg::SparseCholesky> tchol_;  // A_tt
+  struct Coupling {
+    int y, t;  // a rotation row of 2M₀ and a translation (pose − 1)
+    double value;
+  };
+  std::vector<Coupling> coupling_;  // A_yt's entries
+  mutable Eigen::MatrixXd B_, Z_, Ut_, Wt_;
+  mutable Eigen::VectorXd coords_;
 };
 
 // Steihaug–Toint truncated conjugate gradients (Conn, Gould & Toint, Trust-Region Methods, Alg. 7.5.1; the

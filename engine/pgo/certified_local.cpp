@@ -179,12 +179,24 @@ LocalOutcome trust_region_solve(const Problem& P, Point& X, const CertifiedOptio
       y.segment(b * p, prot).noalias() += C * x.segment(b * p, prot);
     }
   };
-  auto precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out_z) {
-    pre.apply(X.Q, gens, r, in, out_z);
-  };
-
   LocalOutcome out;
   double f = cost(P, X);
+  // CertifiedOptions::preconditioner. Automatic: the reduced form where Σ τ‖t̃‖² ≥ F. The joint form's
+  // preconditioned Hessian has, along the normal directions the projection drops, eigenvalues of A_yy against
+  // the Schur complement S (DataPreconditioner::apply_reduced); along Y itself that ratio is at least
+  // (F_rot + Σ τ‖t̃‖²) / F, so at Σ τ‖t̃‖² ≥ F the joint form spreads the spectrum at least twofold. On
+  // ext_certified_noise's graphs the ratio was ≥ 1.9 on every graph where the reduced form saved time and
+  // ≤ 0.84 on every one where it cost time
+  // (docs/measurements/2026-12-07-certified-reduced-preconditioner.md).
+  const bool reduced =
+      o.preconditioner == TrustRegionPreconditioner::reduced ||
+      (o.preconditioner == TrustRegionPreconditioner::automatic && pre.translation_energy() >= f);
+  auto precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out_z) {
+    if (reduced)
+      pre.apply_reduced(X.Q, gens, r, in, out_z);
+    else
+      pre.apply(X.Q, gens, r, in, out_z);
+  };
   double radius = 0.0;  // M-norm; 0: set from the first preconditioned gradient step
   bool rebuild = true;
   double gnorm = 0.0;

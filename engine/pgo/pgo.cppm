@@ -86,4 +86,6 @@ using keel::pgo::isotropic_weights;
 using keel::pgo::IsotropicWeights;
 using keel::pgo::RankRecord;
 using keel::pgo::solve_certified;
+using keel::pgo::trust_region_preconditioner_from_string;
+using keel::pgo::TrustRegionPreconditioner;
 }  // namespace keel::pgo

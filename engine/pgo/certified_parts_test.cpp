@@ -212,4 +212,122 @@ TEST_CASE("certified parts: a winding local minimum is refused, lifted and left"
   CHECK(cost(P, X) < 0.99 * wound);
 }
 
+namespace {
+
+// DataPreconditioner's two forms against dense linear algebra at a random point of rank r: the ambient
+// operator Â = 2M₀ ⊗ I_r (M₀ assembled from the edges' entries as the certificate does), the tangent basis
+// E (each coordinate's ambient vector), G = EᵀE, and then
+//   joint:   G⁻¹ Eᵀ Â⁻¹ E G⁻¹ c;
+//   reduced: u = E G⁻¹ c, z_y = Π S⁻¹ Π (u_y − Â_yt Â_tt⁻¹ u_t), z_t = Â_tt⁻¹ (u_t − Â_ty z_y), G⁻¹ Eᵀ z,
+// with S the Schur complement of the translations and Π the projection onto the rotations' tangent space.
+void check_preconditioners(const Problem& P, int r, core::Rng& rng, double scale_translations) {
+  const int d = P.d, w = d + 1, N0 = (P.n - 1) * w;
+  const auto gens = generators(r, d);
+  const int prot = static_cast<int>(gens.size()), p = prot + r, N = (P.n - 1) * p;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N0, N0);
+  for (const auto& e : P.edges)
+    edge_entries(e, d, [&](int a, int b, int row, int col, DD value, double) {
+      if (a == 0 || b == 0) return;
+      const int gr = (a - 1) * w + row, gc = (b - 1) * w + col;
+      if (a == b && row != 0 && col != 0 && gr > gc) return;
+      A(gr, gc) += 2.0 * (value.hi + value.lo);
+      if (gr != gc) A(gc, gr) += 2.0 * (value.hi + value.lo);
+    });
+  const Point X = random_point(P.n, r, rng);
+  // The ambient vector of a coordinate: column a of the N0 × r matrix [t_v, Y_v] rows, stacked column-major.
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(N0) * r, N);
+  for (int v = 1; v < P.n; ++v) {
+    const int o0 = (v - 1) * p, row = (v - 1) * w;
+    for (int k = 0; k < prot; ++k) {
+      const Small D =
+          tangent_basis(X.Q[static_cast<std::size_t>(v)], d, gens[static_cast<std::size_t>(k)].first,
+                        gens[static_cast<std::size_t>(k)].second);  // r × d
+      for (int a = 0; a < r; ++a)
+        for (int i = 0; i < d; ++i) E(a * N0 + row + 1 + i, o0 + k) = D(a, i);
+    }
+    for (int a = 0; a < r; ++a) E(a * N0 + row, o0 + prot + a) = 1.0;
+  }
+  Eigen::MatrixXd Ahat =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(N0) * r, static_cast<Eigen::Index>(N0) * r);
+  for (int a = 0; a < r; ++a) Ahat.block(a * N0, a * N0, N0, N0) = A;
+  const Eigen::MatrixXd G = E.transpose() * E;
+  const Eigen::MatrixXd Ginv = G.inverse();
+  std::vector<int> ti, yi;
+  for (int k = 0; k < N0 * r; ++k) ((k % N0) % w == 0 ? ti : yi).push_back(k);
+  const auto sub = [](const Eigen::MatrixXd& M, const std::vector<int>& rows, const std::vector<int>& cols) {
+    Eigen::MatrixXd out(rows.size(), cols.size());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (std::size_t j = 0; j < cols.size(); ++j)
+        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = M(rows[i], cols[j]);
+    return out;
+  };
+  const Eigen::MatrixXd Att = sub(Ahat, ti, ti), Aty = sub(Ahat, ti, yi), Ayy = sub(Ahat, yi, yi);
+  const Eigen::MatrixXd S = Ayy - Aty.transpose() * Att.ldlt().solve(Aty);
+  const Eigen::MatrixXd Ey = sub(E, yi, [&] {
+    std::vector<int> cols;
+    for (int c = 0; c < N; ++c)
+      if (c % p < prot) cols.push_back(c);
+    return cols;
+  }());
+  const Eigen::MatrixXd Pi = Ey * (Ey.transpose() * Ey).inverse() * Ey.transpose();
+  const Eigen::MatrixXd Xs = Pi * S.inverse() * Pi;
+
+  DataPreconditioner pre(P);
+  REQUIRE(pre.ok());
+  double tt = 0.0;
+  for (const auto& e : P.edges) tt += e.tau * e.t.squaredNorm();
+  CHECK(pre.translation_energy() == doctest::Approx(tt).epsilon(1e-12));
+  Eigen::MatrixXd joint(N, N), reduced(N, N);
+  for (int c = 0; c < N; ++c) {
+    const Eigen::VectorXd unit = Eigen::VectorXd::Unit(N, c);
+    Eigen::VectorXd z;
+    pre.apply(X.Q, gens, r, unit, z);
+    joint.col(c) = z;
+    pre.apply_reduced(X.Q, gens, r, unit, z);
+    reduced.col(c) = z;
+  }
+  const Eigen::MatrixXd joint_ref = Ginv * E.transpose() * Ahat.inverse() * E * Ginv;
+  Eigen::MatrixXd reduced_ref(N, N);
+  for (int c = 0; c < N; ++c) {
+    const Eigen::VectorXd u = E * Ginv.col(c);
+    Eigen::VectorXd ut(ti.size()), uy(yi.size());
+    for (std::size_t i = 0; i < ti.size(); ++i) ut(static_cast<Eigen::Index>(i)) = u(ti[i]);
+    for (std::size_t i = 0; i < yi.size(); ++i) uy(static_cast<Eigen::Index>(i)) = u(yi[i]);
+    const Eigen::VectorXd zy = Xs * (uy - Aty.transpose() * Att.ldlt().solve(ut));
+    const Eigen::VectorXd zt = Att.ldlt().solve(ut - Aty * zy);
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(N0 * r);
+    for (std::size_t i = 0; i < ti.size(); ++i) z(ti[i]) = zt(static_cast<Eigen::Index>(i));
+    for (std::size_t i = 0; i < yi.size(); ++i) z(yi[i]) = zy(static_cast<Eigen::Index>(i));
+    reduced_ref.col(c) = Ginv * E.transpose() * z;
+  }
+  INFO("translations × " << scale_translations << ", rank " << r);
+  const double scale = joint_ref.norm();
+  CHECK((joint - joint_ref).norm() <= 1e-9 * scale);
+  CHECK((reduced - reduced_ref).norm() <= 1e-9 * reduced_ref.norm());
+  // Symmetric and positive definite on the coordinates.
+  CHECK((reduced - reduced.transpose()).norm() <= 1e-10 * reduced.norm());
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (reduced + reduced.transpose()))
+            .eigenvalues()
+            .minCoeff() > 0.0);
+  // Without translations to couple, the two forms are one; with them, not.
+  if (scale_translations == 0.0)
+    CHECK((reduced - joint).norm() <= 1e-9 * scale);
+  else
+    CHECK((reduced - joint).norm() > 1e-3 * scale);
+}
+
+}  // namespace
+
+TEST_CASE("certified parts: the trust region's preconditioners, joint and reduced, against dense algebra") {
+  core::Rng rng(20261207);
+  for (const double scale : {0.0, 1.0, 20.0}) {
+    auto g = ring(8, 0.3, 0.1, rng);
+    for (auto& e : g.edges)
+      e.measurement = lie::SE2(scale * e.measurement.translation()(0), scale * e.measurement.translation()(1),
+                               e.measurement.angle());
+    const Problem P = make_problem(g, 2);
+    for (int r : {2, 3, 4}) check_preconditioners(P, r, rng, scale);
+  }
+}
+
 }  // namespace keel_certified_parts_test

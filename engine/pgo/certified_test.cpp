@@ -619,6 +619,48 @@ TEST_CASE(
   SUBCASE("3D") { check_hard_instance(noisy_helix(24, rng), 3); }
 }
 
+TEST_CASE("the trust region's two preconditioners reach the same relaxation value; auto follows the rule") {
+  // The preconditioner changes the local solves' path, never what they converge to: with every rank solved
+  // to the full tolerance, both end at the relaxation's optimum (its value, the bound) on an instance whose
+  // relaxation is not exact. Auto takes whichever form its rule names, with the same steps as asking for it.
+  core::Rng rng(41);
+  const auto g = noisy_circle(24, rng);
+  CertifiedOptions joint, reduced, automatic;
+  joint.staircase_stationarity = reduced.staircase_stationarity = automatic.staircase_stationarity = 0.0;
+  joint.preconditioner = TrustRegionPreconditioner::joint;
+  reduced.preconditioner = TrustRegionPreconditioner::reduced;
+  const auto a = solve_certified(g, joint).summary;
+  const auto b = solve_certified(g, reduced).summary;
+  const auto c = solve_certified(g, automatic).summary;
+  INFO("joint: " << a.tcg_iterations << " tCG, bound " << a.certificate.bound.lower
+                 << "; reduced: " << b.tcg_iterations << " tCG, bound " << b.certificate.bound.lower);
+  REQUIRE(a.staircase.back().certified);
+  REQUIRE(b.staircase.back().certified);
+  REQUIRE(a.staircase.size() > 1);
+  CHECK(b.staircase.back().cost == doctest::Approx(a.staircase.back().cost).epsilon(1e-7));
+  CHECK(b.certificate.bound.lower == doctest::Approx(a.certificate.bound.lower).epsilon(1e-6));
+  CHECK(b.certificate.bound.lower <= a.final_cost);
+  CHECK(a.certificate.bound.lower <= b.final_cost);
+  CHECK(b.tcg_iterations != a.tcg_iterations);  // the two forms did differ along the way
+  // Σ τ‖t̃‖² against F at the start of each rank's solve, which lies between the relaxation's value and the
+  // rank-d cost: beyond both bounds the rule picks one form at every rank.
+  double energy = 0.0;
+  for (const auto& e : g.edges)
+    energy += isotropic_weights(e).tau * e.measurement.translation().squaredNorm();
+  INFO("Σ τ‖t̃‖² = " << energy << ", F from " << a.staircase.front().cost << " to "
+                    << a.staircase.back().cost);
+  REQUIRE((energy >= a.staircase.front().cost || energy < a.staircase.back().cost));
+  CHECK(c.tcg_iterations == (energy >= a.staircase.front().cost ? b.tcg_iterations : a.tcg_iterations));
+}
+
+TEST_CASE("trust_region_preconditioner names: every value round-trips, a bad name lists the valid ones") {
+  for (const auto p : {TrustRegionPreconditioner::automatic, TrustRegionPreconditioner::joint,
+                       TrustRegionPreconditioner::reduced})
+    CHECK(trust_region_preconditioner_from_string(to_string(p)) == p);
+  CHECK_THROWS_WITH_AS(trust_region_preconditioner_from_string("schur"),
+                       doctest::Contains("(valid: auto, joint, reduced)"), std::invalid_argument);
+}
+
 TEST_CASE("the matrix-free trust region and damped Newton reach the same K4 relaxation value") {
   CertifiedOptions full;
   full.staircase_stationarity = 0.0;

@@ -415,7 +415,7 @@ each edge's information) and its certificate: a lower bound on the global minimu
          const py::object& seed_obj, const py::object& threads_obj, const py::object& max_iterations_obj,
          bool certify, double gap_tolerance, const py::object& max_rank_obj,
          const std::optional<double>& time_limit_s, double staircase_stationarity,
-         double staircase_relative_decrease) -> py::object {
+         double staircase_relative_decrease, const std::string& preconditioner) -> py::object {
         // Integers named in errors (TypeError for a float or a bool, OverflowError beyond the C++ type).
         const std::uint64_t seed = uint_arg(seed_obj, "solve", "seed", UINT64_MAX);
         const auto threads = static_cast<unsigned>(uint_arg(threads_obj, "solve", "threads", UINT_MAX));
@@ -449,7 +449,9 @@ each edge's information) and its certificate: a lower bound on the global minimu
                 std::pair{"staircase_stationarity",
                           staircase_stationarity != certified_defaults.staircase_stationarity},
                 std::pair{"staircase_relative_decrease",
-                          staircase_relative_decrease != certified_defaults.staircase_relative_decrease}})
+                          staircase_relative_decrease != certified_defaults.staircase_relative_decrease},
+                std::pair{"preconditioner",
+                          preconditioner != pgo::to_string(certified_defaults.preconditioner)}})
             if (given)
               throw py::value_error(fmt::format(
                   "solve: {} applies only with certify=True (the anisotropic solve has no gap, rank or time "
@@ -462,6 +464,11 @@ each edge's information) and its certificate: a lower bound on the global minimu
           o.options.max_rank = max_rank;
           o.options.staircase_stationarity = staircase_stationarity;
           o.options.staircase_relative_decrease = staircase_relative_decrease;
+          try {
+            o.options.preconditioner = pgo::trust_region_preconditioner_from_string(preconditioner);
+          } catch (const std::invalid_argument& e) {
+            throw py::value_error(fmt::format("solve: preconditioner: {}", e.what()));
+          }
           if (time_limit_s) {
             if (!(*time_limit_s > 0.0) || std::isinf(*time_limit_s))
               throw py::value_error(fmt::format(
@@ -494,7 +501,8 @@ each edge's information) and its certificate: a lower bound on the global minimu
       py::arg("max_iterations") = 100, py::arg("certify") = false, py::arg("gap_tolerance") = 1e-6,
       py::arg("max_rank") = 10, py::arg("time_limit_s") = py::none(),
       py::arg("staircase_stationarity") = pgo::CertifiedOptions{}.staircase_stationarity,
-      py::arg("staircase_relative_decrease") = pgo::CertifiedOptions{}.staircase_relative_decrease, R"doc(
+      py::arg("staircase_relative_decrease") = pgo::CertifiedOptions{}.staircase_relative_decrease,
+      py::arg("preconditioner") = std::string(pgo::to_string(pgo::CertifiedOptions{}.preconditioner)), R"doc(
 Batch maximum-likelihood pose-graph solve (keel::pgo::optimize; thesis eq. 2.1): Levenberg-Marquardt with
 sparse normal Cholesky (CHOLMOD), the graph's gauge_pose (0 by default) held constant at its given value
 (certify=True moves its estimate rigidly so that this pose keeps its value). The options are pgo's defaults
@@ -521,9 +529,10 @@ to `max_rank`, a certificate with a rounding-error margin, certified when the re
 rounding are tested and termination is 'time_limit'; `staircase_stationarity`: above rank d each rank is first solved
 until |grad|.|X| <= this x max(F, 1) and solved on only where its rounded answer could still be certified, 0 for every
 rank to the full tolerance, as `--staircase-stationarity`; `staircase_relative_decrease`: such a loose solve also
-stops at a trust-region step that lowers F by less than this x F, 0 for off, as `--staircase-relative-decrease`); init, robust, robust_param, seed, threads and max_iterations do
+stops at a trust-region step that lowers F by less than this x F, 0 for off, as `--staircase-relative-decrease`; `preconditioner`: the trust-region steps' preconditioner above rank d,
+'auto', 'joint' or 'reduced', as `--preconditioner`); init, robust, robust_param, seed, threads and max_iterations do
 not apply (ValueError when one differs from its default; likewise gap_tolerance, max_rank, time_limit_s,
-staircase_stationarity and staircase_relative_decrease without certify=True). Returns a
+staircase_stationarity, staircase_relative_decrease and preconditioner without certify=True). Returns a
 CertifiedSolveResult. A disconnected graph or an edge whose isotropic weights are not positive raises
 ValueError.)doc");
 

@@ -299,12 +299,15 @@ class OptionValues(unittest.TestCase):
             self.usage(self.SOLVE + ("--certify", "--staircase-relative-decrease", s),
                        "--staircase-relative-decrease:",
                        "not a finite number" if s == "nan" else "staircase_relative_decrease must be in [0, 1)")
+        self.usage(self.SOLVE + ("--certify", "--preconditioner", "schur"), "--preconditioner:",
+                   "unknown pgo::TrustRegionPreconditioner 'schur'")
         # An option of the other mode is refused, never ignored.
         for option, value in (("--init", "as-read"), ("--seed", "3"), ("--robust", "huber"), ("--robust-param", "2"),
                               ("--threads", "2"), ("--max-iterations", "5")):
             self.usage(self.SOLVE + ("--certify", option, value), f"{option}: does not apply with --certify")
         for option, value in (("--gap-tolerance", "1e-5"), ("--max-rank", "4"), ("--time-limit", "10"),
-                              ("--staircase-stationarity", "0"), ("--staircase-relative-decrease", "0")):
+                              ("--staircase-stationarity", "0"), ("--staircase-relative-decrease", "0"),
+                              ("--preconditioner", "joint")):
             self.usage(self.SOLVE + (option, value), f"{option}: applies only with --certify")
         for t in ("0", "-1", "nan"):
             self.usage(self.SOLVE + ("--certify", "--time-limit", t), "--time-limit:")

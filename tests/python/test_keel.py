@@ -310,8 +310,11 @@ class TestReference(unittest.TestCase):
                 keel.solve(keel.read_graph(self.file2d), certify=True, staircase_stationarity=bad)
             with self.assertRaisesRegex(ValueError, "staircase_relative_decrease must be in"):
                 keel.solve(keel.read_graph(self.file2d), certify=True, staircase_relative_decrease=bad)
+        with self.assertRaisesRegex(ValueError, "preconditioner: unknown pgo::TrustRegionPreconditioner 'schur'"):
+            keel.solve(keel.read_graph(self.file2d), certify=True, preconditioner="schur")
         for kw in ({"gap_tolerance": 1e-5}, {"max_rank": 4}, {"time_limit_s": 10.0},
-                   {"staircase_stationarity": 0.0}, {"staircase_relative_decrease": 1e-7}):
+                   {"staircase_stationarity": 0.0}, {"staircase_relative_decrease": 1e-7},
+                   {"preconditioner": "joint"}):
             with self.subTest(**kw), self.assertRaisesRegex(ValueError, f"^solve: {next(iter(kw))} applies only "
                                                                         "with certify=True"):
                 keel.solve(g2, **kw)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tests/reproduce/local_times.sh — scripts/reproduce's local path reports time: each experiment's time after it
-# ran, a table of them longest first with the total at the end, and a time left that scales the baselines'
+# ran, a table of them longest first (wall time, share, CPU time, cores kept busy) with the total at the end, and a time left that scales the baselines'
 # expectations by the pace of the experiments already run. Runs on a scratch copy of the scripts, two experiments'
 # configs and baselines, with the stand-in drivers and `keel` of tests/slurm/make-fakes (each fake run sleeps
 # FAKE_SLEEP seconds; the fake `keel eta` expects 1 s per experiment), so neither the engine nor this checkout's
@@ -37,15 +37,22 @@ expect "^\[1/2\] ch5_fig5_4_composition \(quick\): expected 1s \(from its baseli
   "the time left before any experiment ran (baselines as recorded)"
 expect "^\[2/2\] ch5_fig5_6_relative_pose \(quick\): expected 1s \(from its baseline\), about [2-9]s left in total$" \
   "the time left scaled by this run's pace"
-# The table at the end: both experiments, with seconds and share, and the total.
+# The table at the end: both experiments, with wall seconds, share, CPU seconds and cores kept busy, and the total.
 expect "^reproduce: time per experiment \(quick, threads 1\), longest first:$" "the table's heading"
-expect "^ +[0-9]+\.[0-9] s +[0-9]+\.[0-9] %  ch5_fig5_4_composition$" "the first experiment's row"
-expect "^ +[0-9]+\.[0-9] s +[0-9]+\.[0-9] %  ch5_fig5_6_relative_pose$" "the second experiment's row"
+row=" +[0-9]+\.[0-9] s +[0-9]+\.[0-9] % +[0-9]+\.[0-9] s +[0-9]+\.[0-9]{2}  "
+expect "^${row}ch5_fig5_4_composition$" "the first experiment's row"
+expect "^${row}ch5_fig5_6_relative_pose$" "the second experiment's row"
 expect "^reproduce: ran 2 experiment\(s\) in [0-9]+s \([0-9]+\.[0-9] s\)$" "the total"
 # Shares of a total that includes both runs: each near half, their sum at most 100 %.
-shares=$(sed -nE 's/^ +[0-9.]+ s +([0-9.]+) %  ch5_.*/\1/p' <<<"$out")
+shares=$(sed -nE 's/^ +[0-9.]+ s +([0-9.]+) % .*  ch5_.*/\1/p' <<<"$out")
 if ! awk '{ s += $1; if ($1 < 30 || $1 > 70) bad = 1 } END { exit (bad || s > 100.05) }' <<<"$shares"; then
   echo "FAIL: shares $(tr '\n' ' ' <<<"$shares") are not about half each, summing to at most 100 %"; fail=1
+fi
+# The fake drivers sleep: their CPU is a small part of their wall time, so the CPU column is the children's CPU
+# time, not their wall time.
+cores=$(sed -nE 's/^ +[0-9.]+ s +[0-9.]+ % +[0-9.]+ s +([0-9.]+)  ch5_.*/\1/p' <<<"$out")
+if [ "$(wc -l <<<"$cores")" -ne 2 ] || ! awk '{ if ($1 >= 0.5) bad = 1 } END { exit bad }' <<<"$cores"; then
+  echo "FAIL: cores $(tr '\n' ' ' <<<"$cores") of two sleeping drivers are not both below 0.5"; fail=1
 fi
 if [ $fail -ne 0 ]; then echo "--- output:"; echo "$out"; exit 1; fi
 echo "reproduce.local_times: ok"

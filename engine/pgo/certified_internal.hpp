@@ -340,27 +340,24 @@ class DataPreconditioner {
     for (int c = 0; c < N0; ++c) cs[static_cast<std::size_t>(c) + 1] += cs[static_cast<std::size_t>(c)];
     chol_ = std::make_unique<linalg::SparseCholesky>(N0, cs, ri, linalg::CholeskyOptions{});
     chol_->values() = values;
-    // The translation block A_tt of 2M₀ (rows (v − 1)·w; 2 × the translation Laplacian of τ without pose 0),
-    // for apply_reduced(): its entries are 2M₀'s whose row and column are both
-    // translations, in the same column order.
+    // For apply_reduced(), one pass over 2M₀'s upper triangle: the entries whose row and column are both
+    // translations (rows (v − 1)·w) form A_tt, 2 × the translation Laplacian of τ without pose 0, in the same
+    // column order; those with one translation and one rotation index form the coupling block A_yt.
     std::vector<int> tcs(static_cast<std::size_t>(n_), 0), tri;
     std::vector<double> tvalues;
-    for (int c = 0; c < N0; c += w)
-      for (int q = cs[static_cast<std::size_t>(c)]; q < cs[static_cast<std::size_t>(c) + 1]; ++q)
-        if (ri[static_cast<std::size_t>(q)] % w == 0) {
-          tri.push_back(ri[static_cast<std::size_t>(q)] / w);
-          tvalues.push_back(values[static_cast<std::size_t>(q)]);
-          ++tcs[static_cast<std::size_t>(c / w) + 1];
-        }
-    for (int c = 0; c + 1 < n_; ++c) tcs[static_cast<std::size_t>(c) + 1] += tcs[static_cast<std::size_t>(c)];
-    // The coupling block A_yt: the entries with one translation index and one rotation index.
     for (int c = 0; c < N0; ++c)
       for (int q = cs[static_cast<std::size_t>(c)]; q < cs[static_cast<std::size_t>(c) + 1]; ++q) {
         const int row = ri[static_cast<std::size_t>(q)];
-        if ((row % w == 0) == (c % w == 0)) continue;
-        coupling_.push_back(
-            {row % w == 0 ? c : row, (row % w == 0 ? row : c) / w, values[static_cast<std::size_t>(q)]});
+        const bool row_t = row % w == 0, col_t = c % w == 0;
+        if (row_t && col_t) {
+          tri.push_back(row / w);
+          tvalues.push_back(values[static_cast<std::size_t>(q)]);
+          ++tcs[static_cast<std::size_t>(c / w) + 1];
+        } else if (row_t != col_t) {
+          coupling_.push_back({row_t ? c : row, (row_t ? row : c) / w, values[static_cast<std::size_t>(q)]});
+        }
       }
+    for (int c = 0; c + 1 < n_; ++c) tcs[static_cast<std::size_t>(c) + 1] += tcs[static_cast<std::size_t>(c)];
     cs_ = std::move(cs);
     ri_ = std::move(ri);
     m0_ = std::move(values);

@@ -31,6 +31,8 @@ using keel::cov::CovarianceOptions;
 using keel::cov::Extraction;
 using keel::cov::extraction_from_string;
 using keel::cov::FactorSummary;
+using keel::cov::linear_map_covariances;
+using keel::cov::LinearMap;
 using keel::cov::MarginalCovariance;
 using keel::cov::Ordering;
 using keel::cov::ordering_from_string;

@@ -59,6 +59,12 @@ std::vector<PairBlock<D>> pairs_forward(const Impl& I, const std::vector<std::pa
 template <int D>
 std::vector<PairBlock<D>> pairs_solve(const Impl& I, const std::vector<std::pair<int, int>>& pairs,
                                       unsigned threads);
+// linear_map_covariances() with each extraction method (the maps already checked).
+std::vector<MatX> maps_forward(const Impl& I, const std::vector<LinearMap>& maps,
+                               const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                               unsigned threads);
+std::vector<MatX> maps_solve(const Impl& I, const std::vector<LinearMap>& maps,
+                             const std::vector<std::pair<std::size_t, std::size_t>>& pairs, unsigned threads);
 
 // Runs body(chunk, workspace) for chunks [0, num_chunks) on `threads` workers, each with its own workspace.
 template <class Workspace, class Body>
@@ -143,6 +149,38 @@ std::vector<PairBlock<D>> pairs_with(const Impl& I, const std::vector<std::pair<
         src.get(i, j, S.data() + D * 2 * D, 2 * D);      // block (0, D)
         src.get(j, j, S.data() + D * 2 * D + D, 2 * D);  // block (D, D)
         S.template block<D, D>(D, 0) = S.template block<D, D>(0, D).transpose();
+      },
+      threads);
+  return out;
+}
+
+// K_u Σ K_vᵀ from the blocks Σ_ab of a block source, Σ_st C_us Σ_{a_s b_t} C_vtᵀ (Extraction::solve; the
+// forward method forms L⁻¹ P K_uᵀ instead, extraction_forward.cpp).
+template <class Source>
+std::vector<MatX> maps_with(const Impl& I, const std::vector<LinearMap>& maps,
+                            const std::vector<std::pair<std::size_t, std::size_t>>& pairs, unsigned threads) {
+  Source src(I);
+  for (const auto& [u, v] : pairs)
+    for (const int a : maps[u].vars)
+      for (const int b : maps[v].vars) src.need(a, b);
+  src.run(threads);
+  std::vector<MatX> out(pairs.size());
+  core::parallel_for(
+      pairs.size(),
+      [&](std::size_t k) {
+        const auto [u, v] = pairs[k];
+        const LinearMap& mu = maps[u];
+        const LinearMap& mv = maps[v];
+        MatX S = MatX::Zero(mu.coefficients.front().rows(), mv.coefficients.front().rows());
+        MatX block;
+        for (std::size_t s = 0; s < mu.vars.size(); ++s)
+          for (std::size_t t = 0; t < mv.vars.size(); ++t) {
+            block.resize(I.dim(mu.vars[s]), I.dim(mv.vars[t]));
+            src.get(mu.vars[s], mv.vars[t], block.data(), block.rows());
+            S.noalias() += mu.coefficients[s] * block * mv.coefficients[t].transpose();
+          }
+        if (u == v) S = (0.5 * (S + S.transpose())).eval();
+        out[k] = std::move(S);
       },
       threads);
   return out;

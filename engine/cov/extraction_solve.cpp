@@ -133,6 +133,12 @@ std::vector<PairBlock<D>> pairs_solve(const Impl& I, const std::vector<std::pair
                                       unsigned threads) {
   return pairs_with<SolveBlocks, D>(I, pairs, threads);
 }
+std::vector<MatX> maps_solve(const Impl& I, const std::vector<LinearMap>& maps,
+                             const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                             unsigned threads) {
+  return maps_with<SolveBlocks>(I, maps, pairs, threads);
+}
+
 template std::vector<PairBlock<3>> pairs_solve<3>(const Impl&, const std::vector<std::pair<int, int>>&,
                                                   unsigned);
 template std::vector<PairBlock<6>> pairs_solve<6>(const Impl&, const std::vector<std::pair<int, int>>&,

@@ -96,4 +96,34 @@ std::vector<MatX> pair_marginals(const MarginalCovariance& cov, const std::vecto
   return out;
 }
 
+std::vector<MatX> linear_map_covariances(const MarginalCovariance& cov, const std::vector<LinearMap>& maps,
+                                         const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                         unsigned threads) {
+  const auto& I = *cov.impl_;
+  for (std::size_t u = 0; u < maps.size(); ++u) {
+    const LinearMap& m = maps[u];
+    if (m.vars.empty() || m.vars.size() != m.coefficients.size())
+      throw std::invalid_argument(
+          fmt::format("linear_map_covariances: map {} has {} variables and {} coefficient blocks (at least "
+                      "one, one each)",
+                      u, m.vars.size(), m.coefficients.size()));
+    const auto rows = m.coefficients.front().rows();
+    for (std::size_t t = 0; t < m.vars.size(); ++t) {
+      I.check(m.vars[t]);
+      const MatX& C = m.coefficients[t];
+      if (rows < 1 || C.rows() != rows || C.cols() != I.dim(m.vars[t]))
+        throw std::invalid_argument(
+            fmt::format("linear_map_covariances: map {}, term {} ({}): coefficients {}×{}, expected {}×{}", u,
+                        t, I.variable_name(m.vars[t]), C.rows(), C.cols(), std::max<Eigen::Index>(rows, 1),
+                        I.dim(m.vars[t])));
+    }
+  }
+  for (const auto& [u, v] : pairs)
+    if (u >= maps.size() || v >= maps.size())
+      throw std::out_of_range(fmt::format("linear_map_covariances: pair ({}, {}) names a map outside 0 … {}",
+                                          u, v, static_cast<std::ptrdiff_t>(maps.size()) - 1));
+  return I.extraction == Extraction::forward ? detail::maps_forward(I, maps, pairs, threads)
+                                             : detail::maps_solve(I, maps, pairs, threads);
+}
+
 }  // namespace keel::cov

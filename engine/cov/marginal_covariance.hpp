@@ -91,6 +91,25 @@ class MarginalCovariance;
                                                const std::vector<std::pair<int, int>>& pairs,
                                                unsigned threads = 1);
 
+/// A linear function y = K ξ = Σ_t C_t ξ_{v_t} of the variables: the variables v_t (repeats allowed) and
+/// their coefficient blocks C_t, each rows × dim(v_t) with the same number of rows (the dimension of y, ≥ 1).
+struct LinearMap {
+  std::vector<int> vars;
+  std::vector<MatX> coefficients;
+};
+
+/// Cov(y_u, y_v) = K_u Σ K_vᵀ (rows_u × rows_v) for each asked pair (u, v) of indices into `maps`; (u, u)
+/// gives y_u's covariance, exactly symmetric. Data snooping, for instance: K = a residual's Jacobian in its
+/// edge's two poses, so J Σ Jᵀ of one residual, or of two residuals (u, v), is one query. With
+/// Extraction::forward, Z_u = L⁻¹ P K_uᵀ is formed once per map by a forward substitution on the paths of its
+/// variables to the root, and each pair is one product Z_uᵀ Z_v over the supernodes common to both: one
+/// product per pair of maps where the blocks Σ_ab take one per pair of their variables. The result does not
+/// depend on `threads`. Throws std::out_of_range on an unknown variable or map index and
+/// std::invalid_argument on coefficient blocks of the wrong size.
+[[nodiscard]] std::vector<MatX> linear_map_covariances(
+    const MarginalCovariance& cov, const std::vector<LinearMap>& maps,
+    const std::vector<std::pair<std::size_t, std::size_t>>& pairs, unsigned threads = 1);
+
 /// Marginal covariances of the variables of a SparseInformation (poses first, then landmarks; see
 /// information.hpp), in the Lie algebra of the left perturbation T = exp(ξ^) T̄ (eq. 5.14) for poses and in
 /// world coordinates (additive) for landmarks. The pose fixed by a Gauge::fix_pose gauge has zero covariance
@@ -134,6 +153,9 @@ class MarginalCovariance {
                                               const std::vector<std::pair<int, int>>&, unsigned);
   friend std::vector<MatX> pair_marginals(const MarginalCovariance&, const std::vector<std::pair<int, int>>&,
                                           unsigned);
+  friend std::vector<MatX> linear_map_covariances(const MarginalCovariance&, const std::vector<LinearMap>&,
+                                                  const std::vector<std::pair<std::size_t, std::size_t>>&,
+                                                  unsigned);
 };
 
 }  // namespace keel::cov

@@ -197,6 +197,91 @@ TEST_CASE("batched queries equal single queries; 1 and 2 threads give identical 
   for (std::size_t k = 0; k < q.size(); ++k) CHECK(rel_err(rf[k], rs[k]) < 1e-10);
 }
 
+TEST_CASE(
+    "linear map covariances K_u Σ K_vᵀ equal the dense inverse, with either extraction and any threads") {
+  // 2D with landmarks and 3D: maps over one, two and three variables (a repeat, the gauge pose, a landmark),
+  // with rows other than the variables' dimensions; every asked pair against K_u S K_vᵀ from the dense S.
+  const auto t2 = test::small_graph_2d(30, 3, /*seed=*/31, /*noise=*/0.05, lie::SE2(-2.0, 1.0, 0.2));
+  const auto t3 = test::small_graph_3d(25, /*seed=*/32, /*noise=*/0.05);
+  const SparseInformation H2 = information_matrix(t2.graph, t2.estimate, t2.landmarks, GaugeOptions{});
+  const SparseInformation H3 = information_matrix(t3.graph, t3.estimate);
+  core::Rng rng(33);
+  for (const SparseInformation* H : {&H2, &H3}) {
+    const int d = H->variable_dim(0);
+    CAPTURE(d);
+    std::vector<int> start(static_cast<std::size_t>(H->num_variables()) + 1, 0);
+    for (int v = 0; v < H->num_variables(); ++v) start[v + 1] = start[v] + H->variable_dim(v);
+    // K as a dense row block over every variable
+    auto dense_k = [&](const LinearMap& m) {
+      MatX K = MatX::Zero(m.coefficients.front().rows(), start.back());
+      for (std::size_t t = 0; t < m.vars.size(); ++t)
+        K.middleCols(start[m.vars[t]], H->variable_dim(m.vars[t])) += m.coefficients[t];
+      return K;
+    };
+    auto random_map = [&](int rows, const std::vector<int>& vars) {
+      LinearMap m;
+      m.vars = vars;
+      for (const int v : vars)
+        m.coefficients.push_back(testkit::random_matrix(rng, rows, H->variable_dim(v)));
+      return m;
+    };
+    const int last = H->num_variables() - 1;  // a landmark in 2D
+    std::vector<LinearMap> maps = {
+        random_map(d, {3, 9}),     random_map(2, {0, 5}),  // the gauge pose: no term
+        random_map(d, {7, 7, 12}), random_map(1, {last}),
+        random_map(d, {20, 1}),    random_map(d + 1, {24, 2, 13})};
+    maps.push_back(random_map(d, {0}));  // only the gauge pose: zero covariance
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    for (std::size_t u = 0; u < maps.size(); ++u)
+      for (std::size_t v = 0; v < maps.size(); ++v) pairs.emplace_back(u, v);
+    const MatX S = dense_covariance(*H);
+    for (const Extraction x : {Extraction::forward, Extraction::solve}) {
+      CAPTURE(to_string(x));
+      CovarianceOptions opt;
+      opt.extraction = x;
+      opt.block_columns = 5;  // several chunks
+      const MarginalCovariance mc(*H, opt);
+      const auto c1 = linear_map_covariances(mc, maps, pairs, 1);
+      const auto c2 = linear_map_covariances(mc, maps, pairs, 2);
+      REQUIRE(c1.size() == pairs.size());
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto [u, v] = pairs[k];
+        CAPTURE(u);
+        CAPTURE(v);
+        CHECK(c1[k] == c2[k]);  // bitwise across thread counts
+        const MatX ref = dense_k(maps[u]) * S * dense_k(maps[v]).transpose();
+        CHECK(c1[k].rows() == ref.rows());
+        CHECK(c1[k].cols() == ref.cols());
+        if (u == maps.size() - 1 || v == maps.size() - 1)
+          CHECK(c1[k].norm() == 0.0);
+        else
+          CHECK(rel_err(c1[k], ref) < 1e-9);
+        if (u == v) CHECK((c1[k] - c1[k].transpose()).norm() == 0.0);
+      }
+      // J Σ Jᵀ of an edge's residual map equals J P Jᵀ from the pair marginal
+      const std::pair<int, int> edge{4, 11};
+      const MatX P = pair_marginals(mc, {edge}, 1).front();
+      const LinearMap m = random_map(d, {edge.first, edge.second});
+      MatX J(d, 2 * d);
+      J << m.coefficients[0], m.coefficients[1];
+      CHECK(rel_err(linear_map_covariances(mc, {m}, {{0, 0}}).front(), J * P * J.transpose()) < 1e-12);
+      // malformed input: a clear error
+      CHECK_THROWS_AS((void)linear_map_covariances(mc, maps, {{0, maps.size()}}), std::out_of_range);
+      CHECK_THROWS_AS((void)linear_map_covariances(mc, {random_map(d, {H->num_variables()})}, {{0, 0}}),
+                      std::out_of_range);
+      LinearMap wrong = random_map(d, {1, 2});
+      wrong.coefficients[1] = MatX::Ones(d, d + 1);
+      CHECK_THROWS_WITH_AS((void)linear_map_covariances(mc, {wrong}, {{0, 0}}),
+                           doctest::Contains("term 1 (pose 2)"), std::invalid_argument);
+      CHECK_THROWS_AS((void)linear_map_covariances(mc, {LinearMap{}}, {{0, 0}}), std::invalid_argument);
+      LinearMap unpaired;
+      unpaired.vars = {1, 2};
+      unpaired.coefficients = {MatX::Ones(d, d)};
+      CHECK_THROWS_AS((void)linear_map_covariances(mc, {unpaired}, {{0, 0}}), std::invalid_argument);
+    }
+  }
+}
+
 TEST_CASE("a variable without information is reported by name") {
   auto tg = test::small_graph_2d(6, 0, /*seed=*/24, /*noise=*/0.0);
   tg.graph.poses.push_back(lie::SE2(1.0, 2.0, 0.0));

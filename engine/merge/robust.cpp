@@ -40,8 +40,8 @@ using EstimateOf =
 double group_snooping(Eigen::MatrixXd& Q, const Eigen::VectorXd& r, int* dof_out);
 
 // Data snooping's T = rᵀ Q⁻¹ r (RobustResidualTest::snooping) of each edge of `tested` (edges of `graph`, ids
-// global) at `poses`, a maximum-likelihood solution of `graph`: Q = Ω⁻¹ − J P Jᵀ, P the joint marginal of the
-// edge's two poses (left perturbations, eq. 5.14; the gauge pose fixed), J its residual's Jacobian in them.
+// global) at `poses`, a maximum-likelihood solution of `graph`: Q = Ω⁻¹ − J Σ Jᵀ, Σ the poses' joint marginal
+// (left perturbations, eq. 5.14; the gauge pose fixed), J the residual's Jacobian in the edge's two poses.
 // NaN where Q is not positive definite (to 1e-10 of its largest eigenvalue): nothing else constrains the
 // edge's relative pose, so it cannot be tested. `groups` non-null: also each group's T (group_snooping,
 // below) into group_t and its degrees of freedom into group_dof.
@@ -60,24 +60,33 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
   else
     H = cov::information_matrix(graph, poses, gauge);
   const cov::MarginalCovariance marginals(H);
-  std::vector<std::pair<int, int>> pairs;
-  for (const auto& e : tested) pairs.emplace_back(e.i, e.j);
-  const auto P = cov::pair_marginals(marginals, pairs);
-  std::vector<double> t(tested.size(), std::numeric_limits<double>::quiet_NaN());
   using Mat = Eigen::Matrix<double, dof, dof>;
+  using Lin = decltype(graph::linearize_edge(tested[0].measurement, poses[0], poses[0]));
+  // Each residual's linearization, and its linear map r ≈ r̄ + J_i ξ_i + J_j ξ_j in the poses: Q's block
+  // (u, v) takes J_u Σ J_vᵀ = Cov(J_u ξ, J_v ξ) (cov::linear_map_covariances, one product per pair of
+  // residuals where the pose pairs' joint marginals take four).
+  std::vector<Lin> lin;
+  std::vector<cov::LinearMap> maps(tested.size());
+  lin.reserve(tested.size());
   for (std::size_t k = 0; k < tested.size(); ++k) {
     const auto& e = tested[k];
-    const auto lin = graph::linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
-                                           poses[static_cast<std::size_t>(e.j)]);
-    Eigen::Matrix<double, dof, 2 * dof> J;
-    J << lin.J_r_xi_i, lin.J_r_xi_j;
-    const Mat omega = e.information;
-    Mat Q = omega.inverse() - J * P[k] * J.transpose();
+    lin.push_back(graph::linearize_edge(e.measurement, poses[static_cast<std::size_t>(e.i)],
+                                        poses[static_cast<std::size_t>(e.j)]));
+    maps[k].vars = {e.i, e.j};
+    maps[k].coefficients = {lin[k].J_r_xi_i, lin[k].J_r_xi_j};
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> own;
+  for (std::size_t k = 0; k < tested.size(); ++k) own.emplace_back(k, k);
+  const auto JPJ = cov::linear_map_covariances(marginals, maps, own);
+  std::vector<double> t(tested.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < tested.size(); ++k) {
+    const Mat omega = tested[k].information;
+    Mat Q = omega.inverse() - Mat(JPJ[k]);
     Q = 0.5 * (Q + Q.transpose()).eval();
     const Eigen::SelfAdjointEigenSolver<Mat> es(Q);
     const auto& l = es.eigenvalues();
     if (!(l(0) > 1e-10 * l(dof - 1))) continue;
-    const auto v = (es.eigenvectors().transpose() * lin.residual).eval();
+    const auto v = (es.eigenvectors().transpose() * lin[k].residual).eval();
     double sum = 0.0;
     for (int a = 0; a < dof; ++a) sum += v(a) * v(a) / l(a);
     t[k] = sum;
@@ -85,58 +94,28 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
   if (groups) {
     group_t->assign(groups->size(), std::numeric_limits<double>::quiet_NaN());
     group_dof->assign(groups->size(), 0);
-    // Q_G's block (u, v) is δ_uv Ω_u⁻¹ − B_uv, B_uv = J_u P_uv J_vᵀ (group_snooping, below): it depends on
-    // the two closures only, not on the group. Neighbouring groups share most of their closures, so each pair
-    // of closures that shares a group is computed once per call, (u, v) with v ≤ u (indices into `tested`),
-    // and every group's Q_G is assembled from those blocks.
+    // Q_G's block (u, v) is δ_uv Ω_u⁻¹ − B_uv, B_uv = J_u Σ J_vᵀ (group_snooping, below): it depends on the
+    // two closures only, not on the group. Neighbouring groups share most of their closures, so each pair of
+    // closures that shares a group is computed once per call, (u, v) with v ≤ u (indices into `tested`), and
+    // every group's Q_G is assembled from those blocks.
     std::vector<std::pair<std::size_t, std::size_t>> cpairs;
     for (const auto& grp : *groups)
       for (std::size_t a = 0; a < grp.size(); ++a)
         for (std::size_t b = 0; b <= a; ++b) cpairs.emplace_back(grp[a], grp[b]);
     std::sort(cpairs.begin(), cpairs.end());
     cpairs.erase(std::unique(cpairs.begin(), cpairs.end()), cpairs.end());
-    using Lin = decltype(graph::linearize_edge(tested[0].measurement, poses[0], poses[0]));
-    std::vector<std::optional<Lin>> lin(tested.size());
-    for (const auto& [u, v] : cpairs)
-      for (const std::size_t k : {u, v})
-        if (!lin[k])
-          lin[k] = graph::linearize_edge(tested[k].measurement, poses[static_cast<std::size_t>(tested[k].i)],
-                                         poses[static_cast<std::size_t>(tested[k].j)]);
+    // In chunks of at most kChunkValues numbers (128 MiB) of B, so memory stays bounded on large, dense
+    // graphs.
     std::vector<Mat> B(cpairs.size());
-    // The pose pairs' joint marginals in chunks of closure pairs, each at most kChunkValues numbers
-    // (128 MiB; ≤ 4 pose pairs of (2·dof)² numbers per closure pair), so memory stays bounded on large,
-    // dense graphs. A pose pair (a, b) is asked once, a ≤ b; (a, a) when a diagonal block alone is needed.
     constexpr std::size_t kChunkValues = std::size_t{1} << 24;
-    constexpr std::size_t kChunk = kChunkValues / (4 * 4 * dof * dof);
+    constexpr std::size_t kChunk = kChunkValues / (dof * dof);
     for (std::size_t first = 0; first < cpairs.size(); first += kChunk) {
       const std::size_t last = std::min(cpairs.size(), first + kChunk);
-      std::vector<std::pair<int, int>> keys;
-      for (std::size_t c = first; c < last; ++c) {
-        const auto [u, v] = cpairs[c];
-        for (const int a : {tested[u].i, tested[u].j})
-          for (const int b : {tested[v].i, tested[v].j}) keys.emplace_back(std::min(a, b), std::max(a, b));
-      }
-      std::sort(keys.begin(), keys.end());
-      keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-      const auto pm = cov::pair_marginals(marginals, keys);
-      // P_ab, dof × dof, from the pair's joint [Σ_aa Σ_ab; Σ_ba Σ_bb].
-      auto block = [&](int a, int b) -> Mat {
-        const auto k = static_cast<std::size_t>(
-            std::lower_bound(keys.begin(), keys.end(), std::pair(std::min(a, b), std::max(a, b))) -
-            keys.begin());
-        if (a <= b) return pm[k].template block<dof, dof>(0, a == b ? 0 : dof);
-        return pm[k].template block<dof, dof>(0, dof).transpose();
-      };
-      for (std::size_t c = first; c < last; ++c) {
-        const auto [u, v] = cpairs[c];
-        const Lin& lu = *lin[u];
-        const Lin& lv = *lin[v];
-        const int iu = tested[u].i, ju = tested[u].j, iv = tested[v].i, jv = tested[v].j;
-        B[c] = lu.J_r_xi_i * block(iu, iv) * lv.J_r_xi_i.transpose() +
-               lu.J_r_xi_i * block(iu, jv) * lv.J_r_xi_j.transpose() +
-               lu.J_r_xi_j * block(ju, iv) * lv.J_r_xi_i.transpose() +
-               lu.J_r_xi_j * block(ju, jv) * lv.J_r_xi_j.transpose();
-      }
+      const std::vector<std::pair<std::size_t, std::size_t>> chunk(
+          cpairs.begin() + static_cast<std::ptrdiff_t>(first),
+          cpairs.begin() + static_cast<std::ptrdiff_t>(last));
+      const auto b = cov::linear_map_covariances(marginals, maps, chunk);
+      for (std::size_t c = first; c < last; ++c) B[c] = b[c - first];
     }
     auto b_of = [&](std::size_t u, std::size_t v) -> const Mat& {
       return B[static_cast<std::size_t>(std::lower_bound(cpairs.begin(), cpairs.end(), std::pair(u, v)) -
@@ -149,7 +128,7 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
       Eigen::VectorXd r(m * dof);
       for (Eigen::Index u = 0; u < m; ++u) {
         const std::size_t k = grp[static_cast<std::size_t>(u)];
-        r.segment(u * dof, dof) = lin[k]->residual;
+        r.segment(u * dof, dof) = lin[k].residual;
         Q.block(u * dof, u * dof, dof, dof) = Mat(tested[k].information).inverse();
       }
       for (Eigen::Index u = 0; u < m; ++u)

@@ -161,6 +161,40 @@ static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobia
   return e;
 }
 
+// q of loop_error_unchecked alone, for the consistency matrix. With w = −Ad(P1) δ_u + Ad(P1) δ_ij + Ad(P2)
+// δ_v
+// + Ad(P3) δ_lk the loop's covariance is C = J_l⁻¹(ε) M J_l⁻ᵀ(ε), M = Cov(w), and J_l⁻¹(ε)⁻¹ ε = J_l(ε) ε = ε
+// (the left Jacobian is Σ ad_ε^n / (n + 1)! and ad_ε ε = 0), so q = εᵀ C⁻¹ ε = εᵀ M⁻¹ ε: neither J_l⁻¹ nor
+// the four Jacobians are formed. Equal to loop_error_unchecked's q up to rounding; C is positive definite
+// exactly when M is (congruent).
+template <class G>
+static double loop_q_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
+                               const typename G::Jacobian& cov_ij, const G& z_v,
+                               const typename G::Jacobian& cov_v, const G& x_lk,
+                               const typename G::Jacobian& cov_lk, bool* ok,
+                               const typename G::Jacobian* cross_ij_lk = nullptr) {
+  using J = typename G::Jacobian;
+  const G P1 = z_u.inverse();
+  const G P2 = P1 * x_ij;
+  const G P3 = P2 * z_v;
+  const G L = P3 * x_lk;
+  const typename G::Tangent epsilon = L.log();
+  const J A1 = P1.adjoint(), A2 = P2.adjoint(), A3 = P3.adjoint();
+  J M = A1 * (cov_u + cov_ij) * A1.transpose() + A2 * cov_v * A2.transpose() + A3 * cov_lk * A3.transpose();
+  if (cross_ij_lk != nullptr) {  // Cov(δ_ij, δ_lk) of two relative poses of one map (consistency.hpp)
+    const J K = A1 * *cross_ij_lk * A3.transpose();
+    M += K + K.transpose();
+  }
+  const J Ms = 0.5 * (M + M.transpose());
+  const Eigen::LLT<J> llt(Ms);
+  if (llt.info() != Eigen::Success) {
+    *ok = false;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  *ok = true;
+  return epsilon.dot(llt.solve(epsilon));
+}
+
 template <class G>
 LoopError<G> loop_error(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
                         const typename G::Jacobian& cov_ij, const G& z_v, const typename G::Jacobian& cov_v,
@@ -303,11 +337,10 @@ ConsistencyMatrix consistency_matrix_impl(const LocalMap<G>& a, const LocalMap<G
             if (correlated)  // Ad(T_i⁻¹)(Σ_jk − Σ_jl − Σ_ik + Σ_il)Ad(T_l⁻¹)ᵀ (one map: b is a)
               cross = Ai * (block(a, sj, sk) - block(a, sj, sl) - block(a, si, sk) + block(a, si, sl)) *
                       Al[v].transpose();
-            const auto e =
-                loop_error_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance, xlk.x,
-                                     xlk.covariance, &ok, correlated ? &cross : nullptr);
+            const double q = loop_q_unchecked(cu.z, cu.covariance, xij.x, xij.covariance, cv.z, cv.covariance,
+                                              xlk.x, xlk.covariance, &ok, correlated ? &cross : nullptr);
             if (!ok) failed[at] = 1;
-            Q.q[at] = e.q;
+            Q.q[at] = q;
           }
         },
         options.threads);

@@ -12,7 +12,9 @@ robots, into a scratch folder, then checks with the keel module:
 - robust.py's ate() is 0 for a rigidly moved copy and matches a hand-computed value (a translation of every point
   by a known offset after the best alignment is removed);
 - robust.py --from-tsv --summary-json gives the report's tables from rows whose verdicts are known, and refuses a
-  malformed row naming its line; certified_summary.py does the same for certified.sh's rows.
+  malformed row naming its line; certified_summary.py does the same for certified.sh's rows;
+- robust_revisions.py finds the same answers when both sides are the same keel (KEEL), ignores a change of times and
+  test statistics, and reports a changed kept flag with the input's key and exit code 1.
 """
 import importlib.util
 import json
@@ -119,6 +121,41 @@ class RobustGraphs(unittest.TestCase):
             dim = 3 if type(g).__name__ == "Graph3D" else 2
             est = {k: list(map(float, r.poses[k][:dim])) for k in range(len(r.poses))}
             self.assertLess(rb.ate(ref, est), 1e-6, key)
+
+
+    def test_revisions_same_and_changed_answers(self):
+        keys = [k for k in sorted(self.lines) if k.startswith("intel.") and ".aliased.out20." in k]
+        self.assertEqual({k.split(".")[1] for k in keys}, {"r1", "r2"})
+        listing = os.path.join(self.dir, "revisions.txt")
+        with open(listing, "w") as f:
+            f.writelines(f"{k}={self.lines[k]}\n" for k in keys)
+        exe = os.environ["KEEL"]
+
+        # A stand-in for another build: runs keel, then edits its report as `edit` says.
+        def wrapper(name, edit):
+            path = os.path.join(self.dir, name)
+            with open(path, "w") as f:
+                f.write(f"#!{sys.executable}\nimport json, subprocess, sys\n"
+                        f"p = subprocess.run([{exe!r}, *sys.argv[1:]], capture_output=True, text=True)\n"
+                        f"d = json.loads(p.stdout)\n{edit}\nprint(json.dumps(d))\nsys.exit(p.returncode)\n")
+            os.chmod(path, 0o755)
+            return path
+
+        def run(new):
+            return subprocess.run([sys.executable, str(ROOT / "bench/side_by_side/robust_revisions.py"), exe, new,
+                                   os.path.join(self.dir, "revisions.tsv"), listing], capture_output=True, text=True)
+
+        same = run(exe)
+        self.assertEqual(same.returncode, 0, same.stderr)
+        self.assertIn(f"{len(keys)} inputs, answers identical on {len(keys)}", same.stdout)
+        noise = run(wrapper("noise.py", "d['times_s'] = {k: v * 3 for k, v in d['times_s'].items()}\n"
+                                        "for c in d['candidate_list']: c['residual_chi2'] = 1.0"))
+        self.assertEqual(noise.returncode, 0, noise.stderr)
+        flipped = run(wrapper("flip.py", "d['candidate_list'][0]['kept'] = not d['candidate_list'][0]['kept']"))
+        self.assertEqual(flipped.returncode, 1)
+        self.assertIn(f"{len(keys)} inputs, answers identical on 0", flipped.stdout)
+        for k in keys:
+            self.assertIn(f"the answers differ on {k}", flipped.stderr)
 
 
 class Ate(unittest.TestCase):

@@ -121,6 +121,28 @@ RelativePose<G> relative_pose(const G& T_i, const G& T_j, const typename G::Jaco
   return {Ti_inv * T_j, 0.5 * (C + C.transpose())};  // (a separate target: C = ½(C + Cᵀ) would alias)
 }
 
+namespace {
+
+// The loop L = z_u⁻¹ x_ij z_v x_lk (eq. 2.4) and the poses its perturbations pass through: left perturbations
+// of the four factors enter L as exp(−Ad(P1) δ_u), exp(Ad(P1) δ_ij), exp(Ad(P2) δ_v), exp(Ad(P3) δ_lk) with
+// P1 = z_u⁻¹, P2 = z_u⁻¹ x_ij, P3 = z_u⁻¹ x_ij z_v, and Log(exp(w) L) ≈ Log L + J_l⁻¹(Log L) w.
+template <class G>
+struct Loop {
+  G P1, P2, P3, L;
+  Loop(const G& z_u, const G& x_ij, const G& z_v, const G& x_lk)
+      : P1(z_u.inverse()), P2(P1 * x_ij), P3(P2 * z_v), L(P3 * x_lk) {}
+};
+
+// εᵀ C⁻¹ ε, or NaN with *ok false when the LLT of C fails (C not positive definite).
+template <class G>
+double mahalanobis(const typename G::Jacobian& C, const typename G::Tangent& epsilon, bool* ok) {
+  const Eigen::LLT<typename G::Jacobian> llt(C);
+  *ok = llt.info() == Eigen::Success;
+  return *ok ? epsilon.dot(llt.solve(epsilon)) : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
 template <class G>
 static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
                                          const typename G::Jacobian& cov_ij, const G& z_v,
@@ -128,21 +150,15 @@ static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobia
                                          const typename G::Jacobian& cov_lk, bool* ok,
                                          const typename G::Jacobian* cross_ij_lk = nullptr) {
   using J = typename G::Jacobian;
-  // L = z_u⁻¹ x_ij z_v x_lk (eq. 2.4); left perturbations of the four factors enter L as
-  //   exp(−Ad(P1) δ_u), exp(Ad(P1) δ_ij), exp(Ad(P2) δ_v), exp(Ad(P3) δ_lk)
-  // with P1 = z_u⁻¹, P2 = z_u⁻¹ x_ij, P3 = z_u⁻¹ x_ij z_v, and Log(exp(w) L) ≈ Log L + J_l⁻¹(Log L) w.
-  const G P1 = z_u.inverse();
-  const G P2 = P1 * x_ij;
-  const G P3 = P2 * z_v;
-  const G L = P3 * x_lk;
+  const Loop<G> loop(z_u, x_ij, z_v, x_lk);
   LoopError<G> e;
-  e.epsilon = L.log();
+  e.epsilon = loop.L.log();
   const J Jinv = G::left_jacobian_inverse(e.epsilon);
-  const J A1 = Jinv * P1.adjoint();
+  const J A1 = Jinv * loop.P1.adjoint();
   e.J_u = -A1;
   e.J_ij = A1;
-  e.J_v = Jinv * P2.adjoint();
-  e.J_lk = Jinv * P3.adjoint();
+  e.J_v = Jinv * loop.P2.adjoint();
+  e.J_lk = Jinv * loop.P3.adjoint();
   J C = e.J_u * cov_u * e.J_u.transpose() + e.J_ij * cov_ij * e.J_ij.transpose() +
         e.J_v * cov_v * e.J_v.transpose() + e.J_lk * cov_lk * e.J_lk.transpose();
   if (cross_ij_lk != nullptr) {  // Cov(δ_ij, δ_lk) of two relative poses of one map (consistency.hpp)
@@ -150,22 +166,15 @@ static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobia
     C += K + K.transpose();
   }
   e.covariance = 0.5 * (C + C.transpose());
-  const Eigen::LLT<J> llt(e.covariance);
-  if (llt.info() != Eigen::Success) {
-    *ok = false;
-    e.q = std::numeric_limits<double>::quiet_NaN();
-    return e;
-  }
-  *ok = true;
-  e.q = e.epsilon.dot(llt.solve(e.epsilon));
+  e.q = mahalanobis<G>(e.covariance, e.epsilon, ok);
   return e;
 }
 
 // q of loop_error_unchecked alone, for the consistency matrix. With w = −Ad(P1) δ_u + Ad(P1) δ_ij + Ad(P2)
 // δ_v
-// + Ad(P3) δ_lk the loop's covariance is C = J_l⁻¹(ε) M J_l⁻ᵀ(ε), M = Cov(w), and J_l⁻¹(ε)⁻¹ ε = J_l(ε) ε = ε
-// (the left Jacobian is Σ ad_ε^n / (n + 1)! and ad_ε ε = 0), so q = εᵀ C⁻¹ ε = εᵀ M⁻¹ ε: neither J_l⁻¹ nor
-// the four Jacobians are formed. Equal to loop_error_unchecked's q up to rounding; C is positive definite
+// + Ad(P3) δ_lk, the loop's covariance is C = J_l⁻¹(ε) M J_l⁻ᵀ(ε) with M = Cov(w), and J_l⁻¹(ε)⁻¹ ε = J_l(ε)
+// ε = ε (the left Jacobian is Σ ad_ε^n / (n + 1)! and ad_ε ε = 0), so q = εᵀ C⁻¹ ε = εᵀ M⁻¹ ε: neither J_l⁻¹
+// nor the four Jacobians are formed. Equal to loop_error_unchecked's q up to rounding; C is positive definite
 // exactly when M is (congruent).
 template <class G>
 static double loop_q_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
@@ -174,25 +183,15 @@ static double loop_q_unchecked(const G& z_u, const typename G::Jacobian& cov_u, 
                                const typename G::Jacobian& cov_lk, bool* ok,
                                const typename G::Jacobian* cross_ij_lk = nullptr) {
   using J = typename G::Jacobian;
-  const G P1 = z_u.inverse();
-  const G P2 = P1 * x_ij;
-  const G P3 = P2 * z_v;
-  const G L = P3 * x_lk;
-  const typename G::Tangent epsilon = L.log();
-  const J A1 = P1.adjoint(), A2 = P2.adjoint(), A3 = P3.adjoint();
+  const Loop<G> loop(z_u, x_ij, z_v, x_lk);
+  const J A1 = loop.P1.adjoint(), A2 = loop.P2.adjoint(), A3 = loop.P3.adjoint();
   J M = A1 * (cov_u + cov_ij) * A1.transpose() + A2 * cov_v * A2.transpose() + A3 * cov_lk * A3.transpose();
   if (cross_ij_lk != nullptr) {  // Cov(δ_ij, δ_lk) of two relative poses of one map (consistency.hpp)
     const J K = A1 * *cross_ij_lk * A3.transpose();
     M += K + K.transpose();
   }
   const J Ms = 0.5 * (M + M.transpose());
-  const Eigen::LLT<J> llt(Ms);
-  if (llt.info() != Eigen::Success) {
-    *ok = false;
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-  *ok = true;
-  return epsilon.dot(llt.solve(epsilon));
+  return mahalanobis<G>(Ms, loop.L.log(), ok);
 }
 
 template <class G>

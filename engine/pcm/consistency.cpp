@@ -143,39 +143,11 @@ double mahalanobis(const typename G::Jacobian& C, const typename G::Tangent& eps
 
 }  // namespace
 
-template <class G>
-static LoopError<G> loop_error_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
-                                         const typename G::Jacobian& cov_ij, const G& z_v,
-                                         const typename G::Jacobian& cov_v, const G& x_lk,
-                                         const typename G::Jacobian& cov_lk, bool* ok,
-                                         const typename G::Jacobian* cross_ij_lk = nullptr) {
-  using J = typename G::Jacobian;
-  const Loop<G> loop(z_u, x_ij, z_v, x_lk);
-  LoopError<G> e;
-  e.epsilon = loop.L.log();
-  const J Jinv = G::left_jacobian_inverse(e.epsilon);
-  const J A1 = Jinv * loop.P1.adjoint();
-  e.J_u = -A1;
-  e.J_ij = A1;
-  e.J_v = Jinv * loop.P2.adjoint();
-  e.J_lk = Jinv * loop.P3.adjoint();
-  J C = e.J_u * cov_u * e.J_u.transpose() + e.J_ij * cov_ij * e.J_ij.transpose() +
-        e.J_v * cov_v * e.J_v.transpose() + e.J_lk * cov_lk * e.J_lk.transpose();
-  if (cross_ij_lk != nullptr) {  // Cov(δ_ij, δ_lk) of two relative poses of one map (consistency.hpp)
-    const J K = e.J_ij * *cross_ij_lk * e.J_lk.transpose();
-    C += K + K.transpose();
-  }
-  e.covariance = 0.5 * (C + C.transpose());
-  e.q = mahalanobis<G>(e.covariance, e.epsilon, ok);
-  return e;
-}
-
-// q of loop_error_unchecked alone, for the consistency matrix. With w = −Ad(P1) δ_u + Ad(P1) δ_ij + Ad(P2)
-// δ_v
-// + Ad(P3) δ_lk, the loop's covariance is C = J_l⁻¹(ε) M J_l⁻ᵀ(ε) with M = Cov(w), and J_l⁻¹(ε)⁻¹ ε = J_l(ε)
-// ε = ε (the left Jacobian is Σ ad_ε^n / (n + 1)! and ad_ε ε = 0), so q = εᵀ C⁻¹ ε = εᵀ M⁻¹ ε: neither J_l⁻¹
-// nor the four Jacobians are formed. Equal to loop_error_unchecked's q up to rounding; C is positive definite
-// exactly when M is (congruent).
+// q = εᵀ C⁻¹ ε of the loop, for the consistency matrix, without its Jacobians. With
+// w = −Ad(P1) δ_u + Ad(P1) δ_ij + Ad(P2) δ_v + Ad(P3) δ_lk the loop's covariance is
+// C = J_l⁻¹(ε) M J_l⁻ᵀ(ε), M = Cov(w), and J_l⁻¹(ε)⁻¹ ε = J_l(ε) ε = ε (the left Jacobian is
+// Σ ad_ε^n / (n + 1)! and ad_ε ε = 0), so q = εᵀ M⁻¹ ε: neither J_l⁻¹ nor the four Jacobians are formed.
+// Equal to loop_error's q up to rounding; C is positive definite exactly when M is (congruent).
 template <class G>
 static double loop_q_unchecked(const G& z_u, const typename G::Jacobian& cov_u, const G& x_ij,
                                const typename G::Jacobian& cov_ij, const G& z_v,
@@ -206,8 +178,21 @@ LoopError<G> loop_error(const G& z_u, const typename G::Jacobian& cov_u, const G
   check_covariance(cov_ij, "loop_error: x_ij");
   check_covariance(cov_v, "loop_error: z_v");
   check_covariance(cov_lk, "loop_error: x_lk");
+  using J = typename G::Jacobian;
+  const Loop<G> loop(z_u, x_ij, z_v, x_lk);
+  LoopError<G> e;
+  e.epsilon = loop.L.log();
+  const J Jinv = G::left_jacobian_inverse(e.epsilon);
+  const J A1 = Jinv * loop.P1.adjoint();
+  e.J_u = -A1;
+  e.J_ij = A1;
+  e.J_v = Jinv * loop.P2.adjoint();
+  e.J_lk = Jinv * loop.P3.adjoint();
+  const J C = e.J_u * cov_u * e.J_u.transpose() + e.J_ij * cov_ij * e.J_ij.transpose() +
+              e.J_v * cov_v * e.J_v.transpose() + e.J_lk * cov_lk * e.J_lk.transpose();
+  e.covariance = 0.5 * (C + C.transpose());
   bool ok = false;
-  auto e = loop_error_unchecked(z_u, cov_u, x_ij, cov_ij, z_v, cov_v, x_lk, cov_lk, &ok);
+  e.q = mahalanobis<G>(e.covariance, e.epsilon, &ok);
   if (!ok) throw std::invalid_argument("loop_error: the loop covariance J Σ Jᵀ is not positive definite");
   return e;
 }

@@ -25,7 +25,8 @@
 //     solve, AMD  1.80 s on 1 thread, 0.83 s on 2 — and 2.1 s on 2 threads when the cholmod_solve2 calls
 //
 // A block source (ForwardBlocks in extraction_forward.cpp, SolveBlocks in extraction_solve.cpp) is told
-// need(a, b) for every block a query uses, then run(threads), then answers get(a, b) from any thread. The
+// need(a, b) for every block a query uses, then run(threads), then answers get(a, b) from any thread for
+// variables with rows in H (get_block answers the gauge's zero blocks). The
 // templates below drive one; each source's file instantiates them for itself, so the hot loops stay in one
 // translation unit with the source they call.
 #pragma once
@@ -99,6 +100,17 @@ std::vector<std::size_t> chunk_starts(std::size_t count, int limit, const Width&
   return starts;
 }
 
+// Σ_ab from a block source into out (column-major, leading dimension ld): zero where a or b is the variable
+// the gauge fixes (no rows in H), else the source's block.
+template <class Source>
+void get_block(const Source& src, const Impl& I, int a, int b, double* out, Eigen::Index ld) {
+  if (I.off(a) < 0 || I.off(b) < 0) {
+    MapX(out, I.dim(a), I.dim(b), Eigen::OuterStride<>(ld)).setZero();
+    return;
+  }
+  src.get(a, b, out, ld);
+}
+
 template <class Source>
 std::vector<MatX> joint_many_with(const Impl& I, const std::vector<std::vector<int>>& queries,
                                   unsigned threads) {
@@ -118,7 +130,7 @@ std::vector<MatX> joint_many_with(const Impl& I, const std::vector<std::vector<i
         // each unordered pair once; the transposed block is copied, so S is exactly symmetric
         for (std::size_t a = 0; a < q.size(); ++a)
           for (std::size_t b = a; b < q.size(); ++b) {
-            src.get(q[a], q[b], &S(start[a], start[b]), S.rows());
+            get_block(src, I, q[a], q[b], &S(start[a], start[b]), S.rows());
             if (b != a)
               S.block(start[b], start[a], I.dim(q[b]), I.dim(q[a])) =
                   S.block(start[a], start[b], I.dim(q[a]), I.dim(q[b])).transpose();
@@ -145,9 +157,9 @@ std::vector<PairBlock<D>> pairs_with(const Impl& I, const std::vector<std::pair<
       [&](std::size_t k) {
         const auto [i, j] = pairs[k];
         PairBlock<D>& S = out[k];
-        src.get(i, i, S.data(), 2 * D);
-        src.get(i, j, S.data() + D * 2 * D, 2 * D);      // block (0, D)
-        src.get(j, j, S.data() + D * 2 * D + D, 2 * D);  // block (D, D)
+        get_block(src, I, i, i, S.data(), 2 * D);
+        get_block(src, I, i, j, S.data() + D * 2 * D, 2 * D);      // block (0, D)
+        get_block(src, I, j, j, S.data() + D * 2 * D + D, 2 * D);  // block (D, D)
         S.template block<D, D>(D, 0) = S.template block<D, D>(0, D).transpose();
       },
       threads);
@@ -176,7 +188,7 @@ std::vector<MatX> maps_with(const Impl& I, const std::vector<LinearMap>& maps,
         for (std::size_t s = 0; s < mu.vars.size(); ++s)
           for (std::size_t t = 0; t < mv.vars.size(); ++t) {
             block.resize(I.dim(mu.vars[s]), I.dim(mv.vars[t]));
-            src.get(mu.vars[s], mv.vars[t], block.data(), block.rows());
+            get_block(src, I, mu.vars[s], mv.vars[t], block.data(), block.rows());
             S.noalias() += mu.coefficients[s] * block * mv.coefficients[t].transpose();
           }
         if (u == v) S = (0.5 * (S + S.transpose())).eval();

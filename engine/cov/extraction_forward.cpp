@@ -240,14 +240,10 @@ class ForwardBlocks {
     });
   }
 
-  // Σ_ab (dim a × dim b) into out (column-major, leading dimension ld).
+  // Σ_ab (dim a × dim b) into out (column-major, leading dimension ld); a and b have rows in H.
   void get(int a, int b, double* out, Eigen::Index ld) const {
     const int da = I_.dim(a), db = I_.dim(b);
     MapX dst(out, da, db, Eigen::OuterStride<>(ld));
-    if (I_.off(a) < 0 || I_.off(b) < 0) {
-      dst.setZero();
-      return;
-    }
     const auto xa = static_cast<std::size_t>(slot_[static_cast<std::size_t>(a)]);
     const auto xb = static_cast<std::size_t>(slot_[static_cast<std::size_t>(b)]);
     if (a == b) {

@@ -54,13 +54,10 @@ class SolveBlocks {
     });
   }
 
+  // Σ_ab into out (column-major, leading dimension ld); a and b have rows in H.
   void get(int a, int b, double* out, Eigen::Index ld) const {
     const int da = I_.dim(a), db = I_.dim(b);
     MapX dst(out, da, db, Eigen::OuterStride<>(ld));
-    if (I_.off(a) < 0 || I_.off(b) < 0) {
-      dst.setZero();
-      return;
-    }
     const int c = std::max(a, b), r = std::min(a, b);
     const int ci = col_of_var_[static_cast<std::size_t>(c)];
     if (ci < 0) throw std::logic_error("MarginalCovariance: block was not requested");

@@ -75,13 +75,39 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
     maps[k].vars = {e.i, e.j};
     maps[k].coefficients = {lin[k].J_r_xi_i, lin[k].J_r_xi_j};
   }
-  std::vector<std::pair<std::size_t, std::size_t>> own;
-  for (std::size_t k = 0; k < tested.size(); ++k) own.emplace_back(k, k);
-  const auto JPJ = cov::linear_map_covariances(marginals, maps, own);
+  // The blocks B_uv = J_u Σ J_vᵀ, all from one call (one forward pass over the factor): (k, k) for every
+  // closure, its own test's; then, for the group test, (u, v) with v < u (indices into `tested`) for each
+  // pair of closures that share a group. Q_G's block (u, v) is δ_uv Ω_u⁻¹ − B_uv (group_snooping, below): it
+  // depends on the two closures only, not on the group, so neighbouring groups, which share most of their
+  // closures, share these blocks.
+  std::vector<std::pair<std::size_t, std::size_t>> cross;
+  if (groups) {
+    for (const auto& grp : *groups)
+      for (std::size_t a = 0; a < grp.size(); ++a)
+        for (std::size_t b = 0; b < a; ++b) cross.emplace_back(grp[a], grp[b]);
+    std::sort(cross.begin(), cross.end());
+    cross.erase(std::unique(cross.begin(), cross.end()), cross.end());
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> asked;
+  asked.reserve(tested.size() + cross.size());
+  for (std::size_t k = 0; k < tested.size(); ++k) asked.emplace_back(k, k);
+  asked.insert(asked.end(), cross.begin(), cross.end());
+  // In chunks of at most kChunkValues numbers (128 MiB) of B, so memory stays bounded on large, dense graphs.
+  std::vector<Mat> B(asked.size());
+  constexpr std::size_t kChunkValues = std::size_t{1} << 24;
+  constexpr std::size_t kChunk = kChunkValues / (dof * dof);
+  for (std::size_t first = 0; first < asked.size(); first += kChunk) {
+    const std::size_t last = std::min(asked.size(), first + kChunk);
+    const std::vector<std::pair<std::size_t, std::size_t>> chunk(
+        asked.begin() + static_cast<std::ptrdiff_t>(first),
+        asked.begin() + static_cast<std::ptrdiff_t>(last));
+    const auto b = cov::linear_map_covariances(marginals, maps, chunk);
+    for (std::size_t c = first; c < last; ++c) B[c] = b[c - first];
+  }
   std::vector<double> t(tested.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t k = 0; k < tested.size(); ++k) {
     const Mat omega = tested[k].information;
-    Mat Q = omega.inverse() - Mat(JPJ[k]);
+    Mat Q = omega.inverse() - B[k];
     Q = 0.5 * (Q + Q.transpose()).eval();
     const Eigen::SelfAdjointEigenSolver<Mat> es(Q);
     const auto& l = es.eigenvalues();
@@ -94,32 +120,11 @@ std::vector<double> snooping_impl(const Graph& graph, const std::vector<G>& pose
   if (groups) {
     group_t->assign(groups->size(), std::numeric_limits<double>::quiet_NaN());
     group_dof->assign(groups->size(), 0);
-    // Q_G's block (u, v) is δ_uv Ω_u⁻¹ − B_uv, B_uv = J_u Σ J_vᵀ (group_snooping, below): it depends on the
-    // two closures only, not on the group. Neighbouring groups share most of their closures, so each pair of
-    // closures that shares a group is computed once per call, (u, v) with v ≤ u (indices into `tested`), and
-    // every group's Q_G is assembled from those blocks.
-    std::vector<std::pair<std::size_t, std::size_t>> cpairs;
-    for (const auto& grp : *groups)
-      for (std::size_t a = 0; a < grp.size(); ++a)
-        for (std::size_t b = 0; b <= a; ++b) cpairs.emplace_back(grp[a], grp[b]);
-    std::sort(cpairs.begin(), cpairs.end());
-    cpairs.erase(std::unique(cpairs.begin(), cpairs.end()), cpairs.end());
-    // In chunks of at most kChunkValues numbers (128 MiB) of B, so memory stays bounded on large, dense
-    // graphs.
-    std::vector<Mat> B(cpairs.size());
-    constexpr std::size_t kChunkValues = std::size_t{1} << 24;
-    constexpr std::size_t kChunk = kChunkValues / (dof * dof);
-    for (std::size_t first = 0; first < cpairs.size(); first += kChunk) {
-      const std::size_t last = std::min(cpairs.size(), first + kChunk);
-      const std::vector<std::pair<std::size_t, std::size_t>> chunk(
-          cpairs.begin() + static_cast<std::ptrdiff_t>(first),
-          cpairs.begin() + static_cast<std::ptrdiff_t>(last));
-      const auto b = cov::linear_map_covariances(marginals, maps, chunk);
-      for (std::size_t c = first; c < last; ++c) B[c] = b[c - first];
-    }
     auto b_of = [&](std::size_t u, std::size_t v) -> const Mat& {
-      return B[static_cast<std::size_t>(std::lower_bound(cpairs.begin(), cpairs.end(), std::pair(u, v)) -
-                                        cpairs.begin())];
+      if (u == v) return B[u];
+      return B[tested.size() +
+               static_cast<std::size_t>(std::lower_bound(cross.begin(), cross.end(), std::pair(u, v)) -
+                                        cross.begin())];
     };
     for (std::size_t g = 0; g < groups->size(); ++g) {
       const auto& grp = (*groups)[g];

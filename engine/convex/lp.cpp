@@ -70,7 +70,11 @@ void Lp::set_column_bounds(int column, double lo, double hi) { model_->setColumn
 
 LpStatus Lp::solve(double objective_limit) {
   model_->setDualObjectiveLimit(objective_limit);
-  model_->dual();
+  // startFinishOptions bit 1 (ClpSimplex.hpp): the factorization's storage and the work areas stay allocated
+  // after the solve, for the next solve of this model. Bits 2 and 4 (reuse the old factorization, skip the
+  // set-up of work areas by whatsChanged) are not set: every solve factorizes its starting basis and rebuilds
+  // its row copy as before, so the pivots, and the answers, are the same bits; only the allocations go.
+  model_->dual(0, 1);
   // Status 1 with secondary status 1: "primal infeasible because dual limit reached" (ClpModel.hpp).
   // ClpModel::isDualObjectiveLimitReached() is not used: it also answers true for an infeasible problem.
   if (objective_limit < kLpInfinity && model_->status() == 1 && model_->secondaryStatus() == 1)

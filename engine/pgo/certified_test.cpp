@@ -702,12 +702,19 @@ void check_staged_staircase(const Graph& g, int d) {
   CHECK(s.certificate.bound.lower <= relaxation);
   CHECK(s.certificate.bound.lower <= s.final_cost);
   CHECK(s.certificate.bound.lower <= f.final_cost);
-  // It stopped at a loose point above rank d, said why, and spent less of the trust region's inner work.
+  // It stopped at a loose point above rank d, said why, and spent less of the trust region's inner work. Two
+  // stops are possible there, and which one comes depends on rounding (OpenBLAS's kernels differ between
+  // CPUs; on the 2D instance an Intel Xeon took the first and an AMD EPYC the second): the rank-d answer
+  // rounded from a loose point costs too much for any bound to certify it, or the loose point is itself the
+  // relaxation's optimum (its certificate holds) and the answer rounded from it is not certified.
   REQUIRE(s.staircase.size() > 1);
   CHECK(s.staircase.front().rank == d);
   CHECK(!s.staircase.front().loose);  // rank d is always solved to the full tolerance
   CHECK(s.staircase.back().loose);
-  CHECK(s.message.find("the staircase stopped at rank") != std::string::npos);
+  const bool uncertifiable = s.message.find("the staircase stopped at rank") != std::string::npos;
+  const bool at_relaxation = s.staircase.back().certified &&
+                             s.message.find("the returned point's own test failed") != std::string::npos;
+  CHECK((uncertifiable || at_relaxation));
   CHECK(s.tcg_iterations < f.tcg_iterations);
   // Its bound trades tightness for time, by no more than the loose stationarity allows for (relative to F).
   CHECK(s.certificate.bound.lower >= f.certificate.bound.lower - 1e-2 * std::max(1.0, relaxation));

@@ -27,7 +27,9 @@
 //     the damped Hessian is not positive definite, trust-region steps (Steihaug–Toint CG on the exact
 //     Hessian, preconditioned by the damped Gauss–Newton factor). Above rank d, a Riemannian trust region
 //     whose Hessian is applied without forming it, preconditioned by the factor of the data matrix (SE-Sync's
-//     local solver).
+//     local solver); each trial point's translations are set to their optimum for its rotations before F is
+//     evaluated, so the trust region runs on F with the translations minimized out, as SE-Sync's reduced
+//     problem does.
 //  3. Certificate: Λ_i = sym(Y_iᵀ (X M)_{Y_i}) from the first-order conditions, S = M − diag(0, Λ). For every
 //     feasible point (and every point of the semidefinite relaxation) F ≥ tr(Λ) − η·d·n when S + η·D ⪰ 0, D
 //     the identity on the rotation coordinates and zero on the translations (translation 0 removed: the

@@ -405,6 +405,24 @@ class DataPreconditioner {
     project(Q, gens, r, Z_, true, z);
   }
 
+  // X.T := the translations that minimize F for X's rotations, t_0 = 0 (the free function
+  // optimal_translations, on this object's factor of A_tt = 2 L_τ, pose 0 removed, instead of a new one): the
+  // normal equations A_tt t = 2 Σ_e τ_e (±Y_i t̃_e) per coordinate, the right-hand side summed edge by edge.
+  void optimal_translations(const Problem& P, Point& X) const {
+    const int nt = n_ - 1, r = X.r;
+    if (nt == 0) return;
+    Ut_.setZero(nt, r);
+    for (const auto& e : P.edges) {
+      const SmallVec c = 2.0 * e.tau * (X.Y(e.i, d_) * e.t);
+      if (e.j > 0) Ut_.row(e.j - 1) += c.transpose();
+      if (e.i > 0) Ut_.row(e.i - 1) -= c.transpose();
+    }
+    Wt_.resize(nt, r);
+    tchol_->solve(Ut_.data(), Wt_.data(), r);
+    X.T.col(0).setZero();
+    X.T.rightCols(nt) = Wt_.transpose();
+  }
+
   // z = G⁻¹ Eᵀ (2 M₀ ⊗ I_r)⁻¹ E G⁻¹ c at the point whose poses' rotation parts are Q (r × r each).
   void apply(const std::vector<Small>& Q, const std::vector<std::pair<int, int>>& gens, int r,
              const Eigen::VectorXd& c, Eigen::VectorXd& z) const {

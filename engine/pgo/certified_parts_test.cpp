@@ -330,4 +330,37 @@ TEST_CASE("certified parts: the trust region's preconditioners, joint and reduce
   }
 }
 
+// The trust region's trial translations (DataPreconditioner::optimal_translations, on the preconditioner's
+// factor of A_tt) against the free optimal_translations (its own Laplacian, assembled and factorized anew) at
+// random points of rank 2–4: the same translations, ∂F/∂t = 0 there, and F no larger than at the point's own.
+TEST_CASE("certified parts: the trust region's optimal translations are the least-squares ones") {
+  core::Rng rng(20261224);
+  auto g = ring(12, 0.3, 0.1, rng);
+  for (const auto [i, j] : {std::pair{0, 6}, std::pair{3, 9}, std::pair{2, 7}}) {
+    graph::Edge2 e = g.edges.front();
+    e.i = i;
+    e.j = j;
+    e.measurement = g.poses[static_cast<std::size_t>(i)].inverse() * g.poses[static_cast<std::size_t>(j)];
+    e.information = isotropic_information(40.0, 90.0);
+    g.edges.push_back(e);
+  }
+  const Problem P = make_problem(g, 2);
+  const DataPreconditioner pre(P);
+  REQUIRE(pre.ok());
+  for (int r : {2, 3, 4}) {
+    Point X = random_point(P.n, r, rng);
+    X.T.col(0).setZero();
+    const double f0 = cost(P, X);
+    Point A = X, B = X;
+    pre.optimal_translations(P, A);
+    optimal_translations(P, B);
+    INFO("rank " << r);
+    CHECK((A.T - B.T).norm() <= 1e-10 * B.T.norm());
+    CHECK(A.T.col(0).norm() == 0.0);
+    const Gradient G0 = gradient(P, X), GA = gradient(P, A);
+    CHECK(GA.GT.rightCols(P.n - 1).norm() <= 1e-10 * G0.GT.rightCols(P.n - 1).norm());
+    CHECK(cost(P, A) <= f0);
+  }
+}
+
 }  // namespace keel_certified_parts_test

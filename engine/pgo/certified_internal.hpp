@@ -304,6 +304,11 @@ void edge_entries(const EdgeData& e, int d, Add&& add) {
 // is ξ = E c (E: each pose's basis matrices D_k and the identity on its translation; EᵀE = G diagonal, 2 or
 // 1), and the preconditioner is c ↦ G⁻¹ Eᵀ (2 M₀ ⊗ I_r)⁻¹ E G⁻¹ c, symmetric positive definite: the
 // projection of M₀⁻¹ applied to the vector the coordinates stand for.
+// The right-hand side of the translations' normal equations L_τ t = b for X's rotations (pose 0 removed, t_0
+// = 0): row v − 1 of b is Σ over the edges at pose v of ±τ_e Y_i t̃_e (+ where v = j, − where v = i), one
+// column per coordinate. optimal_translations and DataPreconditioner::optimal_translations solve with it.
+Eigen::MatrixXd translation_rhs(const Problem& P, const Point& X);
+
 class DataPreconditioner {
  public:
   explicit DataPreconditioner(const Problem& P) : d_(P.d), n_(P.n) {
@@ -406,17 +411,12 @@ class DataPreconditioner {
   }
 
   // X.T := the translations that minimize F for X's rotations, t_0 = 0 (the free function
-  // optimal_translations, on this object's factor of A_tt = 2 L_τ, pose 0 removed, instead of a new one): the
-  // normal equations A_tt t = 2 Σ_e τ_e (±Y_i t̃_e) per coordinate, the right-hand side summed edge by edge.
+  // optimal_translations, on this object's factor of A_tt = 2 L_τ, pose 0 removed, instead of a new one):
+  // A_tt t = 2b with b = translation_rhs (the factor 2 is exact).
   void optimal_translations(const Problem& P, Point& X) const {
     const int nt = n_ - 1, r = X.r;
     if (nt == 0) return;
-    Ut_.setZero(nt, r);
-    for (const auto& e : P.edges) {
-      const SmallVec c = 2.0 * e.tau * (X.Y(e.i, d_) * e.t);
-      if (e.j > 0) Ut_.row(e.j - 1) += c.transpose();
-      if (e.i > 0) Ut_.row(e.i - 1) -= c.transpose();
-    }
+    Ut_ = 2.0 * translation_rhs(P, X);
     Wt_.resize(nt, r);
     tchol_->solve(Ut_.data(), Wt_.data(), r);
     X.T.col(0).setZero();

@@ -27,12 +27,23 @@
 
 namespace keel::pgo::certified {
 
+Eigen::MatrixXd translation_rhs(const Problem& P, const Point& X) {
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(P.n - 1, X.r);
+  for (const auto& e : P.edges) {
+    const int a = e.i - 1, b = e.j - 1;
+    const SmallVec c = X.Y(e.i, P.d) * e.t;
+    if (b >= 0) B.row(b) += e.tau * c.transpose();
+    if (a >= 0) B.row(a) -= e.tau * c.transpose();
+  }
+  return B;
+}
+
 void optimal_translations(const Problem& P, Point& X) {
-  const int r = X.r, d = P.d, nb = P.n - 1;
+  const int r = X.r, nb = P.n - 1;
   BlockPattern pattern(std::vector<int>(static_cast<std::size_t>(nb), 1), free_pairs(P));
   linalg::SparseCholesky chol(nb, pattern.col_start(), pattern.row_index());
   auto& L = chol.values();
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nb, r);  // right-hand sides, one column per coordinate
+  const Eigen::MatrixXd B = translation_rhs(P, X);  // right-hand sides, one column per coordinate
   Eigen::Matrix<double, 1, 1> one;
   for (const auto& e : P.edges) {
     const int a = e.i - 1, b = e.j - 1;
@@ -43,9 +54,6 @@ void optimal_translations(const Problem& P, Point& X) {
       one(0, 0) = -e.tau;
       pattern.add_off_diagonal(L, a, b, pattern.position(std::min(a, b), std::max(a, b)), one);
     }
-    const SmallVec c = X.Y(e.i, d) * e.t;
-    if (b >= 0) B.row(b) += e.tau * c.transpose();
-    if (a >= 0) B.row(a) -= e.tau * c.transpose();
   }
   if (!chol.factorize())
     fail("solve_certified: the translation Laplacian is singular (is the graph connected?)");
